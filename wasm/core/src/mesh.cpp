@@ -56,7 +56,7 @@ double parseCoordinate(std::string_view token, size_t line) {
   double value = std::strtod(buffer, &end);
   if (end != buffer + token.size() || token.empty())
     throw Error(at(line) + "coordinate " + shorten(token) + " is not a number");
-  if (!std::isfinite(value) || errno == ERANGE && std::fabs(value) > 1.0)
+  if (!std::isfinite(value) || (errno == ERANGE && std::fabs(value) > 1.0))
     throw Error(at(line) + "coordinate " + shorten(token) + " is not finite");
   if (std::fabs(value) > kMaxCoordinate)
     throw Error(at(line) + "coordinate " + shorten(token) +

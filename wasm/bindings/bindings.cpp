@@ -1,0 +1,175 @@
+// embind layer: converts types between JS and the core, nothing else. Raw names start with `_`;
+// lib/api.mjs wraps them in the public API. A core error never crosses as an exception: it is kept
+// here and the JS side takes it with _takeError() and throws a named MrvolError.
+#include <emscripten/bind.h>
+#include <emscripten/val.h>
+
+#include <new>
+#include <utility>
+#include <string>
+
+#include "mrvol/error.h"
+#include "mrvol/multires_mesh.h"
+
+using emscripten::val;
+using namespace mrvol;
+
+namespace {
+
+std::string lastError;
+
+template <class T>
+T failed() { return T{}; }
+template <>
+val failed<val>() { return val::undefined(); }
+
+template <class F>
+auto guarded(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    lastError = "out of memory: the input is too large for this WebAssembly module";
+  } catch (const std::length_error&) {
+    lastError = "out of memory: the input is too large for this WebAssembly module";
+  } catch (const std::exception& e) {
+    lastError = e.what();
+  } catch (...) {
+    lastError = "unknown error";
+  }
+  return failed<decltype(f())>();
+}
+
+std::string takeError() { return std::exchange(lastError, std::string()); }
+
+template <class T>
+std::vector<T> toVector(const val& v, const char* what) {
+  if (v.isUndefined() || v.isNull()) throw Error(std::string(what) + " is missing");
+  return emscripten::convertJSArrayToNumberVector<T>(v);
+}
+
+template <class T>
+val toTyped(const std::vector<T>& v) {
+  return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
+}
+
+TriangleMesh toMesh(const val& positions, const val& faces) {
+  TriangleMesh m;
+  m.positions = toVector<double>(positions, "positions");
+  m.faces = toVector<uint32_t>(faces, "faces");
+  return m;
+}
+
+val meshToJs(const TriangleMesh& m) {
+  val out = val::object();
+  out.set("positions", toTyped(m.positions));
+  out.set("faces", toTyped(m.faces));
+  return out;
+}
+
+val topologyToJs(const MeshTopology& t) {
+  val out = val::object();
+  out.set("edges", double(t.edges));
+  out.set("boundaryEdges", double(t.boundaryEdges));
+  out.set("components", double(t.components));
+  out.set("closed", t.closed);
+  out.set("genus", double(t.genus));
+  return out;
+}
+
+SchemeOptions toScheme(const std::string& name, double alpha, double beta) {
+  SchemeOptions o;
+  o.kind = parseSchemeName(name);
+  o.alpha = alpha;
+  o.beta = beta;
+  return o;
+}
+
+val js_readObj(const std::string& text) {
+  return guarded([&] { return meshToJs(mrvol::readObj(std::string_view(text))); });
+}
+val js_writeObj(val positions, val faces) {
+  return guarded([&] { return val(mrvol::writeObj(toMesh(positions, faces))); });
+}
+val js_validate(val positions, val faces) {
+  return guarded([&] { return topologyToJs(validateMesh(toMesh(positions, faces))); });
+}
+val js_volume(val positions, val faces) {
+  return guarded([&] {
+    TriangleMesh m = toMesh(positions, faces);
+    validateMesh(m);
+    return val(meshVolume(m));
+  });
+}
+
+MultiresMesh* js_openMesh(val positions, val faces, int maxLevels) {
+  return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels); });
+}
+MultiresMesh* js_subdivideBase(val positions, val faces, int levels, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels, toScheme(scheme, alpha, beta)));
+  });
+}
+
+val js_info(const MultiresMesh& m) {
+  return guarded([&] {
+    MeshInfo i = m.info();
+    val out = val::object();
+    out.set("vertices", double(i.vertices));
+    out.set("faces", double(i.faces));
+    out.set("levels", i.levels);
+    out.set("baseVertices", double(i.baseVertices));
+    out.set("baseVertexIndices", toTyped(i.baseVertexIndices));
+    out.set("closed", i.closed);
+    out.set("boundaryEdges", double(i.boundaryEdges));
+    out.set("genus", double(i.genus));
+    out.set("components", double(i.components));
+    out.set("volume", i.volume);
+    return out;
+  });
+}
+val js_positions(const MultiresMesh& m) { return guarded([&] { return toTyped(m.mesh().positions); }); }
+val js_faces(const MultiresMesh& m) { return guarded([&] { return toTyped(m.mesh().faces); }); }
+val js_depths(const MultiresMesh& m) {
+  return guarded([&] {
+    const Hierarchy& h = m.hierarchy();
+    std::vector<uint8_t> d(h.fineVertexCount());
+    for (uint32_t v = 0; v < d.size(); ++v) d[h.inputIndex[v]] = uint8_t(h.depth(v));
+    return toTyped(d);
+  });
+}
+bool js_setPositions(MultiresMesh& m, val p) {
+  return guarded([&] { return m.setPositions(toVector<double>(p, "positions")), true; });
+}
+val js_analyze(const MultiresMesh& m, val p, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] { return toTyped(m.analyze(toVector<double>(p, "positions"), level, toScheme(scheme, alpha, beta))); });
+}
+val js_synthesize(const MultiresMesh& m, val c, int level, std::string scheme, double alpha, double beta) {
+  return guarded(
+      [&] { return toTyped(m.synthesize(toVector<double>(c, "coefficients"), level, toScheme(scheme, alpha, beta))); });
+}
+val js_roundtripError(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] { return val(m.roundtripError(level, toScheme(scheme, alpha, beta))); });
+}
+
+}  // namespace
+
+EMSCRIPTEN_BINDINGS(mrvol) {
+  using namespace emscripten;
+  function("_takeError", &takeError);
+  function("_readObj", &js_readObj);
+  function("_writeObj", &js_writeObj);
+  function("_validate", &js_validate);
+  function("_volume", &js_volume);
+  function("_openMesh", &js_openMesh, allow_raw_pointers());
+  function("_subdivideBase", &js_subdivideBase, allow_raw_pointers());
+  class_<MultiresMesh>("_MultiresMesh")
+      .function("levels", &MultiresMesh::levels)
+      .function("info", &js_info)
+      .function("positions", &js_positions)
+      .function("faces", &js_faces)
+      .function("depths", &js_depths)
+      .function("setPositions", &js_setPositions)
+      .function("analyze", &js_analyze)
+      .function("synthesize", &js_synthesize)
+      .function("roundtripError", &js_roundtripError);
+}

@@ -1,0 +1,59 @@
+// A semi-regular mesh with its hierarchy and wavelet transforms: the object the bindings, the JS
+// API and the command line work with. Positions and coefficients cross it in the caller's vertex
+// order; inside, everything is in hierarchy order.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+#include "mrvol/mesh.h"
+
+namespace mrvol {
+
+struct MeshInfo {
+  size_t vertices = 0, faces = 0;
+  int levels = 0;
+  size_t baseVertices = 0;
+  std::vector<uint32_t> baseVertexIndices;  // caller's indices of the level-0 vertices, ascending
+  bool closed = false;
+  size_t boundaryEdges = 0;
+  long genus = 0;
+  size_t components = 0;
+  double volume = 0;
+};
+
+class MultiresMesh {
+ public:
+  // Validates the mesh and detects its hierarchy (at most maxLevels levels).
+  explicit MultiresMesh(TriangleMesh mesh, int maxLevels = 16);
+  // n splits of a validated base mesh; zero-detail synthesis with `scheme` gives the positions.
+  static MultiresMesh subdivide(const TriangleMesh& base, int levels, const SchemeOptions& scheme);
+
+  const Hierarchy& hierarchy() const { return hierarchy_; }
+  const TriangleMesh& mesh() const { return mesh_; }  // the caller's faces and current positions
+  const MeshTopology& topology() const { return topology_; }
+  int levels() const { return hierarchy_.levels; }
+  MeshInfo info() const;
+
+  void setPositions(const std::vector<double>& positions);  // caller's order
+  // The transform for a scheme, built on first use and kept.
+  const WaveletTransform& transform(const SchemeOptions& scheme) const;
+
+  // Caller's order in and out: coefficients of level e (coarse c^e for depth <= e, details beyond).
+  std::vector<double> analyze(const std::vector<double>& positions, int level, const SchemeOptions& scheme) const;
+  std::vector<double> synthesize(const std::vector<double>& coefficients, int level, const SchemeOptions& scheme) const;
+  // max |synthesis(analysis(x)) - x| over the current positions.
+  double roundtripError(int level, const SchemeOptions& scheme) const;
+
+ private:
+  MultiresMesh() = default;
+  void checkLevel(int level) const;
+  TriangleMesh mesh_;
+  MeshTopology topology_;
+  Hierarchy hierarchy_;
+  mutable std::vector<std::unique_ptr<WaveletTransform>> transforms_;
+};
+
+}  // namespace mrvol

@@ -1,0 +1,97 @@
+#include "mrvol/multires_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mrvol/error.h"
+
+namespace mrvol {
+
+MultiresMesh::MultiresMesh(TriangleMesh mesh, int maxLevels) : mesh_(std::move(mesh)) {
+  topology_ = validateMesh(mesh_);
+  hierarchy_ = Hierarchy::detect(mesh_, maxLevels);
+}
+
+MultiresMesh MultiresMesh::subdivide(const TriangleMesh& base, int levels, const SchemeOptions& scheme) {
+  MultiresMesh m;
+  validateMesh(base);
+  m.hierarchy_ = Hierarchy::subdivide(base, levels);
+  m.mesh_.faces = m.hierarchy_.fineFaces();
+  m.mesh_.positions.assign(3 * m.hierarchy_.fineVertexCount(), 0.0);
+  std::copy(base.positions.begin(), base.positions.end(), m.mesh_.positions.begin());
+  m.transform(scheme).synthesize(m.mesh_.positions.data(), 0);
+  m.topology_ = validateMesh(m.mesh_);
+  return m;
+}
+
+MeshInfo MultiresMesh::info() const {
+  MeshInfo info;
+  info.vertices = mesh_.vertexCount();
+  info.faces = mesh_.faceCount();
+  info.levels = hierarchy_.levels;
+  info.baseVertices = hierarchy_.vertexCount[0];
+  info.baseVertexIndices.assign(hierarchy_.inputIndex.begin(), hierarchy_.inputIndex.begin() + info.baseVertices);
+  std::sort(info.baseVertexIndices.begin(), info.baseVertexIndices.end());
+  info.closed = topology_.closed;
+  info.boundaryEdges = topology_.boundaryEdges;
+  info.genus = topology_.genus;
+  info.components = topology_.components;
+  info.volume = meshVolume(mesh_);
+  return info;
+}
+
+void MultiresMesh::setPositions(const std::vector<double>& positions) {
+  if (positions.size() != mesh_.positions.size())
+    throw Error("expected " + std::to_string(mesh_.positions.size()) + " coordinates (3 per vertex), got " +
+                std::to_string(positions.size()));
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i])) throw Error("vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+  mesh_.positions = positions;
+}
+
+const WaveletTransform& MultiresMesh::transform(const SchemeOptions& scheme) const {
+  for (auto& t : transforms_)
+    if (t->options().kind == scheme.kind && t->options().alpha == scheme.alpha && t->options().beta == scheme.beta)
+      return *t;
+  transforms_.push_back(std::make_unique<WaveletTransform>(hierarchy_, scheme));
+  return *transforms_.back();
+}
+
+void MultiresMesh::checkLevel(int level) const {
+  if (level < 0 || level > hierarchy_.levels)
+    throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." +
+                std::to_string(hierarchy_.levels));
+}
+
+std::vector<double> MultiresMesh::analyze(const std::vector<double>& positions, int level,
+                                          const SchemeOptions& scheme) const {
+  checkLevel(level);
+  if (positions.size() != mesh_.positions.size())
+    throw Error("expected " + std::to_string(mesh_.positions.size()) + " coordinates, got " + std::to_string(positions.size()));
+  std::vector<double> x(positions.size()), out(positions.size());
+  hierarchy_.toHierarchyOrder(positions.data(), x.data());
+  transform(scheme).analyze(x.data(), level);
+  hierarchy_.toInputOrder(x.data(), out.data());
+  return out;
+}
+
+std::vector<double> MultiresMesh::synthesize(const std::vector<double>& coefficients, int level,
+                                             const SchemeOptions& scheme) const {
+  checkLevel(level);
+  if (coefficients.size() != mesh_.positions.size())
+    throw Error("expected " + std::to_string(mesh_.positions.size()) + " coefficients, got " + std::to_string(coefficients.size()));
+  std::vector<double> x(coefficients.size()), out(coefficients.size());
+  hierarchy_.toHierarchyOrder(coefficients.data(), x.data());
+  transform(scheme).synthesize(x.data(), level);
+  hierarchy_.toInputOrder(x.data(), out.data());
+  return out;
+}
+
+double MultiresMesh::roundtripError(int level, const SchemeOptions& scheme) const {
+  auto back = synthesize(analyze(mesh_.positions, level, scheme), level, scheme);
+  double err = 0;
+  for (size_t i = 0; i < back.size(); ++i) err = std::max(err, std::fabs(back[i] - mesh_.positions[i]));
+  return err;
+}
+
+}  // namespace mrvol
