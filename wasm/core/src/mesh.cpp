@@ -48,7 +48,8 @@ void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
 double parseCoordinate(std::string_view token, size_t line) {
   char buffer[64];
   if (token.size() >= sizeof buffer)
-    throw Error(at(line) + "coordinate " + shorten(token) + " is not a number");
+    throw Error(at(line) + "coordinate " + shorten(token) + " is too long (" + std::to_string(token.size()) +
+                " characters; mrvol reads at most " + std::to_string(sizeof buffer - 1) + ")");
   std::copy(token.begin(), token.end(), buffer);
   buffer[token.size()] = '\0';
   char* end = nullptr;
@@ -56,9 +57,9 @@ double parseCoordinate(std::string_view token, size_t line) {
   double value = std::strtod(buffer, &end);
   if (end != buffer + token.size() || token.empty())
     throw Error(at(line) + "coordinate " + shorten(token) + " is not a number");
-  if (!std::isfinite(value) || (errno == ERANGE && std::fabs(value) > 1.0))
+  if (std::isnan(value) || (std::isinf(value) && errno != ERANGE))
     throw Error(at(line) + "coordinate " + shorten(token) + " is not finite");
-  if (std::fabs(value) > kMaxCoordinate)
+  if (std::fabs(value) > kMaxCoordinate)  // also a finite literal that overflows a double (ERANGE)
     throw Error(at(line) + "coordinate " + shorten(token) +
                 " is too large (mrvol accepts |x| <= 1e100 so that volumes stay finite)");
   return value;
@@ -97,18 +98,25 @@ TriangleMesh readObj(std::string_view text) {
   std::vector<int64_t> pending;  // 0-based indices, range-checked once all vertices are known
   std::vector<std::string_view> tokens;
   size_t line = 0;
-  size_t pos = 0;
+  size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a UTF-8 byte order mark is no statement
   while (pos < text.size()) {
     size_t eol = text.find('\n', pos);
     if (eol == std::string_view::npos) eol = text.size();
     std::string_view content = text.substr(pos, eol - pos);
     pos = eol + 1;
     ++line;
+    size_t carriageReturn = std::string_view::npos;
     for (size_t i = 0; i < content.size(); ++i) {
       unsigned char c = static_cast<unsigned char>(content[i]);
       if (c == 0 || (c < 32 && !isSpace(char(c))))
         throw Error(at(line) + "binary data (byte " + std::to_string(int(c)) + " at column " + std::to_string(i + 1) +
                     "): this is not an OBJ text file");
+      if (c == '\r') {
+        if (carriageReturn == std::string_view::npos) carriageReturn = i;
+      } else if (carriageReturn != std::string_view::npos && !isSpace(char(c))) {
+        throw Error(at(line) + "carriage return inside the line (column " + std::to_string(carriageReturn + 1) +
+                    "): old Mac line endings (CR only) are not supported; convert the file to LF or CRLF");
+      }
     }
     size_t hash = content.find('#');
     if (hash != std::string_view::npos) content = content.substr(0, hash);
@@ -120,7 +128,8 @@ TriangleMesh readObj(std::string_view text) {
         throw Error(at(line) + "vertex needs 3 coordinates, found " + std::to_string(tokens.size() - 1));
       if (tokens.size() > 5)  // x y z [w]; colours (x y z r g b) are accepted too
         if (tokens.size() != 7)
-          throw Error(at(line) + "vertex has " + std::to_string(tokens.size() - 1) + " values, expected 3");
+          throw Error(at(line) + "vertex has " + std::to_string(tokens.size() - 1) +
+                      " values, expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)");
       for (int k = 1; k <= 3; ++k) mesh.positions.push_back(parseCoordinate(tokens[k], line));
       for (size_t k = 4; k < tokens.size(); ++k) parseCoordinate(tokens[k], line);
     } else if (keyword == "f") {

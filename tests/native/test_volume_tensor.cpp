@@ -1,0 +1,157 @@
+// The volume tensor: recursion equals the direct construction, tensor volume equals mesh volume.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <map>
+
+#include "fixtures.h"
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+#include "mrvol/volume_tensor.h"
+
+using namespace mrvol;
+
+namespace {
+
+std::vector<SchemeOptions> allSchemes() {
+  SchemeOptions loop, plain, butterfly, linear;
+  plain.alpha = plain.beta = 0;
+  butterfly.kind = SchemeKind::Butterfly;
+  linear.kind = SchemeKind::Linear;
+  return {loop, plain, butterfly, linear};
+}
+
+std::map<std::tuple<uint32_t, uint32_t, uint32_t>, double> entries(const VolumeTensor& t) {
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t>, double> out;
+  for (uint32_t i = 0; i < t.rowCount; ++i)
+    for (uint32_t p = t.rowStart[i]; p < t.rowStart[i + 1]; ++p)
+      for (uint32_t e = t.pairStart[p]; e < t.pairStart[p + 1]; ++e) out[{i, t.pairJ[p], t.kIndex(e)}] = t.values[e];
+  return out;
+}
+
+// A fine mesh with random-ish positions around the base shape (so volumes are non-trivial).
+std::vector<double> finePositions(const Hierarchy& h, const WaveletTransform& wt, const TriangleMesh& base, unsigned seed) {
+  std::vector<double> x(3 * h.fineVertexCount(), 0.0);
+  std::copy(base.positions.begin(), base.positions.end(), x.begin());
+  auto noise = fixtures::randomVector(x.size(), seed, 0.05);
+  for (size_t i = base.positions.size(); i < x.size(); ++i) x[i] = noise[i];
+  wt.synthesize(x.data(), 0);
+  return x;
+}
+
+}  // namespace
+
+// Small hierarchies: the direct construction is O(#triangles * |row|^3).
+std::vector<fixtures::Fixture> smallFixtures() {
+  return {{"tetrahedron", fixtures::tetrahedron(), 2}, {"octahedron", fixtures::octahedron(), 2},
+          {"icosahedron", fixtures::icosahedron(), 1}, {"torus", fixtures::torus(), 1},
+          {"open-patch", fixtures::openPatch(), 1}};
+}
+
+TEST(VolumeTensor, RecursionEqualsDirectConstruction) {
+  for (const auto& fx : smallFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    for (const auto& options : allSchemes()) {
+      WaveletTransform wt(h, options);
+      for (int e = 0; e <= h.levels; ++e)
+        for (TensorStorage storage : {TensorStorage::Full, TensorStorage::Cage}) {
+          auto a = entries(computeVolumeTensor(wt, e, storage));
+          auto b = entries(computeVolumeTensorDirect(wt, e, storage));
+          double scale = 0;
+          for (auto& [key, v] : b) scale = std::max(scale, std::fabs(v));
+          size_t missing = 0;
+          double err = 0;
+          for (auto& [key, v] : b) {
+            auto it = a.find(key);
+            if (it == a.end()) { err = std::max(err, std::fabs(v)); if (std::fabs(v) > 1e-12 * scale) ++missing; }
+            else err = std::max(err, std::fabs(v - it->second));
+          }
+          for (auto& [key, v] : a)
+            if (!b.count(key)) err = std::max(err, std::fabs(v));
+          EXPECT_LT(err, 1e-12 * scale) << fx.name << " " << schemeName(options.kind) << " e=" << e;
+          EXPECT_EQ(missing, 0u);
+        }
+    }
+  }
+}
+
+TEST(VolumeTensor, FullTensorVolumeEqualsMeshVolume) {
+  for (auto fx : fixtures::baseFixtures()) {
+    fx.levels = std::min(fx.levels, fx.name == "icosahedron" || fx.name == "tetrahedron" ? 2 : 1);
+    Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    for (const auto& options : allSchemes()) {
+      WaveletTransform wt(h, options);
+      auto fine = finePositions(h, wt, fx.base, 3);
+      const double volume = meshVolume(fine.data(), h.fineFaces().data(), h.fineFaces().size() / 3, Vec3{});
+      for (int e = 0; e <= h.levels; ++e) {
+        VolumeTensor t = computeVolumeTensor(wt, e, TensorStorage::Full);
+        auto x = fine;
+        wt.analyze(x.data(), e);
+        EXPECT_NEAR(t.evaluate(x.data()), volume, 1e-10 * std::fabs(volume))
+            << fx.name << " " << schemeName(options.kind) << " e=" << e;
+        // The gradient is the derivative: compare with central differences on a few coefficients.
+        std::vector<double> grad(x.size());
+        double v2 = t.evaluateWithGradient(x.data(), grad.data(), t.vertexCount);
+        EXPECT_NEAR(v2, volume, 1e-10 * std::fabs(volume));
+        for (size_t c : {size_t(0), size_t(4), x.size() - 1}) {
+          auto xp = x, xm = x;
+          const double hstep = 1e-6;
+          xp[c] += hstep, xm[c] -= hstep;
+          double fd = (t.evaluate(xp.data()) - t.evaluate(xm.data())) / (2 * hstep);
+          EXPECT_NEAR(grad[c], fd, 1e-6 * (1 + std::fabs(fd))) << fx.name << " coefficient " << c;
+        }
+      }
+    }
+  }
+}
+
+TEST(VolumeTensor, CageStorageKeepsRowsOfCageVertices) {
+  Hierarchy h = Hierarchy::subdivide(fixtures::icosahedron(), 3);
+  WaveletTransform wt(h, SchemeOptions{});
+  VolumeTensor full = computeVolumeTensor(wt, 0, TensorStorage::Full);
+  VolumeTensor cage = computeVolumeTensor(wt, 0, TensorStorage::Cage);
+  EXPECT_EQ(full.nnzFull, 42518682u);  // the paper: 42E6 non-zero coefficients
+  EXPECT_LT(cage.storedCount(), full.storedCount());
+  EXPECT_EQ(cage.rowCount, 12u);
+  auto fine = finePositions(h, wt, fixtures::icosahedron(), 5);
+  auto x = fine;
+  wt.analyze(x.data(), 0);
+  // The gradient with respect to the cage is the same from both.
+  std::vector<double> g1(36), g2(36);
+  full.evaluateWithGradient(x.data(), g1.data(), 12);
+  cage.evaluateWithGradient(x.data(), g2.data(), 12);
+  for (int c = 0; c < 36; ++c) EXPECT_NEAR(g1[c], g2[c], 1e-12 * (1 + std::fabs(g1[c])));
+  // Moving only some coefficients changes the volume by the change of the terms involving them.
+  std::vector<uint8_t> moving(h.fineVertexCount(), 0);
+  moving[3] = moving[7] = 1;
+  auto y = x;
+  y[9] += 0.1, y[22] -= 0.05;
+  double change = full.evaluate(y.data()) - full.evaluate(x.data());
+  double local = cage.evaluateInvolving(y.data(), moving) - cage.evaluateInvolving(x.data(), moving);
+  EXPECT_NEAR(local, change, 1e-12);
+}
+
+// Cage storage: Theta(x) = (stored entries)(x) + Theta(x with the cage coefficients set to zero),
+// since every stored entry has a cage index and every dropped one has none.
+TEST(VolumeTensor, CageTensorVolumeEqualsMeshVolume) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    for (const auto& options : allSchemes()) {
+      WaveletTransform wt(h, options);
+      auto fine = finePositions(h, wt, fx.base, 9);
+      const auto& faces = h.fineFaces();
+      const double volume = meshVolume(fine.data(), faces.data(), faces.size() / 3, Vec3{});
+      for (int e = 0; e <= h.levels; ++e) {
+        VolumeTensor t = computeVolumeTensor(wt, e, TensorStorage::Cage);
+        auto x = fine;
+        wt.analyze(x.data(), e);
+        auto detailsOnly = x;
+        std::fill(detailsOnly.begin(), detailsOnly.begin() + 3 * h.vertexCount[e], 0.0);
+        wt.synthesize(detailsOnly.data(), e);
+        const double folded = meshVolume(detailsOnly.data(), faces.data(), faces.size() / 3, Vec3{});
+        EXPECT_NEAR(t.evaluate(x.data()) + folded, volume, 1e-10 * std::fabs(volume))
+            << fx.name << " " << schemeName(options.kind) << " e=" << e;
+      }
+    }
+  }
+}
