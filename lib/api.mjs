@@ -47,6 +47,27 @@ export function wrapModule(module) {
     return result;
   };
 
+  /** A volume tensor theta^e with the header that says what it was computed for. */
+  class Theta {
+    #raw;
+    constructor(raw, precomputeMs = null) {
+      this.#raw = raw;
+      this.precomputeMs = precomputeMs;
+    }
+    get raw() {
+      if (!this.#raw) throw new MrvolError('this Theta has been deleted');
+      return this.#raw;
+    }
+    /** { formatVersion, scheme, alpha, beta, levels, level, storage, fingerprint, vertices, nnzFull, nnzStored, bytes } */
+    info() { return call((r) => r.info(), this.raw); }
+    /** The theta file: versioned header, arrays, checksum. */
+    bytes() { return call((r) => r.bytes(), this.raw); }
+    delete() {
+      if (this.#raw) this.#raw.delete();
+      this.#raw = null;
+    }
+  }
+
   class MultiresMesh {
     #raw;
     constructor(raw) {
@@ -87,6 +108,24 @@ export function wrapModule(module) {
     roundtripError(options = {}) {
       return call((r) => r.roundtripError(levelArg(options.level), ...schemeArgs(options)), this.#live());
     }
+    /** Connectivity fingerprint (hex): what theta depends on besides scheme and level. */
+    fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
+    /**
+     * Computes theta^e. storage 'cage' keeps the rows of the level-e cage vertices (what editing
+     * needs); 'full' keeps every entry. onProgress(fraction) may return false to cancel.
+     */
+    computeTheta(options = {}) {
+      const storage = options.storage ?? 'cage';
+      const onProgress = options.onProgress ?? undefined;
+      const started = globalThis.performance?.now() ?? Date.now();
+      const raw = call((r) => r.computeTheta(levelArg(options.level), ...schemeArgs(options), storage, onProgress), this.#live());
+      return new Theta(raw, (globalThis.performance?.now() ?? Date.now()) - started);
+    }
+    /** Volume of the current positions through theta (checks that theta matches mesh, scheme, level). */
+    thetaVolume(theta, options = {}) {
+      if (!(theta instanceof Theta)) throw new MrvolError('thetaVolume expects a Theta');
+      return call((r) => r.thetaVolume(theta.raw, levelArg(options.level), ...schemeArgs(options)), this.#live());
+    }
     delete() {
       if (this.#raw) this.#raw.delete();
       this.#raw = null;
@@ -94,6 +133,11 @@ export function wrapModule(module) {
   }
 
   return {
+    /** Reads a theta file (Uint8Array); throws MrvolError if truncated, corrupt or of a future version. */
+    readTheta(bytes) {
+      if (!(bytes instanceof Uint8Array)) throw new MrvolError('readTheta expects a Uint8Array');
+      return new Theta(call(module._readTheta, bytes));
+    },
     MrvolError,
     /** Parses OBJ text into { positions: Float64Array, faces: Uint32Array } (0-based). */
     readObj(text) {

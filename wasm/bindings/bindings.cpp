@@ -4,6 +4,8 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <cstdio>
+#include <memory>
 #include <new>
 #include <utility>
 #include <string>
@@ -151,6 +153,81 @@ val js_roundtripError(const MultiresMesh& m, int level, std::string scheme, doub
   return guarded([&] { return val(m.roundtripError(level, toScheme(scheme, alpha, beta))); });
 }
 
+TensorStorage toStorage(const std::string& name) {
+  if (name == "cage") return TensorStorage::Cage;
+  if (name == "full") return TensorStorage::Full;
+  throw Error("unknown tensor storage '" + name + "' (expected cage or full)");
+}
+
+Theta* js_computeTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta,
+                       std::string storage, val onProgress) {
+  return guarded([&]() -> Theta* {
+    SchemeOptions o = toScheme(scheme, alpha, beta);
+    TensorProgress progress;
+    struct Ctx { val* fn; } ctx{&onProgress};
+    if (onProgress.typeOf().as<std::string>() == "function") {
+      progress.user = &ctx;
+      progress.callback = [](double fraction, void* user) {
+        val r = (*static_cast<Ctx*>(user)->fn)(fraction);
+        return !(r.isFalse());
+      };
+    }
+    auto theta = std::make_unique<Theta>();
+    theta->tensor = m.computeTensor(level, o, toStorage(storage), progress);
+    theta->header = m.thetaHeader(theta->tensor, o);
+    return theta.release();
+  });
+}
+val js_thetaVolume(const MultiresMesh& m, const Theta& t, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    SchemeOptions o = toScheme(scheme, alpha, beta);
+    m.checkTheta(t.header, level, o);
+    return val(m.tensorVolume(t.tensor, o));
+  });
+}
+val js_fingerprint(const MultiresMesh& m) {
+  return guarded([&] {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(m.fingerprint()));
+    return val(std::string(hex));
+  });
+}
+Theta* js_readTheta(val bytes) {
+  return guarded([&]() -> Theta* {
+    std::vector<uint8_t> v = toVector<uint8_t>(bytes, "theta bytes");
+    auto theta = std::make_unique<Theta>();
+    theta->tensor = readThetaFile(std::string(v.begin(), v.end()), &theta->header);
+    return theta.release();
+  });
+}
+val js_thetaBytes(const Theta& t) {
+  return guarded([&] {
+    std::string bytes = writeThetaFile(t.tensor, t.header);
+    return val(emscripten::typed_memory_view(bytes.size(), reinterpret_cast<const uint8_t*>(bytes.data())))
+        .call<val>("slice");
+  });
+}
+val js_thetaInfo(const Theta& t) {
+  return guarded([&] {
+    val out = val::object();
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(t.header.fingerprint));
+    out.set("formatVersion", double(t.header.formatVersion));
+    out.set("scheme", std::string(schemeName(t.header.scheme.kind)));
+    out.set("alpha", t.header.scheme.alpha);
+    out.set("beta", t.header.scheme.beta);
+    out.set("levels", t.header.levels);
+    out.set("level", t.tensor.level);
+    out.set("storage", std::string(t.tensor.storage == TensorStorage::Full ? "full" : "cage"));
+    out.set("fingerprint", std::string(hex));
+    out.set("vertices", double(t.tensor.vertexCount));
+    out.set("nnzFull", t.tensor.nnzFull ? val(double(t.tensor.nnzFull)) : val::null());
+    out.set("nnzStored", double(t.tensor.storedCount()));
+    out.set("bytes", double(t.tensor.bytes()));
+    return out;
+  });
+}
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(mrvol) {
@@ -171,5 +248,10 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("setPositions", &js_setPositions)
       .function("analyze", &js_analyze)
       .function("synthesize", &js_synthesize)
-      .function("roundtripError", &js_roundtripError);
+      .function("roundtripError", &js_roundtripError)
+      .function("computeTheta", &js_computeTheta, allow_raw_pointers())
+      .function("thetaVolume", &js_thetaVolume)
+      .function("fingerprint", &js_fingerprint);
+  class_<Theta>("_Theta").function("info", &js_thetaInfo).function("bytes", &js_thetaBytes);
+  function("_readTheta", &js_readTheta, allow_raw_pointers());
 }

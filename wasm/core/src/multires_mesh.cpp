@@ -94,4 +94,58 @@ double MultiresMesh::roundtripError(int level, const SchemeOptions& scheme) cons
   return err;
 }
 
+VolumeTensor MultiresMesh::computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
+                                         const TensorProgress& progress) const {
+  checkLevel(level);
+  return computeVolumeTensor(transform(scheme), level, storage, progress);
+}
+
+uint64_t MultiresMesh::fingerprint() const { return connectivityFingerprint(mesh_.faces, mesh_.vertexCount()); }
+
+ThetaFileHeader MultiresMesh::thetaHeader(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
+  ThetaFileHeader h;
+  h.scheme = scheme;
+  h.levels = hierarchy_.levels;
+  h.level = tensor.level;
+  h.storage = tensor.storage;
+  h.fingerprint = fingerprint();
+  h.vertexCount = uint32_t(mesh_.vertexCount());
+  h.nnzFull = tensor.nnzFull;
+  h.nnzStored = tensor.storedCount();
+  return h;
+}
+
+void MultiresMesh::checkTheta(const ThetaFileHeader& h, int level, const SchemeOptions& scheme) const {
+  if (h.fingerprint != fingerprint() || h.vertexCount != mesh_.vertexCount() || h.levels != hierarchy_.levels)
+    throw Error("theta file does not match this mesh: it was computed for another connectivity (" +
+                std::to_string(h.vertexCount) + " vertices, " + std::to_string(h.levels) + " levels)");
+  if (h.scheme.kind != scheme.kind)
+    throw Error(std::string("theta file was computed for the ") + schemeName(h.scheme.kind) + " scheme, not " +
+                schemeName(scheme.kind));
+  if (scheme.kind == SchemeKind::Loop && (h.scheme.alpha != scheme.alpha || h.scheme.beta != scheme.beta))
+    throw Error("theta file was computed with Loop weights alpha = " + std::to_string(h.scheme.alpha) +
+                ", beta = " + std::to_string(h.scheme.beta) + ", not the ones asked for");
+  if (h.level != level)
+    throw Error("theta file is for level " + std::to_string(h.level) + ", not level " + std::to_string(level));
+}
+
+double MultiresMesh::tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
+  const WaveletTransform& wt = transform(scheme);
+  const Vec3 o = volumeReferencePoint(mesh_);
+  const size_t n = mesh_.vertexCount();
+  std::vector<double> x(3 * n);
+  hierarchy_.toHierarchyOrder(mesh_.positions.data(), x.data());
+  for (size_t v = 0; v < n; ++v) x[3 * v] -= o.x, x[3 * v + 1] -= o.y, x[3 * v + 2] -= o.z;
+  wt.analyze(x.data(), tensor.level);
+  double volume = tensor.evaluate(x.data());
+  if (tensor.storage == TensorStorage::Cage) {
+    std::fill(x.begin(), x.begin() + 3 * size_t(hierarchy_.vertexCount[tensor.level]), 0.0);
+    wt.synthesize(x.data(), tensor.level);
+    const auto& faces = hierarchy_.fineFaces();
+    volume += meshVolume(x.data(), faces.data(), faces.size() / 3, Vec3{});
+  }
+  return volume;
+}
+
 }  // namespace mrvol
+

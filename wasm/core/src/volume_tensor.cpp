@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <unordered_map>
 
 #include "mrvol/corners.h"
@@ -297,6 +298,34 @@ VolumeTensor sparseRecursion(const WaveletTransform& wt, int level, TensorStorag
 
 namespace {
 
+// Kernels of the dense patch transform, kept out of line: V8 compiles WebAssembly first with a
+// baseline compiler and swaps in optimized code only at the next call of a function, so hot loops
+// must sit in functions that are called often, not in one long call.
+struct PatchOp {
+  uint32_t t, s;
+  double w;
+};
+
+__attribute__((noinline)) void patchRowOps(double* dense, size_t m, const PatchOp* ops, size_t count,
+                                           uint8_t* rowLive) {
+  for (size_t o = 0; o < count; ++o) {  // A[s, :] += w A[t, :]
+    const double* src = dense + size_t(ops[o].t) * m;
+    double* dst = dense + size_t(ops[o].s) * m;
+    const double w = ops[o].w;
+    for (size_t x = 0; x < m; ++x) dst[x] += w * src[x];
+    rowLive[ops[o].s] = 1;
+  }
+}
+
+__attribute__((noinline)) void patchColumnOps(double* row, const PatchOp* ops, size_t count) {
+  for (size_t o = 0; o < count; ++o) row[ops[o].s] += ops[o].w * row[ops[o].t];  // A[r, s] += w A[r, t]
+}
+
+__attribute__((noinline)) void patchScale(double* dense, size_t m, size_t v, double f) {
+  for (size_t x = 0; x < m; ++x) dense[v * m + x] *= f;
+  for (size_t x = 0; x < m; ++x) dense[x * m + v] *= f;
+}
+
 // Cage rows one cage vertex c at a time: row c holds the 2-form A^c(j, k) = theta^e(e_c, e_j, e_k)
 // = theta^n(phi_c, R e_j, R e_k), with phi_c = R e_c the fine values of c's basis function. At the
 // fine level, A^c is a sparse 2-form on the edges of the triangles where phi_c is non-zero; the
@@ -332,9 +361,9 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
   std::vector<double> phi(N), dense;
   std::vector<uint32_t> local(N, kNone), patch;
   std::vector<uint8_t> inPatch(N), rowLive;
-  struct Op { uint32_t t, s; double w; };
-  std::vector<Op> ops;
-  for (uint32_t c = 0; c < cage; ++c) {
+  std::vector<PatchOp> ops;
+  // One cage vertex per call (see the kernels above for why it is not inlined).
+  std::function<bool(uint32_t)> cageRow = [&](uint32_t c) -> bool {
     // phi_c = R e_c.
     std::fill(phi.begin(), phi.end(), 0.0);
     phi[c] = 1.0;
@@ -380,10 +409,7 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
         for (size_t r = 0; r < step.targets.size(); ++r) {
           const uint32_t v = step.targets[r];
           if (!inPatch[v]) continue;
-          const size_t lv = local[v];
-          const double f = step.weights[r];
-          for (size_t x = 0; x < m; ++x) dense[lv * m + x] *= f;
-          for (size_t x = 0; x < m; ++x) dense[x * m + lv] *= f;
+          patchScale(dense.data(), m, local[v], step.weights[r]);
         }
         continue;
       }
@@ -395,20 +421,10 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
           ops.push_back({local[v], local[step.sources[k]], step.weights[k]});
       }
       if (ops.empty()) continue;
-      // Rows: A[s, :] += w A[t, :]   (M^T A)
-      for (const Op& op : ops) {
-        const double* src = &dense[size_t(op.t) * m];
-        double* dst = &dense[size_t(op.s) * m];
-        const double w = op.w;
-        for (size_t x = 0; x < m; ++x) dst[x] += w * src[x];
-        rowLive[op.s] = 1;
-      }
-      // Columns, one row at a time so that each row stays in cache: A[r, s] += w A[r, t]   (. M)
-      for (size_t r = 0; r < m; ++r) {
-        if (!rowLive[r]) continue;
-        double* row = &dense[r * m];
-        for (const Op& op : ops) row[op.s] += op.w * row[op.t];
-      }
+      // Rows (M^T A), then columns (. M), one row at a time so that each row stays in cache.
+      patchRowOps(dense.data(), m, ops.data(), ops.size(), rowLive.data());
+      for (size_t r = 0; r < m; ++r)
+        if (rowLive[r]) patchColumnOps(&dense[r * m], ops.data(), ops.size());
     }
     // Row c of the tensor: entries (c, j, k) with c < j < k.
     for (size_t lj = local[c] + 1; lj < m; ++lj) {
@@ -429,6 +445,10 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
       if (pairOpen) t.pairStart.push_back(uint32_t(t.values.size()));
     }
     for (uint32_t v : patch) local[v] = kNone;
+    return true;
+  };
+  for (uint32_t c = 0; c < cage; ++c) {
+    if (!cageRow(c)) return false;
     if (progress.callback && !progress.callback(double(c + 1) / double(cage), progress.user))
       throw Error("cancelled");
   }

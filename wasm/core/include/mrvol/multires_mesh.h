@@ -9,6 +9,7 @@
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
 #include "mrvol/mesh.h"
+#include "mrvol/volume_tensor.h"
 
 namespace mrvol {
 
@@ -46,6 +47,18 @@ class MultiresMesh {
   std::vector<double> synthesize(const std::vector<double>& coefficients, int level, const SchemeOptions& scheme) const;
   // max |synthesis(analysis(x)) - x| over the current positions.
   double roundtripError(int level, const SchemeOptions& scheme) const;
+
+  // theta^e for this connectivity and scheme, and the header a theta file of it carries.
+  VolumeTensor computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
+                             const TensorProgress& progress = {}) const;
+  ThetaFileHeader thetaHeader(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
+  uint64_t fingerprint() const;
+  // Throws Error naming the first mismatch (mesh connectivity, scheme, level) of a theta file.
+  void checkTheta(const ThetaFileHeader& header, int level, const SchemeOptions& scheme) const;
+  // Volume of the current positions evaluated through the tensor (in the frame of
+  // volumeReferencePoint). With Cage storage the detail-only entries, which were never formed,
+  // contribute Theta(x with cage coefficients zeroed), computed by synthesis.
+  double tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
 
  private:
   MultiresMesh() = default;

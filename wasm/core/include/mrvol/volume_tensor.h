@@ -77,6 +77,12 @@ struct ThetaFileHeader {
   uint64_t nnzFull = 0, nnzStored = 0;
 };
 
+// A tensor with the header that identifies what it was computed for.
+struct Theta {
+  VolumeTensor tensor;
+  ThetaFileHeader header;
+};
+
 // 64-bit fingerprint of connectivity: vertex count and faces, in the caller's order.
 uint64_t connectivityFingerprint(const std::vector<uint32_t>& faces, size_t vertexCount);
 
