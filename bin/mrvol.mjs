@@ -13,11 +13,18 @@ commands:
                                               zero-detail synthesis (subdivision) of a base mesh
   roundtrip MESH.obj [--scheme S] [--level e] [--json]
                                               max error of synthesis(analysis(x)) - x
+  volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta] [--json]
+                                              mesh volume and the volume through theta^e
+  theta MESH.obj [--scheme S] [--level e] [--storage cage|full] -o FILE.theta [--json]
+                                              computes theta^e and writes a theta file
 
 options:
   --scheme loop|butterfly|linear   wavelet scheme (default loop)
   --alpha a --beta b               Loop update weights (default -1.70943, 0.42954)
   --level e                        analysis level, 0 <= e <= n (default 0)
+  --storage cage|full              theta entries kept: rows of the level-e cage (default) or all;
+                                   nnzFull (the full tensor's count) is known only with full
+  --theta FILE                     use a stored theta file instead of computing
   --json                           print the result as JSON
   -o, --output FILE                output file`;
 
@@ -31,6 +38,8 @@ const OPTIONS = {
   level: { type: 'string' },
   levels: { type: 'string' },
   output: { type: 'string', short: 'o' },
+  storage: { type: 'string' },
+  theta: { type: 'string' },
   help: { type: 'boolean', short: 'h' },
 };
 
@@ -55,6 +64,20 @@ function schemeOptions(values) {
   if (!['loop', 'butterfly', 'linear'].includes(scheme))
     throw new UsageError(`--scheme must be loop, butterfly or linear, got '${scheme}'`);
   return { scheme, alpha: number(values.alpha, 'alpha'), beta: number(values.beta, 'beta') };
+}
+
+function storageOption(values) {
+  const storage = values.storage ?? 'cage';
+  if (!['cage', 'full'].includes(storage)) throw new UsageError(`--storage must be cage or full, got '${storage}'`);
+  return storage;
+}
+
+function readBytes(path) {
+  try {
+    return readFileSync(path);
+  } catch (e) {
+    throw new MrvolError(`cannot read ${path}: ${e.code === 'ENOENT' ? 'no such file' : e.message}`);
+  }
 }
 
 function readText(path) {
@@ -104,6 +127,70 @@ function print(values, result, text) {
   else process.stdout.write(text(result) + '\n');
 }
 
+// Shared by `volume` and `theta`: the tensor (computed or read) and what it says about the mesh.
+function tensorReport(mrvol, values, positionals, { requireOutput }) {
+  const path = onePath(positionals, 'MESH.obj');
+  const level = integer(values.level, 'level', 0);
+  const scheme = schemeOptions(values);
+  const storage = storageOption(values);
+  if (requireOutput && !values.output) throw new UsageError('-o FILE.theta is required');
+  if (values.theta && values.storage) throw new UsageError('--storage applies when computing, not with --theta');
+  const mr = openMultires(mrvol, path);
+  let theta;
+  try {
+    if (level < 0 || level > mr.levels)
+      throw new MrvolError(`level ${level} is out of range: ${path} has levels 0..${mr.levels}`);
+    if (values.theta) {
+      try {
+        theta = mrvol.readTheta(readBytes(values.theta));
+      } catch (e) {
+        throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
+      }
+    } else {
+      theta = mr.computeTheta({ level, storage, ...scheme });
+    }
+    let thetaVolume;
+    try {
+      thetaVolume = mr.thetaVolume(theta, { level, ...scheme });
+    } catch (e) {
+      throw e instanceof MrvolError && values.theta ? new MrvolError(`${values.theta}: ${e.message}`) : e;
+    }
+    const info = theta.info();
+    const result = {
+      volume: mr.info().volume, thetaVolume, scheme: scheme.scheme, level, storage: info.storage,
+      nnzFull: info.nnzFull, nnzStored: info.nnzStored, bytes: info.bytes,
+      precomputeMs: values.theta ? null : Math.round(theta.precomputeMs * 10) / 10,
+      source: values.theta ? 'file' : 'computed',
+    };
+    if (values.output) {
+      const bytes = theta.bytes();
+      writeBytes(values.output, bytes);
+      result.output = values.output;
+      result.fileBytes = bytes.length;
+    }
+    return result;
+  } finally {
+    theta?.delete();
+    mr.delete();
+  }
+}
+
+function writeBytes(path, bytes) {
+  try {
+    writeFileSync(path, bytes);
+  } catch (e) {
+    throw new MrvolError(`cannot write ${path}: ${e.message}`);
+  }
+}
+
+function describeTensor(r) {
+  return [`volume          ${r.volume}`, `theta volume    ${r.thetaVolume}`,
+          `theta           ${r.scheme} scheme, level ${r.level}, ${r.storage} storage (${r.source})`,
+          `entries         ${r.nnzStored} stored, ${r.nnzFull ?? 'unknown (cage storage)'} non-zeros in the full tensor`,
+          `memory          ${r.bytes} bytes` + (r.precomputeMs != null ? `, computed in ${r.precomputeMs} ms` : '')]
+    .concat(r.output ? [`wrote           ${r.output} (${r.fileBytes} bytes)`] : []).join('\n');
+}
+
 const COMMANDS = {
   info(mrvol, values, positionals) {
     const mr = openMultires(mrvol, onePath(positionals, 'MESH.obj'));
@@ -123,9 +210,10 @@ const COMMANDS = {
   subdivide(mrvol, values, positionals) {
     const input = onePath(positionals, 'BASE.obj');
     const levels = integer(values.levels, 'levels');
+    const scheme = schemeOptions(values);
     if (!values.output) throw new UsageError('-o OUT.obj is required');
     const base = loadMesh(mrvol, input);
-    const mr = mrvol.subdivide(base, { levels, ...schemeOptions(values) });
+    const mr = mrvol.subdivide(base, { levels, ...scheme });
     const mesh = mr.toMesh();
     const info = mr.info();
     mr.delete();
@@ -136,9 +224,10 @@ const COMMANDS = {
   },
 
   roundtrip(mrvol, values, positionals) {
-    const mr = openMultires(mrvol, onePath(positionals, 'MESH.obj'));
+    const path = onePath(positionals, 'MESH.obj');
     const level = integer(values.level, 'level', 0);
     const scheme = schemeOptions(values);
+    const mr = openMultires(mrvol, path);
     const maxError = mr.roundtripError({ level, ...scheme });
     const positions = mr.positions();
     mr.delete();
@@ -148,6 +237,11 @@ const COMMANDS = {
     print(values, result, (r) => `max reconstruction error ${r.maxError} (relative ${r.relativeError}), ${r.scheme} scheme, level ${r.level}`);
   },
 };
+
+COMMANDS.volume = (mrvol, values, positionals) =>
+  print(values, tensorReport(mrvol, values, positionals, { requireOutput: false }), describeTensor);
+COMMANDS.theta = (mrvol, values, positionals) =>
+  print(values, tensorReport(mrvol, values, positionals, { requireOutput: true }), describeTensor);
 
 export async function main(argv) {
   let values, positionals;
