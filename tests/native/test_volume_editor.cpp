@@ -1,0 +1,200 @@
+// Volume-preserving correction: volume kept after every drag, details and held vertices untouched,
+// the step is the minimal-norm solution of the linearized constraint, both gradient paths agree.
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "fixtures.h"
+#include "mrvol/error.h"
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+#include "mrvol/volume_editor.h"
+#include "mrvol/volume_tensor.h"
+
+using namespace mrvol;
+
+namespace {
+
+struct EditFixture {
+  Hierarchy h;
+  WaveletTransform wt;
+  std::vector<double> positions;  // caller order = hierarchy order here
+  EditFixture(const fixtures::Fixture& fx, const SchemeOptions& o, unsigned seed) : h(Hierarchy::subdivide(fx.base, fx.levels)), wt(h, o) {
+    positions.assign(3 * h.fineVertexCount(), 0.0);
+    std::copy(fx.base.positions.begin(), fx.base.positions.end(), positions.begin());
+    auto noise = fixtures::randomVector(positions.size(), seed, 0.03);
+    for (size_t i = fx.base.positions.size(); i < positions.size(); ++i) positions[i] = noise[i];
+    wt.synthesize(positions.data(), 0);
+  }
+};
+
+std::vector<SchemeOptions> schemes() {
+  SchemeOptions loop, butterfly, linear;
+  butterfly.kind = SchemeKind::Butterfly;
+  linear.kind = SchemeKind::Linear;
+  return {loop, butterfly, linear};
+}
+
+double maxAbs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+}  // namespace
+
+TEST(VolumeEditor, VolumeKeptAfterRandomDragsOnEveryFixture) {
+  std::mt19937 rng(2024);
+  int drags = 0;
+  for (const auto& fx : fixtures::baseFixtures())
+    for (const auto& o : schemes())
+      for (int e : {0, 1}) {
+        EditFixture s(fx, o, 1);
+        VolumeEditor editor(s.h, s.wt, e, s.positions.data());
+        const double reference = editor.referenceVolume();
+        const auto before = editor.coefficients();
+        const double size = maxAbs(s.positions);
+        std::uniform_real_distribution<double> u(-0.15 * size, 0.15 * size);
+        for (int d = 0; d < 50; ++d, ++drags) {
+          auto cage = editor.cagePositions();
+          std::uniform_int_distribution<uint32_t> pick(0, editor.cageSize() - 1);
+          uint32_t c = pick(rng);
+          if (s.h.boundary[c]) continue;
+          std::vector<uint8_t> held(editor.cageSize(), 0);
+          held[c] = 1;
+          for (int k = 0; k < 3; ++k) cage[3 * c + k] += u(rng);
+          auto target = cage;
+          EditReport r = editor.deformCage(target, held, EditOptions{});
+          ASSERT_TRUE(r.converged) << fx.name << " " << r.message;
+          EXPECT_LT(r.relativeError, 1e-5) << fx.name;
+          EXPECT_NEAR(editor.volume(), reference, 1e-5 * std::fabs(reference)) << fx.name;
+          auto now = editor.cagePositions();
+          for (int k = 0; k < 3; ++k) EXPECT_EQ(now[3 * c + k], target[3 * c + k]) << "held vertex moved";
+          for (uint32_t b = 0; b < editor.cageSize(); ++b)
+            if (s.h.boundary[b])
+              for (int k = 0; k < 3; ++k) EXPECT_EQ(now[3 * b + k], target[3 * b + k]) << "boundary vertex moved";
+        }
+        // Details ride along untouched.
+        auto after = editor.coefficients();
+        for (size_t i = 3 * size_t(editor.cageSize()); i < after.size(); ++i) ASSERT_EQ(after[i], before[i]);
+      }
+  EXPECT_GT(drags, 1000);
+}
+
+TEST(VolumeEditor, TensorAndMatrixFreeGradientsAgree) {
+  for (const auto& fx : fixtures::baseFixtures())
+    for (const auto& o : schemes())
+      for (int e = 0; e < fx.levels; ++e) {
+        EditFixture s(fx, o, 2);
+        VolumeEditor editor(s.h, s.wt, e, s.positions.data());
+        editor.useTensor(computeVolumeTensor(s.wt, e, TensorStorage::Cage));
+        std::vector<double> gFree, gTensor;
+        double v1 = editor.gradientMatrixFree(gFree);
+        double v2 = editor.gradientTensor(gTensor);
+        EXPECT_NEAR(v1, v2, 1e-10 * std::fabs(v1));
+        const double scale = maxAbs(gTensor);
+        for (size_t i = 0; i < gTensor.size(); ++i)
+          EXPECT_NEAR(gFree[i], gTensor[i], 1e-10 * scale) << fx.name << " " << schemeName(o.kind) << " e=" << e;
+        // And a drag ends in the same place on both paths.
+        VolumeEditor other(s.h, s.wt, e, s.positions.data());
+        auto target = editor.cagePositions();
+        target[0] += 0.2, target[1] -= 0.1;
+        std::vector<uint8_t> held(editor.cageSize(), 0);
+        held[0] = 1;
+        auto r1 = editor.deformCage(target, held, EditOptions{});
+        auto r2 = other.deformCage(target, held, EditOptions{});
+        EXPECT_EQ(r1.path, GradientPath::Tensor);
+        EXPECT_EQ(r2.path, GradientPath::MatrixFree);
+        auto a = editor.cagePositions(), b = other.cagePositions();
+        for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9) << fx.name;
+      }
+}
+
+TEST(VolumeEditor, OneIterationIsTheMinimalNormSolutionOfTheLinearizedConstraint) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    EditFixture s(fx, SchemeOptions{}, 3);
+    VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
+    editor.setReferenceVolume(editor.referenceVolume() * 1.03);
+    std::vector<double> g;
+    const double v = editor.gradientMatrixFree(g);
+    std::vector<uint8_t> held(editor.cageSize(), 0);
+    held[0] = 1;
+    std::vector<uint32_t> free;
+    for (uint32_t c = 1; c < editor.cageSize(); ++c)
+      if (!s.h.boundary[c]) free.push_back(c);
+    // Independent: minimal-norm solution of J delta = r by a complete orthogonal decomposition.
+    Eigen::MatrixXd J(1, 3 * free.size());
+    for (size_t i = 0; i < free.size(); ++i)
+      for (int k = 0; k < 3; ++k) J(0, 3 * i + k) = g[3 * free[i] + k];
+    Eigen::VectorXd r(1);
+    r[0] = editor.referenceVolume() - v;
+    Eigen::VectorXd expected = J.completeOrthogonalDecomposition().solve(r);
+    const auto before = editor.coefficients();
+    EditOptions one;
+    one.maxIterations = 1;
+    one.tolerance = 1e-15;
+    editor.correct(held, one);
+    const auto after = editor.coefficients();
+    for (size_t i = 0; i < free.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(after[3 * free[i] + k] - before[3 * free[i] + k], expected[3 * i + k], 1e-12 * (1 + expected.norm()))
+            << fx.name;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(after[k], before[k]);  // held
+  }
+}
+
+TEST(VolumeEditor, LocalizedPreservationKeepsEveryPartsVolume) {
+  fixtures::Fixture fx{"icosahedron", fixtures::icosahedron(), 3};
+  EditFixture s(fx, SchemeOptions{}, 4);
+  VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
+  // Two halves of the cage by the sign of z.
+  std::vector<std::vector<uint32_t>> parts(2);
+  auto cage = editor.cagePositions();
+  for (uint32_t c = 0; c < editor.cageSize(); ++c) parts[cage[3 * c + 2] >= 0 ? 0 : 1].push_back(c);
+  editor.setParts(parts);
+  auto refs = editor.partVolumes();
+  double sum = refs[0] + refs[1];
+  EXPECT_NEAR(sum, editor.volume(), 1e-12 * std::fabs(sum));  // the parts cover the mesh
+  std::vector<uint8_t> held(editor.cageSize(), 0);
+  uint32_t c = parts[0][0];
+  held[c] = 1;
+  auto target = cage;
+  target[3 * c] += 0.3, target[3 * c + 2] += 0.4;
+  EditReport r = editor.deformCage(target, held, EditOptions{});
+  ASSERT_TRUE(r.converged) << r.message;
+  auto now = editor.partVolumes();
+  for (int p = 0; p < 2; ++p) EXPECT_NEAR(now[p], refs[p], 1e-5 * std::fabs(refs[p]));
+}
+
+TEST(VolumeEditor, ReportsWhatCannotConverge) {
+  fixtures::Fixture fx{"icosahedron", fixtures::icosahedron(), 2};
+  EditFixture s(fx, SchemeOptions{}, 5);
+  VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
+  editor.setFreeSet({});  // nothing is free
+  auto target = editor.cagePositions();
+  target[0] += 0.5;
+  std::vector<uint8_t> held(editor.cageSize(), 0);
+  held[0] = 1;
+  EditReport r = editor.deformCage(target, held, EditOptions{});
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.message.find("free set is empty"), std::string::npos) << r.message;
+  EXPECT_THROW(editor.cageIndexOf(100), Error);  // not a level-0 cage vertex
+  EXPECT_THROW(editor.deformCage({1.0, 2.0}, held, EditOptions{}), Error);
+}
+
+TEST(VolumeEditor, FreeDetailsAbsorbTheCorrectionToo) {
+  fixtures::Fixture fx{"octahedron", fixtures::octahedron(), 3};
+  EditFixture s(fx, SchemeOptions{}, 6);
+  VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
+  std::vector<uint32_t> none;
+  editor.setFreeSet(none, {1, 2});  // only details of levels 1 and 2 are free
+  auto target = editor.cagePositions();
+  target[2] += 0.3;
+  std::vector<uint8_t> held(editor.cageSize(), 0);
+  held[0] = 1;
+  EditReport r = editor.deformCage(target, held, EditOptions{});
+  ASSERT_TRUE(r.converged) << r.message;
+  EXPECT_LT(r.relativeError, 1e-5);
+  EXPECT_EQ(r.path, GradientPath::MatrixFree);
+}

@@ -1,0 +1,430 @@
+#include "mrvol/volume_editor.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "mrvol/error.h"
+#include "mrvol/hierarchy.h"
+
+namespace mrvol {
+
+const char* gradientPathName(GradientPath path) { return path == GradientPath::Tensor ? "tensor" : "matrix-free"; }
+
+namespace {
+inline void cross(const double* a, const double* b, double* out) {
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline void axpy(double w, const double* a, double* out) { out[0] += w * a[0], out[1] += w * a[1], out[2] += w * a[2]; }
+}  // namespace
+
+double CagePolynomial::evaluate(const double* c, double* g) const {
+  double v = constant;
+  if (g) std::fill(g, g + 3 * size_t(cageSize), 0.0);
+  for (uint32_t i = 0; i < cageSize; ++i) {
+    v += dot(&linear[3 * i], c + 3 * i);
+    if (g) axpy(1.0, &linear[3 * i], g + 3 * i);
+  }
+  double t[3];
+  for (size_t p = 0; p < pairI.size(); ++p) {
+    const double *ci = c + 3 * pairI[p], *cj = c + 3 * pairJ[p], *q = &pairQ[3 * p];
+    cross(cj, q, t);
+    v += dot(ci, t);
+    if (g) {
+      axpy(1.0, t, g + 3 * pairI[p]);
+      cross(q, ci, t);
+      axpy(1.0, t, g + 3 * pairJ[p]);
+    }
+  }
+  for (size_t p = 0; p < tripleT.size(); ++p) {
+    const double *ci = c + 3 * tripleI[p], *cj = c + 3 * tripleJ[p], *ck = c + 3 * tripleK[p];
+    const double T = tripleT[p];
+    cross(cj, ck, t);
+    v += T * dot(ci, t);
+    if (g) {
+      axpy(T, t, g + 3 * tripleI[p]);
+      cross(ck, ci, t);
+      axpy(T, t, g + 3 * tripleJ[p]);
+      cross(ci, cj, t);
+      axpy(T, t, g + 3 * tripleK[p]);
+    }
+  }
+  return v;
+}
+
+VolumeEditor::VolumeEditor(const Hierarchy& hierarchy, const WaveletTransform& transform, int level,
+                           const double* positions)
+    : hierarchy_(&hierarchy), transform_(&transform), level_(level) {
+  if (level < 0 || level > hierarchy.levels)
+    throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." +
+                std::to_string(hierarchy.levels));
+  cageSize_ = hierarchy.vertexCount[level];
+  const size_t n = hierarchy.fineVertexCount();
+  TriangleMesh fine;
+  fine.positions.resize(3 * n);
+  hierarchy.toHierarchyOrder(positions, fine.positions.data());
+  for (double v : fine.positions)
+    if (!std::isfinite(v)) throw Error("positions must be finite numbers");
+  fine.faces = hierarchy.fineFaces();
+  origin_ = volumeReferencePoint(fine);
+  x_ = std::move(fine.positions);
+  transform.analyze(x_.data(), level);
+  reference_ = volume();
+}
+
+std::vector<uint32_t> VolumeEditor::cageVertices() const {
+  return std::vector<uint32_t>(hierarchy_->inputIndex.begin(), hierarchy_->inputIndex.begin() + cageSize_);
+}
+
+uint32_t VolumeEditor::cageIndexOf(uint32_t callerVertex) const {
+  if (callerVertex >= hierarchy_->hierarchyIndex.size())
+    throw Error("vertex " + std::to_string(callerVertex) + " does not exist (the mesh has " +
+                std::to_string(hierarchy_->hierarchyIndex.size()) + " vertices)");
+  const uint32_t h = hierarchy_->hierarchyIndex[callerVertex];
+  if (h >= cageSize_)
+    throw Error("vertex " + std::to_string(callerVertex) + " is not a vertex of the level-" + std::to_string(level_) +
+                " cage (it is born at level " + std::to_string(hierarchy_->depth(h)) + ")");
+  return h;
+}
+
+void VolumeEditor::setReferenceVolume(double volume) {
+  if (!std::isfinite(volume)) throw Error("the reference volume must be a finite number");
+  reference_ = volume;
+}
+
+double VolumeEditor::fineVolumeAndGradient(const std::vector<double>& x, std::vector<double>* grad,
+                                           const std::vector<uint8_t>* mask) const {
+  std::vector<double> p = x;
+  transform_->synthesize(p.data(), level_);
+  for (size_t v = 0; v < p.size(); v += 3) p[v] -= origin_.x, p[v + 1] -= origin_.y, p[v + 2] -= origin_.z;
+  const auto& faces = hierarchy_->fineFaces();
+  if (grad) grad->assign(p.size(), 0.0);
+  double sum = 0;
+  double t[3];
+  for (size_t f = 0, tri = 0; f < faces.size(); f += 3, ++tri) {
+    if (mask && !(*mask)[tri]) continue;
+    const double *a = &p[3 * size_t(faces[f])], *b = &p[3 * size_t(faces[f + 1])], *c = &p[3 * size_t(faces[f + 2])];
+    cross(b, c, t);
+    sum += dot(a, t);
+    if (grad) {
+      axpy(1.0 / 6.0, t, &(*grad)[3 * size_t(faces[f])]);
+      cross(c, a, t);
+      axpy(1.0 / 6.0, t, &(*grad)[3 * size_t(faces[f + 1])]);
+      cross(a, b, t);
+      axpy(1.0 / 6.0, t, &(*grad)[3 * size_t(faces[f + 2])]);
+    }
+  }
+  return sum / 6.0;
+}
+
+double VolumeEditor::volume() const { return fineVolumeAndGradient(x_, nullptr, nullptr); }
+
+void VolumeEditor::useTensor(const VolumeTensor& tensor) {
+  if (tensor.storage != TensorStorage::Cage || tensor.level != level_ || tensor.vertexCount != x_.size() / 3 ||
+      tensor.rowCount != cageSize_)
+    throw Error("the tensor is not theta^" + std::to_string(level_) + " with cage storage for this mesh");
+  auto poly = std::make_unique<CagePolynomial>();
+  poly->cageSize = cageSize_;
+  poly->linear.assign(3 * size_t(cageSize_), 0.0);
+  const std::vector<double> shifted = shiftedCage();
+  const double* x = x_.data();  // details (translation only moves the cage coefficients)
+  for (uint32_t i = 0; i < tensor.rowCount; ++i)
+    for (uint32_t p = tensor.rowStart[i]; p < tensor.rowStart[i + 1]; ++p) {
+      const uint32_t j = tensor.pairJ[p];
+      double q[3] = {0, 0, 0};
+      for (uint32_t t = tensor.pairStart[p]; t < tensor.pairStart[p + 1]; ++t) {
+        const uint32_t k = tensor.kIndex(t);
+        if (k < cageSize_) {
+          poly->tripleI.push_back(i), poly->tripleJ.push_back(j), poly->tripleK.push_back(k);
+          poly->tripleT.push_back(tensor.values[t]);
+        } else {  // k is a detail
+          axpy(tensor.values[t], x + 3 * size_t(k), q);
+        }
+      }
+      if (j >= cageSize_) {  // a_i += p_j x q
+        double t[3];
+        cross(x + 3 * size_t(j), q, t);
+        axpy(1.0, t, &poly->linear[3 * i]);
+      } else if (q[0] != 0 || q[1] != 0 || q[2] != 0) {
+        poly->pairI.push_back(i), poly->pairJ.push_back(j);
+        poly->pairQ.insert(poly->pairQ.end(), q, q + 3);
+      }
+    }
+  // Entries made of details only fold into the constant.
+  poly->constant = volume() - poly->evaluate(shifted.data(), nullptr);
+  polynomial_ = std::move(poly);
+}
+
+void VolumeEditor::useMatrixFree() { polynomial_.reset(); }
+
+void VolumeEditor::setFreeSet(std::vector<uint32_t> cage, std::vector<int> detailLevels) {
+  for (uint32_t c : cage)
+    if (c >= cageSize_) throw Error("free-set index " + std::to_string(c) + " is not a cage vertex");
+  for (int l : detailLevels)
+    if (l < level_ || l >= hierarchy_->levels)
+      throw Error("free detail level " + std::to_string(l) + " is out of range " + std::to_string(level_) + ".." +
+                  std::to_string(hierarchy_->levels - 1));
+  freeCage_ = std::move(cage);
+  freeCageGiven_ = true;
+  freeDetailLevels_ = std::move(detailLevels);
+}
+
+void VolumeEditor::clearFreeSet() {
+  freeCage_.clear();
+  freeCageGiven_ = false;
+  freeDetailLevels_.clear();
+}
+
+std::vector<uint32_t> VolumeEditor::freeCoefficients(const std::vector<uint8_t>& held) const {
+  std::vector<uint32_t> free;
+  const auto& boundary = hierarchy_->boundary;
+  if (freeCageGiven_) {
+    for (uint32_t c : freeCage_)
+      if (!boundary[c]) free.push_back(c);
+  } else {
+    for (uint32_t c = 0; c < cageSize_; ++c)
+      if (!boundary[c] && !(c < held.size() && held[c])) free.push_back(c);
+  }
+  for (int l : freeDetailLevels_)
+    for (uint32_t v = hierarchy_->vertexCount[l]; v < hierarchy_->vertexCount[l + 1]; ++v)
+      if (!boundary[v]) free.push_back(v);
+  std::sort(free.begin(), free.end());
+  free.erase(std::unique(free.begin(), free.end()), free.end());
+  return free;
+}
+
+double VolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const {
+  double v = fineVolumeAndGradient(x_, &gradient, nullptr);
+  transform_->synthesisAdjoint(gradient.data(), level_);
+  return v;
+}
+
+double VolumeEditor::gradientTensor(std::vector<double>& gradient) const {
+  if (!polynomial_) throw Error("no tensor is in use");
+  gradient.assign(3 * size_t(cageSize_), 0.0);
+  return polynomial_->evaluate(shiftedCage().data(), gradient.data());
+}
+
+std::vector<double> VolumeEditor::shiftedCage() const {
+  std::vector<double> c(x_.begin(), x_.begin() + 3 * size_t(cageSize_));
+  for (size_t i = 0; i < c.size(); i += 3) c[i] -= origin_.x, c[i + 1] -= origin_.y, c[i + 2] -= origin_.z;
+  return c;
+}
+
+void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOptions& o, EditReport& report) {
+  const bool tensor = polynomial_ && freeDetailLevels_.empty();
+  const double scale = std::max(std::fabs(reference_), 1e-300);
+  std::vector<double> g;
+  for (int it = 0;; ++it) {
+    double v;
+    std::vector<double> cage;
+    if (tensor) {
+      cage = shiftedCage();
+      v = polynomial_->evaluate(cage.data(), nullptr);
+    } else {
+      v = fineVolumeAndGradient(x_, &g, nullptr);
+    }
+    report.relativeError = std::fabs(v - reference_) / scale;
+    if (report.relativeError < o.tolerance) return;
+    if (it == o.maxIterations) {
+      report.converged = false;
+      report.message = "no convergence in " + std::to_string(o.maxIterations) + " iterations";
+      return;
+    }
+    if (tensor) {
+      g.resize(3 * size_t(cageSize_));
+      polynomial_->evaluate(cage.data(), g.data());
+    } else {
+      transform_->synthesisAdjoint(g.data(), level_);
+    }
+    double norm2 = 0;
+    for (uint32_t i : free) norm2 += dot(&g[3 * size_t(i)], &g[3 * size_t(i)]);
+    if (!(norm2 > 0) || free.empty()) {
+      report.converged = false;
+      report.message = free.empty() ? "the free set is empty: nothing can absorb the volume change"
+                                    : "the free coefficients cannot change the volume (their gradients vanish)";
+      return;
+    }
+    // Minimal-norm correction of the linearized constraint: delta_i = r / sum |g|^2 g_i.
+    const double step = (reference_ - v) / norm2;
+    for (uint32_t i : free) axpy(step, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
+    ++report.iterations;
+  }
+}
+
+void VolumeEditor::setParts(const std::vector<std::vector<uint32_t>>& parts, const std::vector<double>& references) {
+  partTriangles_.clear();
+  partReference_.clear();
+  if (parts.empty()) return;
+  if (!references.empty() && references.size() != parts.size())
+    throw Error("give one reference volume per part (" + std::to_string(parts.size()) + ")");
+  const size_t n = x_.size() / 3;
+  // Weight of each part at each fine vertex: synthesis of its cage indicator (partition of unity).
+  std::vector<std::vector<double>> weight(parts.size(), std::vector<double>(n, 0.0));
+  std::vector<int> owner(cageSize_, -1);
+  for (size_t p = 0; p < parts.size(); ++p)
+    for (uint32_t c : parts[p]) {
+      if (c >= cageSize_) throw Error("part " + std::to_string(p) + " lists " + std::to_string(c) + ", not a cage vertex");
+      if (owner[c] >= 0) throw Error("cage vertex " + std::to_string(hierarchy_->inputIndex[c]) + " is in two parts");
+      owner[c] = int(p);
+      weight[p][c] = 1.0;
+    }
+  for (auto& w : weight)
+    for (int l = level_ + 1; l <= hierarchy_->levels; ++l)
+      for (const auto& step : transform_->synthesisSteps(l)) step.forward(w.data(), 1);
+  const auto& faces = hierarchy_->fineFaces();
+  partTriangles_.assign(parts.size(), std::vector<uint8_t>(faces.size() / 3, 0));
+  for (size_t f = 0, tri = 0; f < faces.size(); f += 3, ++tri) {
+    double best = 0, total = 0;
+    int bestPart = -1;
+    for (size_t p = 0; p < parts.size(); ++p) {
+      const double w = weight[p][faces[f]] + weight[p][faces[f + 1]] + weight[p][faces[f + 2]];
+      total += w;
+      if (w > best) best = w, bestPart = int(p);
+    }
+    if (bestPart >= 0 && best > 3.0 - total) partTriangles_[bestPart][tri] = 1;  // beats the unassigned rest
+  }
+  partReference_ = references.empty() ? partVolumes() : references;
+}
+
+std::vector<double> VolumeEditor::partVolumes() const {
+  std::vector<double> v;
+  for (const auto& mask : partTriangles_) v.push_back(fineVolumeAndGradient(x_, nullptr, &mask));
+  return v;
+}
+
+void VolumeEditor::solveParts(const std::vector<uint32_t>& free, const EditOptions& o, EditReport& report) {
+  const size_t k = partTriangles_.size(), m = free.size();
+  Eigen::MatrixXd J(k, 3 * m);
+  Eigen::VectorXd r(k);
+  std::vector<double> g;
+  for (int it = 0;; ++it) {
+    double worst = 0;
+    for (size_t p = 0; p < k; ++p) {
+      const double v = fineVolumeAndGradient(x_, &g, &partTriangles_[p]);
+      r[p] = partReference_[p] - v;
+      worst = std::max(worst, std::fabs(r[p]) / std::max(std::fabs(partReference_[p]), 1e-300));
+      transform_->synthesisAdjoint(g.data(), level_);
+      for (size_t i = 0; i < m; ++i)
+        for (int c = 0; c < 3; ++c) J(p, 3 * i + c) = g[3 * size_t(free[i]) + c];
+    }
+    report.relativeError = worst;
+    if (worst < o.tolerance) return;
+    if (it == o.maxIterations) {
+      report.converged = false;
+      report.message = "no convergence in " + std::to_string(o.maxIterations) + " iterations";
+      return;
+    }
+    // delta = J^T (J J^T)^-1 r: the minimal-norm solution of the k linearized constraints.
+    Eigen::MatrixXd JJt = J * J.transpose();
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(JJt);
+    lu.setThreshold(1e-12);
+    if (m == 0 || lu.rank() < int(k)) {
+      report.converged = false;
+      report.message = "the parts' constraints cannot all be met by the free set (some part has no free influence)";
+      return;
+    }
+    Eigen::VectorXd delta = J.transpose() * lu.solve(r);
+    for (size_t i = 0; i < m; ++i)
+      for (int c = 0; c < 3; ++c) x_[3 * size_t(free[i]) + c] += delta[3 * i + c];
+    ++report.iterations;
+  }
+}
+
+EditReport VolumeEditor::correct(const std::vector<uint8_t>& held, const EditOptions& o) {
+  EditReport report;
+  report.path = partTriangles_.empty() && freeDetailLevels_.empty() ? path() : GradientPath::MatrixFree;
+  report.volumeReference = reference_;
+  report.volumeTarget = volume();
+  report.substeps = 1;
+  if (o.preserve) {
+    const auto free = freeCoefficients(held);
+    if (partTriangles_.empty()) solveGlobal(free, o, report);
+    else solveParts(free, o, report);
+  }
+  report.volumeResult = volume();
+  if (partTriangles_.empty())
+    report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
+  report.partReferences = partReference_;
+  report.partVolumes = partVolumes();
+  return report;
+}
+
+EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std::vector<uint8_t>& held,
+                                    const EditOptions& o) {
+  if (target.size() != 3 * size_t(cageSize_))
+    throw Error("the cage target needs " + std::to_string(3 * size_t(cageSize_)) + " coordinates, got " +
+                std::to_string(target.size()));
+  if (!(o.tolerance > 0) || o.maxIterations < 1 || o.maxSubsteps < 1)
+    throw Error("tolerance must be positive and iteration limits at least 1");
+  std::vector<double> move(target.size());
+  for (uint32_t c = 0; c < cageSize_; ++c)
+    for (int k = 0; k < 3; ++k) {
+      const double t = target[3 * c + k];
+      if (!std::isfinite(t)) throw Error("the cage target has a non-finite coordinate");
+      move[3 * c + k] = t - x_[3 * c + k];
+      if (hierarchy_->boundary[c] && move[3 * c + k] != 0.0)
+        throw Error("vertex " + std::to_string(hierarchy_->inputIndex[c]) +
+                    " is on the boundary: boundary vertices stay fixed so that the volume stays meaningful");
+    }
+  EditReport report;
+  report.path = partTriangles_.empty() && freeDetailLevels_.empty() ? path() : GradientPath::MatrixFree;
+  report.volumeReference = reference_;
+  std::vector<double> start(x_.begin(), x_.begin() + 3 * size_t(cageSize_));
+  for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i];
+  report.volumeTarget = volume();
+  if (!o.preserve) {
+    report.volumeResult = report.volumeTarget;
+    report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
+    report.partReferences = partReference_;
+    report.partVolumes = partVolumes();
+    return report;
+  }
+  // Large moves are split so that the linearization holds.
+  const double rawChange = std::fabs(report.volumeTarget - reference_) / std::max(std::fabs(reference_), 1e-300);
+  const int substeps = std::clamp(int(std::ceil(rawChange / o.substepError)), 1, o.maxSubsteps);
+  report.substeps = substeps;
+  const auto free = freeCoefficients(held);
+  for (size_t i = 0; i < move.size(); ++i) x_[i] = start[i];
+  for (int s = 1; s <= substeps; ++s) {
+    for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i] / substeps;
+    EditReport stepReport;
+    if (partTriangles_.empty()) solveGlobal(free, o, stepReport);
+    else solveParts(free, o, stepReport);
+    report.iterations += stepReport.iterations;
+    report.relativeError = stepReport.relativeError;
+    if (!stepReport.converged) {
+      report.converged = false;
+      report.message = stepReport.message;
+      break;
+    }
+  }
+  // Held vertices end exactly where the target puts them (sub-steps add up with rounding).
+  for (uint32_t c = 0; c < cageSize_; ++c)
+    if (c < held.size() && held[c] && !(freeCageGiven_ && std::binary_search(free.begin(), free.end(), c)))
+      for (int k = 0; k < 3; ++k) x_[3 * c + k] = target[3 * c + k];
+  report.volumeResult = volume();
+  if (partTriangles_.empty())
+    report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
+  report.partReferences = partReference_;
+  report.partVolumes = partVolumes();
+  return report;
+}
+
+std::vector<double> VolumeEditor::cagePositions() const {
+  return std::vector<double>(x_.begin(), x_.begin() + 3 * size_t(cageSize_));
+}
+
+std::vector<double> VolumeEditor::coefficients() const { return x_; }
+
+std::vector<double> VolumeEditor::positions() const {
+  std::vector<double> p = x_, out(x_.size());
+  transform_->synthesize(p.data(), level_);
+  hierarchy_->toInputOrder(p.data(), out.data());
+  return out;
+}
+
+}  // namespace mrvol
