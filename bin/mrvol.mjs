@@ -17,6 +17,10 @@ commands:
                                               mesh volume and the volume through theta^e
   theta MESH.obj [--scheme S] [--level e] [--storage cage|full] -o FILE.theta [--json]
                                               computes theta^e and writes a theta file
+  edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]
+       [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]
+       [--theta FILE.theta] -o OUT.obj [--json]
+                                              moves level-e cage vertices, keeping the volume
 
 options:
   --scheme loop|butterfly|linear   wavelet scheme (default loop)
@@ -25,6 +29,13 @@ options:
   --storage cage|full              theta entries kept: rows of the level-e cage (default) or all;
                                    nnzFull (the full tensor's count) is known only with full
   --theta FILE                     use a stored theta file instead of computing
+  --move V:dx,dy,dz                moves cage vertex V (0-based, file order) by (dx, dy, dz); held
+  --free cage|all|LIST             free set: cage minus the moved vertices (default), all cage
+                                   vertices, or a comma-separated list of cage vertices
+  --free-details L,...             also free the details of these levels (matrix-free path)
+  --no-preserve                    apply the move without volume correction
+  --tolerance t                    relative volume error to reach (default 1e-5)
+  --path auto|tensor|matrix-free   gradient path; auto uses the tensor up to 4000 vertices
   --json                           print the result as JSON
   -o, --output FILE                output file`;
 
@@ -39,6 +50,12 @@ const OPTIONS = {
   levels: { type: 'string' },
   output: { type: 'string', short: 'o' },
   storage: { type: 'string' },
+  move: { type: 'string', multiple: true },
+  free: { type: 'string' },
+  'free-details': { type: 'string' },
+  'no-preserve': { type: 'boolean' },
+  tolerance: { type: 'string' },
+  path: { type: 'string' },
   theta: { type: 'string' },
   help: { type: 'boolean', short: 'h' },
 };
@@ -237,6 +254,88 @@ const COMMANDS = {
     print(values, result, (r) => `max reconstruction error ${r.maxError} (relative ${r.relativeError}), ${r.scheme} scheme, level ${r.level}`);
   },
 };
+
+// Up to this many vertices the tensor of the cage rows stays small (tens of MB): `--path auto`
+// uses it; beyond, the matrix-free gradient.
+const TENSOR_AUTO_MAX_VERTICES = 4000;
+
+function parseMoves(values) {
+  if (!values.move?.length) throw new UsageError('at least one --move V:dx,dy,dz is required');
+  return values.move.map((text) => {
+    const m = /^(\d+):([^,]+),([^,]+),([^,]+)$/.exec(text);
+    if (!m) throw new UsageError(`--move expects V:dx,dy,dz (for example 3:0.1,0,-0.2), got '${text}'`);
+    const offset = [m[2], m[3], m[4]].map((x) => number(x, 'move'));
+    return { vertex: Number(m[1]), offset };
+  });
+}
+
+function parseList(text, name) {
+  const items = text.split(',').map((x) => x.trim());
+  if (items.some((x) => !/^\d+$/.test(x))) throw new UsageError(`--${name} expects a comma-separated list of integers, got '${text}'`);
+  return items.map(Number);
+}
+
+COMMANDS.edit = (mrvol, values, positionals) => {
+  const path = onePath(positionals, 'MESH.obj');
+  const level = integer(values.level, 'level', 0);
+  const scheme = schemeOptions(values);
+  const moves = parseMoves(values);
+  if (!values.output) throw new UsageError('-o OUT.obj is required');
+  const tolerance = values.tolerance === undefined ? 1e-5 : number(values.tolerance, 'tolerance');
+  if (!(tolerance > 0 && tolerance < 1)) throw new UsageError('--tolerance must be between 0 and 1');
+  const gradientPath = values.path ?? 'auto';
+  if (!['auto', 'tensor', 'matrix-free'].includes(gradientPath))
+    throw new UsageError(`--path must be auto, tensor or matrix-free, got '${gradientPath}'`);
+  const free = values.free ?? 'cage';
+  const freeList = free === 'cage' || free === 'all' ? null : parseList(free, 'free');
+  const detailLevels = values['free-details'] ? parseList(values['free-details'], 'free-details') : [];
+  const mr = openMultires(mrvol, path);
+  let theta;
+  try {
+    if (level < 0 || level > mr.levels)
+      throw new MrvolError(`level ${level} is out of range: ${path} has levels 0..${mr.levels}`);
+    const editor = mr.createEditor({ level, ...scheme });
+    editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
+    const wantTensor = values.theta || gradientPath === 'tensor' ||
+      (gradientPath === 'auto' && detailLevels.length === 0 && mr.vertexCount <= TENSOR_AUTO_MAX_VERTICES);
+    if (wantTensor && values['no-preserve'] === undefined) {
+      if (values.theta) {
+        try {
+          theta = mrvol.readTheta(readBytes(values.theta));
+          editor.useTheta(theta);
+        } catch (e) {
+          throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
+        }
+      } else {
+        theta = mr.computeTheta({ level, ...scheme });
+        editor.useTheta(theta);
+      }
+    }
+    const started = performance.now();
+    const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
+    const stepMs = performance.now() - started;
+    if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
+    writeText(values.output, mrvolWriteEdited(mrvol, mr, editor));
+    const result = {
+      volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
+      relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
+      stepMs: Math.round(stepMs * 1000) / 1000, path: values['no-preserve'] ? 'none' : report.path,
+      output: values.output,
+    };
+    print(values, result, (r) => [
+      `reference volume ${r.volumeReference}`, `target volume    ${r.volumeTarget}`,
+      `result volume    ${r.volumeResult} (relative error ${r.relativeError})`,
+      `correction       ${r.iterations} iterations, ${r.substeps} sub-steps, ${r.stepMs} ms, ${r.path} gradient`,
+      `wrote            ${r.output}`].join('\n'));
+  } finally {
+    theta?.delete();
+    mr.delete();
+  }
+};
+
+function mrvolWriteEdited(mrvol, mr, editor) {
+  return mrvol.writeObj({ positions: editor.positions(), faces: mr.faces() });
+}
 
 COMMANDS.volume = (mrvol, values, positionals) =>
   print(values, tensorReport(mrvol, values, positionals, { requireOutput: false }), describeTensor);

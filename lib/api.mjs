@@ -21,9 +21,9 @@ function schemeArgs(options = {}) {
   return [scheme, alpha, beta];
 }
 
-function levelArg(level) {
+function levelArg(level, name = 'level') {
   const l = level ?? 0;
-  if (!Number.isInteger(l)) throw new MrvolError(`level must be an integer, got ${level}`);
+  if (!Number.isInteger(l) || l < 0 || l > 64) throw new MrvolError(`${name} must be an integer from 0 to 64, got ${level}`);
   return l;
 }
 
@@ -66,6 +66,103 @@ export function wrapModule(module) {
       if (this.#raw) this.#raw.delete();
       this.#raw = null;
     }
+  }
+
+  const FREE_MODES = { 'minus-held': 'minus-held', cage: 'minus-held', all: 'all' };
+
+  /**
+   * A volume-preserving editing session on the level-e cage. Vertex indices are the caller's;
+   * cage arrays (positions, flags) are in cage order, given by cageVertices().
+   */
+  class VolumeEditor {
+    #raw;
+    #mesh;
+    #scheme;
+    constructor(raw, mesh, scheme) {
+      this.#raw = raw;
+      this.#mesh = mesh;
+      this.#scheme = scheme;
+      this.level = raw.level();
+      this.cageSize = raw.cageSize();
+    }
+    #live() {
+      if (!this.#raw) throw new MrvolError('this VolumeEditor has been deleted');
+      return this.#raw;
+    }
+    /** Caller's vertex index of each cage vertex, in cage order. */
+    cageVertices() { return call((r) => r.cageVertices(), this.#live()); }
+    /** Cage order index of a caller's vertex; throws if it is not a level-e cage vertex. */
+    cageIndexOf(vertex) { return call((r) => r.cageIndexOf(vertex), this.#live()); }
+    cagePositions() { return call((r) => r.cagePositions(), this.#live()); }
+    /** Fine positions, caller's vertex order. */
+    positions() { return call((r) => r.positions(), this.#live()); }
+    coefficients() { return call((r) => r.coefficients(), this.#live()); }
+    volume() { return call((r) => r.volume(), this.#live()); }
+    referenceVolume() { return call((r) => r.referenceVolume(), this.#live()); }
+    setReferenceVolume(volume) { call((r) => r.setReferenceVolume(volume), this.#live()); }
+    /** 'tensor' or 'matrix-free'. */
+    path() { return call((r) => r.path(), this.#live()); }
+    /** Uses theta^e (cage storage, this mesh, scheme and level) for the gradients. */
+    useTheta(theta) {
+      if (!(theta instanceof Theta)) throw new MrvolError('useTheta expects a Theta');
+      call((r) => r.useTheta(this.#mesh, theta.raw, ...this.#scheme), this.#live());
+    }
+    useMatrixFree() { call((r) => r.useMatrixFree(), this.#live()); }
+    /**
+     * Free set: cage 'minus-held' (default), 'all', or a list of caller vertex indices; plus the
+     * details of chosen levels (matrix-free path).
+     */
+    setFreeSet({ cage = 'minus-held', detailLevels = [] } = {}) {
+      const levels = Int32Array.from(detailLevels, (l) => levelArg(l, 'detail level'));
+      if (typeof cage === 'string') {
+        if (!FREE_MODES[cage]) throw new MrvolError(`unknown free set '${cage}' (minus-held, all or a list of vertices)`);
+        call((r) => r.setFreeSet(FREE_MODES[cage], undefined, levels), this.#live());
+      } else {
+        const list = Uint32Array.from(cage, (v) => this.cageIndexOf(v));
+        call((r) => r.setFreeSet('list', list, levels), this.#live());
+      }
+    }
+    /** Localized preservation: parts as lists of caller cage-vertex indices, optional references. */
+    setParts(parts, references) {
+      const local = parts.map((p) => Uint32Array.from(p, (v) => this.cageIndexOf(v)));
+      call((r) => r.setParts(local, references ? Float64Array.from(references) : undefined), this.#live());
+    }
+    partVolumes() { return call((r) => r.partVolumes(), this.#live()); }
+    /**
+     * Moves the cage to `target` (Float64Array, 3 per cage vertex, cage order), keeping the `held`
+     * cage vertices (Uint8Array flags, cage order) where the target puts them, and restores the volume.
+     * options: { tolerance = 1e-5, preserve = true, maxIterations, maxSubsteps }.
+     */
+    deformCage(target, held, options = {}) {
+      if (!(target instanceof Float64Array)) throw new MrvolError('target must be a Float64Array');
+      return call((r) => r.deformCage(target, Uint8Array.from(held), options), this.#live());
+    }
+    /**
+     * Convenience for drags: moves = [{ vertex, position: [x, y, z] } | { vertex, offset: [dx, dy, dz] }]
+     * with caller vertex indices; those vertices are held.
+     */
+    moveVertices(moves, options = {}) {
+      const target = this.cagePositions();
+      const held = new Uint8Array(this.cageSize);
+      for (const move of moves) {
+        const c = this.cageIndexOf(move.vertex);
+        const to = move.position ?? [0, 1, 2].map((k) => target[3 * c + k] + (move.offset?.[k] ?? 0));
+        for (let k = 0; k < 3; k++) target[3 * c + k] = to[k];
+        held[c] = 1;
+      }
+      return this.deformCage(target, held, options);
+    }
+    /** Restores the volume of the current shape, holding the flagged cage vertices. */
+    correct(held = new Uint8Array(this.cageSize), options = {}) {
+      return call((r) => r.correct(Uint8Array.from(held), options), this.#live());
+    }
+    /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor' (cage). */
+    gradient(path = 'matrix-free') { return call((r) => r.gradient(path), this.#live()); }
+    delete() {
+      if (this.#raw) this.#raw.delete();
+      this.#raw = null;
+    }
+    get deleted() { return !this.#raw; }
   }
 
   class MultiresMesh {
@@ -126,7 +223,20 @@ export function wrapModule(module) {
       if (!(theta instanceof Theta)) throw new MrvolError('thetaVolume expects a Theta');
       return call((r) => r.thetaVolume(theta.raw, levelArg(options.level), ...schemeArgs(options)), this.#live());
     }
+    /** Starts an editing session at level e from the current positions. */
+    createEditor(options = {}) {
+      const scheme = schemeArgs(options);
+      const raw = call((r) => r.createEditor(levelArg(options.level), ...scheme), this.#live());
+      const editor = new VolumeEditor(raw, this.#live(), scheme);
+      this.#editors.add(editor);
+      if (options.theta) editor.useTheta(options.theta);
+      return editor;
+    }
+    #editors = new Set();
     delete() {
+      // Editors refer to this mesh's hierarchy: they go first.
+      for (const editor of this.#editors) editor.delete();
+      this.#editors.clear();
       if (this.#raw) this.#raw.delete();
       this.#raw = null;
     }
@@ -161,14 +271,13 @@ export function wrapModule(module) {
     /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */
     openMesh(mesh, options = {}) {
       checkMesh(mesh);
-      const maxLevels = options.maxLevels ?? 16;
+      const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
       return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels));
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {
       checkMesh(base);
-      const levels = options.levels ?? 1;
-      if (!Number.isInteger(levels)) throw new MrvolError(`levels must be an integer, got ${levels}`);
+      const levels = levelArg(options.levels ?? 1, 'levels');
       return new MultiresMesh(call(module._subdivideBase, base.positions, base.faces, levels, ...schemeArgs(options)));
     },
   };

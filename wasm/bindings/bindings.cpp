@@ -4,6 +4,7 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <new>
@@ -12,6 +13,7 @@
 
 #include "mrvol/error.h"
 #include "mrvol/multires_mesh.h"
+#include "mrvol/volume_editor.h"
 
 using emscripten::val;
 using namespace mrvol;
@@ -228,6 +230,104 @@ val js_thetaInfo(const Theta& t) {
   });
 }
 
+VolumeEditor* js_createEditor(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&]() -> VolumeEditor* {
+    const WaveletTransform& wt = m.transform(toScheme(scheme, alpha, beta));
+    return new VolumeEditor(m.hierarchy(), wt, level, m.mesh().positions.data());
+  });
+}
+bool js_editorUseTheta(VolumeEditor& e, const MultiresMesh& m, const Theta& t, std::string scheme, double alpha,
+                       double beta) {
+  return guarded([&] {
+    m.checkTheta(t.header, e.level(), toScheme(scheme, alpha, beta));
+    e.useTensor(t.tensor);
+    return true;
+  });
+}
+bool js_editorUseMatrixFree(VolumeEditor& e) { return guarded([&] { return e.useMatrixFree(), true; }); }
+val js_editorPath(const VolumeEditor& e) { return guarded([&] { return val(std::string(gradientPathName(e.path()))); }); }
+val js_editorCageVertices(const VolumeEditor& e) { return guarded([&] { return toTyped(e.cageVertices()); }); }
+val js_editorCageIndexOf(const VolumeEditor& e, double v) {
+  return guarded([&] {
+    if (!(v >= 0) || v != std::floor(v) || v > 4294967295.0) throw Error("vertex index must be a non-negative integer");
+    return val(double(e.cageIndexOf(uint32_t(v))));
+  });
+}
+val js_editorCagePositions(const VolumeEditor& e) { return guarded([&] { return toTyped(e.cagePositions()); }); }
+val js_editorPositions(const VolumeEditor& e) { return guarded([&] { return toTyped(e.positions()); }); }
+val js_editorCoefficients(const VolumeEditor& e) { return guarded([&] { return toTyped(e.coefficients()); }); }
+val js_editorVolume(const VolumeEditor& e) { return guarded([&] { return val(e.volume()); }); }
+val js_editorReference(const VolumeEditor& e) { return guarded([&] { return val(e.referenceVolume()); }); }
+bool js_editorSetReference(VolumeEditor& e, double v) { return guarded([&] { return e.setReferenceVolume(v), true; }); }
+bool js_editorSetFreeSet(VolumeEditor& e, std::string mode, val list, val detailLevels) {
+  return guarded([&] {
+    std::vector<int> levels = detailLevels.isUndefined() ? std::vector<int>{} : toVector<int>(detailLevels, "detail levels");
+    if (mode == "minus-held") e.setFreeSet(VolumeEditor::FreeCage::MinusHeld, {}, levels);
+    else if (mode == "all") e.setFreeSet(VolumeEditor::FreeCage::All, {}, levels);
+    else if (mode == "list") e.setFreeSet(VolumeEditor::FreeCage::List, toVector<uint32_t>(list, "free set"), levels);
+    else throw Error("unknown free-set mode '" + mode + "'");
+    return true;
+  });
+}
+bool js_editorSetParts(VolumeEditor& e, val parts, val references) {
+  return guarded([&] {
+    std::vector<std::vector<uint32_t>> p;
+    const unsigned n = parts["length"].as<unsigned>();
+    for (unsigned i = 0; i < n; ++i) p.push_back(toVector<uint32_t>(parts[i], "part"));
+    std::vector<double> refs = references.isUndefined() || references.isNull() ? std::vector<double>{}
+                                                                                : toVector<double>(references, "references");
+    e.setParts(p, refs);
+    return true;
+  });
+}
+val js_editorPartVolumes(const VolumeEditor& e) { return guarded([&] { return toTyped(e.partVolumes()); }); }
+
+EditOptions toEditOptions(const val& o) {
+  EditOptions opts;
+  if (o.isUndefined() || o.isNull()) return opts;
+  if (!o["tolerance"].isUndefined()) opts.tolerance = o["tolerance"].as<double>();
+  if (!o["maxIterations"].isUndefined()) opts.maxIterations = o["maxIterations"].as<int>();
+  if (!o["maxSubsteps"].isUndefined()) opts.maxSubsteps = o["maxSubsteps"].as<int>();
+  if (!o["preserve"].isUndefined()) opts.preserve = o["preserve"].as<bool>();
+  if (!(opts.tolerance > 0) || !(opts.tolerance < 1)) throw Error("tolerance must be between 0 and 1");
+  return opts;
+}
+
+val reportToJs(const EditReport& r) {
+  val out = val::object();
+  out.set("volumeReference", r.volumeReference);
+  out.set("volumeTarget", r.volumeTarget);
+  out.set("volumeResult", r.volumeResult);
+  out.set("relativeError", r.relativeError);
+  out.set("iterations", r.iterations);
+  out.set("substeps", r.substeps);
+  out.set("converged", r.converged);
+  out.set("message", r.message);
+  out.set("path", std::string(gradientPathName(r.path)));
+  out.set("partVolumes", toTyped(r.partVolumes));
+  out.set("partReferences", toTyped(r.partReferences));
+  return out;
+}
+
+val js_editorDeformCage(VolumeEditor& e, val target, val held, val options) {
+  return guarded([&] {
+    return reportToJs(e.deformCage(toVector<double>(target, "cage target"), toVector<uint8_t>(held, "held flags"),
+                                   toEditOptions(options)));
+  });
+}
+val js_editorCorrect(VolumeEditor& e, val held, val options) {
+  return guarded([&] { return reportToJs(e.correct(toVector<uint8_t>(held, "held flags"), toEditOptions(options))); });
+}
+val js_editorGradient(const VolumeEditor& e, std::string path) {
+  return guarded([&] {
+    std::vector<double> g;
+    if (path == "tensor") e.gradientTensor(g);
+    else if (path == "matrix-free") e.gradientMatrixFree(g);
+    else throw Error("unknown gradient path '" + path + "' (tensor or matrix-free)");
+    return toTyped(g);
+  });
+}
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(mrvol) {
@@ -251,7 +351,28 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("roundtripError", &js_roundtripError)
       .function("computeTheta", &js_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &js_thetaVolume)
-      .function("fingerprint", &js_fingerprint);
+      .function("fingerprint", &js_fingerprint)
+      .function("createEditor", &js_createEditor, allow_raw_pointers());
+  class_<VolumeEditor>("_VolumeEditor")
+      .function("level", &VolumeEditor::level)
+      .function("cageSize", &VolumeEditor::cageSize)
+      .function("useTheta", &js_editorUseTheta)
+      .function("useMatrixFree", &js_editorUseMatrixFree)
+      .function("path", &js_editorPath)
+      .function("cageVertices", &js_editorCageVertices)
+      .function("cageIndexOf", &js_editorCageIndexOf)
+      .function("cagePositions", &js_editorCagePositions)
+      .function("positions", &js_editorPositions)
+      .function("coefficients", &js_editorCoefficients)
+      .function("volume", &js_editorVolume)
+      .function("referenceVolume", &js_editorReference)
+      .function("setReferenceVolume", &js_editorSetReference)
+      .function("setFreeSet", &js_editorSetFreeSet)
+      .function("setParts", &js_editorSetParts)
+      .function("partVolumes", &js_editorPartVolumes)
+      .function("deformCage", &js_editorDeformCage)
+      .function("correct", &js_editorCorrect)
+      .function("gradient", &js_editorGradient);
   class_<Theta>("_Theta").function("info", &js_thetaInfo).function("bytes", &js_thetaBytes);
   function("_readTheta", &js_readTheta, allow_raw_pointers());
 }

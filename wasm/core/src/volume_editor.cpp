@@ -160,33 +160,27 @@ void VolumeEditor::useTensor(const VolumeTensor& tensor) {
 
 void VolumeEditor::useMatrixFree() { polynomial_.reset(); }
 
-void VolumeEditor::setFreeSet(std::vector<uint32_t> cage, std::vector<int> detailLevels) {
-  for (uint32_t c : cage)
+void VolumeEditor::setFreeSet(FreeCage mode, std::vector<uint32_t> list, std::vector<int> detailLevels) {
+  for (uint32_t c : list)
     if (c >= cageSize_) throw Error("free-set index " + std::to_string(c) + " is not a cage vertex");
   for (int l : detailLevels)
     if (l < level_ || l >= hierarchy_->levels)
       throw Error("free detail level " + std::to_string(l) + " is out of range " + std::to_string(level_) + ".." +
                   std::to_string(hierarchy_->levels - 1));
-  freeCage_ = std::move(cage);
-  freeCageGiven_ = true;
+  freeMode_ = mode;
+  freeCage_ = std::move(list);
   freeDetailLevels_ = std::move(detailLevels);
-}
-
-void VolumeEditor::clearFreeSet() {
-  freeCage_.clear();
-  freeCageGiven_ = false;
-  freeDetailLevels_.clear();
 }
 
 std::vector<uint32_t> VolumeEditor::freeCoefficients(const std::vector<uint8_t>& held) const {
   std::vector<uint32_t> free;
   const auto& boundary = hierarchy_->boundary;
-  if (freeCageGiven_) {
+  if (freeMode_ == FreeCage::List) {
     for (uint32_t c : freeCage_)
       if (!boundary[c]) free.push_back(c);
   } else {
     for (uint32_t c = 0; c < cageSize_; ++c)
-      if (!boundary[c] && !(c < held.size() && held[c])) free.push_back(c);
+      if (!boundary[c] && (freeMode_ == FreeCage::All || !(c < held.size() && held[c]))) free.push_back(c);
   }
   for (int l : freeDetailLevels_)
     for (uint32_t v = hierarchy_->vertexCount[l]; v < hierarchy_->vertexCount[l + 1]; ++v)
@@ -404,7 +398,7 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
   }
   // Held vertices end exactly where the target puts them (sub-steps add up with rounding).
   for (uint32_t c = 0; c < cageSize_; ++c)
-    if (c < held.size() && held[c] && !(freeCageGiven_ && std::binary_search(free.begin(), free.end(), c)))
+    if (c < held.size() && held[c] && !std::binary_search(free.begin(), free.end(), c))
       for (int k = 0; k < 3; ++k) x_[3 * c + k] = target[3 * c + k];
   report.volumeResult = volume();
   if (partTriangles_.empty())

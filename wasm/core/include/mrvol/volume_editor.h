@@ -68,12 +68,12 @@ class VolumeEditor {
   void useMatrixFree();
   GradientPath path() const { return polynomial_ ? GradientPath::Tensor : GradientPath::MatrixFree; }
 
-  // Free set: cage vertices (cage order) that may absorb the correction, and optionally the details
-  // of chosen levels (0 <= l < n: d^l, the vertices born at level l + 1; matrix-free path only).
-  // Boundary vertices are never free. Empty `cage` with freeAllCage = false means: all cage
-  // vertices that are not held in a deformation.
-  void setFreeSet(std::vector<uint32_t> cage, std::vector<int> detailLevels = {});
-  void clearFreeSet();
+  // Free set: which cage vertices may absorb the correction (the ones not held in a deformation,
+  // all of them, or a list in cage order), and optionally the details of chosen levels (e <= l < n:
+  // d^l, the vertices born at level l + 1; matrix-free path only). Boundary vertices are never free.
+  enum class FreeCage { MinusHeld, All, List };
+  void setFreeSet(FreeCage mode, std::vector<uint32_t> list = {}, std::vector<int> detailLevels = {});
+  void clearFreeSet() { setFreeSet(FreeCage::MinusHeld); }
 
   // Localized preservation: parts of the cage (cage order indices), each keeping its own volume
   // (the volume of the fine triangles it dominates, as a cone to the reference point). Empty: one
@@ -115,8 +115,8 @@ class VolumeEditor {
   // the origin keep their digits; a translation only shifts the cage coefficients.
   double reference_ = 0;
   std::unique_ptr<CagePolynomial> polynomial_;
+  FreeCage freeMode_ = FreeCage::MinusHeld;
   std::vector<uint32_t> freeCage_;
-  bool freeCageGiven_ = false;
   std::vector<int> freeDetailLevels_;
   std::vector<std::vector<uint8_t>> partTriangles_;  // per part, per fine triangle
   std::vector<double> partReference_;
