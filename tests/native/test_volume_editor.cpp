@@ -171,7 +171,7 @@ TEST(VolumeEditor, ReportsWhatCannotConverge) {
   fixtures::Fixture fx{"icosahedron", fixtures::icosahedron(), 2};
   EditFixture s(fx, SchemeOptions{}, 5);
   VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
-  editor.setFreeSet({});  // nothing is free
+  editor.setFreeSet(VolumeEditor::FreeCage::List, {});  // nothing is free
   auto target = editor.cagePositions();
   target[0] += 0.5;
   std::vector<uint8_t> held(editor.cageSize(), 0);
@@ -187,8 +187,7 @@ TEST(VolumeEditor, FreeDetailsAbsorbTheCorrectionToo) {
   fixtures::Fixture fx{"octahedron", fixtures::octahedron(), 3};
   EditFixture s(fx, SchemeOptions{}, 6);
   VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
-  std::vector<uint32_t> none;
-  editor.setFreeSet(none, {1, 2});  // only details of levels 1 and 2 are free
+  editor.setFreeSet(VolumeEditor::FreeCage::List, {}, {1, 2});  // only details of levels 1 and 2 are free
   auto target = editor.cagePositions();
   target[2] += 0.3;
   std::vector<uint8_t> held(editor.cageSize(), 0);
