@@ -469,7 +469,7 @@ VolumeTensor computeVolumeTensor(const WaveletTransform& wt, int level, TensorSt
     throw Error("level " + std::to_string(level) + " is out of range 0.." + std::to_string(h.levels));
   if (storage == TensorStorage::Cage) {
     VolumeTensor t;
-    if (cageRowsByPatches(wt, level, progress, size_t(256) << 20, t)) return t;
+    if (cageRowsByPatches(wt, level, progress, size_t(1) << 30, t)) return t;
   }
   return sparseRecursion(wt, level, storage, progress, maxTerms);
 }
