@@ -198,3 +198,20 @@ TEST(Lifting, ButterflyIsInterpolating) {
   auto x = zeroDetailSynthesis(wt, fixtures::icosahedron());
   for (size_t i = 0; i < 36; ++i) EXPECT_NEAR(x[i], fixtures::icosahedron().positions[i], 1e-14);
 }
+
+TEST(Lifting, ZeroDetailSynthesisSkipsOnlyStepsThatReadDetails) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    for (const auto& options : allSchemes()) {
+      WaveletTransform wt(h, options);
+      for (int e = 0; e < h.levels; ++e) {
+        auto x = fixtures::randomVector(3 * h.fineVertexCount(), 17);
+        std::fill(x.begin() + 3 * h.vertexCount[e], x.end(), 0.0);
+        auto y = x;
+        wt.synthesize(x.data(), e);
+        wt.synthesizeZeroDetails(y.data(), e);
+        for (size_t i = 0; i < x.size(); ++i) ASSERT_EQ(x[i], y[i]) << fx.name << " " << schemeName(options.kind);
+      }
+    }
+  }
+}

@@ -134,6 +134,7 @@ TEST(VolumeEditor, OneIterationIsTheMinimalNormSolutionOfTheLinearizedConstraint
     EditOptions one;
     one.maxIterations = 1;
     one.tolerance = 1e-15;
+    one.lineSearch = false;  // the paper's iteration, one step of it
     editor.correct(held, one);
     const auto after = editor.coefficients();
     for (size_t i = 0; i < free.size(); ++i)
@@ -141,6 +142,20 @@ TEST(VolumeEditor, OneIterationIsTheMinimalNormSolutionOfTheLinearizedConstraint
         EXPECT_NEAR(after[3 * free[i] + k] - before[3 * free[i] + k], expected[3 * i + k], 1e-12 * (1 + expected.norm()))
             << fx.name;
     for (int k = 0; k < 3; ++k) EXPECT_EQ(after[k], before[k]);  // held
+    // With the line search, one step goes along the same direction and meets the constraint.
+    VolumeEditor searched(s.h, s.wt, 0, s.positions.data());
+    searched.setReferenceVolume(searched.referenceVolume() * 1.03);
+    EditOptions line;
+    line.maxIterations = 1;
+    line.tolerance = 1e-15;
+    EditReport searchReport = searched.correct(held, line);
+    const auto moved = searched.coefficients();
+    Eigen::VectorXd d(3 * free.size());
+    for (size_t i = 0; i < free.size(); ++i)
+      for (int k = 0; k < 3; ++k) d[3 * i + k] = moved[3 * free[i] + k] - before[3 * free[i] + k];
+    EXPECT_NEAR(std::fabs(d.normalized().dot(expected.normalized())), 1.0, 1e-12) << fx.name;
+    EXPECT_LT(std::fabs(searched.volume() - searched.referenceVolume()), 1e-12 * std::fabs(searched.referenceVolume()));
+    EXPECT_EQ(searchReport.iterations, 1);
   }
 }
 

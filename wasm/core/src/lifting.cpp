@@ -352,6 +352,23 @@ WaveletTransform::WaveletTransform(const Hierarchy& hierarchy, const SchemeOptio
   } else {
     steps_ = interpolatingLevels(hierarchy, options.kind);
   }
+  for (int l = 1; l <= hierarchy.levels; ++l) {
+    const uint32_t evens = hierarchy.vertexCount[l - 1];
+    bool oddWritten = false;
+    for (auto& step : steps_[l - 1]) {
+      step.readsOnlyDetails = !step.scaling && !oddWritten &&
+                              std::all_of(step.sources.begin(), step.sources.end(), [&](uint32_t s) { return s >= evens; });
+      oddWritten = oddWritten || std::any_of(step.targets.begin(), step.targets.end(), [&](uint32_t t) { return t >= evens; });
+    }
+  }
+}
+
+void WaveletTransform::synthesizeZeroDetails(double* x, int fromLevel) const {
+  if (fromLevel < 0 || fromLevel > levels())
+    throw Error("level " + std::to_string(fromLevel) + " is out of range 0.." + std::to_string(levels()));
+  for (int l = fromLevel + 1; l <= levels(); ++l)
+    for (const auto& step : steps_[l - 1])
+      if (!step.readsOnlyDetails) step.forward(x);
 }
 
 void WaveletTransform::analyze(double* x, int toLevel) const {

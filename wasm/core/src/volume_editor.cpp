@@ -95,18 +95,28 @@ void VolumeEditor::setReferenceVolume(double volume) {
   reference_ = volume;
 }
 
-double VolumeEditor::fineVolumeAndGradient(const std::vector<double>& x, std::vector<double>* grad,
-                                           const std::vector<uint8_t>* mask) const {
-  std::vector<double> p = x;
-  transform_->synthesize(p.data(), level_);
-  for (size_t v = 0; v < p.size(); v += 3) p[v] -= origin_.x, p[v + 1] -= origin_.y, p[v + 2] -= origin_.z;
+const std::vector<double>& VolumeEditor::fine() const {
+  if (!fineValid_) {
+    fine_ = x_;
+    transform_->synthesize(fine_.data(), level_);
+    fineValid_ = true;
+  }
+  return fine_;
+}
+
+double VolumeEditor::passVolume(const std::vector<double>& p, std::vector<double>* grad,
+                                const std::vector<uint8_t>* mask) const {
   const auto& faces = hierarchy_->fineFaces();
   if (grad) grad->assign(p.size(), 0.0);
+  const double o[3] = {origin_.x, origin_.y, origin_.z};
   double sum = 0;
   double t[3];
   for (size_t f = 0, tri = 0; f < faces.size(); f += 3, ++tri) {
     if (mask && !(*mask)[tri]) continue;
-    const double *a = &p[3 * size_t(faces[f])], *b = &p[3 * size_t(faces[f + 1])], *c = &p[3 * size_t(faces[f + 2])];
+    const double *pa = &p[3 * size_t(faces[f])], *pb = &p[3 * size_t(faces[f + 1])], *pc = &p[3 * size_t(faces[f + 2])];
+    const double a[3] = {pa[0] - o[0], pa[1] - o[1], pa[2] - o[2]};
+    const double b[3] = {pb[0] - o[0], pb[1] - o[1], pb[2] - o[2]};
+    const double c[3] = {pc[0] - o[0], pc[1] - o[1], pc[2] - o[2]};
     cross(b, c, t);
     sum += dot(a, t);
     if (grad) {
@@ -120,7 +130,11 @@ double VolumeEditor::fineVolumeAndGradient(const std::vector<double>& x, std::ve
   return sum / 6.0;
 }
 
-double VolumeEditor::volume() const { return fineVolumeAndGradient(x_, nullptr, nullptr); }
+double VolumeEditor::fineVolumeAndGradient(std::vector<double>* grad, const std::vector<uint8_t>* mask) const {
+  return passVolume(fine(), grad, mask);
+}
+
+double VolumeEditor::volume() const { return fineVolumeAndGradient(nullptr, nullptr); }
 
 void VolumeEditor::useTensor(const VolumeTensor& tensor) {
   if (tensor.storage != TensorStorage::Cage || tensor.level != level_ || tensor.vertexCount != x_.size() / 3 ||
@@ -191,7 +205,7 @@ std::vector<uint32_t> VolumeEditor::freeCoefficients(const std::vector<uint8_t>&
 }
 
 double VolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const {
-  double v = fineVolumeAndGradient(x_, &gradient, nullptr);
+  double v = fineVolumeAndGradient(&gradient, nullptr);
   transform_->synthesisAdjoint(gradient.data(), level_);
   return v;
 }
@@ -211,16 +225,18 @@ std::vector<double> VolumeEditor::shiftedCage() const {
 void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOptions& o, EditReport& report) {
   const bool tensor = polynomial_ && freeDetailLevels_.empty();
   const double scale = std::max(std::fabs(reference_), 1e-300);
-  std::vector<double> g;
+  std::vector<double> g, q;
   for (int it = 0;; ++it) {
     double v;
     std::vector<double> cage;
     if (tensor) {
       cage = shiftedCage();
-      v = polynomial_->evaluate(cage.data(), nullptr);
+      g.resize(3 * size_t(cageSize_));
+      v = polynomial_->evaluate(cage.data(), g.data());
     } else {
-      v = fineVolumeAndGradient(x_, &g, nullptr);
+      v = fineVolumeAndGradient(&g, nullptr);
     }
+    report.volumeResult = v;
     report.relativeError = std::fabs(v - reference_) / scale;
     if (report.relativeError < o.tolerance) return;
     if (it == o.maxIterations) {
@@ -228,12 +244,7 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       report.message = "no convergence in " + std::to_string(o.maxIterations) + " iterations";
       return;
     }
-    if (tensor) {
-      g.resize(3 * size_t(cageSize_));
-      polynomial_->evaluate(cage.data(), g.data());
-    } else {
-      transform_->synthesisAdjoint(g.data(), level_);
-    }
+    if (!tensor) transform_->synthesisAdjoint(g.data(), level_);
     double norm2 = 0;
     for (uint32_t i : free) norm2 += dot(&g[3 * size_t(i)], &g[3 * size_t(i)]);
     if (!(norm2 > 0) || free.empty()) {
@@ -243,9 +254,76 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       return;
     }
     // Minimal-norm correction of the linearized constraint: delta_i = r / sum |g|^2 g_i.
-    const double step = (reference_ - v) / norm2;
-    for (uint32_t i : free) axpy(step, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
+    double step = (reference_ - v) / norm2;
     ++report.iterations;
+    if (!o.lineSearch) {
+      for (uint32_t i : free) axpy(step, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
+      fineValid_ = false;
+      continue;
+    }
+    if (tensor) {
+      // Along the same direction, Newton on phi(s) = Theta(c + s g_F), each evaluation a few
+      // hundred flops: the same root the matrix-free path finds on its cubic.
+      std::vector<double> trial(cage.size()), gt(cage.size());
+      double s = step;
+      for (int n = 0; n < 60; ++n) {
+        trial = cage;
+        for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &trial[3 * size_t(i)]);
+        const double f = polynomial_->evaluate(trial.data(), gt.data()) - reference_;
+        double df = 0;
+        for (uint32_t i : free) df += dot(&gt[3 * size_t(i)], &g[3 * size_t(i)]);
+        if (!(df != 0) || !std::isfinite(f)) break;
+        const double next = s - f / df;
+        if (!std::isfinite(next) || std::fabs(next - step) > 4 * std::fabs(step) + 1e-300) break;
+        const bool done = std::fabs(next - s) <= 1e-15 * std::fabs(s);
+        s = next;
+        if (done) break;
+      }
+      for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
+      fineValid_ = false;
+      continue;
+    }
+    // Matrix-free: along that same direction the volume is a cubic in the step length, whose
+    // coefficients one pass over the triangles gives; solving it exactly replaces the further
+    // linearized iterations (each a synthesis and an adjoint).
+    const std::vector<double>& p = fine();
+    q.assign(x_.size(), 0.0);
+    for (uint32_t i : free)
+      for (int k = 0; k < 3; ++k) q[3 * size_t(i) + k] = g[3 * size_t(i) + k];
+    if (freeDetailLevels_.empty()) transform_->synthesizeZeroDetails(q.data(), level_);
+    else transform_->synthesize(q.data(), level_);
+    double c[4] = {0, 0, 0, 0};
+    const auto& faces = hierarchy_->fineFaces();
+    const double org[3] = {origin_.x, origin_.y, origin_.z};
+    double t[3];
+    for (size_t f = 0; f < faces.size(); f += 3) {
+      double a[3], b[3], d[3];
+      const double *qa = &q[3 * size_t(faces[f])], *qb = &q[3 * size_t(faces[f + 1])], *qd = &q[3 * size_t(faces[f + 2])];
+      for (int k = 0; k < 3; ++k) {
+        a[k] = p[3 * size_t(faces[f]) + k] - org[k];
+        b[k] = p[3 * size_t(faces[f + 1]) + k] - org[k];
+        d[k] = p[3 * size_t(faces[f + 2]) + k] - org[k];
+      }
+      cross(b, d, t), c[0] += dot(a, t), c[1] += dot(qa, t);
+      cross(qb, d, t), c[1] += dot(a, t), c[2] += dot(qa, t);
+      cross(b, qd, t), c[1] += dot(a, t), c[2] += dot(qa, t);
+      cross(qb, qd, t), c[2] += dot(a, t), c[3] += dot(qa, t);
+    }
+    for (double& k : c) k /= 6.0;
+    // Newton on c0 + c1 s + c2 s^2 + c3 s^3 = reference, from the linearized step.
+    double s = step;
+    for (int n = 0; n < 60; ++n) {
+      const double f = c[0] + s * (c[1] + s * (c[2] + s * c[3])) - reference_;
+      const double df = c[1] + s * (2 * c[2] + 3 * s * c[3]);
+      if (!(df != 0) || !std::isfinite(f)) break;
+      const double next = s - f / df;
+      if (!std::isfinite(next) || std::fabs(next - step) > 4 * std::fabs(step) + 1e-300) break;  // stay near the linear step
+      const bool done = std::fabs(next - s) <= 1e-15 * std::fabs(s);
+      s = next;
+      if (done) break;
+    }
+    for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
+    for (size_t i = 0; i < q.size(); ++i) fine_[i] += s * q[i];  // fine() stays in step with x_
   }
 }
 
@@ -286,7 +364,7 @@ void VolumeEditor::setParts(const std::vector<std::vector<uint32_t>>& parts, con
 
 std::vector<double> VolumeEditor::partVolumes() const {
   std::vector<double> v;
-  for (const auto& mask : partTriangles_) v.push_back(fineVolumeAndGradient(x_, nullptr, &mask));
+  for (const auto& mask : partTriangles_) v.push_back(fineVolumeAndGradient(nullptr, &mask));
   return v;
 }
 
@@ -298,7 +376,7 @@ void VolumeEditor::solveParts(const std::vector<uint32_t>& free, const EditOptio
   for (int it = 0;; ++it) {
     double worst = 0;
     for (size_t p = 0; p < k; ++p) {
-      const double v = fineVolumeAndGradient(x_, &g, &partTriangles_[p]);
+      const double v = fineVolumeAndGradient(&g, &partTriangles_[p]);
       r[p] = partReference_[p] - v;
       worst = std::max(worst, std::fabs(r[p]) / std::max(std::fabs(partReference_[p]), 1e-300));
       transform_->synthesisAdjoint(g.data(), level_);
@@ -324,6 +402,7 @@ void VolumeEditor::solveParts(const std::vector<uint32_t>& free, const EditOptio
     Eigen::VectorXd delta = J.transpose() * lu.solve(r);
     for (size_t i = 0; i < m; ++i)
       for (int c = 0; c < 3; ++c) x_[3 * size_t(free[i]) + c] += delta[3 * i + c];
+    fineValid_ = false;
     ++report.iterations;
   }
 }
@@ -339,7 +418,7 @@ EditReport VolumeEditor::correct(const std::vector<uint8_t>& held, const EditOpt
     if (partTriangles_.empty()) solveGlobal(free, o, report);
     else solveParts(free, o, report);
   }
-  report.volumeResult = volume();
+  report.volumeResult = partTriangles_.empty() && o.preserve ? report.volumeResult : volume();
   if (partTriangles_.empty())
     report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
   report.partReferences = partReference_;
@@ -369,7 +448,9 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
   report.volumeReference = reference_;
   std::vector<double> start(x_.begin(), x_.begin() + 3 * size_t(cageSize_));
   for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i];
-  report.volumeTarget = volume();
+  fineValid_ = false;
+  const bool tensor = polynomial_ && freeDetailLevels_.empty() && partTriangles_.empty();
+  report.volumeTarget = tensor ? polynomial_->evaluate(shiftedCage().data(), nullptr) : volume();
   if (!o.preserve) {
     report.volumeResult = report.volumeTarget;
     report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
@@ -382,14 +463,21 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
   const int substeps = std::clamp(int(std::ceil(rawChange / o.substepError)), 1, o.maxSubsteps);
   report.substeps = substeps;
   const auto free = freeCoefficients(held);
-  for (size_t i = 0; i < move.size(); ++i) x_[i] = start[i];
+  if (substeps > 1) {
+    for (size_t i = 0; i < move.size(); ++i) x_[i] = start[i];
+    fineValid_ = false;
+  }
   for (int s = 1; s <= substeps; ++s) {
-    for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i] / substeps;
+    if (substeps > 1) {
+      for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i] / substeps;
+      fineValid_ = false;
+    }
     EditReport stepReport;
     if (partTriangles_.empty()) solveGlobal(free, o, stepReport);
     else solveParts(free, o, stepReport);
     report.iterations += stepReport.iterations;
     report.relativeError = stepReport.relativeError;
+    report.volumeResult = stepReport.volumeResult;
     if (!stepReport.converged) {
       report.converged = false;
       report.message = stepReport.message;
@@ -397,10 +485,17 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
     }
   }
   // Held vertices end exactly where the target puts them (sub-steps add up with rounding).
+  bool snapped = false;
   for (uint32_t c = 0; c < cageSize_; ++c)
     if (c < held.size() && held[c] && !std::binary_search(free.begin(), free.end(), c))
-      for (int k = 0; k < 3; ++k) x_[3 * c + k] = target[3 * c + k];
-  report.volumeResult = volume();
+      for (int k = 0; k < 3; ++k) {
+        snapped = snapped || x_[3 * c + k] != target[3 * c + k];
+        x_[3 * c + k] = target[3 * c + k];
+      }
+  if (snapped) {  // rounding of the sub-steps: re-evaluate
+    fineValid_ = false;
+    report.volumeResult = tensor ? polynomial_->evaluate(shiftedCage().data(), nullptr) : volume();
+  }
   if (partTriangles_.empty())
     report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
   report.partReferences = partReference_;
@@ -415,9 +510,8 @@ std::vector<double> VolumeEditor::cagePositions() const {
 std::vector<double> VolumeEditor::coefficients() const { return x_; }
 
 std::vector<double> VolumeEditor::positions() const {
-  std::vector<double> p = x_, out(x_.size());
-  transform_->synthesize(p.data(), level_);
-  hierarchy_->toInputOrder(p.data(), out.data());
+  std::vector<double> out(x_.size());
+  hierarchy_->toInputOrder(fine().data(), out.data());
   return out;
 }
 

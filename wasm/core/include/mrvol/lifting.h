@@ -20,6 +20,9 @@ struct LiftingStep {
   std::vector<uint32_t> offsets;  // lift: row r reads sources[offsets[r] .. offsets[r+1])
   std::vector<uint32_t> sources;
   std::vector<double> weights;    // lift: one per source; scaling: one factor per target
+  // A lift that reads only the details of its level before any step has written the odd
+  // vertices: it does nothing in a zero-detail synthesis (Loop's and Butterfly's U).
+  bool readsOnlyDetails = false;
 
   size_t entryCount() const { return scaling ? targets.size() : sources.size(); }
 
@@ -60,6 +63,9 @@ class WaveletTransform {
   // In place on 3 * N doubles in hierarchy order.
   void analyze(double* x, int toLevel) const;       // fine -> level e coefficients
   void synthesize(double* x, int fromLevel) const;  // level e coefficients -> fine positions
+  // The same when every detail of levels e..n-1 is zero (subdivision): skips the steps that read
+  // only details.
+  void synthesizeZeroDetails(double* x, int fromLevel) const;
   // The adjoint of synthesis (transposed steps, outwards): a per-fine-vertex covector (for example
   // the volume gradient) to the corresponding covector of the level-e coefficients.
   void synthesisAdjoint(double* g, int toLevel, int stride = 3) const;

@@ -35,6 +35,9 @@ struct EditOptions {
   int maxSubsteps = 64;
   double substepError = 0.05;  // a move whose raw relative volume change exceeds this is split
   bool preserve = true;
+  // Matrix-free path: after the linearized step, solve the cubic the volume is along its direction
+  // (one pass over the triangles) instead of iterating linearizations. Off: the paper's iteration.
+  bool lineSearch = true;
 };
 
 struct EditReport {
@@ -98,8 +101,10 @@ class VolumeEditor {
   double gradientTensor(std::vector<double>& gradient) const;
 
  private:
-  double fineVolumeAndGradient(const std::vector<double>& x, std::vector<double>* fineGradient,
-                               const std::vector<uint8_t>* triangleMask) const;
+  const std::vector<double>& fine() const;  // fine positions of x_ (cached)
+  double passVolume(const std::vector<double>& fine, std::vector<double>* fineGradient,
+                    const std::vector<uint8_t>* triangleMask) const;
+  double fineVolumeAndGradient(std::vector<double>* fineGradient, const std::vector<uint8_t>* triangleMask) const;
   std::vector<double> shiftedCage() const;  // cage coefficients relative to origin_
   std::vector<uint32_t> freeCoefficients(const std::vector<uint8_t>& held) const;
   void solveGlobal(const std::vector<uint32_t>& free, const EditOptions& options, EditReport& report);
@@ -113,6 +118,8 @@ class VolumeEditor {
   std::vector<double> x_;  // level-e coefficients, hierarchy order
   // Volumes are evaluated about origin_ (fixed: the boundary stays put), so that meshes far from
   // the origin keep their digits; a translation only shifts the cage coefficients.
+  mutable std::vector<double> fine_;  // synthesis of x_, hierarchy order, when fineValid_
+  mutable bool fineValid_ = false;
   double reference_ = 0;
   std::unique_ptr<CagePolynomial> polynomial_;
   FreeCage freeMode_ = FreeCage::MinusHeld;
