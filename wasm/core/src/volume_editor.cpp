@@ -100,6 +100,7 @@ const std::vector<double>& VolumeEditor::fine() const {
     fine_ = x_;
     transform_->synthesize(fine_.data(), level_);
     fineValid_ = true;
+    volumeValid_ = gradientValid_ = false;
   }
   return fine_;
 }
@@ -134,7 +135,29 @@ double VolumeEditor::fineVolumeAndGradient(std::vector<double>* grad, const std:
   return passVolume(fine(), grad, mask);
 }
 
-double VolumeEditor::volume() const { return fineVolumeAndGradient(nullptr, nullptr); }
+double VolumeEditor::volume() const {
+  if (!fineValid_ || !volumeValid_) {
+    cachedVolume_ = fineVolumeAndGradient(nullptr, nullptr);
+    volumeValid_ = true;
+  }
+  return cachedVolume_;
+}
+
+double VolumeEditor::volumeAndGradient(std::vector<double>& gradient) const {
+  if (fineValid_ && gradientValid_) {
+    gradient.swap(cachedGradient_);  // handed over once
+    gradientValid_ = false;
+    return cachedVolume_;
+  }
+  cachedVolume_ = fineVolumeAndGradient(&gradient, nullptr);
+  volumeValid_ = true;
+  return cachedVolume_;
+}
+
+void VolumeEditor::prepareGradient() const {
+  cachedVolume_ = fineVolumeAndGradient(&cachedGradient_, nullptr);
+  volumeValid_ = gradientValid_ = true;
+}
 
 void VolumeEditor::useTensor(const VolumeTensor& tensor) {
   if (tensor.storage != TensorStorage::Cage || tensor.level != level_ || tensor.vertexCount != x_.size() / 3 ||
@@ -233,8 +256,11 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       cage = shiftedCage();
       g.resize(3 * size_t(cageSize_));
       v = polynomial_->evaluate(cage.data(), g.data());
+    } else if (fineValid_ && volumeValid_ && !gradientValid_ && it > 0) {
+      v = cachedVolume_;  // from the cubic of the previous step: no pass needed to check it
+      if (std::fabs(v - reference_) / scale >= o.tolerance) v = volumeAndGradient(g);
     } else {
-      v = fineVolumeAndGradient(&g, nullptr);
+      v = volumeAndGradient(g);
     }
     report.volumeResult = v;
     report.relativeError = std::fabs(v - reference_) / scale;
@@ -244,7 +270,10 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       report.message = "no convergence in " + std::to_string(o.maxIterations) + " iterations";
       return;
     }
-    if (!tensor) transform_->synthesisAdjoint(g.data(), level_);
+    if (!tensor) {
+      if (g.size() != x_.size()) v = volumeAndGradient(g);  // checked on the cubic's value: gradient now
+      transform_->synthesisAdjoint(g.data(), level_);
+    }
     double norm2 = 0;
     for (uint32_t i : free) norm2 += dot(&g[3 * size_t(i)], &g[3 * size_t(i)]);
     if (!(norm2 > 0) || free.empty()) {
@@ -324,6 +353,10 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
     }
     for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
     for (size_t i = 0; i < q.size(); ++i) fine_[i] += s * q[i];  // fine() stays in step with x_
+    cachedVolume_ = c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+    volumeValid_ = true;
+    gradientValid_ = false;
+    g.clear();
   }
 }
 
@@ -450,7 +483,9 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
   for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i];
   fineValid_ = false;
   const bool tensor = polynomial_ && freeDetailLevels_.empty() && partTriangles_.empty();
-  report.volumeTarget = tensor ? polynomial_->evaluate(shiftedCage().data(), nullptr) : volume();
+  if (tensor) report.volumeTarget = polynomial_->evaluate(shiftedCage().data(), nullptr);
+  else if (o.preserve && partTriangles_.empty()) prepareGradient(), report.volumeTarget = cachedVolume_;
+  else report.volumeTarget = volume();
   if (!o.preserve) {
     report.volumeResult = report.volumeTarget;
     report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);

@@ -120,6 +120,12 @@ class VolumeEditor {
   // the origin keep their digits; a translation only shifts the cage coefficients.
   mutable std::vector<double> fine_;  // synthesis of x_, hierarchy order, when fineValid_
   mutable bool fineValid_ = false;
+  // Volume (and fine-level gradient) of fine_, valid while fine_ is.
+  mutable double cachedVolume_ = 0;
+  mutable std::vector<double> cachedGradient_;
+  mutable bool volumeValid_ = false, gradientValid_ = false;
+  double volumeAndGradient(std::vector<double>& fineGradient) const;
+  void prepareGradient() const;
   double reference_ = 0;
   std::unique_ptr<CagePolynomial> polynomial_;
   FreeCage freeMode_ = FreeCage::MinusHeld;
