@@ -1,0 +1,121 @@
+// Pointer handling for the cage handles: picks in screen space (the nearest projected handle
+// within a few pixels), drags on the plane through the grabbed handle facing the camera, and emits.
+// It decides nothing else: the app says which handles a pick moves and what a drag does.
+import { THREE } from './viewer.js';
+
+const PICK_RADIUS_PX = 8;
+const CLICK_SLOP_PX = 4;
+
+// Scratch objects: pointer handlers do not allocate.
+const ray = new THREE.Ray();
+const plane = new THREE.Plane();
+const hit = new THREE.Vector3();
+const normal = new THREE.Vector3();
+const point = new THREE.Vector3();
+
+/**
+ * handlers: {
+ *   pick(index, shiftKey) -> handle indices to drag, or null (no drag),
+ *   dragStart(handles), drag(delta: [dx, dy, dz], eventTime), dragEnd(), dragCancel(),
+ *   clickEmpty(),
+ * }
+ */
+export class CageDragger {
+  constructor(viewer, container, handlers) {
+    this.viewer = viewer;
+    this.container = container;
+    this.handlers = handlers;
+    this.drag = null;
+    this.down = null;
+    this.enabled = true;
+    // Capture phase on the container: runs before OrbitControls' listeners on the canvas, so a
+    // press on a handle never starts an orbit.
+    container.addEventListener('pointerdown', (e) => this.#pointerDown(e), { capture: true });
+    container.addEventListener('pointermove', (e) => this.#pointerMove(e), { capture: true });
+    container.addEventListener('pointerup', (e) => this.#pointerUp(e), { capture: true });
+    container.addEventListener('pointercancel', (e) => this.#pointerUp(e, true), { capture: true });
+  }
+
+  get dragging() { return this.drag !== null && this.drag.started && !this.drag.cancelled; }
+
+  #local(e) {
+    const rect = this.viewer.canvas.getBoundingClientRect();
+    return [e.clientX - rect.left, e.clientY - rect.top];
+  }
+
+  #pointerDown(e) {
+    if (!this.enabled || e.button !== 0 || this.drag) return;
+    const [x, y] = this.#local(e);
+    const index = this.viewer.pickHandle(x, y, PICK_RADIUS_PX);
+    if (index < 0) {
+      this.down = { x: e.clientX, y: e.clientY };
+      return;
+    }
+    e.stopPropagation();
+    e.preventDefault();
+    const handles = this.handlers.pick(index, e.shiftKey);
+    if (!handles || handles.length === 0) return;
+    this.viewer.viewDirection(normal);
+    point.fromArray(this.viewer.cagePositions, 3 * index);
+    plane.setFromNormalAndCoplanarPoint(normal, point);
+    if (!this.viewer.rayAt(x, y, ray).intersectPlane(plane, hit)) return;
+    this.drag = {
+      pointerId: e.pointerId, handles, started: false, cancelled: false,
+      plane: plane.clone(), origin: hit.clone(),
+    };
+    this.viewer.canvas.setPointerCapture?.(e.pointerId);
+    this.container.classList.add('dragging');
+  }
+
+  #pointerMove(e) {
+    const drag = this.drag;
+    if (!drag) {
+      if (e.buttons !== 0 || !this.enabled) return;
+      const [x, y] = this.#local(e);
+      const index = this.viewer.pickHandle(x, y, PICK_RADIUS_PX);
+      this.viewer.setHover(index);
+      this.container.classList.toggle('over-handle', index >= 0);
+      return;
+    }
+    if (e.pointerId !== drag.pointerId) return;
+    e.stopPropagation();
+    if (drag.cancelled) return;
+    const [x, y] = this.#local(e);
+    if (!this.viewer.rayAt(x, y, ray).intersectPlane(drag.plane, hit)) return;
+    if (!drag.started) {
+      drag.started = true;
+      this.handlers.dragStart(drag.handles);
+    }
+    this.handlers.drag([hit.x - drag.origin.x, hit.y - drag.origin.y, hit.z - drag.origin.z], e.timeStamp);
+  }
+
+  #pointerUp(e, cancelled = false) {
+    const drag = this.drag;
+    if (drag && e.pointerId === drag.pointerId) {
+      e.stopPropagation();
+      this.drag = null;
+      this.viewer.canvas.releasePointerCapture?.(e.pointerId);
+      this.container.classList.remove('dragging');
+      if (drag.started && !drag.cancelled) {
+        if (cancelled) this.handlers.dragCancel();
+        else this.handlers.dragEnd();
+      }
+      return;
+    }
+    if (this.down && !cancelled) {
+      const moved = Math.hypot(e.clientX - this.down.x, e.clientY - this.down.y);
+      if (moved < CLICK_SLOP_PX && !e.shiftKey) this.handlers.clickEmpty();
+    }
+    this.down = null;
+  }
+
+  /** Escape: abandons the running drag (the app restores the cage). True if there was one. */
+  cancel() {
+    const drag = this.drag;
+    if (!drag || !drag.started || drag.cancelled) return false;
+    drag.cancelled = true;
+    this.container.classList.remove('dragging');
+    this.handlers.dragCancel();
+    return true;
+  }
+}

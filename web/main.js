@@ -1,0 +1,743 @@
+// The mrvol web editor: wires the WASM core (through lib/api.mjs), the view, the panel, the theta
+// worker and its cache. Every geometric quantity (analysis, volume, correction, positions) comes
+// from the core; this file only moves arrays between it and the screen.
+import { sampleModels } from 'virtual:mrvol-models';
+import { loadMrvol, compileMrvolWasm } from './mrvol.js';
+import { Viewer } from './viewer.js';
+import { CageDragger } from './drag.js';
+import { coarseFaces, cageEdges } from './cage.js';
+import { History } from './history.js';
+import { ThetaCache, thetaKey } from './theta-cache.js';
+import { ThetaJobs } from './theta-jobs.js';
+import { loadSession, saveSession, clearSession, decodeFloat64 } from './session.js';
+import { createPanel } from './panel.js';
+
+const DEFAULT_MODEL = 'spiky-ball';
+// The Loop weights of the paper (the API's defaults); part of theta's key for every scheme.
+const ALPHA = -1.70943, BETA = 0.42954;
+// Without 1-to-4 splits every vertex is a handle: fine for a small base mesh, not for a big one.
+const MAX_FLAT_VERTICES = 64;
+const DEFAULT_SETTINGS = Object.freeze({
+  model: DEFAULT_MODEL, scheme: 'loop', level: 0, preserve: true, freeSet: 'minus-held', tolerance: 1e-6,
+  flat: true, showMesh: true, showCage: true,
+});
+
+const $ = (id) => document.getElementById(id);
+
+const app = {
+  mrvol: null,
+  viewer: null,
+  panel: null,
+  dragger: null,
+  cache: null,
+  jobs: new ThetaJobs(),
+  settings: { ...DEFAULT_SETTINGS },
+  model: null,   // { name, kind: 'sample' | 'file', text, mr, info, fingerprint, faces, depths }
+  editor: null,
+  cageSize: 0,
+  heldAll: null, // Uint8Array of ones: every cage vertex held (restoring a cage)
+  selection: new Set(),
+  history: new History(),
+  drag: null,    // { handles, held, before, start }
+  theta: { key: null, source: null, status: '', generation: 0, memory: new Map() },
+  lastReport: null,
+  lastStepMs: null,
+  ready: false,
+  loadGeneration: 0,
+  stats: { readyAt: null, thetaReadyAt: null, thetaMs: null, steps: [], frames: [] },
+  pendingInput: null,
+};
+
+// ---- messages -----------------------------------------------------------------------------------
+
+function showError(message) {
+  $('error-text').textContent = message;
+  $('error').hidden = false;
+}
+
+function clearError() {
+  $('error').hidden = true;
+  $('error-text').textContent = '';
+}
+
+function notice(message) {
+  $('notice').textContent = message ?? '';
+}
+
+// ---- readouts -------------------------------------------------------------------------------------
+
+function formatVolume(v) {
+  return Number.isFinite(v) ? v.toPrecision(12) : '–';
+}
+
+function updateReadouts() {
+  const editor = app.editor;
+  if (!editor) return;
+  const reference = editor.referenceVolume();
+  const current = editor.volume();
+  const error = Math.abs(current - reference) / Math.max(Math.abs(reference), 1e-300);
+  const set = (id, text, value) => {
+    const element = $(id);
+    element.textContent = text;
+    if (value !== undefined) element.dataset.value = String(value);
+  };
+  set('volume-reference', formatVolume(reference), reference);
+  set('volume-current', formatVolume(current), current);
+  set('volume-error', error.toExponential(2), error);
+  const report = app.lastReport;
+  set('step-iterations', report ? String(report.iterations) : '–');
+  set('step-ms', app.lastStepMs === null ? '–' : app.lastStepMs.toFixed(2));
+  set('step-path', report ? report.path : editor.path());
+  if (report && !report.converged) notice(`last step did not converge: ${report.message}`);
+}
+
+function updateThetaReadout() {
+  $('theta-source').textContent = app.theta.source ?? 'pending';
+  $('theta-status').textContent = app.theta.status;
+}
+
+function showProgress(fraction, label) {
+  const box = $('theta-progress');
+  if (fraction === null) {
+    box.hidden = true;
+    return;
+  }
+  box.hidden = false;
+  $('theta-progress-bar').value = fraction;
+  $('theta-progress-label').textContent = label;
+}
+
+function modelInfoText() {
+  const { info } = app.model;
+  return `${info.vertices} vertices, ${info.faces} faces, ${info.levels} levels, cage ${app.cageSize} vertices` +
+    (info.closed ? '' : ' (open: the volume is that of the cone to the boundary centroid)');
+}
+
+// ---- session --------------------------------------------------------------------------------------
+
+let saveTimer = null;
+function saveSoon() {
+  clearTimeout(saveTimer);
+  saveTimer = setTimeout(saveNow, 150);
+}
+
+function saveNow() {
+  clearTimeout(saveTimer);
+  if (!app.model || !app.editor) return;
+  saveSession({
+    model: app.model,
+    settings: { ...app.settings },
+    fingerprint: app.model.fingerprint,
+    positions: app.editor.positions(),
+    reference: app.editor.referenceVolume(),
+  });
+}
+
+// ---- models ---------------------------------------------------------------------------------------
+
+function modelUrl(name) {
+  return `${import.meta.env.BASE_URL}models/${encodeURIComponent(name)}.obj`;
+}
+
+async function fetchSample(name) {
+  if (!/^[\w.-]+$/.test(name)) throw new Error(`'${name}' is not a model name`);
+  const response = await fetch(modelUrl(name));
+  if (!response.ok) throw new Error(`there is no sample model '${name}' (HTTP ${response.status})`);
+  return response.text();
+}
+
+/**
+ * Parses and checks an OBJ; on success replaces the current model (and resolves true), otherwise
+ * shows why and keeps the current one (false).
+ * restore: { positions: Float64Array, reference, fingerprint } from a stored session.
+ */
+function openModelText({ name, kind, text }, restore = null) {
+  const { mrvol } = app;
+  let mr = null, info, fingerprint;
+  try {
+    const mesh = mrvol.readObj(text);
+    mr = mrvol.openMesh(mesh);
+    info = mr.info();
+    if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
+      throw new mrvol.MrvolError(
+        `this mesh is not semi-regular: no 1-to-4 subdivision levels were found in its ${info.vertices} vertices, ` +
+        'so it has no coarse cage to edit (mrvol edits meshes made by repeated 1-to-4 splits of a base mesh)');
+    fingerprint = mr.fingerprint();
+  } catch (e) {
+    mr?.delete();
+    showError(`Could not open ${name}: ${e.message}`);
+    return false;
+  }
+  clearError();
+  notice('');
+  // Commit: the previous model goes (its editors with it), with its cached tensors.
+  cancelTheta();
+  for (const { theta } of app.theta.memory.values()) theta.delete();
+  app.theta.memory.clear();
+  app.editor = null;
+  app.model?.mr.delete();
+  app.model = { name, kind, text, mr, info, fingerprint, faces: mr.faces(), depths: mr.depths() };
+  app.settings.level = Math.min(app.settings.level, info.levels);
+  app.settings.model = name;
+
+  let reference = null;
+  if (restore && restore.fingerprint === fingerprint && restore.positions?.length === 3 * info.vertices) {
+    mr.setPositions(restore.positions);
+    if (Number.isFinite(restore.reference)) reference = restore.reference;
+  }
+  app.ready = false;
+  app.viewer.setMesh(mr.positions(), app.model.faces);
+  app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+  app.panel.setLevels(info.levels);
+  app.panel.update();
+  buildEditor(reference);
+  $('model-name').textContent = name;
+  $('model-info').textContent = modelInfoText();
+  afterFrame(() => {
+    app.ready = true;
+    app.stats.readyAt ??= performance.now();
+  });
+  saveSoon();
+  return true;
+}
+
+/** Loads a model from its source; false when it could not be read or opened. */
+async function openModel(source, restore = null) {
+  const generation = ++app.loadGeneration;
+  let text;
+  try {
+    text = source.text ?? (source.kind === 'sample' ? await fetchSample(source.name) : await source.file.text());
+  } catch (e) {
+    if (generation === app.loadGeneration) showError(`Could not open ${source.name}: ${e.message}`);
+    return false;
+  }
+  if (generation !== app.loadGeneration) return false;
+  const ok = openModelText({ name: source.name, kind: source.kind, text }, restore);
+  if (ok) {
+    const url = new URL(location.href);
+    if (source.kind === 'sample') url.searchParams.set('model', source.name);
+    else url.searchParams.delete('model');
+    history.replaceState(null, '', url);
+  } else {
+    app.settings.model = app.model?.name ?? DEFAULT_MODEL;
+    app.panel.update(); // the sample list goes back to the current model
+  }
+  return ok;
+}
+
+function afterFrame(callback) {
+  requestAnimationFrame(() => requestAnimationFrame(callback));
+}
+
+// ---- editor ---------------------------------------------------------------------------------------
+
+/**
+ * (Re)creates the editor at the current scheme and level from the current shape, keeping the
+ * reference volume. Then asks for theta (cache or worker); until it arrives the editor runs
+ * matrix-free.
+ */
+function buildEditor(reference = null) {
+  const { mr } = app.model;
+  if (app.editor) {
+    mr.setPositions(app.editor.positions());
+    reference ??= app.editor.referenceVolume();
+    app.editor.delete();
+    app.editor = null;
+  }
+  const { scheme, level } = app.settings;
+  const editor = mr.createEditor({ level, scheme, alpha: ALPHA, beta: BETA });
+  if (reference !== null) editor.setReferenceVolume(reference);
+  editor.setFreeSet({ cage: app.settings.freeSet });
+  app.editor = editor;
+  app.cageSize = editor.cageSize;
+  app.heldAll = new Uint8Array(editor.cageSize).fill(1);
+  app.selection.clear();
+  app.history.clear();
+  app.drag = null;
+  app.lastReport = null;
+  app.lastStepMs = null;
+
+  const cageVertices = editor.cageVertices();
+  const cageIndex = new Map(Array.from(cageVertices, (v, i) => [v, i]));
+  let edges;
+  try {
+    edges = cageEdges(coarseFaces(app.model.faces, app.model.depths, app.model.info.levels, level), cageIndex);
+  } catch {
+    edges = new Uint32Array(0); // handles only
+  }
+  app.viewer.setCage(editor.cagePositions(), edges);
+  app.viewer.updateMesh(editor.positions());
+  updateReadouts();
+  if (app.model) $('model-info').textContent = modelInfoText();
+  requestTheta();
+}
+
+function showEditorState() {
+  app.viewer.updateMesh(app.editor.positions());
+  app.viewer.updateCage(app.editor.cagePositions());
+  updateReadouts();
+}
+
+function editOptions() {
+  return { tolerance: app.settings.tolerance, preserve: app.settings.preserve };
+}
+
+/** Puts the cage back where a snapshot had it (details unchanged: the shape comes back). */
+function restoreCage(cage) {
+  app.editor.deformCage(cage, app.heldAll, { preserve: false });
+  app.lastReport = null;
+  showEditorState();
+}
+
+// ---- dragging -------------------------------------------------------------------------------------
+
+const dragHandlers = {
+  pick(index, shiftKey) {
+    if (!app.ready) return null;
+    if (shiftKey) {
+      if (app.selection.has(index)) {
+        app.selection.delete(index);
+        app.viewer.setSelection(app.selection);
+        return null;
+      }
+      app.selection.add(index);
+    } else if (!app.selection.has(index)) {
+      app.selection = new Set([index]);
+    }
+    app.viewer.setSelection(app.selection);
+    return [...app.selection];
+  },
+  dragStart(handles) {
+    const before = app.editor.cagePositions();
+    const held = new Uint8Array(app.cageSize);
+    for (const h of handles) held[h] = 1;
+    app.drag = { handles, held, before, target: new Float64Array(before.length) };
+  },
+  drag(delta, eventTime) {
+    const drag = app.drag;
+    if (!drag) return;
+    const started = performance.now();
+    const target = app.editor.cagePositions();
+    for (const h of drag.handles)
+      for (let k = 0; k < 3; k++) target[3 * h + k] = drag.before[3 * h + k] + delta[k];
+    try {
+      app.lastReport = app.editor.deformCage(target, drag.held, editOptions());
+    } catch (e) {
+      showError(`The edit failed: ${e.message}`);
+      return;
+    }
+    app.viewer.updateMesh(app.editor.positions());
+    app.viewer.updateCage(app.editor.cagePositions());
+    app.lastStepMs = performance.now() - started;
+    pushStat(app.stats.steps, app.lastStepMs);
+    app.pendingInput ??= eventTime;
+    updateReadouts();
+  },
+  dragEnd() {
+    const drag = app.drag;
+    app.drag = null;
+    if (!drag) return;
+    const after = app.editor.cagePositions();
+    if (after.some((v, i) => v !== drag.before[i])) app.history.push(drag.before, after);
+    saveSoon();
+  },
+  dragCancel() {
+    const drag = app.drag;
+    app.drag = null;
+    if (drag) restoreCage(drag.before);
+  },
+  clickEmpty() {
+    if (app.selection.size === 0) return;
+    app.selection.clear();
+    app.viewer.setSelection(app.selection);
+  },
+};
+
+function pushStat(list, value) {
+  list.push(value);
+  if (list.length > 2000) list.splice(0, list.length - 2000);
+}
+
+function undo() {
+  if (app.drag || !app.editor) return;
+  const step = app.history.undo();
+  if (!step) return;
+  restoreCage(step.before);
+  saveSoon();
+}
+
+function redo() {
+  if (app.drag || !app.editor) return;
+  const step = app.history.redo();
+  if (!step) return;
+  restoreCage(step.after);
+  saveSoon();
+}
+
+// ---- theta: memory, IndexedDB, worker -------------------------------------------------------------
+
+function currentThetaKey() {
+  return thetaKey({
+    fingerprint: app.model.fingerprint, scheme: app.settings.scheme, alpha: ALPHA, beta: BETA, level: app.settings.level,
+  });
+}
+
+function cancelTheta() {
+  app.theta.generation++;
+  app.jobs.cancel();
+  showProgress(null);
+}
+
+function setThetaState(source, status) {
+  app.theta.source = source;
+  app.theta.status = status;
+  updateThetaReadout();
+}
+
+/** Hands theta to the editor; false (and the reason) when the core refuses it. */
+function useTheta(theta) {
+  try {
+    app.editor.useTheta(theta);
+    return { ok: true };
+  } catch (e) {
+    return { ok: false, reason: e.message };
+  }
+}
+
+function thetaArrived(source, theta, started) {
+  app.theta.memory.set(app.theta.key, { theta, source });
+  const info = theta.info();
+  setThetaState(source, `θ^${info.level}: ${(info.nnzStored / 1e6).toFixed(2)}M entries, ` +
+    `${(info.bytes / 2 ** 20).toFixed(1)} MB, ${Math.round(performance.now() - started)} ms`);
+  app.stats.thetaReadyAt ??= performance.now();
+  updateReadouts();
+}
+
+async function requestTheta() {
+  cancelTheta();
+  const generation = app.theta.generation;
+  const stale = () => generation !== app.theta.generation;
+  const key = currentThetaKey();
+  app.theta.key = key;
+  const started = performance.now();
+
+  const inMemory = app.theta.memory.get(key);
+  if (inMemory && useTheta(inMemory.theta).ok) {
+    thetaArrived(inMemory.source, inMemory.theta, started);
+    return;
+  }
+  setThetaState(null, app.cache?.available ? 'looking in the cache…' : '');
+
+  if (app.cache?.available) {
+    const bytes = await app.cache.get(key);
+    if (stale()) return;
+    if (bytes) {
+      let theta = null, problem;
+      try {
+        theta = app.mrvol.readTheta(bytes);
+        const used = useTheta(theta);
+        if (!used.ok) problem = used.reason;
+      } catch (e) {
+        problem = e.message;
+      }
+      if (!problem) {
+        thetaArrived('cache', theta, started);
+        return;
+      }
+      theta?.delete();
+      notice(`The cached θ was unusable (${problem}): it was deleted and is being recomputed.`);
+      await app.cache.delete(key);
+      refreshCacheList();
+      if (stale()) return;
+    }
+  }
+  computeTheta(generation, key, started);
+}
+
+async function computeTheta(generation, key, started) {
+  const stale = () => generation !== app.theta.generation;
+  const { level, scheme } = app.settings;
+  setThetaState(null, 'computing in a worker (editing runs matrix-free meanwhile)');
+  showProgress(0, `Computing θ^${level} (${scheme})`);
+  let result;
+  try {
+    result = await app.jobs.compute({
+      meshKey: app.model.fingerprint,
+      positions: app.model.mr.positions(),
+      faces: app.model.faces,
+      level, scheme, alpha: ALPHA, beta: BETA,
+    }, (fraction) => {
+      if (!stale()) showProgress(fraction, `Computing θ^${level} (${scheme}) ${Math.round(fraction * 100)}%`);
+    });
+  } catch (e) {
+    if (stale()) return;
+    showProgress(null);
+    if (e.cancelled) setThetaState(null, 'cancelled: editing runs matrix-free');
+    else setThetaState(null, `failed: ${e.message}; editing runs matrix-free`);
+    return;
+  }
+  if (stale()) return;
+  showProgress(null);
+  let theta;
+  try {
+    theta = app.mrvol.readTheta(result.bytes);
+  } catch (e) {
+    setThetaState(null, `the worker's θ was unreadable (${e.message}); editing runs matrix-free`);
+    return;
+  }
+  const used = useTheta(theta);
+  if (!used.ok) {
+    theta.delete();
+    setThetaState(null, `θ was refused (${used.reason}); editing runs matrix-free`);
+    return;
+  }
+  app.stats.thetaMs = result.ms;
+  thetaArrived('computed', theta, started);
+  if (app.cache?.available) {
+    const stored = await app.cache.put(key, result.bytes, { model: app.model?.name });
+    if (!stored.ok) notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
+    refreshCacheList();
+  }
+}
+
+async function refreshCacheList() {
+  if (!app.cache?.available) {
+    app.panel.showCache([], `IndexedDB unavailable (${app.cache?.reason ?? 'not opened'}): no cache`);
+    return;
+  }
+  app.panel.showCache(await app.cache.list());
+}
+
+// ---- actions from the panel, the keyboard, drops ---------------------------------------------------
+
+function pickFile() {
+  $('open-file').value = '';
+  $('open-file').click();
+}
+
+async function openFile(file) {
+  if (!file) return;
+  await openModel({ kind: 'file', name: file.name, file });
+}
+
+function exportObj() {
+  if (!app.editor) return;
+  const text = app.mrvol.writeObj({ positions: app.editor.positions(), faces: app.model.faces });
+  const blob = new Blob([text], { type: 'text/plain' });
+  const link = document.createElement('a');
+  link.href = URL.createObjectURL(blob);
+  link.download = `${app.model.name.replace(/\.obj$/i, '')}-edited.obj`;
+  link.dataset.testid = 'export-link';
+  document.body.appendChild(link);
+  link.click();
+  setTimeout(() => {
+    URL.revokeObjectURL(link.href);
+    link.remove();
+  }, 1000);
+}
+
+async function reset() {
+  clearSession();
+  Object.assign(app.settings, DEFAULT_SETTINGS, { model: app.model?.name ?? DEFAULT_MODEL });
+  app.viewer.setFlat(app.settings.flat);
+  app.viewer.setLayers({ mesh: true, cage: true });
+  if (app.model) await openModel({ kind: app.model.kind, name: app.model.name, text: app.model.kind === 'file' ? app.model.text : undefined });
+  app.panel.update();
+}
+
+const actions = {
+  openSample: (name) => openModel({ kind: 'sample', name }),
+  openFile: pickFile,
+  exportObj,
+  reset,
+  undo,
+  redo,
+  changeScheme: () => { if (app.editor) buildEditor(); saveSoon(); },
+  changeLevel: () => { if (app.editor) buildEditor(); saveSoon(); },
+  changePreserve: () => saveSoon(),
+  changeTolerance: () => saveSoon(),
+  changeFreeSet: () => {
+    app.editor?.setFreeSet({ cage: app.settings.freeSet });
+    saveSoon();
+  },
+  changeView: () => {
+    app.viewer.setFlat(app.settings.flat);
+    app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+    saveSoon();
+  },
+  setReference: () => {
+    if (!app.editor) return;
+    app.editor.setReferenceVolume(app.editor.volume());
+    updateReadouts();
+    saveSoon();
+  },
+  recomputeTheta: async () => {
+    if (!app.model) return;
+    const key = currentThetaKey();
+    app.theta.memory.get(key)?.theta.delete();
+    app.theta.memory.delete(key);
+    app.editor.useMatrixFree();
+    await app.cache?.delete(key);
+    requestTheta();
+  },
+  refreshCache: refreshCacheList,
+  clearCache: async () => {
+    await app.cache?.clear();
+    refreshCacheList();
+  },
+};
+
+function onKeyDown(e) {
+  const target = e.target;
+  if (target instanceof HTMLElement && (target.isContentEditable || /^(INPUT|TEXTAREA|SELECT)$/.test(target.tagName)) &&
+      target.type !== 'checkbox')
+    return;
+  const ctrl = e.ctrlKey || e.metaKey;
+  if (e.key === 'Escape') {
+    if (!app.dragger.cancel() && app.selection.size) {
+      app.selection.clear();
+      app.viewer.setSelection(app.selection);
+    }
+  } else if (ctrl && (e.key === 'z' || e.key === 'Z')) {
+    e.preventDefault();
+    if (e.shiftKey) redo();
+    else undo();
+  } else if (ctrl && (e.key === 'y' || e.key === 'Y')) {
+    e.preventDefault();
+    redo();
+  }
+}
+
+function setUpDrop() {
+  const hint = $('drop-hint');
+  let depth = 0;
+  const hasFiles = (e) => [...(e.dataTransfer?.types ?? [])].includes('Files');
+  window.addEventListener('dragenter', (e) => {
+    if (!hasFiles(e)) return;
+    depth++;
+    hint.hidden = false;
+  });
+  window.addEventListener('dragleave', () => {
+    depth = Math.max(0, depth - 1);
+    if (depth === 0) hint.hidden = true;
+  });
+  window.addEventListener('dragover', (e) => {
+    if (hasFiles(e)) e.preventDefault();
+  });
+  window.addEventListener('drop', (e) => {
+    e.preventDefault();
+    depth = 0;
+    hint.hidden = true;
+    openFile(e.dataTransfer?.files?.[0]);
+  });
+}
+
+// ---- read-only hook for tests and benchmarks --------------------------------------------------------
+
+function installDebugHook() {
+  const hook = {
+    /** Handle (cage) index -> [x, y] in CSS pixels of the page's viewport (what page.mouse uses). */
+    cageScreenPositions() {
+      if (!app.editor) return [];
+      const rect = app.viewer.canvas.getBoundingClientRect();
+      const screen = app.viewer.projectHandles();
+      const out = [];
+      for (let i = 0; i < app.cageSize; i++) out.push([rect.left + screen[2 * i], rect.top + screen[2 * i + 1]]);
+      return out;
+    },
+    volume: () => app.editor?.volume() ?? null,
+    referenceVolume: () => app.editor?.referenceVolume() ?? null,
+    thetaSource: () => app.theta.source,
+    thetaKey: () => app.theta.key,
+    modelName: () => app.model?.name ?? null,
+    cageSize: () => app.cageSize,
+    gradientPath: () => app.editor?.path() ?? null,
+    historySize: () => app.history.size,
+    /** The core's report of the last drag step (volumes, iterations, path), or null. */
+    lastReport: () => (app.lastReport ? { ...app.lastReport, partVolumes: undefined, partReferences: undefined } : null),
+    /** Cage positions (world), 3 per handle, cage order. */
+    cagePositions: () => (app.editor ? Array.from(app.editor.cagePositions()) : []),
+    selection: () => [...app.selection],
+    settings: () => ({ ...app.settings }),
+    ready: () => app.ready,
+    thetaReady: () => app.ready && app.theta.source !== null && app.editor?.path() === 'tensor',
+    /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
+    stats: () => ({ ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames] }),
+  };
+  Object.defineProperty(window, 'mrvolDebug', { value: Object.freeze(hook), writable: false, configurable: false });
+}
+
+// ---- start --------------------------------------------------------------------------------------------
+
+async function start() {
+  installDebugHook();
+  const view = $('view');
+  app.viewer = new Viewer(view);
+  app.viewer.onFrame = () => {
+    if (app.pendingInput !== null) {
+      pushStat(app.stats.frames, performance.now() - app.pendingInput);
+      app.pendingInput = null;
+    }
+  };
+  app.dragger = new CageDragger(app.viewer, view, dragHandlers);
+
+  const session = loadSession();
+  const params = new URLSearchParams(location.search);
+  const urlModel = params.get('model');
+  if (session?.settings) {
+    for (const key of Object.keys(DEFAULT_SETTINGS))
+      if (typeof session.settings[key] === typeof DEFAULT_SETTINGS[key]) app.settings[key] = session.settings[key];
+  }
+  const useSession = session && (urlModel === null || (session.model.kind === 'sample' && session.model.name === urlModel)) &&
+    (session.model.kind === 'sample' || typeof session.model.text === 'string');
+
+  app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions });
+  app.viewer.setFlat(app.settings.flat);
+  $('error-close').addEventListener('click', clearError);
+  $('theta-cancel').addEventListener('click', () => {
+    const generation = app.theta.generation;
+    app.jobs.cancel();
+    if (generation === app.theta.generation) showProgress(null);
+  });
+  $('open-file').addEventListener('change', (e) => openFile(e.target.files?.[0]));
+  // Capture phase: lil-gui stops keydown events of its controls from bubbling.
+  window.addEventListener('keydown', onKeyDown, { capture: true });
+  setUpDrop();
+
+  try {
+    app.mrvol = await loadMrvol();
+  } catch (e) {
+    showError(`The WebAssembly core could not be loaded: ${e.message}`);
+    return;
+  }
+  compileMrvolWasm(); // already compiled: the worker gets the same module
+  app.cache = await ThetaCache.open();
+  if (!app.cache.available) notice(`No θ cache (${app.cache.reason}): θ is computed on every load.`);
+  refreshCacheList();
+
+  let restore = null, source;
+  if (useSession) {
+    try {
+      restore = {
+        fingerprint: session.fingerprint,
+        positions: session.positions ? decodeFloat64(session.positions) : null,
+        reference: session.reference,
+      };
+    } catch {
+      restore = null;
+    }
+    source = session.model.kind === 'sample'
+      ? { kind: 'sample', name: session.model.name }
+      : { kind: 'file', name: session.model.name, text: session.model.text };
+  } else {
+    source = { kind: 'sample', name: urlModel ?? DEFAULT_MODEL };
+  }
+  app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+  if (!(await openModel(source, restore)) && !app.model && source.name !== DEFAULT_MODEL) {
+    await openModel({ kind: 'sample', name: DEFAULT_MODEL });
+  }
+  app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+  window.addEventListener('pagehide', saveNow);
+}
+
+start();

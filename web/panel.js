@@ -1,0 +1,96 @@
+// The control panel (lil-gui). It edits a settings object and calls the app's actions; every
+// control carries a data-testid so that tests drive the real UI.
+import GUI from 'lil-gui';
+
+const SCHEMES = ['loop', 'butterfly', 'linear'];
+const FREE_SETS = { 'cage minus held': 'minus-held', 'all cage': 'all' };
+const TOLERANCES = { '1e-4': 1e-4, '1e-5': 1e-5, '1e-6': 1e-6, '1e-7': 1e-7, '1e-8': 1e-8 };
+
+function tag(controller, id) {
+  const element = controller.$input ?? controller.$select ?? controller.$button;
+  if (element) element.dataset.testid = id;
+  controller.domElement.dataset.testid = `${id}-row`;
+  return controller;
+}
+
+function formatBytes(n) {
+  if (n >= 1 << 20) return `${(n / (1 << 20)).toFixed(1)} MB`;
+  if (n >= 1 << 10) return `${(n / (1 << 10)).toFixed(0)} kB`;
+  return `${n} B`;
+}
+
+/**
+ * settings: { model, scheme, level, preserve, freeSet, tolerance, flat, showMesh, showCage }
+ * actions: { openSample(name), openFile(), changeScheme(), changeLevel(), changePreserve(),
+ *            changeFreeSet(), changeView(), setReference(), exportObj(), reset(), recomputeTheta(),
+ *            refreshCache(), clearCache() }
+ */
+export function createPanel({ settings, samples, actions }) {
+  const gui = new GUI({ title: 'mrvol' });
+  gui.domElement.dataset.testid = 'panel';
+
+  const model = gui.addFolder('Model');
+  const modelChoice = tag(model.add(settings, 'model', samples).name('sample').onChange((name) => actions.openSample(name)), 'model-select');
+  tag(model.add({ open: () => actions.openFile() }, 'open').name('open OBJ file…'), 'open-button');
+  tag(model.add({ exportObj: () => actions.exportObj() }, 'exportObj').name('export OBJ'), 'export');
+  tag(model.add({ reset: () => actions.reset() }, 'reset').name('reset (forget edits)'), 'reset');
+
+  const edit = gui.addFolder('Editing');
+  tag(edit.add(settings, 'scheme', SCHEMES).onChange(() => actions.changeScheme()), 'scheme');
+  const level = tag(edit.add(settings, 'level', [0]).name('level e').onChange(() => actions.changeLevel()), 'level');
+  const preserve = tag(edit.add(settings, 'preserve').name('preserve volume').onChange(() => actions.changePreserve()), 'preserve');
+  tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set').onChange(() => actions.changeFreeSet()), 'free-set');
+  tag(edit.add(settings, 'tolerance', TOLERANCES).onChange(() => actions.changeTolerance()), 'tolerance');
+  tag(edit.add({ setReference: () => actions.setReference() }, 'setReference').name('reference = current volume'), 'set-reference');
+  tag(edit.add({ undo: () => actions.undo() }, 'undo').name('undo (Ctrl+Z)'), 'undo');
+  tag(edit.add({ redo: () => actions.redo() }, 'redo').name('redo (Ctrl+Shift+Z)'), 'redo');
+
+  const view = gui.addFolder('View');
+  tag(view.add(settings, 'showMesh').name('fine mesh').onChange(() => actions.changeView()), 'show-mesh');
+  tag(view.add(settings, 'showCage').name('cage').onChange(() => actions.changeView()), 'show-cage');
+  tag(view.add(settings, 'flat').name('flat shading').onChange(() => actions.changeView()), 'flat');
+
+  const cache = gui.addFolder('θ cache (IndexedDB)');
+  cache.close();
+  cache.$title.dataset.testid = 'cache-folder';
+  const list = document.createElement('div');
+  list.className = 'cache-list';
+  list.dataset.testid = 'cache-list';
+  cache.$children.appendChild(list);
+  tag(cache.add({ refresh: () => actions.refreshCache() }, 'refresh').name('refresh list'), 'cache-refresh');
+  tag(cache.add({ clear: () => actions.clearCache() }, 'clear').name('clear cache'), 'cache-clear');
+  tag(cache.add({ recompute: () => actions.recomputeTheta() }, 'recompute').name('recompute θ'), 'theta-recompute');
+
+  return {
+    gui,
+    /** The levels this model offers: 0..n. */
+    setLevels(n) {
+      level.options(Array.from({ length: n + 1 }, (_, i) => i));
+      tag(level, 'level');
+      level.updateDisplay();
+    },
+    update() {
+      for (const c of gui.controllersRecursive()) c.updateDisplay();
+    },
+    /** Shows the model's name even when it is not a sample. */
+    setModelLabel() {
+      modelChoice.updateDisplay();
+    },
+    showCache(entries, status) {
+      if (status) {
+        list.textContent = status;
+        return;
+      }
+      if (entries.length === 0) {
+        list.textContent = 'empty';
+        return;
+      }
+      const total = entries.reduce((s, e) => s + e.bytes, 0);
+      list.textContent = entries.map((e) => {
+        const [fingerprint, scheme, , , level] = e.key.split(':');
+        return `${e.model ?? fingerprint.slice(0, 8)} ${scheme} e=${level}  ${formatBytes(e.bytes)}`;
+      }).join('\n') + `\ntotal ${formatBytes(total)}`;
+    },
+    preserveController: preserve,
+  };
+}

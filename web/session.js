@@ -1,0 +1,68 @@
+// The editing session in localStorage, so that it survives a reload: the model (a sample's name,
+// or an opened file's name and text when it fits), the settings, the edited fine positions and the
+// reference volume. Storage failures (quota, disabled storage) only mean no session is kept.
+const KEY = 'mrvol.session.v1';
+const MAX_TEXT = 3_000_000; // characters of an opened OBJ file kept for the reload
+
+export function encodeFloat64(array) {
+  const bytes = new Uint8Array(array.buffer, array.byteOffset, array.byteLength);
+  let binary = '';
+  for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return btoa(binary);
+}
+
+export function decodeFloat64(text) {
+  const binary = atob(text);
+  if (binary.length % 8 !== 0) throw new Error('bad length');
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
+  return new Float64Array(bytes.buffer);
+}
+
+/** The stored session, or null. */
+export function loadSession() {
+  try {
+    const text = localStorage.getItem(KEY);
+    if (!text) return null;
+    const session = JSON.parse(text);
+    if (session?.version !== 1 || !session.model?.name) return null;
+    return session;
+  } catch {
+    return null;
+  }
+}
+
+/**
+ * Stores { model: { kind, name, text? }, settings, fingerprint, positions: Float64Array | null,
+ * reference }. Returns false when it could not be stored.
+ */
+export function saveSession({ model, settings, fingerprint, positions, reference }) {
+  const stored = {
+    version: 1,
+    model: { kind: model.kind, name: model.name },
+    settings,
+    fingerprint,
+    positions: positions ? encodeFloat64(positions) : null,
+    reference,
+    saved: Date.now(),
+  };
+  if (model.kind === 'file' && model.text.length <= MAX_TEXT) stored.model.text = model.text;
+  try {
+    localStorage.setItem(KEY, JSON.stringify(stored));
+    return true;
+  } catch {
+    // Too big with the file text: keep at least the settings.
+    try {
+      delete stored.model.text;
+      stored.positions = null;
+      localStorage.setItem(KEY, JSON.stringify(stored));
+    } catch { /* storage off */ }
+    return false;
+  }
+}
+
+export function clearSession() {
+  try {
+    localStorage.removeItem(KEY);
+  } catch { /* storage off */ }
+}
