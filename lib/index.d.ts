@@ -103,6 +103,121 @@ export interface Theta {
   delete(): void;
 }
 
+/** Options of a drag or a correction. */
+export interface EditOptions {
+  /** Relative volume error to reach, 0 < tolerance < 1 (default 1e-5, the paper's threshold). */
+  tolerance?: number;
+  /** false: apply the move without correcting the volume (default true). */
+  preserve?: boolean;
+  /** Iterations per sub-step, at least 1 (default 50). */
+  maxIterations?: number;
+  /** Large moves are split into at most this many sub-steps, at least 1 (default 64). */
+  maxSubsteps?: number;
+}
+
+/** What a drag or a correction did. */
+export interface EditReport {
+  /** The volume to keep. */
+  volumeReference: number;
+  /** The volume of the moved shape before the correction. */
+  volumeTarget: number;
+  /** The volume after the correction. */
+  volumeResult: number;
+  /** |volumeResult - volumeReference| / |volumeReference| (with parts: the worst part's). */
+  relativeError: number;
+  iterations: number;
+  substeps: number;
+  /** false when the tolerance was not reached; `message` then says why. */
+  converged: boolean;
+  /** Empty when converged. */
+  message: string;
+  /** The gradient path the correction used. */
+  path: GradientPath;
+  /** With parts: each part's volume after the edit, and its reference (empty without parts). */
+  partVolumes: Float64Array;
+  partReferences: Float64Array;
+}
+
+/** 'tensor': the cubic polynomial of the cage from theta^e; 'matrix-free': the adjoint of synthesis. */
+export type GradientPath = 'tensor' | 'matrix-free';
+
+/** One vertex of a drag (caller's vertex index, a level-e cage vertex): a new position or an offset. */
+export type VertexMove =
+  | { vertex: number; position: [number, number, number] | ArrayLike<number> }
+  | { vertex: number; offset: [number, number, number] | ArrayLike<number> };
+
+/** Which coefficients may absorb the volume correction. */
+export interface FreeSetOptions {
+  /**
+   * Cage vertices: 'minus-held' (default; 'cage' is the same) = all but the held ones, 'all' = the
+   * held ones too, or a list of caller vertex indices (cage vertices). Boundary vertices never move.
+   */
+  cage?: 'minus-held' | 'cage' | 'all' | ArrayLike<number>;
+  /** Also the details d^l of these levels l (e <= l < n: the vertices born at level l + 1); matrix-free path. */
+  detailLevels?: ArrayLike<number>;
+}
+
+export interface EditorOptions extends TransformOptions {
+  /** theta^e (cage storage) of this mesh, scheme and level: the tensor gradient path. */
+  theta?: Theta;
+}
+
+/**
+ * A volume-preserving editing session on the level-e cage of a MultiresMesh (method section 7).
+ * Vertex indices are the caller's; cage arrays are in cage order (cageVertices()); coefficients()
+ * and the matrix-free gradient are in hierarchy order (the cage first). Deleted with its mesh.
+ */
+export interface VolumeEditor {
+  /** The analysis level e. */
+  readonly level: number;
+  /** Number of level-e cage vertices V_e. */
+  readonly cageSize: number;
+  /** True once delete() (or the mesh's delete()) ran; every method then throws MrvolError. */
+  readonly deleted: boolean;
+  /** The caller's index of each cage vertex, in cage order. */
+  cageVertices(): Uint32Array;
+  /** The cage-order index of a caller's vertex; throws MrvolError if it is not a level-e cage vertex. */
+  cageIndexOf(vertex: number): number;
+  /** Level-e coarse coefficients, 3 per cage vertex, cage order. */
+  cagePositions(): Float64Array;
+  /** Fine positions, caller's vertex order. */
+  positions(): Float64Array;
+  /** All level-e coefficients (3 N), hierarchy order: the cage, then the details. */
+  coefficients(): Float64Array;
+  /** The current (exact) volume. */
+  volume(): number;
+  /** The volume edits keep: the volume at creation unless set. */
+  referenceVolume(): number;
+  setReferenceVolume(volume: number): void;
+  path(): GradientPath;
+  /** Uses theta^e (cage storage, this mesh, scheme and level); the editor keeps its own copy. */
+  useTheta(theta: Theta): void;
+  useMatrixFree(): void;
+  setFreeSet(options?: FreeSetOptions): void;
+  /**
+   * Localized preservation: parts as lists of caller cage-vertex indices (disjoint), each keeping
+   * its own volume; references default to the current part volumes. [] goes back to one constraint.
+   */
+  setParts(parts: ArrayLike<number>[], references?: ArrayLike<number>): void;
+  partVolumes(): Float64Array;
+  /**
+   * Moves the cage to `target` (3 per cage vertex, cage order), keeping the flagged `held` cage
+   * vertices where the target puts them, and restores the volume.
+   */
+  deformCage(target: Float64Array, held: ArrayLike<number>, options?: EditOptions): EditReport;
+  /** A drag: the listed vertices move and are held. */
+  moveVertices(moves: VertexMove[], options?: EditOptions): EditReport;
+  /** Restores the reference volume of the current shape, holding the flagged cage vertices. */
+  correct(held?: ArrayLike<number>, options?: EditOptions): EditReport;
+  /**
+   * Theta_tau, the gradient of the volume: 'matrix-free' (default) for all 3 N coefficients in
+   * hierarchy order; 'tensor' for the 3 V_e cage coefficients (needs useTheta()).
+   */
+  gradient(path?: GradientPath): Float64Array;
+  /** Frees the session; calling it again does nothing. */
+  delete(): void;
+}
+
 /** An error reported by mrvol's core, with its message as the core wrote it. */
 export class MrvolError extends Error {
   constructor(message: string);
@@ -143,7 +258,9 @@ export interface MultiresMesh {
   computeTheta(options?: ThetaOptions): Theta;
   /** Volume of the current positions through theta (checks that theta matches mesh, scheme and level). */
   thetaVolume(theta: Theta, options?: TransformOptions): number;
-  /** Frees the mesh; calling it again does nothing. */
+  /** Starts an editing session at level e from the current positions (the editor copies them). */
+  createEditor(options?: EditorOptions): VolumeEditor;
+  /** Frees the mesh and its editors; calling it again does nothing. */
   delete(): void;
 }
 
