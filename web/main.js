@@ -2,7 +2,7 @@
 // worker and its cache. Every geometric quantity (analysis, volume, correction, positions) comes
 // from the core; this file only moves arrays between it and the screen.
 import { sampleModels } from 'virtual:mrvol-models';
-import { loadMrvol, compileMrvolWasm } from './mrvol.js';
+import { loadMrvol } from './mrvol.js';
 import { Viewer } from './viewer.js';
 import { CageDragger } from './drag.js';
 import { coarseFaces, cageEdges } from './cage.js';
@@ -39,12 +39,18 @@ const app = {
   selection: new Set(),
   history: new History(),
   drag: null,    // { handles, held, before, start }
-  theta: { key: null, source: null, status: '', generation: 0, memory: new Map() },
+  theta: { key: null, source: null, status: '', generation: 0, memory: new Map(), prefetch: null },
   lastReport: null,
   lastStepMs: null,
   ready: false,
+  awaitingFrame: false,
   loadGeneration: 0,
-  stats: { readyAt: null, thetaReadyAt: null, thetaMs: null, steps: [], frames: [] },
+  // ms since navigation start: script running, core loaded, model opened, first drag-ready frame,
+  // theta in use; the worker's computeTheta time; per drag step and per frame (input to frame, render).
+  stats: {
+    scriptAt: null, coreAt: null, cacheAt: null, modelAt: null, readyAt: null, thetaReadyAt: null, thetaMs: null,
+    steps: [], frames: [], renders: [],
+  },
   pendingInput: null,
 };
 
@@ -193,10 +199,9 @@ function openModelText({ name, kind, text }, restore = null) {
   buildEditor(reference);
   $('model-name').textContent = name;
   $('model-info').textContent = modelInfoText();
-  afterFrame(() => {
-    app.ready = true;
-    app.stats.readyAt ??= performance.now();
-  });
+  app.stats.modelAt ??= performance.now();
+  app.awaitingFrame = true; // ready once the next frame (with this model) is drawn
+  app.viewer.requestRender();
   saveSoon();
   return true;
 }
@@ -206,7 +211,9 @@ async function openModel(source, restore = null) {
   const generation = ++app.loadGeneration;
   let text;
   try {
-    text = source.text ?? (source.kind === 'sample' ? await fetchSample(source.name) : await source.file.text());
+    const prefetched = source.prefetch ? await source.prefetch : undefined;
+    if (prefetched instanceof Error) throw prefetched;
+    text = source.text ?? prefetched ?? (source.kind === 'sample' ? await fetchSample(source.name) : await source.file.text());
   } catch (e) {
     if (generation === app.loadGeneration) showError(`Could not open ${source.name}: ${e.message}`);
     return false;
@@ -223,10 +230,6 @@ async function openModel(source, restore = null) {
     app.panel.update(); // the sample list goes back to the current model
   }
   return ok;
-}
-
-function afterFrame(callback) {
-  requestAnimationFrame(() => requestAnimationFrame(callback));
 }
 
 // ---- editor ---------------------------------------------------------------------------------------
@@ -429,13 +432,19 @@ async function requestTheta() {
   setThetaState(null, app.cache?.available ? 'looking in the cache…' : '');
 
   if (app.cache?.available) {
-    const bytes = await app.cache.get(key);
+    const lookup = performance.now();
+    const prefetched = app.theta.prefetch?.key === key ? app.theta.prefetch.bytes : null;
+    app.theta.prefetch = null;
+    const bytes = (await prefetched) ?? (await app.cache.get(key));
     if (stale()) return;
     if (bytes) {
       let theta = null, problem;
       try {
+        const read = performance.now();
         theta = app.mrvol.readTheta(bytes);
+        const use = performance.now();
         const used = useTheta(theta);
+        app.stats.cacheLoad = { get: read - lookup, readTheta: use - read, useTheta: performance.now() - use };
         if (!used.ok) problem = used.reason;
       } catch (e) {
         problem = e.message;
@@ -662,7 +671,7 @@ function installDebugHook() {
     ready: () => app.ready,
     thetaReady: () => app.ready && app.theta.source !== null && app.editor?.path() === 'tensor',
     /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
-    stats: () => ({ ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames] }),
+    stats: () => ({ ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders] }),
   };
   Object.defineProperty(window, 'mrvolDebug', { value: Object.freeze(hook), writable: false, configurable: false });
 }
@@ -670,12 +679,22 @@ function installDebugHook() {
 // ---- start --------------------------------------------------------------------------------------------
 
 async function start() {
+  app.stats.scriptAt = performance.now();
   installDebugHook();
+  // The core, the cache and the model file load in parallel.
+  const coreLoading = loadMrvol();
+  const cacheOpening = ThetaCache.open();
   const view = $('view');
   app.viewer = new Viewer(view);
-  app.viewer.onFrame = () => {
+  app.viewer.onFrame = (renderMs) => {
+    if (app.awaitingFrame) {
+      app.awaitingFrame = false;
+      app.ready = true;
+      app.stats.readyAt ??= performance.now();
+    }
     if (app.pendingInput !== null) {
       pushStat(app.stats.frames, performance.now() - app.pendingInput);
+      pushStat(app.stats.renders, renderMs);
       app.pendingInput = null;
     }
   };
@@ -693,6 +712,7 @@ async function start() {
 
   app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions });
   app.viewer.setFlat(app.settings.flat);
+  app.viewer.precompile(); // while the core, the cache and the model load
   $('error-close').addEventListener('click', clearError);
   $('theta-cancel').addEventListener('click', () => {
     const generation = app.theta.generation;
@@ -703,17 +723,6 @@ async function start() {
   // Capture phase: lil-gui stops keydown events of its controls from bubbling.
   window.addEventListener('keydown', onKeyDown, { capture: true });
   setUpDrop();
-
-  try {
-    app.mrvol = await loadMrvol();
-  } catch (e) {
-    showError(`The WebAssembly core could not be loaded: ${e.message}`);
-    return;
-  }
-  compileMrvolWasm(); // already compiled: the worker gets the same module
-  app.cache = await ThetaCache.open();
-  if (!app.cache.available) notice(`No θ cache (${app.cache.reason}): θ is computed on every load.`);
-  refreshCacheList();
 
   let restore = null, source;
   if (useSession) {
@@ -732,6 +741,29 @@ async function start() {
   } else {
     source = { kind: 'sample', name: urlModel ?? DEFAULT_MODEL };
   }
+  if (source.kind === 'sample') source.prefetch = fetchSample(source.name).catch((e) => e);
+  if (useSession && typeof session.fingerprint === 'string') {
+    // The session says which theta the editor will want: read it while the core loads.
+    const key = thetaKey({
+      fingerprint: session.fingerprint, scheme: app.settings.scheme, alpha: ALPHA, beta: BETA, level: app.settings.level,
+    });
+    app.theta.prefetch = { key, bytes: cacheOpening.then((cache) => cache.get(key)) };
+  }
+
+  try {
+    app.mrvol = await coreLoading;
+  } catch (e) {
+    showError(`The WebAssembly core could not be loaded: ${e.message}`);
+    return;
+  }
+  app.stats.coreAt = performance.now();
+  // Without a session theta is likely not cached: the worker loads its copy of the core while the
+  // model opens. (With one, the cache most likely has it, and the worker would compete for the CPU.)
+  if (!app.theta.prefetch) app.jobs.prepare();
+  app.cache = await cacheOpening;
+  app.stats.cacheAt = performance.now();
+  if (!app.cache.available) notice(`No θ cache (${app.cache.reason}): θ is computed on every load.`);
+  refreshCacheList();
   app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
   if (!(await openModel(source, restore)) && !app.model && source.name !== DEFAULT_MODEL) {
     await openModel({ kind: 'sample', name: DEFAULT_MODEL });

@@ -48,6 +48,15 @@ export class ThetaJobs {
 
   get busy() { return this.#current !== null; }
 
+  /** Starts the worker and its core ahead of the first job. */
+  async prepare() {
+    if (this.#worker) return;
+    const wasm = await compileMrvolWasm();
+    if (this.#worker) return;
+    this.#spawn().postMessage({ type: 'init', wasm });
+    this.#sentWasm = true;
+  }
+
   /**
    * Computes theta^e in the worker.
    * job: { meshKey, positions: Float64Array, faces: Uint32Array, level, scheme, alpha, beta }

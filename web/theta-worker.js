@@ -1,6 +1,7 @@
 // Module worker that computes the volume tensor theta^e off the page's thread.
 //
-// Messages in:  { type: 'compute', id, meshKey, positions, faces, level, scheme, alpha, beta }
+// Messages in:  { type: 'init', wasm } loads the core ahead of the first job;
+//               { type: 'compute', id, meshKey, positions, faces, level, scheme, alpha, beta }
 //               ({ wasm } may carry the page's compiled WebAssembly.Module on the first message)
 // Messages out: { type: 'progress', id, fraction }
 //               { type: 'done', id, bytes: ArrayBuffer (transferred), info, ms }
@@ -9,12 +10,15 @@
 // call into the core; a cancel message could not be read before it returns).
 import { loadMrvol } from './mrvol.js';
 
-let mrvol = null;
 let opened = null; // { key, mesh }: the last mesh, reused by the next job on the same connectivity
 
-async function api(wasm) {
-  mrvol ??= await loadMrvol(wasm);
-  return mrvol;
+let loading = null;
+function api(wasm) {
+  loading ??= loadMrvol(wasm).catch((e) => {
+    loading = null;
+    throw e;
+  });
+  return loading;
 }
 
 function openMesh(m, job) {
@@ -28,6 +32,10 @@ function openMesh(m, job) {
 
 self.onmessage = async (event) => {
   const job = event.data;
+  if (job?.type === 'init') {
+    api(job.wasm).catch(() => {}); // a failure shows again, with its message, on the first job
+    return;
+  }
   if (job?.type !== 'compute') return;
   try {
     const m = await api(job.wasm);

@@ -82,6 +82,30 @@ export class Viewer {
     this.resize();
   }
 
+  /**
+   * Compiles the shader programs of the mesh, cage and handles ahead of the first model (software
+   * WebGL takes a few hundred ms for them), while the core and the model are still loading.
+   */
+  precompile() {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]), 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
+    geometry.setIndex([0, 1, 2]);
+    const placeholders = [
+      new THREE.Mesh(geometry, this.meshMaterial),
+      new THREE.LineSegments(geometry, this.cageVisible),
+      new THREE.LineSegments(geometry, this.cageHidden),
+      new THREE.Points(geometry, this.handleMaterial),
+    ];
+    this.scene.add(...placeholders);
+    try {
+      this.renderer.compile(this.scene, this.camera);
+    } finally {
+      this.scene.remove(...placeholders);
+      geometry.dispose();
+    }
+  }
+
   resize() {
     const { clientWidth: w, clientHeight: h } = this.container;
     if (w === 0 || h === 0) return;

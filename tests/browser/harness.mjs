@@ -17,17 +17,29 @@ const CHROMIUM_ARGS = [
   '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
 ];
 
-/**
- * Starts the server and a browser with a fresh profile (IndexedDB and localStorage of its own,
- * kept across reloads and pages of this context). close() stops both and removes the temp dirs.
- */
-export async function launch({ viewport = { width: 1200, height: 800 } } = {}) {
-  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: apt-get install -y chromium (npm test does it)`);
-  const scratch = mkdtempSync(join(tmpdir(), 'mrvol-browser-'));
+/** The dev server on a free port, with a private dependency cache. close() stops it. */
+export async function startTestServer() {
+  const scratch = mkdtempSync(join(tmpdir(), 'mrvol-server-'));
   const server = await startServer({ port: 0, watch: false, logLevel: 'warn', cacheDir: join(scratch, 'vite-cache') });
+  return {
+    url: server.url,
+    async close() {
+      await server.close().catch(() => {});
+      rmSync(scratch, { recursive: true, force: true });
+    },
+  };
+}
+
+/**
+ * A browser with a fresh profile (IndexedDB and localStorage of its own, kept across reloads and
+ * pages of this context) on a server's url. close() stops it and removes the profile.
+ */
+export async function launchBrowser(url, { viewport = { width: 1200, height: 800 } } = {}) {
+  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: apt-get install -y chromium (npm test does it)`);
+  const profile = mkdtempSync(join(tmpdir(), 'mrvol-profile-'));
   let context;
   try {
-    context = await chromium.launchPersistentContext(join(scratch, 'profile'), {
+    context = await chromium.launchPersistentContext(profile, {
       executablePath: CHROMIUM,
       headless: true,
       args: CHROMIUM_ARGS,
@@ -36,14 +48,13 @@ export async function launch({ viewport = { width: 1200, height: 800 } } = {}) {
       timeout: 60_000,
     });
   } catch (e) {
-    await server.close();
-    rmSync(scratch, { recursive: true, force: true });
+    rmSync(profile, { recursive: true, force: true });
     throw e;
   }
   context.setDefaultTimeout(60_000);
   mkdirSync(RESULTS_DIR, { recursive: true });
   return {
-    url: server.url,
+    url,
     context,
     async newPage() {
       const page = context.pages().find((p) => p.url() === 'about:blank') ?? await context.newPage();
@@ -57,10 +68,27 @@ export async function launch({ viewport = { width: 1200, height: 800 } } = {}) {
     },
     async close() {
       await context.close().catch(() => {});
-      await server.close().catch(() => {});
-      rmSync(scratch, { recursive: true, force: true });
+      rmSync(profile, { recursive: true, force: true });
     },
   };
+}
+
+/** A server and a browser on it; close() stops both. */
+export async function launch(options = {}) {
+  const server = await startTestServer();
+  try {
+    const browser = await launchBrowser(server.url, options);
+    return {
+      ...browser,
+      async close() {
+        await browser.close();
+        await server.close();
+      },
+    };
+  } catch (e) {
+    await server.close();
+    throw e;
+  }
 }
 
 /** Waits until the model is loaded and the first frame is drawn (handles can be dragged). */
