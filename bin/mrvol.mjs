@@ -72,7 +72,8 @@ function integer(value, name, fallback) {
 function number(value, name) {
   if (value === undefined) return undefined;
   const x = Number(value);
-  if (value.trim() === '' || !Number.isFinite(x)) throw new UsageError(`--${name} expects a number, got '${value}'`);
+  if (!/^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$/.test(value) || !Number.isFinite(x))
+    throw new UsageError(`--${name} expects a number, got '${value}'`);
   return x;
 }
 

@@ -23,7 +23,9 @@ function schemeArgs(options = {}) {
 
 function levelArg(level, name = 'level') {
   const l = level ?? 0;
-  if (!Number.isInteger(l) || l < 0 || l > 64) throw new MrvolError(`${name} must be an integer from 0 to 64, got ${level}`);
+  if (!Number.isInteger(l)) throw new MrvolError(`${name} must be an integer, got ${level}`);
+  // embind would wrap values beyond 32 bits silently; in range, the core says what fits the mesh.
+  if (l < -0x80000000 || l > 0x7fffffff) throw new MrvolError(`${name} ${l} is out of range`);
   return l;
 }
 
@@ -92,7 +94,10 @@ export function wrapModule(module) {
     /** Caller's vertex index of each cage vertex, in cage order. */
     cageVertices() { return call((r) => r.cageVertices(), this.#live()); }
     /** Cage order index of a caller's vertex; throws if it is not a level-e cage vertex. */
-    cageIndexOf(vertex) { return call((r) => r.cageIndexOf(vertex), this.#live()); }
+    cageIndexOf(vertex) {
+      if (!Number.isInteger(vertex)) throw new MrvolError('vertex index must be a non-negative integer');
+      return call((r) => r.cageIndexOf(vertex), this.#live());
+    }
     cagePositions() { return call((r) => r.cagePositions(), this.#live()); }
     /** Fine positions, caller's vertex order. */
     positions() { return call((r) => r.positions(), this.#live()); }

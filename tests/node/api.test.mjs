@@ -407,22 +407,23 @@ describe('errors', () => {
     mr.delete();
   });
 
-  // Known bug (reported): integers beyond 32 bits wrap in the embind int conversion, so these
-  // succeed silently with level 0 instead of failing.
-  test('levels beyond 32 bits are refused', { todo: 'api.mjs passes them to embind, which wraps them to int32' }, () => {
+  // Integers beyond 32 bits would wrap in the embind int conversion: the JS layer refuses them.
+  test('levels beyond 32 bits are refused', () => {
     const mr = mrvol.subdivide(icosahedron(), { levels: 1 });
     const x = mr.positions();
     try {
       throwsMrvol(() => mr.analyze(x, { level: 2 ** 32 }), /level/);
       throwsMrvol(() => mr.synthesize(x, { level: 2 ** 32 + 1 }), /level/);
-      throwsMrvol(() => mr.analyze(x, { level: 2 ** 31 }), 'level 2147483648 is out of range: this mesh has levels 0..1');
+      throwsMrvol(() => mr.analyze(x, { level: 2 ** 31 }), 'level 2147483648 is out of range');
+      throwsMrvol(() => mr.analyze(x, { level: -(2 ** 31) - 1 }), 'level -2147483649 is out of range');
+      throwsMrvol(() => mr.analyze(x, { level: 2 ** 31 - 1 }), 'level 2147483647 is out of range: this mesh has levels 0..1');
       throwsMrvol(() => mrvol.subdivide(icosahedron(), { levels: 2 ** 32 }), /levels/);
     } finally {
       mr.delete();
     }
   });
 
-  test('bad maxLevels are refused', { todo: 'openMesh passes maxLevels unchecked: strings, negatives and 2**32 all give 0 levels' }, () => {
+  test('bad maxLevels are refused', () => {
     const built = mrvol.subdivide(icosahedron(), { levels: 1 });
     const m = built.toMesh();
     built.delete();

@@ -313,7 +313,7 @@ describe('free sets', () => {
     throwsMrvol(() => ed.setFreeSet({ cage: [3, 100] }), 'vertex 100 is not a vertex of the level-1 cage (it is born at level 2)');
     throwsMrvol(() => ed.setFreeSet({ detailLevels: [0] }), 'free detail level 0 is out of range 1..2');
     throwsMrvol(() => ed.setFreeSet({ detailLevels: [3] }), 'free detail level 3 is out of range 1..2');
-    throwsMrvol(() => ed.setFreeSet({ detailLevels: [-1] }), /^detail level must be an integer/);
+    throwsMrvol(() => ed.setFreeSet({ detailLevels: [-1] }), 'free detail level -1 is out of range 1..2');
   });
 });
 
@@ -341,7 +341,7 @@ describe('no-preserve moves, correct(), reference volume', () => {
     mr.delete();
   });
 
-  test('preserve: false puts the moved vertex exactly at its target', { todo: 'deformCage with preserve false leaves x + (t - x), which is not t when |t| << |x|' }, () => {
+  test('preserve: false puts the moved vertex exactly at its target', () => {
     const mr = mrvol.openMesh(meshes['spiky-ball']);
     const ed = mr.createEditor({ level: 3 });
     const p = ed.cagePositions();

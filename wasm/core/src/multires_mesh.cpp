@@ -8,6 +8,7 @@
 namespace mrvol {
 
 MultiresMesh::MultiresMesh(TriangleMesh mesh, int maxLevels) : mesh_(std::move(mesh)) {
+  if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
   topology_ = validateMesh(mesh_);
   hierarchy_ = Hierarchy::detect(mesh_, maxLevels);
 }

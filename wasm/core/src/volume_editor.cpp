@@ -487,6 +487,10 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
   else if (o.preserve && partTriangles_.empty()) prepareGradient(), report.volumeTarget = cachedVolume_;
   else report.volumeTarget = volume();
   if (!o.preserve) {
+    // x + (t - x) need not round to t: the cage takes the target as given.
+    std::copy(target.begin(), target.end(), x_.begin());
+    fineValid_ = false;
+    report.volumeTarget = tensor ? polynomial_->evaluate(shiftedCage().data(), nullptr) : volume();
     report.volumeResult = report.volumeTarget;
     report.relativeError = std::fabs(report.volumeResult - reference_) / std::max(std::fabs(reference_), 1e-300);
     report.partReferences = partReference_;
