@@ -72,6 +72,12 @@ function notice(message) {
 
 // ---- readouts -------------------------------------------------------------------------------------
 
+const SUPERSCRIPT = '⁰¹²³⁴⁵⁶⁷⁸⁹';
+/** θ with its level as a superscript: θ⁰, θ¹² */
+function thetaName(level) {
+  return 'θ' + String(level).replace(/\d/g, (d) => SUPERSCRIPT[d]);
+}
+
 function formatVolume(v) {
   return Number.isFinite(v) ? v.toPrecision(12) : '–';
 }
@@ -197,6 +203,7 @@ function openModelText({ name, kind, text }, restore = null) {
   app.panel.setLevels(info.levels);
   app.panel.update();
   buildEditor(reference);
+  app.viewer.frameAll();
   $('model-name').textContent = name;
   $('model-info').textContent = modelInfoText();
   app.stats.modelAt ??= performance.now();
@@ -410,7 +417,7 @@ function useTheta(theta) {
 function thetaArrived(source, theta, started) {
   app.theta.memory.set(app.theta.key, { theta, source });
   const info = theta.info();
-  setThetaState(source, `θ^${info.level}: ${(info.nnzStored / 1e6).toFixed(2)}M entries, ` +
+  setThetaState(source, `${thetaName(info.level)}: ${(info.nnzStored / 1e6).toFixed(2)}M entries, ` +
     `${(info.bytes / 2 ** 20).toFixed(1)} MB, ${Math.round(performance.now() - started)} ms`);
   app.stats.thetaReadyAt ??= performance.now();
   updateReadouts();
@@ -467,7 +474,7 @@ async function computeTheta(generation, key, started) {
   const stale = () => generation !== app.theta.generation;
   const { level, scheme } = app.settings;
   setThetaState(null, 'computing in a worker (editing runs matrix-free meanwhile)');
-  showProgress(0, `Computing θ^${level} (${scheme})`);
+  showProgress(0, `Computing ${thetaName(level)} (${scheme})`);
   let result;
   try {
     result = await app.jobs.compute({
@@ -476,7 +483,7 @@ async function computeTheta(generation, key, started) {
       faces: app.model.faces,
       level, scheme, alpha: ALPHA, beta: BETA,
     }, (fraction) => {
-      if (!stale()) showProgress(fraction, `Computing θ^${level} (${scheme}) ${Math.round(fraction * 100)}%`);
+      if (!stale()) showProgress(fraction, `Computing ${thetaName(level)} (${scheme}) ${Math.round(fraction * 100)}%`);
     });
   } catch (e) {
     if (stale()) return;
@@ -504,7 +511,10 @@ async function computeTheta(generation, key, started) {
   thetaArrived('computed', theta, started);
   if (app.cache?.available) {
     const stored = await app.cache.put(key, result.bytes, { model: app.model?.name });
-    if (!stored.ok) notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
+    if (!stored.ok) {
+      notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
+      $('cache-status').textContent = `IndexedDB (the last write failed: ${stored.reason})`;
+    }
     refreshCacheList();
   }
 }
@@ -762,11 +772,13 @@ async function start() {
   if (!app.theta.prefetch) app.jobs.prepare();
   app.cache = await cacheOpening;
   app.stats.cacheAt = performance.now();
-  if (!app.cache.available) notice(`No θ cache (${app.cache.reason}): θ is computed on every load.`);
+  $('cache-status').textContent = app.cache.available ? 'IndexedDB'
+    : `none: ${app.cache.reason}; θ is computed on every load`;
   refreshCacheList();
   app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
   if (!(await openModel(source, restore)) && !app.model && source.name !== DEFAULT_MODEL) {
-    await openModel({ kind: 'sample', name: DEFAULT_MODEL });
+    const why = $('error-text').textContent;
+    if (await openModel({ kind: 'sample', name: DEFAULT_MODEL })) showError(`${why}\nOpened ${DEFAULT_MODEL} instead.`);
   }
   app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
   window.addEventListener('pagehide', saveNow);

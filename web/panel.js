@@ -42,6 +42,7 @@ export function createPanel({ settings, samples, actions }) {
   tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set').onChange(() => actions.changeFreeSet()), 'free-set');
   tag(edit.add(settings, 'tolerance', TOLERANCES).onChange(() => actions.changeTolerance()), 'tolerance');
   tag(edit.add({ setReference: () => actions.setReference() }, 'setReference').name('reference = current volume'), 'set-reference');
+  tag(edit.add({ recompute: () => actions.recomputeTheta() }, 'recompute').name('compute θ again'), 'theta-recompute');
   tag(edit.add({ undo: () => actions.undo() }, 'undo').name('undo (Ctrl+Z)'), 'undo');
   tag(edit.add({ redo: () => actions.redo() }, 'redo').name('redo (Ctrl+Shift+Z)'), 'redo');
 
@@ -59,7 +60,6 @@ export function createPanel({ settings, samples, actions }) {
   cache.$children.appendChild(list);
   tag(cache.add({ refresh: () => actions.refreshCache() }, 'refresh').name('refresh list'), 'cache-refresh');
   tag(cache.add({ clear: () => actions.clearCache() }, 'clear').name('clear cache'), 'cache-clear');
-  tag(cache.add({ recompute: () => actions.recomputeTheta() }, 'recompute').name('recompute θ'), 'theta-recompute');
 
   return {
     gui,

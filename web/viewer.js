@@ -139,14 +139,22 @@ export class Viewer {
     this.scene.add(this.mesh);
     if (!this.flat) geometry.computeVertexNormals();
     geometry.computeBoundingSphere();
-    this.frame(geometry.boundingSphere);
     this.requestRender();
+  }
+
+  /** Points the camera at the mesh and the cage. */
+  frameAll() {
+    const box = new THREE.Box3();
+    if (this.mesh) box.expandByObject(this.mesh);
+    if (this.cageLines) box.union(new THREE.Box3().setFromBufferAttribute(this.cageLines.geometry.getAttribute('position')));
+    if (box.isEmpty()) return;
+    this.frame(box.getBoundingSphere(new THREE.Sphere()));
   }
 
   /** Points the camera at a bounding sphere. */
   frame(sphere) {
     const r = Math.max(sphere.radius, 1e-6);
-    const distance = r / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.15;
+    const distance = r / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.02;
     const direction = new THREE.Vector3(0.45, 0.35, 1).normalize();
     this.controls.target.copy(sphere.center);
     this.camera.position.copy(sphere.center).addScaledVector(direction, distance);
