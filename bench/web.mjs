@@ -4,7 +4,8 @@
 //     in the worker) and warm (reload: theta from IndexedDB);
 //   - while dragging a handle: the drag step (deformCage + reading positions back + updating the
 //     geometry) and the time from the pointer event to the rendered frame.
-// Run by hand after `node scripts/setup.mjs --no-native`:  node bench/web.mjs [--runs 3] [--models spiky-ball,torus]
+// Run by hand after `node scripts/setup.mjs --no-native`:
+//   node bench/web.mjs [--runs 3] [--models spiky-ball,torus] [--modes dev,preview]
 import { writeFileSync } from 'node:fs';
 import { cpus, totalmem, platform, release } from 'node:os';
 import { join } from 'node:path';
@@ -17,6 +18,7 @@ const option = (name, fallback) => {
 };
 const RUNS = Number(option('--runs', '3'));
 const MODELS = option('--models', 'spiky-ball,torus').split(',');
+const MODES = option('--modes', 'dev,preview').split(',');
 const DRAG_MOVES = 120;
 
 const median = (xs) => {
@@ -88,41 +90,46 @@ async function measureModel(server, model) {
   return { model, cold, warm, drags };
 }
 
-const server = await startTestServer();
-let results, version;
-try {
-  // Warm the dev server (dependency bundling, module transforms) with a throw-away profile.
-  const warmUp = await launchBrowser(server.url);
+const modeName = { dev: 'dev server (npm start)', preview: 'production build (vite preview)' };
+
+let version;
+const results = [];
+for (const mode of MODES) {
+  const server = await startTestServer({ mode });
   try {
-    const page = await warmUp.newPage();
-    await page.goto(server.url);
-    await waitReady(page);
-    version = warmUp.context.browser()?.version() ?? (await page.evaluate(() => navigator.userAgent));
+    // Warm the server (dependency bundling, module transforms) with a throw-away profile.
+    const warmUp = await launchBrowser(server.url);
+    try {
+      const page = await warmUp.newPage();
+      await page.goto(server.url);
+      await waitReady(page);
+      version ??= warmUp.context.browser()?.version() ?? (await page.evaluate(() => navigator.userAgent));
+    } finally {
+      await warmUp.close();
+    }
+    for (const model of MODELS) results.push({ mode, ...(await measureModel(server, model)) });
   } finally {
-    await warmUp.close();
+    await server.close();
   }
-  results = [];
-  for (const model of MODELS) results.push(await measureModel(server, model));
-} finally {
-  await server.close();
 }
 
 const lines = [];
 lines.push('# Web editor timings', '');
 lines.push(`Measured by \`node bench/web.mjs\` on ${new Date().toISOString().slice(0, 10)}: ${cpus()[0]?.model ?? 'unknown CPU'}, ` +
   `${cpus().length} cores, ${(totalmem() / 2 ** 30).toFixed(0)} GiB, ${platform()} ${release()}, Node ${process.version}, ` +
-  `headless Chromium ${version} (WebGL on SwiftShader, software), vite dev server on 127.0.0.1, 1200 x 800 viewport. ` +
+  `headless Chromium ${version} (WebGL on SwiftShader, software), server on 127.0.0.1, 1200 x 800 viewport, ${RUNS} runs. ` +
   'Other jobs were running on the machine; medians over the runs.', '');
 lines.push('Times in ms from navigation start (`performance.now()` in the page). "Drag-ready" is the first frame with',
   'the model and its cage drawn: dragging works from then on, on the matrix-free path until theta arrives.',
   'Cold: a fresh browser profile, theta computed in the worker. Warm: a reload, theta read from IndexedDB',
-  '(and the session restored from localStorage).', '');
-lines.push('| model | run | main.js running | core loaded | model opened | drag-ready frame | theta in use | worker computeTheta |');
-lines.push('|---|---|---:|---:|---:|---:|---:|---:|');
+  '(and the session restored from localStorage). Served by the vite dev server (what `npm start` runs: one',
+  'request per module) or the production bundle (`node scripts/serve.mjs --preview`).', '');
+lines.push('| server | model | run | main.js running | core loaded | model opened | drag-ready frame | theta in use | worker computeTheta |');
+lines.push('|---|---|---|---:|---:|---:|---:|---:|---:|');
 for (const r of results)
   for (const [name, runs] of [['cold', r.cold], ['warm', r.warm]]) {
     const m = (f) => ms(median(runs.map(f)));
-    lines.push(`| ${r.model} | ${name} | ${m((c) => c.script)} | ${m((c) => c.core)} | ${m((c) => c.model)} | ` +
+    lines.push(`| ${modeName[r.mode]} | ${r.model} | ${name} | ${m((c) => c.script)} | ${m((c) => c.core)} | ${m((c) => c.model)} | ` +
       `**${m((c) => c.ready)}** | **${m((c) => c.theta)}** | ${name === 'cold' ? m((c) => c.worker) : '–'} |`);
   }
 lines.push('', `Dragging one level-0 handle (${DRAG_MOVES} pointer moves per run, each followed by a frame; tensor path,`,
@@ -130,13 +137,13 @@ lines.push('', `Dragging one level-0 handle (${DRAG_MOVES} pointer moves per run
   'renderer.render call (WebGL on SwiftShader, on the CPU). Input to frame: from the pointer event to the end of',
   'the render call of the next animation frame (includes waiting for it: up to one 60 Hz period). Per move: wall',
   'time per move seen from the test driver (includes the round trips of the automation protocol).', '');
-lines.push('| model | step median | step p95 | render median | render p95 | input to frame median | input to frame p95 | per move (driver) | last relative error |');
-lines.push('|---|---:|---:|---:|---:|---:|---:|---:|---:|');
+lines.push('| server | model | step median | step p95 | render median | render p95 | input to frame median | input to frame p95 | per move (driver) | last relative error |');
+lines.push('|---|---|---:|---:|---:|---:|---:|---:|---:|---:|');
 for (const r of results) {
   const steps = r.drags.flatMap((d) => d.steps), frames = r.drags.flatMap((d) => d.frames);
   const renders = r.drags.flatMap((d) => d.renders);
   const last = r.drags[r.drags.length - 1];
-  lines.push(`| ${r.model} | ${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${ms(median(renders))} | ${ms(quantile(renders, 0.95))} | ${ms(median(frames))} | ` +
+  lines.push(`| ${modeName[r.mode]} | ${r.model} | ${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${ms(median(renders))} | ${ms(quantile(renders, 0.95))} | ${ms(median(frames))} | ` +
     `${ms(quantile(frames, 0.95))} | ${ms(median(r.drags.map((d) => d.wall)))} | ${last.error?.toExponential(1) ?? '–'} (${last.path}) |`);
 }
 lines.push('');

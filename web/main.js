@@ -423,6 +423,11 @@ function thetaArrived(source, theta, started) {
   updateReadouts();
 }
 
+/**
+ * Puts theta^e of the current model, scheme and level into the editor: from memory, from the cache
+ * or from the worker. A cache lookup at start-up takes a few hundred ms, so when the cache probably
+ * has nothing (no session said so) the worker starts at once beside the lookup, and a hit cancels it.
+ */
 async function requestTheta() {
   cancelTheta();
   const generation = app.theta.generation;
@@ -438,11 +443,14 @@ async function requestTheta() {
   }
   setThetaState(null, app.cache?.available ? 'looking in the cache…' : '');
 
+  let job = null;
   if (app.cache?.available) {
-    const lookup = performance.now();
     const prefetched = app.theta.prefetch?.key === key ? app.theta.prefetch.bytes : null;
     app.theta.prefetch = null;
+    if (!prefetched) job = startJob(generation);
+    const lookup = performance.now();
     const bytes = (await prefetched) ?? (await app.cache.get(key));
+    app.stats.cacheLookupMs ??= performance.now() - lookup;
     if (stale()) return;
     if (bytes) {
       let theta = null, problem;
@@ -457,6 +465,8 @@ async function requestTheta() {
         problem = e.message;
       }
       if (!problem) {
+        if (job) app.jobs.cancel();
+        showProgress(null);
         thetaArrived('cache', theta, started);
         return;
       }
@@ -467,33 +477,37 @@ async function requestTheta() {
       if (stale()) return;
     }
   }
-  computeTheta(generation, key, started);
+  finishJob(generation, key, started, job ?? startJob(generation));
 }
 
-async function computeTheta(generation, key, started) {
+/** Posts the theta job to the worker. Resolves to { result } or { error }; never rejects. */
+function startJob(generation) {
   const stale = () => generation !== app.theta.generation;
   const { level, scheme } = app.settings;
   setThetaState(null, 'computing in a worker (editing runs matrix-free meanwhile)');
   showProgress(0, `Computing ${thetaName(level)} (${scheme})`);
-  let result;
-  try {
-    result = await app.jobs.compute({
-      meshKey: app.model.fingerprint,
-      positions: app.model.mr.positions(),
-      faces: app.model.faces,
-      level, scheme, alpha: ALPHA, beta: BETA,
-    }, (fraction) => {
-      if (!stale()) showProgress(fraction, `Computing ${thetaName(level)} (${scheme}) ${Math.round(fraction * 100)}%`);
-    });
-  } catch (e) {
-    if (stale()) return;
-    showProgress(null);
-    if (e.cancelled) setThetaState(null, 'cancelled: editing runs matrix-free');
-    else setThetaState(null, `failed: ${e.message}; editing runs matrix-free`);
-    return;
-  }
+  const posted = performance.now();
+  return app.jobs.compute({
+    meshKey: app.model.fingerprint,
+    positions: app.model.mr.positions(),
+    faces: app.model.faces,
+    level, scheme, alpha: ALPHA, beta: BETA,
+  }, (fraction) => {
+    if (!stale()) showProgress(fraction, `Computing ${thetaName(level)} (${scheme}) ${Math.round(fraction * 100)}%`);
+  }).then((result) => ({ result, posted }), (error) => ({ error }));
+}
+
+async function finishJob(generation, key, started, job) {
+  const stale = () => generation !== app.theta.generation;
+  const { result, posted, error } = await job;
   if (stale()) return;
   showProgress(null);
+  if (error) {
+    if (error.cancelled) setThetaState(null, 'cancelled: editing runs matrix-free');
+    else setThetaState(null, `failed: ${error.message}; editing runs matrix-free`);
+    return;
+  }
+  const received = performance.now();
   let theta;
   try {
     theta = app.mrvol.readTheta(result.bytes);
@@ -508,6 +522,7 @@ async function computeTheta(generation, key, started) {
     return;
   }
   app.stats.thetaMs = result.ms;
+  app.stats.thetaJob = { roundTrip: received - posted, ...result.timings, readAndUse: performance.now() - received };
   thetaArrived('computed', theta, started);
   if (app.cache?.available) {
     const stored = await app.cache.put(key, result.bytes, { model: app.model?.name });

@@ -39,7 +39,7 @@ export class ThetaJobs {
     if (message.type === 'progress') job.onProgress?.(message.fraction);
     else if (message.type === 'done') {
       this.#current = null;
-      job.resolve({ bytes: new Uint8Array(message.bytes), info: message.info, ms: message.ms });
+      job.resolve({ bytes: new Uint8Array(message.bytes), info: message.info, ms: message.ms, timings: message.timings });
     } else if (message.type === 'error') {
       this.#current = null;
       job.reject(new Error(message.message));

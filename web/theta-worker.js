@@ -4,7 +4,7 @@
 //               { type: 'compute', id, meshKey, positions, faces, level, scheme, alpha, beta }
 //               ({ wasm } may carry the page's compiled WebAssembly.Module on the first message)
 // Messages out: { type: 'progress', id, fraction }
-//               { type: 'done', id, bytes: ArrayBuffer (transferred), info, ms }
+//               { type: 'done', id, bytes: ArrayBuffer (transferred), info, ms, timings }
 //               { type: 'error', id, message }
 // The page cancels a computation by terminating the worker (the computation is one synchronous
 // call into the core; a cancel message could not be read before it returns).
@@ -38,8 +38,11 @@ self.onmessage = async (event) => {
   }
   if (job?.type !== 'compute') return;
   try {
+    const received = performance.now();
     const m = await api(job.wasm);
+    const loaded = performance.now();
     const mesh = openMesh(m, job);
+    const opened = performance.now();
     let last = -1;
     const started = performance.now();
     const theta = mesh.computeTheta({
@@ -61,8 +64,8 @@ self.onmessage = async (event) => {
     let bytes = theta.bytes();
     theta.delete();
     if (bytes.byteOffset !== 0 || bytes.byteLength !== bytes.buffer.byteLength) bytes = bytes.slice();
-    delete info.baseVertexIndices;
-    self.postMessage({ type: 'done', id: job.id, bytes: bytes.buffer, info, ms }, [bytes.buffer]);
+    const timings = { waitCore: loaded - received, openMesh: opened - loaded, computeTheta: ms, bytes: performance.now() - started - ms };
+    self.postMessage({ type: 'done', id: job.id, bytes: bytes.buffer, info, ms, timings }, [bytes.buffer]);
   } catch (e) {
     self.postMessage({ type: 'error', id: job.id, message: e?.message ?? String(e) });
   }

@@ -17,10 +17,15 @@ const CHROMIUM_ARGS = [
   '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
 ];
 
-/** The dev server on a free port, with a private dependency cache. close() stops it. */
-export async function startTestServer() {
+/**
+ * The server on a free port, with a private dependency cache (and, for mode 'preview', a private
+ * build folder). close() stops it.
+ */
+export async function startTestServer({ mode = 'dev' } = {}) {
   const scratch = mkdtempSync(join(tmpdir(), 'mrvol-server-'));
-  const server = await startServer({ port: 0, watch: false, logLevel: 'warn', cacheDir: join(scratch, 'vite-cache') });
+  const server = await startServer({
+    port: 0, watch: false, logLevel: 'warn', cacheDir: join(scratch, 'vite-cache'), mode, outDir: join(scratch, 'dist'),
+  });
   return {
     url: server.url,
     async close() {
