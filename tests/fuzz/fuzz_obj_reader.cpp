@@ -1,0 +1,131 @@
+// libFuzzer target: arbitrary bytes through the whole input path of the core.
+//
+//   bytes -> readObj -> validateMesh (differential: reference_mesh.h) -> MultiresMesh (hierarchy detection) -> Loop analysis and
+//   synthesis at every level (then Butterfly and linear), plus writeObj -> readObj (text round
+//   trip) and the mesh volume.
+//
+// The core reports every failure as mrvol::Error; std::bad_alloc is tolerated for absurd sizes.
+// Any other exception escapes and aborts, so libFuzzer reports it. Broken invariants call
+// __builtin_trap().
+//
+//   build/fuzz/fuzz_obj_reader build/fuzz/corpus-fuzz_obj_reader -dict=tests/fuzz/obj.dict
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <new>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mrvol/error.h"
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+#include "mrvol/mesh.h"
+#include "mrvol/multires_mesh.h"
+#include "reference_mesh.h"
+
+namespace {
+
+void check(bool ok) {
+  if (!ok) __builtin_trap();
+}
+
+double maxAbs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::fmax(m, std::fabs(x));
+  return m;
+}
+
+// Perfect reconstruction of the Loop transform on the file's own positions, at every level. The
+// steps invert exactly in exact arithmetic, so the error is rounding only: relative to the
+// coordinate magnitude, amplified by at most 1/K(3) = 10 per analysis level (the N step), which
+// 1e-9 leaves room for up to 16 levels of typical meshes. The absolute floor covers subnormals.
+void checkRoundtrip(const mrvol::MultiresMesh& mesh, mrvol::SchemeKind kind) {
+  mrvol::SchemeOptions scheme;  // default Loop alpha and beta
+  scheme.kind = kind;
+  const auto& x = mesh.mesh().positions;
+  const double scale = maxAbs(x);
+  const double tolerance = 1e-9 * scale + 1e-300;
+  for (int level = 0; level <= mesh.levels(); ++level) {
+    std::vector<double> coefficients = mesh.analyze(x, level, scheme);
+    for (double c : coefficients) check(std::isfinite(c));
+    std::vector<double> back = mesh.synthesize(coefficients, level, scheme);
+    check(back.size() == x.size());
+    double err = 0;
+    for (size_t i = 0; i < x.size(); ++i) err = std::fmax(err, std::fabs(back[i] - x[i]));
+    check(err <= tolerance);
+  }
+  check(mesh.roundtripError(0, scheme) <= tolerance);
+}
+
+void checkHierarchyShape(const mrvol::MultiresMesh& mesh) {
+  const mrvol::Hierarchy& h = mesh.hierarchy();
+  const size_t nv = mesh.mesh().vertexCount();
+  check(h.levels >= 0 && h.levels <= 16);
+  check(h.vertexCount.size() == size_t(h.levels) + 1 && h.faces.size() == size_t(h.levels) + 1);
+  check(h.fineVertexCount() == nv);
+  check(h.fineFaces().size() == mesh.mesh().faces.size());
+  check(h.inputIndex.size() == nv && h.hierarchyIndex.size() == nv);
+  for (size_t v = 0; v < nv; ++v) check(h.inputIndex[h.hierarchyIndex[v]] == v);
+  for (int l = 1; l <= h.levels; ++l) {
+    check(h.vertexCount[l] > h.vertexCount[l - 1]);
+    check(h.faces[l].size() == 4 * h.faces[l - 1].size());
+  }
+}
+
+void run(std::string_view text) {
+  mrvol::TriangleMesh mesh = mrvol::readObj(text);
+  // What readObj returns is well formed even when it is no valid mesh.
+  check(mesh.positions.size() % 3 == 0 && mesh.faces.size() % 3 == 0 && !mesh.faces.empty());
+  for (uint32_t i : mesh.faces) check(i < mesh.vertexCount());
+  for (double x : mesh.positions) check(std::isfinite(x) && std::fabs(x) <= 1e100);
+
+  // Writing and reading back gives the same mesh exactly (17 significant digits).
+  mrvol::TriangleMesh again = mrvol::readObj(mrvol::writeObj(mesh));
+  check(again.faces == mesh.faces);
+  check(again.positions.size() == mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i) check(again.positions[i] == mesh.positions[i]);
+
+  // validateMesh against the plain reference implementation: same verdict, same counts.
+  const reference::Topology expected = reference::validate(mesh);
+  mrvol::MeshTopology topology;
+  try {
+    topology = mrvol::validateMesh(mesh);
+  } catch (const mrvol::Error&) {
+    check(!expected.valid);
+    throw;
+  }
+  check(expected.valid);
+  check(topology.edges == expected.edges && topology.boundaryEdges == expected.boundaryEdges &&
+        topology.components == expected.components);
+  check(topology.closed == (topology.boundaryEdges == 0));
+  // Euler: V - E + F = 2 C - 2 g - (boundary loops) for a single closed component.
+  if (topology.closed && topology.components == 1)
+    check(long(mesh.vertexCount()) - long(topology.edges) + long(mesh.faceCount()) == 2 - 2 * topology.genus);
+
+  mrvol::MultiresMesh multires(std::move(mesh));
+  checkHierarchyShape(multires);
+  mrvol::MeshInfo info = multires.info();
+  check(std::isfinite(info.volume));  // |x| <= 1e100 keeps the triple products finite
+  check(info.levels == multires.levels() && info.baseVertices == multires.hierarchy().vertexCount[0]);
+  if (multires.levels() > 0) {
+    checkRoundtrip(multires, mrvol::SchemeKind::Loop);
+    // The interpolating schemes have their own stencils on the same hierarchy (extraordinary and
+    // boundary vertices, Butterfly's integral-based update weights): they must reconstruct too.
+    checkRoundtrip(multires, mrvol::SchemeKind::Butterfly);
+    checkRoundtrip(multires, mrvol::SchemeKind::Linear);
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  try {
+    run(std::string_view(reinterpret_cast<const char*>(data), size));
+  } catch (const mrvol::Error&) {
+    // The documented way to refuse an input.
+  } catch (const std::bad_alloc&) {
+    // Absurd sizes only; ASan's allocator limit (-rss_limit_mb / malloc_limit_mb) reports real blow-ups.
+  }
+  return 0;
+}
