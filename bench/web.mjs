@@ -146,6 +146,19 @@ for (const r of results) {
   lines.push(`| ${modeName[r.mode]} | ${r.model} | ${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${ms(median(renders))} | ${ms(quantile(renders, 0.95))} | ${ms(median(frames))} | ` +
     `${ms(quantile(frames, 0.95))} | ${ms(median(r.drags.map((d) => d.wall)))} | ${last.error?.toExponential(1) ?? '–'} (${last.path}) |`);
 }
+lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles taken while writing this):', '',
+  '- "main.js running": loading the page\'s modules (dev server: one request per module, three.js included;',
+  '  preview: one bundle). "core loaded": compiling and instantiating mrvol-web.wasm, while the OBJ file is',
+  '  fetched and IndexedDB opens. "model opened": readObj, openMesh (hierarchy detection), the editor and the',
+  '  cage; the first frame follows (shaders are compiled while the core loads).',
+  '- Cold theta: the worker has its core ready by then (it gets the page\'s compiled module) and starts beside',
+  '  the cache lookup; the rest is openMesh in the worker, computeTheta, moving the file to the page',
+  '  (transferred), readTheta and useTheta. Right after start-up the main thread spends a few hundred ms in',
+  '  native code ("(program)" in the profile; most likely the first WebGL frames on SwiftShader), which delays the answers.',
+  '- Warm theta: reading the cached file from IndexedDB (9 MB for the spiky ball, 54 MB for the torus) takes most',
+  '  of the gap; the read is started from the session\'s fingerprint before the core has loaded.',
+  '- A drag step costs well under a millisecond with the tensor; the frame rate is bound by the display',
+  '  (input to frame is about one 60 Hz period).');
 lines.push('');
 writeFileSync(join(root, 'bench/RESULTS-web.md'), lines.join('\n'));
 process.stdout.write(lines.join('\n'));

@@ -104,7 +104,7 @@ function updateReadouts() {
 }
 
 function updateThetaReadout() {
-  $('theta-source').textContent = app.theta.source ?? 'pending';
+  $('theta-source').textContent = app.theta.source ?? (app.theta.pending ? 'pending' : 'none');
   $('theta-status').textContent = app.theta.status;
 }
 
@@ -398,8 +398,10 @@ function cancelTheta() {
   showProgress(null);
 }
 
-function setThetaState(source, status) {
+/** source: 'computed' | 'cache' | null; pending: null source while theta is on its way (else 'none'). */
+function setThetaState(source, status, pending = true) {
   app.theta.source = source;
+  app.theta.pending = source === null && pending;
   app.theta.status = status;
   updateThetaReadout();
 }
@@ -503,8 +505,8 @@ async function finishJob(generation, key, started, job) {
   if (stale()) return;
   showProgress(null);
   if (error) {
-    if (error.cancelled) setThetaState(null, 'cancelled: editing runs matrix-free');
-    else setThetaState(null, `failed: ${error.message}; editing runs matrix-free`);
+    if (error.cancelled) setThetaState(null, 'cancelled: editing runs matrix-free', false);
+    else setThetaState(null, `failed: ${error.message}; editing runs matrix-free`, false);
     return;
   }
   const received = performance.now();
@@ -512,13 +514,13 @@ async function finishJob(generation, key, started, job) {
   try {
     theta = app.mrvol.readTheta(result.bytes);
   } catch (e) {
-    setThetaState(null, `the worker's θ was unreadable (${e.message}); editing runs matrix-free`);
+    setThetaState(null, `the worker's θ was unreadable (${e.message}); editing runs matrix-free`, false);
     return;
   }
   const used = useTheta(theta);
   if (!used.ok) {
     theta.delete();
-    setThetaState(null, `θ was refused (${used.reason}); editing runs matrix-free`);
+    setThetaState(null, `θ was refused (${used.reason}); editing runs matrix-free`, false);
     return;
   }
   app.stats.thetaMs = result.ms;

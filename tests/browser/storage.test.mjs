@@ -100,6 +100,7 @@ describe('web editor: storage, cancel, drop', { timeout: 240_000 }, () => {
       await progress.waitFor({ state: 'hidden' });
       assert.match(await page.locator('[data-testid="theta-status"]').textContent(), /cancelled/);
       assert.equal(await page.evaluate(() => window.mrvolDebug.thetaSource()), null);
+      assert.equal(await page.locator('[data-testid="theta-source"]').textContent(), 'none');
       assert.equal(await page.evaluate(() => window.mrvolDebug.gradientPath()), 'matrix-free');
       const r = await dragAndCheck(page);
       assert.equal(r.path, 'matrix-free');
