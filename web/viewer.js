@@ -144,17 +144,22 @@ export class Viewer {
 
   /** Points the camera at the mesh and the cage. */
   frameAll() {
-    const box = new THREE.Box3();
-    if (this.mesh) box.expandByObject(this.mesh);
-    if (this.cageLines) box.union(new THREE.Box3().setFromBufferAttribute(this.cageLines.geometry.getAttribute('position')));
-    if (box.isEmpty()) return;
-    this.frame(box.getBoundingSphere(new THREE.Sphere()));
+    let sphere = null;
+    if (this.mesh) sphere = this.mesh.geometry.boundingSphere.clone();
+    if (this.cageLines) {
+      this.cageLines.geometry.computeBoundingSphere();
+      const cage = this.cageLines.geometry.boundingSphere;
+      sphere = sphere ? sphere.union(cage) : cage.clone();
+    }
+    if (sphere) this.frame(sphere);
   }
 
   /** Points the camera at a bounding sphere. */
   frame(sphere) {
     const r = Math.max(sphere.radius, 1e-6);
-    const distance = r / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.02;
+    const vertical = THREE.MathUtils.degToRad(this.camera.fov / 2);
+    const horizontal = Math.atan(Math.tan(vertical) * this.camera.aspect);
+    const distance = r / Math.sin(Math.min(vertical, horizontal)) * 1.3; // room for the panels
     const direction = new THREE.Vector3(0.45, 0.35, 1).normalize();
     this.controls.target.copy(sphere.center);
     this.camera.position.copy(sphere.center).addScaledVector(direction, distance);
