@@ -100,7 +100,8 @@ function updateReadouts() {
   set('step-iterations', report ? String(report.iterations) : '–');
   set('step-ms', app.lastStepMs === null ? '–' : app.lastStepMs.toFixed(2));
   set('step-path', report ? report.path : editor.path());
-  if (report && !report.converged) notice(`last step did not converge: ${report.message}`);
+  if (report && !report.converged) notice(`The last step did not converge: ${report.message}`);
+  else if (report && $('notice').textContent.startsWith('The last step did not converge')) notice('');
 }
 
 function updateThetaReadout() {
@@ -333,7 +334,9 @@ const dragHandlers = {
     try {
       app.lastReport = app.editor.deformCage(target, drag.held, editOptions());
     } catch (e) {
-      showError(`The edit failed: ${e.message}`);
+      // e.g. a boundary vertex of an open mesh: it stays fixed. The drag ends and the cage goes back.
+      showError(`This edit is not possible: ${e.message}`);
+      app.dragger.cancel();
       return;
     }
     app.viewer.updateMesh(app.editor.positions());

@@ -54,6 +54,7 @@ export class Viewer {
 
     this.meshMaterial = new THREE.MeshStandardMaterial({
       color: MESH_COLOR, roughness: 0.65, metalness: 0.0, flatShading: true,
+      side: THREE.DoubleSide, // open meshes show their inside
       polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
     });
     this.mesh = null;

@@ -1,5 +1,6 @@
 // The editor when things go wrong around it: IndexedDB over quota or missing, a theta computation
-// cancelled, a model named in the URL that does not exist; and opening a file by drag and drop.
+// cancelled, a model named in the URL that does not exist, an open mesh whose boundary stays fixed;
+// and opening a file by drag and drop.
 // One server; a fresh browser profile per test.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -28,7 +29,7 @@ async function dragAndCheck(page) {
   return r;
 }
 
-describe('web editor: storage, cancel, drop', { timeout: 240_000 }, () => {
+describe('web editor: storage, cancel, drop, open meshes', { timeout: 240_000 }, () => {
   before(async () => {
     mrvol = await createMrvol();
     server = await startTestServer();
@@ -111,6 +112,36 @@ describe('web editor: storage, cancel, drop', { timeout: 240_000 }, () => {
       const r2 = await dragAndCheck(page);
       assert.equal(r2.path, 'tensor');
       assert.deepEqual(page.problems, []);
+    });
+  });
+
+  test('an open mesh: its boundary handles stay fixed (said in words), its interior ones keep the volume', { timeout: 120_000 }, async () => {
+    // An open pyramid (no bottom), 3 levels of Loop subdivision: apex inside, the base ring on the boundary.
+    const base = { positions: new Float64Array([0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0]),
+                   faces: new Uint32Array([0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1]) };
+    const fine = mrvol.subdivide(base, { levels: 3 });
+    const obj = mrvol.writeObj(fine.toMesh());
+    fine.delete();
+    await withBrowser(async (page) => {
+      await page.goto(server.url);
+      await waitReady(page);
+      await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'open-pyramid.obj', mimeType: 'text/plain', buffer: Buffer.from(obj) });
+      await page.waitForFunction(() => window.mrvolDebug.modelName() === 'open-pyramid.obj' && window.mrvolDebug.ready());
+      assert.match(await page.locator('[data-testid="model-info"]').textContent(), /open: the volume is that of the cone/);
+      const cage = await page.evaluate(() => window.mrvolDebug.cagePositions());
+      // handle 1 is base vertex 1, on the boundary: the drag is refused and the cage stays
+      await dragHandle(page, 1, 30, 30);
+      await page.locator('[data-testid="error"]').waitFor({ state: 'visible' });
+      assert.match(await page.locator('[data-testid="error"]').textContent(), /not possible: vertex 1 is on the boundary/);
+      assert.deepEqual(await page.evaluate(() => window.mrvolDebug.cagePositions()), cage);
+      // level 1: the apex (handle 0) moves, the other interior handles absorb the volume change
+      await page.locator('[data-testid="level"]').selectOption('1');
+      await page.waitForFunction(() => window.mrvolDebug.cageSize() === 13);
+      await dragHandle(page, 0, 25, -25);
+      const r = await readouts(page);
+      assert.ok(r.error <= 1e-5, `relative error ${r.error}`);
+      assert.ok(Math.abs(r.reference - mrvol.volume(mrvol.readObj(obj))) < 1e-12);
+      await page.screenshot({ path: join(RESULTS_DIR, 'storage-03-open-pyramid.png') });
     });
   });
 
