@@ -38,7 +38,7 @@ const app = {
   heldAll: null, // Uint8Array of ones: every cage vertex held (restoring a cage)
   selection: new Set(),
   history: new History(),
-  drag: null,    // { handles, held, before, start }
+  drag: null,    // the drag going on: { handles, held (flags), before (cage positions) }
   theta: { key: null, source: null, status: '', generation: 0, memory: new Map(), prefetch: null },
   lastReport: null,
   lastStepMs: null,
@@ -322,7 +322,7 @@ const dragHandlers = {
     const before = app.editor.cagePositions();
     const held = new Uint8Array(app.cageSize);
     for (const h of handles) held[h] = 1;
-    app.drag = { handles, held, before, target: new Float64Array(before.length) };
+    app.drag = { handles, held, before };
   },
   drag(delta, eventTime) {
     const drag = app.drag;
