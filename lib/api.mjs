@@ -189,6 +189,8 @@ export function wrapModule(module) {
     /** Current positions, caller's vertex order. */
     positions() { return call((r) => r.positions(), this.#live()); }
     faces() { return call((r) => r.faces(), this.#live()); }
+    /** Triangles of the level-l mesh (the level-l cage), caller's vertex indices. */
+    levelFaces(level) { return call((r) => r.levelFaces(levelArg(level)), this.#live()); }
     /** Depth (level of birth) of every vertex, caller's order. */
     depths() { return call((r) => r.depths(), this.#live()); }
     toMesh() { return { positions: this.positions(), faces: this.faces() }; }

@@ -243,6 +243,8 @@ export interface MultiresMesh {
   positions(): Float64Array;
   faces(): Uint32Array;
   /** Depth (level of birth) of every vertex, caller's order. */
+  /** Triangles of the level-l mesh (the level-l cage), caller's vertex indices. */
+  levelFaces(level: number): Uint32Array;
   depths(): Uint8Array;
   toMesh(): Mesh;
   setPositions(positions: Float64Array): void;

@@ -5,7 +5,7 @@ import { sampleModels } from 'virtual:mrvol-models';
 import { loadMrvol } from './mrvol.js';
 import { Viewer } from './viewer.js';
 import { CageDragger } from './drag.js';
-import { coarseFaces, cageEdges } from './cage.js';
+import { cageEdges } from './cage.js';
 import { History } from './history.js';
 import { ThetaCache, thetaKey } from './theta-cache.js';
 import { ThetaJobs } from './theta-jobs.js';
@@ -32,7 +32,7 @@ const app = {
   cache: null,
   jobs: new ThetaJobs(),
   settings: { ...DEFAULT_SETTINGS },
-  model: null,   // { name, kind: 'sample' | 'file', text, mr, info, fingerprint, faces, depths }
+  model: null,   // { name, kind: 'sample' | 'file', text, mr, info, fingerprint, faces }
   editor: null,
   cageSize: 0,
   heldAll: null, // Uint8Array of ones: every cage vertex held (restoring a cage)
@@ -189,7 +189,7 @@ function openModelText({ name, kind, text }, restore = null) {
   app.theta.memory.clear();
   app.editor = null;
   app.model?.mr.delete();
-  app.model = { name, kind, text, mr, info, fingerprint, faces: mr.faces(), depths: mr.depths() };
+  app.model = { name, kind, text, mr, info, fingerprint, faces: mr.faces() };
   app.settings.level = Math.min(app.settings.level, info.levels);
   app.settings.model = name;
 
@@ -270,12 +270,7 @@ function buildEditor(reference = null) {
 
   const cageVertices = editor.cageVertices();
   const cageIndex = new Map(Array.from(cageVertices, (v, i) => [v, i]));
-  let edges;
-  try {
-    edges = cageEdges(coarseFaces(app.model.faces, app.model.depths, app.model.info.levels, level), cageIndex);
-  } catch {
-    edges = new Uint32Array(0); // handles only
-  }
+  const edges = cageEdges(app.model.mr.levelFaces(level), cageIndex);
   app.viewer.setCage(editor.cagePositions(), edges);
   app.viewer.updateMesh(editor.positions());
   updateReadouts();

@@ -553,3 +553,22 @@ TEST(Hierarchy, DetectSeveralComponentsAndSmallOpenMeshes) {
     expectConsistent(h, c.name);
   }
 }
+
+// The level-l faces the API hands out (the cage the editor draws) are the hierarchy's, in the
+// caller's indices: every one of them is a triangle of that level's 1-to-4 split structure.
+TEST(Hierarchy, LevelFacesAreTheCoarseMeshesInCallerIndices) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    mrvol::Hierarchy built = mrvol::Hierarchy::subdivide(fx.base, 2);
+    mrvol::TriangleMesh fine;
+    fine.faces = built.fineFaces();
+    fine.positions.assign(3 * built.fineVertexCount(), 0.0);
+    mrvol::MultiresMesh mr(fine, 2);
+    EXPECT_EQ(mr.levelFaces(2), fine.faces);
+    const auto base = mr.levelFaces(0);
+    EXPECT_EQ(base.size(), fx.base.faces.size());
+    mrvol::TriangleMesh coarse{std::vector<double>(3 * fine.vertexCount(), 0.0), base};
+    // Valid oriented manifold on the base vertices (unused fine vertices aside): same volume sign.
+    for (uint32_t v : base) EXPECT_EQ(mr.hierarchy().depth(mr.hierarchy().hierarchyIndex[v]), 0);
+    EXPECT_THROW(mr.levelFaces(3), mrvol::Error);
+  }
+}

@@ -133,6 +133,7 @@ val js_info(const MultiresMesh& m) {
 }
 val js_positions(const MultiresMesh& m) { return guarded([&] { return toTyped(m.mesh().positions); }); }
 val js_faces(const MultiresMesh& m) { return guarded([&] { return toTyped(m.mesh().faces); }); }
+val js_levelFaces(const MultiresMesh& m, int level) { return guarded([&] { return toTyped(m.levelFaces(level)); }); }
 val js_depths(const MultiresMesh& m) {
   return guarded([&] {
     const Hierarchy& h = m.hierarchy();
@@ -345,6 +346,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("positions", &js_positions)
       .function("faces", &js_faces)
       .function("depths", &js_depths)
+      .function("levelFaces", &js_levelFaces)
       .function("setPositions", &js_setPositions)
       .function("analyze", &js_analyze)
       .function("synthesize", &js_synthesize)

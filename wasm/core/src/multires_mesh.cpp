@@ -41,6 +41,13 @@ MeshInfo MultiresMesh::info() const {
   return info;
 }
 
+std::vector<uint32_t> MultiresMesh::levelFaces(int level) const {
+  checkLevel(level);
+  std::vector<uint32_t> out = hierarchy_.faces[level];
+  for (auto& v : out) v = hierarchy_.inputIndex[v];
+  return out;
+}
+
 void MultiresMesh::setPositions(const std::vector<double>& positions) {
   if (positions.size() != mesh_.positions.size())
     throw Error("expected " + std::to_string(mesh_.positions.size()) + " coordinates (3 per vertex), got " +

@@ -37,6 +37,9 @@ class MultiresMesh {
   const MeshTopology& topology() const { return topology_; }
   int levels() const { return hierarchy_.levels; }
   MeshInfo info() const;
+  // Triangles of the level-l mesh (0 <= l <= n) in the caller's vertex indices; l = n gives the
+  // caller's faces as the hierarchy orders them.
+  std::vector<uint32_t> levelFaces(int level) const;
 
   void setPositions(const std::vector<double>& positions);  // caller's order
   // The transform for a scheme, built on first use and kept.
