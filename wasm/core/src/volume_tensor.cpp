@@ -524,28 +524,10 @@ inline void cross(const double* a, const double* b, double* out) {
 }
 }  // namespace
 
-double VolumeTensor::evaluate(const double* x) const {
-  double total = 0;
-  for (uint32_t i = 0; i < rowCount; ++i) {
-    const double* pi = x + 3 * size_t(i);
-    for (uint32_t p = rowStart[i]; p < rowStart[i + 1]; ++p) {
-      const double* pj = x + 3 * size_t(pairJ[p]);
-      double q[3] = {0, 0, 0};
-      for (uint32_t t = pairStart[p]; t < pairStart[p + 1]; ++t) {
-        const double* pk = x + 3 * size_t(kIndex(t));
-        const double v = values[t];
-        q[0] += v * pk[0], q[1] += v * pk[1], q[2] += v * pk[2];
-      }
-      double jq[3];
-      cross(pj, q, jq);
-      total += pi[0] * jq[0] + pi[1] * jq[1] + pi[2] * jq[2];
-    }
-  }
-  return total;
-}
+double VolumeTensor::evaluate(const double* x) const { return evaluateWithGradient(x, nullptr, 0); }
 
 double VolumeTensor::evaluateWithGradient(const double* x, double* grad, uint32_t limit) const {
-  std::fill(grad, grad + 3 * size_t(limit), 0.0);
+  if (limit > 0) std::fill(grad, grad + 3 * size_t(limit), 0.0);
   double total = 0;
   for (uint32_t i = 0; i < rowCount; ++i) {
     const double* pi = x + 3 * size_t(i);
