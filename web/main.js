@@ -11,6 +11,7 @@ import { ThetaCache, thetaKey } from './theta-cache.js';
 import { ThetaJobs } from './theta-jobs.js';
 import { loadSession, saveSession, clearSession, decodeFloat64 } from './session.js';
 import { createPanel } from './panel.js';
+import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
 
 const DEFAULT_MODEL = 'spiky-ball';
 // The Loop weights of the paper (the API's defaults); part of theta's key for every scheme.
@@ -436,6 +437,14 @@ async function requestTheta() {
   app.theta.key = key;
   const started = performance.now();
 
+  // The tensor when it fits, the matrix-free gradient otherwise (the core's estimate, cheap).
+  const estimate = app.model.mr.estimateTheta({ level: app.settings.level, scheme: app.settings.scheme });
+  if (!estimate.fits) {
+    setThetaState(null, `not computed: ${thetaName(app.settings.level)} would need about ` +
+      `${Math.round(estimate.bytes / 2 ** 20)} MB and ${(estimate.milliseconds / 1000).toFixed(0)} s; editing runs matrix-free`, false);
+    return;
+  }
+
   const inMemory = app.theta.memory.get(key);
   if (inMemory && useTheta(inMemory.theta).ok) {
     thetaArrived(inMemory.source, inMemory.theta, started);
@@ -799,4 +808,9 @@ async function start() {
   window.addEventListener('pagehide', saveNow);
 }
 
-start();
+// #learn/... and #demo/...: the teaching views (web/learn/) instead of the editor.
+if (learnRoute()) startLearn();
+else {
+  watchForLearnRoutes();
+  start();
+}

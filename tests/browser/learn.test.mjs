@@ -1,0 +1,101 @@
+// The teaching views and the paper's demos (web/learn/): each view opens from its URL, renders
+// (a non-blank canvas), responds to its controls, and shows numbers from the core. Screenshots of
+// every view go to test-results/learn-*.png. One server and one browser for the file.
+import { after, before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { launch, settle, RESULTS_DIR } from './harness.mjs';
+
+let browser, page;
+
+async function open(route) {
+  await page.goto(`${browser.url}#${route}`);
+  await page.waitForFunction((r) => window.mrvolLearn?.route() === r && window.mrvolLearn.ready(), route, { timeout: 30_000 });
+  await settle(page);
+}
+
+const state = () => page.evaluate(() => window.mrvolLearn.state());
+
+async function shot(name) {
+  await settle(page);
+  await page.screenshot({ path: join(RESULTS_DIR, `learn-${name}.png`) });
+}
+
+/** Fraction of sampled canvas pixels that differ from the background colour. */
+async function inkFraction() {
+  await settle(page);
+  return page.evaluate(() => {
+    const canvas = document.querySelector('.learn-stage canvas');
+    const probe = document.createElement('canvas');
+    probe.width = 200;
+    probe.height = 120;
+    const g = probe.getContext('2d');
+    g.drawImage(canvas, 0, 0, 200, 120);
+    const data = g.getImageData(0, 0, 200, 120).data;
+    let ink = 0;
+    for (let i = 0; i < data.length; i += 4)
+      if (Math.abs(data[i] - 0xf4) + Math.abs(data[i + 1] - 0xf5) + Math.abs(data[i + 2] - 0xf7) > 24) ink++;
+    return ink / (data.length / 4);
+  });
+}
+
+describe('teaching views', { timeout: 120_000 }, () => {
+  before(async () => {
+    browser = await launch();
+    page = await browser.newPage();
+  });
+  after(async () => {
+    await browser?.close();
+  });
+
+  test('#learn/levels: every level of the spiky ball, details, three schemes side by side', async () => {
+    await open('learn/levels');
+    let s = await state();
+    assert.equal(s.model, 'spiky-ball');
+    assert.equal(s.levels, 3);
+    assert.ok(await inkFraction() > 0.05, 'the canvas shows the mesh');
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /section 2/);
+    // Level 3 is the fine mesh: its approximation keeps every detail and the fine volume.
+    await page.fill('[data-testid="levels-level"]', '3');
+    await page.dispatchEvent('[data-testid="levels-level"]', 'input');
+    s = await state();
+    assert.equal(s.level, 3);
+    assert.ok(Math.abs(s.volumes.loop[3] - s.fineVolume) < 1e-9 * s.fineVolume);
+    // Zeroing the spikes' details leaves the round ball: the level-0 approximation is near the unit sphere's volume.
+    assert.ok(Math.abs(s.volumes.loop[0] - 4 * Math.PI / 3) < 0.05, `volume at level 0 ${s.volumes.loop[0]}`);
+    await page.click('[data-testid="bank-1"]');
+    assert.equal((await state()).level, 1);
+    assert.equal(await page.textContent('[data-testid="levels-cage-size"]'), '42');
+    await shot('levels');
+    await page.selectOption('[data-testid="levels-details"]', 'colour');
+    await page.check('[data-testid="levels-compare"]');
+    s = await state();
+    assert.deepEqual(s.panels, ['loop: level 1', 'butterfly: level 1', 'linear: level 1']);
+    assert.equal(s.volumes.butterfly.length, 4);
+    assert.ok(await inkFraction() > 0.02);
+    await shot('levels-compare');
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('#demo/ball: the squashed ball loses volume without preservation and keeps it with', async () => {
+    await open('demo/ball');
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 6.*section 5/s);
+    await page.click('[data-testid="demo-play"]'); // pause: the test drives the clock
+    const before = await state();
+    await page.evaluate(() => window.mrvolLearn.act('run', 150, 1 / 60)); // 2.5 s: the first impact
+    const s = await state();
+    assert.ok(s.steps >= before.steps + 150, `steps ${s.steps}`);
+    assert.equal(s.failures, 0);
+    assert.ok(s.minRatio < 0.9, `the free volume drops at the impact (min ratio ${s.minRatio})`);
+    assert.ok(s.maxError <= 1.01e-5, `preserved volume within 1e-5 (worst ${s.maxError})`);
+    assert.ok(await inkFraction() > 0.05);
+    const chartInk = await page.evaluate(() => document.querySelector('[data-testid="volume-chart"]').width > 100);
+    assert.ok(chartInk);
+    await page.evaluate(() => window.mrvolLearn.act('runUntilSquashed', 0.25, 1 / 120));
+    const squashed = await state();
+    assert.ok(squashed.free < 0.8 * squashed.reference, 'stopped during an impact');
+    assert.ok(Math.abs(squashed.preserved - squashed.reference) <= 1.01e-5 * squashed.reference);
+    await shot('ball');
+    assert.deepEqual(page.problems, []);
+  });
+});

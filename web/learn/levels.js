@@ -1,0 +1,213 @@
+// #learn/levels: the filterbank of Figure 1 (paper section 2). Level by level, the coarse
+// approximation (synthesis with every detail of level >= l set to zero), the level-l mesh M^l
+// (coarse coefficients c^l on levelFaces(l)), and the details d^l as arrows or as a colour map of
+// their size; the three schemes side by side. Analysis and synthesis come from the core.
+import { sampleModels } from 'virtual:mrvol-models';
+import { Stage, surface, wire, arrows, edgesOf, bounds, ramp, fetchModel, explain, control, select, button, readoutTable } from './stage.js';
+
+const SCHEMES = ['loop', 'butterfly', 'linear'];
+const MODELS = ['spiky-ball', 'blob', 'torus'];
+
+export async function mount({ mrvol, layout, el, stale }) {
+  explain(layout.text, 'Levels: analysis and synthesis (Figure 1, section 2)', [
+    'A semi-regular mesh M<sup>n</sup> comes from n 1-to-4 splits of a coarse mesh. One <b>analysis</b> step splits ' +
+      'the geometry c<sup>l</sup> into a coarser c<sup>l−1</sup> = A<sup>l</sup>c<sup>l</sup> and details ' +
+      'd<sup>l−1</sup> = B<sup>l</sup>c<sup>l</sup>; one <b>synthesis</b> step puts them back: ' +
+      'c<sup>l</sup> = S<sup>l</sup>c<sup>l−1</sup> + C<sup>l</sup>d<sup>l−1</sup> (paper, section 2, Figure 1).',
+    'Here the slider picks a level l: the surface is the synthesis with every detail of level ≥ l set to zero ' +
+      '(the approximation at scale l), the blue wire is M<sup>l</sup> with its coarse coefficients c<sup>l</sup>. ' +
+      'Arrows show the details d<sup>l</sup> that the next synthesis step adds (at the vertices born at level l+1); ' +
+      'the colour map shows the size of every detail that was zeroed.',
+    'Editing at level e moves c<sup>e</sup> and keeps the details: the scale of the edit is the scale of the level. ' +
+      'The Loop-based scheme (the paper\'s, with the update step U) smooths; Butterfly interpolates; linear is the baseline.',
+  ]);
+  const models = [...MODELS.filter((m) => sampleModels.includes(m)), ...sampleModels.filter((m) => !MODELS.includes(m) && m !== 'icosahedron')];
+  const s = { model: models[0], scheme: 'loop', compare: false, level: 0, details: 'arrows' };
+  const modelSelect = control(layout.controls, 'model', select(models.map((m) => [m, m]), s.model, 'levels-model'));
+  const schemeSelect = control(layout.controls, 'scheme', select(SCHEMES.map((m) => [m, m]), s.scheme, 'levels-scheme'));
+  const compare = document.createElement('input');
+  compare.type = 'checkbox';
+  compare.dataset.testid = 'levels-compare';
+  control(layout.controls, 'compare schemes', compare);
+  const slider = document.createElement('input');
+  slider.type = 'range';
+  slider.min = 0;
+  slider.step = 1;
+  slider.dataset.testid = 'levels-level';
+  control(layout.controls, 'level l', slider);
+  const detailSelect = control(layout.controls, 'details', select([['arrows', 'arrows'], ['colour', 'colour map of |d|'], ['none', 'none']], s.details, 'levels-details'));
+  const bank = el('div', { class: 'filterbank', testid: 'filterbank' });
+  layout.controls.append(bank);
+  const play = el('div', { class: 'learn-row' });
+  layout.controls.append(play);
+  const set = readoutTable(layout.readouts, [
+    ['model', 'levels-model-info'], ['level l', 'levels-current'], ['vertices of M^l', 'levels-cage-size'],
+    ['details zeroed', 'levels-zeroed'], ['max |d^l|', 'levels-dmax'], ['volume (approx.)', 'levels-volume'],
+    ['volume (fine)', 'levels-volume-fine'],
+  ]);
+
+  const stage = new Stage(layout.stage, [s.scheme]);
+  let model = null; // { name, mr, faces, positions, depths, n, perScheme: Map(scheme -> { coefficients, approx: [], cage: [] }) }
+  let timer = null;
+
+  function loadScheme(scheme) {
+    if (model.perScheme.has(scheme)) return model.perScheme.get(scheme);
+    const { mr, positions, depths, n, faces } = model;
+    const coefficients = mr.analyze(positions, { level: 0, scheme }); // c^0 and every detail d^0..d^{n-1}
+    const levels = [];
+    for (let l = 0; l <= n; l++) {
+      // Details of level >= l are those of the vertices born after level l.
+      const a = coefficients.slice();
+      for (let i = 0; i < depths.length; i++) if (depths[i] > l) a[3 * i] = a[3 * i + 1] = a[3 * i + 2] = 0;
+      const approx = mr.synthesize(a, { level: 0, scheme });
+      const coarse = mr.analyze(positions, { level: l, scheme }); // c^l on the vertices of depth <= l
+      levels.push({ approx, coarse, volume: mrvol.volume({ positions: approx, faces }) });
+    }
+    let dmax = 0;
+    for (let i = 0; i < depths.length; i++)
+      if (depths[i] > 0) dmax = Math.max(dmax, Math.hypot(coefficients[3 * i], coefficients[3 * i + 1], coefficients[3 * i + 2]));
+    const entry = { coefficients, levels, dmax };
+    model.perScheme.set(scheme, entry);
+    return entry;
+  }
+
+  async function openModel(name) {
+    const text = await fetchModel(name);
+    if (stale()) return;
+    if (text === null) throw new Error(`no sample model '${name}'`);
+    model?.mr.delete();
+    const mesh = mrvol.readObj(text);
+    const mr = mrvol.openMesh(mesh);
+    const n = mr.levels;
+    model = { name, mr, faces: mesh.faces, positions: mesh.positions, depths: mr.depths(), n, perScheme: new Map(), fineVolume: mr.info().volume };
+    model.levelFaces = Array.from({ length: n + 1 }, (_, l) => mr.levelFaces(l));
+    s.level = Math.min(s.level, n);
+    slider.max = n;
+    const b = bounds(mesh.positions);
+    model.radius = b.radius;
+    model.bounds = b;
+    stage.frame(b.center, b.radius);
+    set('levels-model-info', `${name}: ${mr.vertexCount} vertices, n = ${n}`);
+    buildBank();
+    draw();
+  }
+
+  function buildBank() {
+    bank.replaceChildren();
+    for (let l = model.n; l >= 0; l--) {
+      const b = el('button', { type: 'button', testid: `bank-${l}`, text: `c${sup(l)}` });
+      b.addEventListener('click', () => setLevel(l));
+      bank.append(b);
+      if (l > 0) bank.append(el('span', { text: '→' }), el('span', { class: 'd', text: `d${sup(l - 1)}` }), el('span', { text: '+' }));
+    }
+  }
+
+  function draw() {
+    if (!model) return;
+    const schemes = s.compare ? SCHEMES : [s.scheme];
+    const reframe = stage.panels.length !== schemes.length;
+    stage.setPanels(schemes.map((x) => `${x}: level ${s.level}`));
+    stage.resize();
+    if (reframe) stage.frame(model.bounds.center, model.bounds.radius);
+    const { depths, n, faces } = model;
+    const l = s.level;
+    const cageVertices = [];
+    for (let i = 0; i < depths.length; i++) if (depths[i] <= l) cageVertices.push(i);
+    const cageIndex = new Map(cageVertices.map((v, k) => [v, k]));
+    const cageEdges = edgesOf(model.levelFaces[l], cageIndex);
+    schemes.forEach((scheme, p) => {
+      const data = loadScheme(scheme);
+      const { approx, coarse } = data.levels[l];
+      const scene = stage.panels[p].scene;
+      let colors = null;
+      if (s.details === 'colour') {
+        colors = new Float32Array(approx.length);
+        for (let i = 0; i < depths.length; i++) {
+          const c = data.coefficients;
+          const size = depths[i] > l ? Math.hypot(c[3 * i], c[3 * i + 1], c[3 * i + 2]) / (data.dmax || 1) : 0;
+          colors.set(ramp(Math.sqrt(size)), 3 * i);
+        }
+      }
+      scene.add(surface(approx, faces, { colors }));
+      const cage = new Float64Array(3 * cageVertices.length);
+      cageVertices.forEach((v, k) => cage.set(coarse.subarray(3 * v, 3 * v + 3), 3 * k));
+      scene.add(wire(cage, cageEdges, { points: cageVertices.length <= 700 }));
+      if (s.details === 'arrows' && l < n) {
+        const from = [], vectors = [];
+        for (let i = 0; i < depths.length; i++) if (depths[i] === l + 1) {
+          from.push(approx[3 * i], approx[3 * i + 1], approx[3 * i + 2]);
+          vectors.push(data.coefficients[3 * i], data.coefficients[3 * i + 1], data.coefficients[3 * i + 2]);
+        }
+        // Drawn to scale, or magnified so that the longest arrow is a fifth of the model's radius.
+        let longest = 0;
+        for (let i = 0; i < vectors.length; i += 3) longest = Math.max(longest, Math.hypot(vectors[i], vectors[i + 1], vectors[i + 2]));
+        const scale = longest > 0 ? Math.max(1, 0.2 * model.radius / longest) : 1;
+        model.arrowScale = scale;
+        scene.add(arrows(from, vectors, { scale }));
+      }
+    });
+    const main = loadScheme(schemes[0]);
+    let dmax = 0, zeroed = 0;
+    for (let i = 0; i < depths.length; i++) {
+      if (depths[i] > l) zeroed++;
+      if (depths[i] === l + 1) dmax = Math.max(dmax, Math.hypot(...main.coefficients.subarray(3 * i, 3 * i + 3)));
+    }
+    slider.value = l;
+    for (const b of bank.querySelectorAll('button')) b.classList.toggle('current', b.dataset.testid === `bank-${l}`);
+    set('levels-current', `${l} of ${n}`, l);
+    set('levels-cage-size', String(cageVertices.length), cageVertices.length);
+    set('levels-zeroed', `${zeroed} vertices (levels ${l}..${n - 1})`, zeroed);
+    set('levels-dmax', l < n ? dmax.toPrecision(4) + (s.details === 'arrows' && model.arrowScale > 1 ? ` (arrows ×${model.arrowScale.toFixed(1)})` : '') : '– (finest level)', dmax);
+    set('levels-volume', schemes.map((x) => `${x} ${loadScheme(x).levels[l].volume.toFixed(6)}`).join('\n'), main.levels[l].volume);
+    set('levels-volume-fine', model.fineVolume.toFixed(6), model.fineVolume);
+    stage.requestRender();
+  }
+
+  function setLevel(l) {
+    s.level = Math.max(0, Math.min(model.n, l));
+    draw();
+  }
+
+  function playLevels(direction) {
+    clearInterval(timer);
+    let l = direction === 'analysis' ? model.n : 0;
+    setLevel(l);
+    timer = setInterval(() => {
+      l += direction === 'analysis' ? -1 : 1;
+      if (l < 0 || l > model.n) {
+        clearInterval(timer);
+        return;
+      }
+      setLevel(l);
+    }, 900);
+  }
+
+  play.append(button('▶ analysis (n → 0)', 'levels-play-analysis', () => playLevels('analysis')),
+    button('▶ synthesis (0 → n)', 'levels-play-synthesis', () => playLevels('synthesis')));
+  slider.addEventListener('input', () => setLevel(Number(slider.value)));
+  schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; draw(); });
+  compare.addEventListener('change', () => { s.compare = compare.checked; draw(); });
+  detailSelect.addEventListener('change', () => { s.details = detailSelect.value; draw(); });
+  modelSelect.addEventListener('change', () => { s.model = modelSelect.value; openModel(s.model); });
+
+  await openModel(s.model);
+  return {
+    dispose() {
+      clearInterval(timer);
+      stage.dispose();
+      model?.mr.delete();
+    },
+    actions: { setLevel },
+    debug: () => ({
+      model: model?.name, levels: model?.n, level: s.level, compare: s.compare, details: s.details,
+      panels: stage.panels.map((p) => p.label), frames: stage.frames ?? 0,
+      volumes: Object.fromEntries([...model.perScheme].map(([k, v]) => [k, v.levels.map((x) => x.volume)])),
+      fineVolume: model.fineVolume,
+    }),
+  };
+}
+
+const SUP = '⁰¹²³⁴⁵⁶⁷⁸⁹';
+function sup(n) {
+  return String(n).replace(/\d/g, (d) => SUP[d]);
+}
