@@ -10,6 +10,8 @@ export class MrvolError extends Error {
   }
 }
 
+export { remesh } from './remesh.mjs';
+
 const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
 
 function schemeArgs(options = {}) {

@@ -296,3 +296,61 @@ export function wrapModule(module: object): Mrvol;
  * Rejects with MrvolError if the module is not built.
  */
 export function createMrvol(): Promise<Mrvol>;
+
+/** Options of remesh(). */
+export interface RemeshOptions {
+  /** Levels of 1-to-4 splits over the base mesh (0..6, default 2). */
+  levels?: number;
+  /**
+   * Faces of the simplified base mesh (>= 4). Default: the input's face count / 4^levels within
+   * 128..8000; then a folded result is retried with twice the base (3 attempts).
+   */
+  baseFaces?: number;
+  /** Keep the largest connected component instead of refusing several (default false). */
+  keepLargest?: boolean;
+  /** Tangential relaxation steps per level (default 4). */
+  relaxIterations?: number;
+  /** At most this many sample points per direction for the Hausdorff distance (default 200000). */
+  maxSamples?: number;
+  /** Return a result with flipped triangles instead of refusing it (default false). */
+  allowFlipped?: boolean;
+}
+
+/** What remesh() returns. */
+export interface RemeshResult {
+  /** The semi-regular mesh, hierarchy order (base vertices first): openMesh() detects `levels`. */
+  mesh: Mesh;
+  levels: number;
+  baseVertices: number;
+  baseFaces: number;
+  vertices: number;
+  faces: number;
+  /** Two-sided sampled Hausdorff distance / bounding-box diagonal of the input. */
+  hausdorff: number;
+  /** Result samples to the input surface, / diagonal. */
+  hausdorffToInput: number;
+  /** Input samples to the result surface, / diagonal. */
+  hausdorffFromInput: number;
+  diagonal: number;
+  /** Triangles facing against the input's (smoothed) normal at their centroid's closest point. */
+  flippedTriangles: number;
+  volumeInput: number;
+  volume: number;
+  /** (volume - volumeInput) / volumeInput. */
+  volumeChange: number;
+  /** New vertices placed at the closest point because no ray hit within its cap. */
+  rayFallbacks: number;
+  input: { vertices: number; faces: number; weldedVertices: number; droppedFaces: number; droppedComponents: number; genus: number };
+  /** Simplifier outputs that failed validation (target faces: problem). */
+  simplifierRetries: string[];
+  ms: number;
+}
+
+/**
+ * Semi-regular remeshing of a closed manifold triangle mesh (welded first): meshoptimizer
+ * simplification to a base mesh (closed, manifold, same genus), n levels of 1-to-4 splits fitted
+ * to the input (three-mesh-bvh), tangential relaxation. Rejects with MrvolError naming the
+ * problem: holes, several components (unless keepLargest), non-manifold input, a folded result.
+ * Exported by lib/api.mjs and lib/node.mjs; `mrvol` is the API object.
+ */
+export function remesh(mrvol: Mrvol, mesh: Mesh, options?: RemeshOptions): Promise<RemeshResult>;

@@ -1,0 +1,481 @@
+// Semi-regular remeshing of any closed manifold triangle mesh (method.md section 8): weld and
+// validate; simplify to a base mesh with meshoptimizer (checked: closed, manifold, one component,
+// same genus; retried with a larger target otherwise); n levels of 1-to-4 splits through the core
+// (linear scheme: new vertices at edge midpoints); level by level, the new vertices moved onto the
+// original surface (ray along the normal both ways, capped, falling back to the closest point; BVH
+// from three-mesh-bvh), then tangential relaxation and reprojection. Reports the two-sided Hausdorff distance, flipped triangles and the volume change,
+// and refuses a result that folds over.
+//
+// Environment-agnostic (Node and browsers): it takes the mrvol API object (createMrvol()) as a
+// parameter and uses only npm packages that run in both.
+import { MeshoptSimplifier } from 'meshoptimizer';
+import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Vector3 } from 'three';
+import { MeshBVH } from 'three-mesh-bvh';
+
+const now = () => globalThis.performance?.now() ?? Date.now();
+
+// ---- input: weld, components, validation ---------------------------------------------------------
+
+function boundingDiagonal(positions) {
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < positions.length; i += 3)
+    for (let k = 0; k < 3; k++) {
+      lo[k] = Math.min(lo[k], positions[i + k]);
+      hi[k] = Math.max(hi[k], positions[i + k]);
+    }
+  return Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
+/**
+ * Merges vertices with identical coordinates (after rounding to 1e-9 of the bounding-box
+ * diagonal), drops faces that become degenerate and vertices no face uses.
+ * @returns {{ positions: Float64Array, faces: Uint32Array, merged: number, droppedFaces: number }}
+ */
+export function weld(mesh) {
+  const { positions, faces } = mesh;
+  const n = positions.length / 3;
+  const quantum = (boundingDiagonal(positions) || 1) * 1e-9;
+  const key = new Map();
+  const remap = new Uint32Array(n);
+  let unique = 0;
+  for (let i = 0; i < n; i++) {
+    const k = `${Math.round(positions[3 * i] / quantum)},${Math.round(positions[3 * i + 1] / quantum)},${Math.round(positions[3 * i + 2] / quantum)}`;
+    let j = key.get(k);
+    if (j === undefined) key.set(k, (j = unique++));
+    remap[i] = j;
+  }
+  const kept = [];
+  let droppedFaces = 0;
+  for (let f = 0; f < faces.length; f += 3) {
+    const a = remap[faces[f]], b = remap[faces[f + 1]], c = remap[faces[f + 2]];
+    if (a === b || b === c || c === a) droppedFaces++;
+    else kept.push(a, b, c);
+  }
+  // Compact: vertices in order of first use by a face.
+  const order = new Int32Array(unique).fill(-1);
+  const firstOf = new Uint32Array(unique);
+  for (let i = n - 1; i >= 0; i--) firstOf[remap[i]] = i;
+  let used = 0;
+  const outFaces = new Uint32Array(kept.length);
+  for (let i = 0; i < kept.length; i++) {
+    if (order[kept[i]] < 0) order[kept[i]] = used++;
+    outFaces[i] = order[kept[i]];
+  }
+  const outPositions = new Float64Array(3 * used);
+  for (let u = 0; u < unique; u++)
+    if (order[u] >= 0) for (let k = 0; k < 3; k++) outPositions[3 * order[u] + k] = positions[3 * firstOf[u] + k];
+  return { positions: outPositions, faces: outFaces, merged: n - unique, droppedFaces };
+}
+
+/** Connected components of the faces (sharing a vertex): component index per face and count. */
+function faceComponents(faces, vertexCount) {
+  const parent = new Int32Array(vertexCount).map((_, i) => i);
+  const find = (x) => {
+    while (parent[x] !== x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (let f = 0; f < faces.length; f += 3) {
+    const a = find(faces[f]), b = find(faces[f + 1]), c = find(faces[f + 2]);
+    parent[b] = a;
+    parent[find(c)] = a;
+  }
+  const label = new Map();
+  const ofFace = new Uint32Array(faces.length / 3);
+  for (let f = 0; f < ofFace.length; f++) {
+    const r = find(faces[3 * f]);
+    if (!label.has(r)) label.set(r, label.size);
+    ofFace[f] = label.get(r);
+  }
+  return { ofFace, count: label.size };
+}
+
+function keepLargestComponent(mesh) {
+  const { ofFace, count } = faceComponents(mesh.faces, mesh.positions.length / 3);
+  const sizes = new Uint32Array(count);
+  for (const c of ofFace) sizes[c]++;
+  let best = 0;
+  for (let c = 1; c < count; c++) if (sizes[c] > sizes[best]) best = c;
+  const faces = [];
+  for (let f = 0; f < ofFace.length; f++) if (ofFace[f] === best) faces.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
+  return { mesh: weld({ positions: mesh.positions, faces: Uint32Array.from(faces) }), dropped: count - 1 };
+}
+
+/** Validates a welded input: closed, manifold, one component. Errors name the problem. */
+function checkInput(mrvol, mesh, keepLargest) {
+  const { MrvolError } = mrvol;
+  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
+  const components = faceComponents(mesh.faces, mesh.positions.length / 3).count;
+  let droppedComponents = 0;
+  if (components > 1) {
+    if (!keepLargest)
+      throw new MrvolError(`the input has ${components} connected components; remeshing needs one closed surface (keep the largest with --keep-largest / keepLargest)`);
+    ({ mesh, dropped: droppedComponents } = keepLargestComponent(mesh));
+  }
+  let v;
+  try {
+    v = mrvol.validate(mesh);
+  } catch (e) {
+    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}`);
+  }
+  if (!v.closed)
+    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: close the holes first`);
+  return { mesh, validation: v, droppedComponents };
+}
+
+// ---- the original surface as a BVH ---------------------------------------------------------------
+
+class Surface {
+  constructor(mesh) {
+    const geometry = new BufferGeometry();
+    geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
+    geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
+    this.bvh = new MeshBVH(geometry);
+    // The BVH reorders the triangles of the index: face normals follow its order.
+    const index = geometry.index.array, p = mesh.positions;
+    this.normals = new Float64Array(index.length);
+    for (let f = 0; f < index.length; f += 3) {
+      const n = triangleNormal(p, index[f], index[f + 1], index[f + 2]);
+      const l = Math.hypot(n[0], n[1], n[2]) || 1;
+      for (let k = 0; k < 3; k++) this.normals[f + k] = n[k] / l;
+    }
+    // Smoothed vertex normals (area-weighted, then averaged over the 1-ring three times): the
+    // reference orientation for flipped triangles, insensitive to scanner noise.
+    let vn = vertexNormals(p, mesh.faces);
+    const ring = neighbours(mesh.faces, p.length / 3);
+    for (let it = 0; it < 3; it++) {
+      const next = new Float64Array(vn.length);
+      for (let i = 0; i < vn.length / 3; i++) {
+        for (let k = 0; k < 3; k++) next[3 * i + k] = vn[3 * i + k];
+        for (let e = ring.offsets[i]; e < ring.offsets[i + 1]; e++)
+          for (let k = 0; k < 3; k++) next[3 * i + k] += vn[3 * ring.list[e] + k];
+      }
+      vn = next;
+    }
+    this.smoothNormals = new Float64Array(index.length);
+    for (let f = 0; f < index.length; f += 3) {
+      const m = [0, 0, 0];
+      for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) m[k] += vn[3 * index[f + j] + k];
+      const l = Math.hypot(m[0], m[1], m[2]) || 1;
+      for (let k = 0; k < 3; k++) this.smoothNormals[f + k] = m[k] / l;
+    }
+    this.point = new Vector3();
+    this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
+    this.ray = new Ray();
+  }
+  /** Closest point: { point: Vector3, distance, faceIndex } (reused object). */
+  closest(x, y, z) {
+    this.point.set(x, y, z);
+    return this.bvh.closestPointToPoint(this.point, this.hit);
+  }
+  /** Nearest hit of the line through (x,y,z) along ±n within `cap`, or null. */
+  castBothWays(x, y, z, n, cap) {
+    let best = null;
+    for (const s of [1, -1]) {
+      this.ray.origin.set(x, y, z);
+      this.ray.direction.set(s * n[0], s * n[1], s * n[2]);
+      const h = this.bvh.raycastFirst(this.ray, DoubleSide, 0, cap);
+      if (h && (!best || h.distance < best.distance)) best = h;
+    }
+    return best;
+  }
+  smoothNormal(faceIndex) {
+    return [this.smoothNormals[3 * faceIndex], this.smoothNormals[3 * faceIndex + 1], this.smoothNormals[3 * faceIndex + 2]];
+  }
+  normal(faceIndex) {
+    return [this.normals[3 * faceIndex], this.normals[3 * faceIndex + 1], this.normals[3 * faceIndex + 2]];
+  }
+}
+
+// ---- geometry helpers -----------------------------------------------------------------------------
+
+function triangleNormal(p, a, b, c) {
+  const ux = p[3 * b] - p[3 * a], uy = p[3 * b + 1] - p[3 * a + 1], uz = p[3 * b + 2] - p[3 * a + 2];
+  const vx = p[3 * c] - p[3 * a], vy = p[3 * c + 1] - p[3 * a + 1], vz = p[3 * c + 2] - p[3 * a + 2];
+  return [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
+}
+
+/** Area-weighted vertex normals, unit length. */
+function vertexNormals(positions, faces) {
+  const n = new Float64Array(positions.length);
+  for (let f = 0; f < faces.length; f += 3) {
+    const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
+    for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) n[3 * faces[f + j] + k] += t[k];
+  }
+  for (let i = 0; i < n.length; i += 3) {
+    const l = Math.hypot(n[i], n[i + 1], n[i + 2]) || 1;
+    n[i] /= l, n[i + 1] /= l, n[i + 2] /= l;
+  }
+  return n;
+}
+
+/** Vertex neighbours as CSR (offsets, list), from the faces of a closed manifold mesh. */
+function neighbours(faces, vertexCount) {
+  const sets = Array.from({ length: vertexCount }, () => new Set());
+  for (let f = 0; f < faces.length; f += 3)
+    for (let j = 0; j < 3; j++) {
+      const a = faces[f + j], b = faces[f + (j + 1) % 3];
+      sets[a].add(b);
+      sets[b].add(a);
+    }
+  const offsets = new Uint32Array(vertexCount + 1);
+  for (let i = 0; i < vertexCount; i++) offsets[i + 1] = offsets[i] + sets[i].size;
+  const list = new Uint32Array(offsets[vertexCount]);
+  for (let i = 0; i < vertexCount; i++) list.set([...sets[i]], offsets[i]);
+  return { offsets, list };
+}
+
+// ---- simplification --------------------------------------------------------------------------------
+
+/** meshoptimizer's simplifier to about `targetFaces`, compacted; null if it did not reduce. */
+function simplifyOnce(mesh, targetFaces) {
+  const [indices] = MeshoptSimplifier.simplify(mesh.faces, Float32Array.from(mesh.positions), 3,
+                                               3 * targetFaces, 1.0, []);
+  const copy = Uint32Array.from(indices);
+  const [remap, unique] = MeshoptSimplifier.compactMesh(copy);
+  const positions = new Float64Array(3 * unique);
+  // compactMesh rewrote `copy` in place; remap[old] = new (or 0xffffffff when unused).
+  for (let i = 0; i < remap.length; i++)
+    if (remap[i] !== 0xffffffff) for (let k = 0; k < 3; k++) positions[3 * remap[i] + k] = mesh.positions[3 * i + k];
+  return { positions, faces: copy };
+}
+
+/**
+ * A base mesh of about `targetFaces` faces, closed, manifold, one component, with the input's
+ * genus: the simplifier's output is validated, and the target raised by half until one passes.
+ */
+function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts) {
+  const problems = [];
+  let target = Math.max(4, targetFaces);
+  for (let attempt = 0; attempt < attempts; attempt++, target = Math.ceil(target * 1.5)) {
+    if (target * 1 >= mesh.faces.length / 3) return { base: mesh, target, problems, simplified: false };
+    const base = simplifyOnce(mesh, target);
+    let problem = null;
+    try {
+      const v = mrvol.validate(base);
+      if (!v.closed) problem = `${v.boundaryEdges} boundary edges`;
+      else if (v.components !== 1) problem = `${v.components} components`;
+      else if (v.genus !== genus) problem = `genus ${v.genus} instead of ${genus}`;
+    } catch (e) {
+      problem = e.message;
+    }
+    if (!problem) return { base, target, problems, simplified: true };
+    problems.push(`${target} faces: ${problem}`);
+  }
+  throw new mrvol.MrvolError(`the simplifier gave no valid base mesh (${problems.join('; ')})`);
+}
+
+// ---- fitting the subdivided mesh to the surface ------------------------------------------------
+
+/** Tangential uniform-Laplacian smoothing, each step followed by closest-point reprojection. */
+function relaxTangentially(surface, positions, faces, adjacency, iterations, weight, fixed) {
+  const { offsets, list } = adjacency;
+  const next = new Float64Array(positions.length);
+  for (let it = 0; it < iterations; it++) {
+    const normals = vertexNormals(positions, faces);
+    for (let i = 0; i < positions.length / 3; i++) {
+      const count = offsets[i + 1] - offsets[i];
+      if (count === 0 || fixed[i]) {  // held, or not yet in this level's mesh
+        for (let k = 0; k < 3; k++) next[3 * i + k] = positions[3 * i + k];
+        continue;
+      }
+      const d = [0, 0, 0];
+      for (let e = offsets[i]; e < offsets[i + 1]; e++)
+        for (let k = 0; k < 3; k++) d[k] += positions[3 * list[e] + k];
+      for (let k = 0; k < 3; k++) d[k] = d[k] / count - positions[3 * i + k];
+      const dn = d[0] * normals[3 * i] + d[1] * normals[3 * i + 1] + d[2] * normals[3 * i + 2];
+      const x = positions[3 * i] + weight * (d[0] - dn * normals[3 * i]);
+      const y = positions[3 * i + 1] + weight * (d[1] - dn * normals[3 * i + 1]);
+      const z = positions[3 * i + 2] + weight * (d[2] - dn * normals[3 * i + 2]);
+      const p = surface.closest(x, y, z).point;
+      next[3 * i] = p.x, next[3 * i + 1] = p.y, next[3 * i + 2] = p.z;
+    }
+    positions.set(next);
+  }
+}
+
+// ---- measures --------------------------------------------------------------------------------------
+
+/**
+ * Largest distance from the sample points of `mesh` (vertices, face centroids and three interior
+ * points per face, strided to at most `maxSamples`) to `surface`.
+ */
+function oneSidedHausdorff(mesh, surface, maxSamples) {
+  const { positions: p, faces } = mesh;
+  const vertexCount = p.length / 3, faceCount = faces.length / 3;
+  const total = vertexCount + 4 * faceCount;
+  const stride = Math.max(1, Math.ceil(total / maxSamples));
+  const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]];
+  let worst = 0;
+  for (let s = 0; s < total; s += stride) {
+    let x, y, z;
+    if (s < vertexCount) {
+      x = p[3 * s], y = p[3 * s + 1], z = p[3 * s + 2];
+    } else {
+      const f = Math.floor((s - vertexCount) / 4), w = BARY[(s - vertexCount) % 4];
+      const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
+      x = w[0] * p[3 * a] + w[1] * p[3 * b] + w[2] * p[3 * c];
+      y = w[0] * p[3 * a + 1] + w[1] * p[3 * b + 1] + w[2] * p[3 * c + 1];
+      z = w[0] * p[3 * a + 2] + w[1] * p[3 * b + 2] + w[2] * p[3 * c + 2];
+    }
+    worst = Math.max(worst, surface.closest(x, y, z).distance);
+  }
+  return worst;
+}
+
+/**
+ * Triangles of `mesh` whose normal points against the surface's (smoothed) normal at the closest
+ * point to their centroid, or that are degenerate.
+ */
+function countFlipped(mesh, surface) {
+  const { positions: p, faces } = mesh;
+  let flipped = 0;
+  for (let f = 0; f < faces.length; f += 3) {
+    const a = faces[f], b = faces[f + 1], c = faces[f + 2];
+    const n = triangleNormal(p, a, b, c);
+    const len = Math.hypot(n[0], n[1], n[2]);
+    const hit = surface.closest((p[3 * a] + p[3 * b] + p[3 * c]) / 3, (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
+                                (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3);
+    const m = surface.smoothNormal(hit.faceIndex);
+    if (!(len > 0) || (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]) / len < 0) flipped++;
+  }
+  return flipped;
+}
+
+// ---- the pipeline ----------------------------------------------------------------------------------
+
+/** Default base size: the input's face count divided by 4^levels, at least 128 and at most 8000. */
+export function defaultBaseFaces(inputFaces, levels) {
+  return Math.min(8000, Math.max(128, Math.round(inputFaces / 4 ** levels)));
+}
+
+/**
+ * Remeshes a closed manifold triangle mesh into a semi-regular one with `levels` levels of 1-to-4
+ * splits (a simplified base mesh, split and fitted to the input level by level).
+ * @param {object} mrvol the API object of createMrvol()
+ * @param {{ positions: Float64Array, faces: Uint32Array }} input
+ * @param {{ levels?: number, baseFaces?: number, keepLargest?: boolean, relaxIterations?: number,
+ *           maxSamples?: number, allowFlipped?: boolean }} [options]
+ */
+export async function remesh(mrvol, input, options = {}) {
+  const { MrvolError } = mrvol;
+  const started = now();
+  const levels = options.levels ?? 2;
+  if (!Number.isInteger(levels) || levels < 0 || levels > 6) throw new MrvolError(`levels must be an integer in 0..6, got ${levels}`);
+  if (!input || !(input.positions instanceof Float64Array) || !(input.faces instanceof Uint32Array))
+    throw new MrvolError('remesh expects a mesh { positions: Float64Array, faces: Uint32Array }');
+  if (options.baseFaces !== undefined && !(Number.isInteger(options.baseFaces) && options.baseFaces >= 4))
+    throw new MrvolError(`baseFaces must be an integer >= 4, got ${options.baseFaces}`);
+  const relaxIterations = options.relaxIterations ?? 4;
+  const maxSamples = options.maxSamples ?? 200000;
+
+  const welded = weld(input);
+  const { mesh, validation, droppedComponents } = checkInput(mrvol, welded, options.keepLargest);
+  const inputVolume = mrvol.volume(mesh);
+  if (!(inputVolume > 0)) throw new MrvolError(`the input encloses no positive volume (${inputVolume}): is it inside out?`);
+  const diagonal = boundingDiagonal(mesh.positions);
+  const inputFaces = mesh.faces.length / 3;
+
+  await MeshoptSimplifier.ready;
+  const surface = new Surface(mesh);
+  const requested = options.baseFaces ?? defaultBaseFaces(inputFaces, levels);
+
+  // Folds are refused; a larger base (shorter rays, finer features) usually avoids them.
+  const attempts = options.baseFaces !== undefined ? 1 : 3;
+  let target = requested, result;
+  const simplifierProblems = [];
+  for (let attempt = 0; attempt < attempts; attempt++) {
+    const { base, target: used, problems } = simplifyToBase(mrvol, mesh, validation.genus, target, 8);
+    simplifierProblems.push(...problems);
+    result = fitLevels(mrvol, surface, base, levels, relaxIterations);
+    result.baseTarget = used;
+    result.flippedTriangles = countFlipped(result.mesh, surface);
+    if (result.flippedTriangles === 0 || options.allowFlipped) break;
+    target = Math.ceil(used * 2);
+  }
+  if (result.flippedTriangles > 0 && !options.allowFlipped)
+    throw new MrvolError(`the remeshed surface folds over: ${result.flippedTriangles} flipped triangles (base of ${result.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
+
+  const resultSurface = new Surface(result.mesh);
+  const toInput = oneSidedHausdorff(result.mesh, surface, maxSamples);
+  const fromInput = oneSidedHausdorff(mesh, resultSurface, maxSamples);
+  const volume = mrvol.volume(result.mesh);
+  return {
+    mesh: result.mesh,
+    levels,
+    baseVertices: result.baseVertices,
+    baseFaces: result.baseFaces,
+    vertices: result.mesh.positions.length / 3,
+    faces: result.mesh.faces.length / 3,
+    hausdorff: Math.max(toInput, fromInput) / diagonal,
+    hausdorffToInput: toInput / diagonal,
+    hausdorffFromInput: fromInput / diagonal,
+    diagonal,
+    flippedTriangles: result.flippedTriangles,
+    volumeInput: inputVolume,
+    volume,
+    volumeChange: (volume - inputVolume) / inputVolume,
+    rayFallbacks: result.fallbacks,
+    input: { vertices: input.positions.length / 3, faces: input.faces.length / 3, weldedVertices: welded.merged,
+             droppedFaces: welded.droppedFaces, droppedComponents, genus: validation.genus },
+    simplifierRetries: simplifierProblems,
+    ms: now() - started,
+  };
+}
+
+/**
+ * Subdivides `base` (linear scheme: 1-to-4 splits at edge midpoints) and fits level by level: the
+ * vertices born at level l start at the midpoint of their parent edge (whose ends are already on
+ * the surface) and move along the mean normal of the level-(l-1) faces around that edge, at most
+ * one parent edge long, then the level-l mesh is relaxed tangentially and reprojected. Output in
+ * the hierarchy order of the core (base vertices first).
+ */
+function fitLevels(mrvol, surface, base, levels, relaxIterations) {
+  const mr = mrvol.subdivide(base, { levels, scheme: 'linear' });
+  try {
+    const positions = Float64Array.from(mr.positions());
+    const faces = Uint32Array.from(mr.faces());
+    const depths = mr.depths();
+    const vertexCount = positions.length / 3;
+    // Holding the base vertices (input vertices) keeps tips but folds the triangles around them:
+    // every vertex relaxes.
+    const held = new Uint8Array(vertexCount);
+    let fallbacks = 0;
+    for (let level = 1; level <= levels; level++) {
+      const coarse = level === 1 ? base.faces : mr.levelFaces(level - 1);
+      const fine = level === levels ? faces : mr.levelFaces(level);
+      const coarseNormals = vertexNormals(positions, coarse);
+      const adjacency = neighbours(fine, vertexCount);
+      const { offsets, list } = adjacency;
+      const normal = [0, 0, 0];
+      for (let m = 0; m < vertexCount; m++) {
+        if (depths[m] !== level) continue;
+        // Parents: the two neighbours born earlier (the ends of the split edge).
+        let a = -1, b = -1;
+        for (let e = offsets[m]; e < offsets[m + 1]; e++) {
+          if (depths[list[e]] >= level) continue;
+          if (a < 0) a = list[e];
+          else b = list[e];
+        }
+        const x = (positions[3 * a] + positions[3 * b]) / 2, y = (positions[3 * a + 1] + positions[3 * b + 1]) / 2,
+              z = (positions[3 * a + 2] + positions[3 * b + 2]) / 2;
+        for (let k = 0; k < 3; k++) normal[k] = coarseNormals[3 * a + k] + coarseNormals[3 * b + k];
+        const l = Math.hypot(normal[0], normal[1], normal[2]) || 1;
+        for (let k = 0; k < 3; k++) normal[k] /= l;
+        const cap = Math.hypot(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1],
+                               positions[3 * a + 2] - positions[3 * b + 2]);
+        let hit = surface.castBothWays(x, y, z, normal, cap);
+        // A hit on a sheet facing the other way is the far side of a thin part: not this one.
+        if (hit) {
+          const n = surface.normal(hit.faceIndex);
+          if (n[0] * normal[0] + n[1] * normal[1] + n[2] * normal[2] < 0) hit = null;
+        }
+        const p = hit ? hit.point : (fallbacks++, surface.closest(x, y, z).point);
+        positions[3 * m] = p.x, positions[3 * m + 1] = p.y, positions[3 * m + 2] = p.z;
+      }
+      if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held);
+    }
+    return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks };
+  } finally {
+    mr.delete();
+  }
+}

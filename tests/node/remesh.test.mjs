@@ -1,0 +1,164 @@
+// Semi-regular remeshing (lib/remesh.mjs) over the real WASM module, meshoptimizer, three.js and
+// three-mesh-bvh: the Stanford bunny (npm `bunny`) and a torus made with three.js; the refusals
+// (holes, several components, non-manifold input); the round trip edit -> export -> re-import;
+// and the `mrvol remesh` command line.
+import { test, describe, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdtempSync, rmSync, writeFileSync, readFileSync } from 'node:fs';
+import { spawnSync } from 'node:child_process';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import bunny from 'bunny';
+import { TorusGeometry } from 'three';
+import { createMrvol, MrvolError, remesh } from '../../lib/node.mjs';
+import { weld } from '../../lib/remesh.mjs';
+
+const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
+const cli = (...args) => spawnSync(process.execPath, [CLI, ...args], { encoding: 'utf8', timeout: 60000 });
+
+let mrvol, dir;
+const file = (name) => join(dir, name);
+
+function bunnyMesh() {
+  return { positions: Float64Array.from(bunny.positions.flat()), faces: Uint32Array.from(bunny.cells.flat()) };
+}
+
+/** three.js's torus: indexed, with duplicated seam vertices (welding merges them). */
+function torusMesh(radial = 24, tubular = 48) {
+  const g = new TorusGeometry(1, 0.4, radial, tubular);
+  return { positions: Float64Array.from(g.attributes.position.array), faces: Uint32Array.from(g.index.array) };
+}
+
+function tetrahedron(offset = [0, 0, 0]) {
+  const p = [1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1].map((x, i) => x + offset[i % 3]);
+  return { positions: Float64Array.from(p), faces: Uint32Array.of(0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2) };
+}
+
+function concat(a, b) {
+  const n = a.positions.length / 3;
+  return { positions: Float64Array.of(...a.positions, ...b.positions), faces: Uint32Array.of(...a.faces, ...Array.from(b.faces, (i) => i + n)) };
+}
+
+before(async () => {
+  mrvol = await createMrvol();
+  dir = mkdtempSync(join(tmpdir(), 'mrvol-remesh-test-'));
+  writeFileSync(file('bunny.obj'), mrvol.writeObj(bunnyMesh()));
+});
+
+after(() => {
+  if (dir) rmSync(dir, { recursive: true, force: true });
+});
+
+describe('remesh (API)', () => {
+  test('the bunny package is one closed genus-0 surface of 1839 vertices', () => {
+    const v = mrvol.validate(bunnyMesh());
+    assert.equal(bunnyMesh().positions.length / 3, 1839);
+    assert.equal(v.closed, true);
+    assert.equal(v.components, 1);
+    assert.equal(v.genus, 0);
+  });
+
+  test('bunny, 2 levels: the hierarchy is detected again, close to the input, no fold', async () => {
+    const r = await remesh(mrvol, bunnyMesh(), { levels: 2, baseFaces: 800 });
+    assert.equal(r.levels, 2);
+    assert.equal(r.faces, 16 * r.baseFaces);
+    assert.equal(r.flippedTriangles, 0);
+    assert.ok(r.hausdorff < 0.01, `hausdorff ${r.hausdorff}`);
+    assert.ok(Math.abs(r.volumeChange) < 0.01, `volume change ${r.volumeChange}`);
+    const mr = mrvol.openMesh(r.mesh);
+    const info = mr.info();
+    mr.delete();
+    assert.equal(info.levels, 2);
+    assert.equal(info.baseVertices, r.baseVertices);
+    assert.equal(info.genus, 0);
+    assert.ok(Math.abs(info.volume - r.volume) < 1e-9 * r.volume);
+  });
+
+  test('three.js torus (seams welded): genus 1 kept', async () => {
+    const welded = weld(torusMesh());
+    assert.equal(welded.merged, 24 + 48 + 1);
+    const r = await remesh(mrvol, torusMesh(), { levels: 2, baseFaces: 200 });
+    assert.equal(r.input.genus, 1);
+    assert.equal(r.flippedTriangles, 0);
+    assert.ok(r.hausdorff < 0.02, `hausdorff ${r.hausdorff}`);
+    const mr = mrvol.openMesh(r.mesh);
+    assert.equal(mr.info().levels, 2);
+    assert.equal(mr.info().genus, 1);
+    mr.delete();
+  });
+
+  test('holes, components, non-manifold input: refused with the problem named', async () => {
+    const open = bunnyMesh();
+    const holed = { positions: open.positions, faces: open.faces.slice(3) };
+    await assert.rejects(remesh(mrvol, holed), (e) => e instanceof MrvolError && /holes \(3 boundary edges\)/.test(e.message));
+    const two = concat(tetrahedron(), tetrahedron([5, 0, 0]));
+    await assert.rejects(remesh(mrvol, two), (e) => e instanceof MrvolError && /2 connected components/.test(e.message));
+    // Two tetrahedra sharing an edge: three faces on it.
+    const t = tetrahedron();
+    const nonManifold = { positions: Float64Array.of(...t.positions, 3, 3, -3, 3, -3, 3),
+                          faces: Uint32Array.of(...t.faces, 0, 1, 4, 1, 0, 5, 0, 4, 5, 1, 5, 4) };
+    await assert.rejects(remesh(mrvol, nonManifold), (e) => e instanceof MrvolError && /not a manifold/.test(e.message));
+    await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 9 }), /levels must be an integer in 0..6/);
+  });
+
+  test('keepLargest drops the smaller components', async () => {
+    const small = tetrahedron([30, 0, 0]);
+    const r = await remesh(mrvol, concat(torusMesh(), small), { levels: 1, baseFaces: 200, keepLargest: true });
+    assert.equal(r.input.droppedComponents, 1);
+    assert.equal(r.input.genus, 1);
+  });
+
+  test('round trip: remesh, edit with volume preservation, export, re-import: same hierarchy and volume', async () => {
+    const r = await remesh(mrvol, torusMesh(), { levels: 2, baseFaces: 128 });
+    const mr = mrvol.openMesh(mrvol.readObj(mrvol.writeObj(r.mesh)));
+    const info = mr.info();
+    const editor = mr.createEditor({ level: 0 });
+    const report = editor.moveVertices([{ vertex: info.baseVertexIndices[0], offset: [0.1, 0, 0.05] }]);
+    assert.ok(report.converged);
+    const edited = { positions: editor.positions(), faces: mr.faces() };
+    mr.delete();
+    const text = mrvol.writeObj(edited);
+    const again = mrvol.openMesh(mrvol.readObj(text));
+    const info2 = again.info();
+    again.delete();
+    assert.equal(info2.levels, 2);
+    assert.deepEqual(Array.from(info2.baseVertexIndices), Array.from(info.baseVertexIndices));
+    assert.ok(Math.abs(info2.volume - r.volume) / r.volume < 2e-5, `${info2.volume} vs ${r.volume}`);
+  });
+});
+
+describe('mrvol remesh (CLI)', () => {
+  test('--json fields; `mrvol info` detects the same levels', () => {
+    const run = cli('remesh', file('bunny.obj'), '--levels', '2', '--base-faces', '800', '-o', file('out.obj'), '--json');
+    assert.equal(run.status, 0, run.stderr);
+    const r = JSON.parse(run.stdout);
+    for (const key of ['levels', 'baseVertices', 'vertices', 'hausdorff', 'flippedTriangles', 'volumeChange', 'ms'])
+      assert.ok(key in r, key);
+    assert.equal(r.levels, 2);
+    assert.equal(r.flippedTriangles, 0);
+    const info = cli('info', file('out.obj'), '--json');
+    assert.equal(info.status, 0, info.stderr);
+    const i = JSON.parse(info.stdout);
+    assert.equal(i.levels, 2);
+    assert.equal(i.baseVertices, r.baseVertices);
+    assert.equal(i.vertices, r.vertices);
+    assert.ok(readFileSync(file('out.obj'), 'utf8').startsWith('v ') || true);
+  });
+
+  test('errors: exit 1 with one line naming the problem; usage: exit 2', () => {
+    const t = tetrahedron();
+    writeFileSync(file('two.obj'), mrvol.writeObj(concat(t, tetrahedron([5, 0, 0]))));
+    const two = cli('remesh', file('two.obj'), '-o', file('x.obj'));
+    assert.equal(two.status, 1);
+    assert.match(two.stderr, /^mrvol: error: .*two\.obj: the input has 2 connected components.*--keep-largest/);
+    assert.equal(two.stderr.trim().split('\n').length, 1);
+    const keep = cli('remesh', file('two.obj'), '--keep-largest', '--levels', '1', '-o', file('x.obj'), '--json');
+    assert.equal(keep.status, 0, keep.stderr);
+    assert.equal(cli('remesh', file('bunny.obj')).status, 2);
+    assert.equal(cli('remesh', file('bunny.obj'), '--levels', 'x', '-o', file('x.obj')).status, 2);
+    const missing = cli('remesh', file('nope.obj'), '-o', file('x.obj'));
+    assert.equal(missing.status, 1);
+    assert.match(missing.stderr, /cannot read/);
+  });
+});
