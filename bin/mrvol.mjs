@@ -265,10 +265,6 @@ const COMMANDS = {
   },
 };
 
-// Up to this many vertices the tensor of the cage rows stays small (tens of MB): `--path auto`
-// uses it; beyond, the matrix-free gradient.
-const TENSOR_AUTO_MAX_VERTICES = 4000;
-
 function parseMoves(values) {
   if (!values.move?.length) throw new UsageError('at least one --move V:dx,dy,dz is required');
   return values.move.map((text) => {
@@ -306,8 +302,9 @@ COMMANDS.edit = (mrvol, values, positionals) => {
       throw new MrvolError(`level ${level} is out of range: ${path} has levels 0..${mr.levels}`);
     const editor = mr.createEditor({ level, ...scheme });
     editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
+    // auto: the tensor when its estimate fits (memory and time), else the matrix-free gradient.
     const wantTensor = values.theta || gradientPath === 'tensor' ||
-      (gradientPath === 'auto' && detailLevels.length === 0 && mr.vertexCount <= TENSOR_AUTO_MAX_VERTICES);
+      (gradientPath === 'auto' && detailLevels.length === 0 && mr.estimateTheta({ level, ...scheme }).fits);
     if (wantTensor && values['no-preserve'] === undefined) {
       if (values.theta) {
         try {

@@ -217,6 +217,14 @@ export function wrapModule(module) {
     /** Connectivity fingerprint (hex): what theta depends on besides scheme and level. */
     fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
     /**
+     * What computing theta^e (cage storage) would take, from a few sampled patches, without doing it:
+     * { cageSize, maxPatch, entries, bytes, denseBytes, milliseconds, fits }. `fits` is the policy
+     * editors follow: the tensor when it fits, the matrix-free gradient otherwise.
+     */
+    estimateTheta(options = {}) {
+      return call((r) => r.estimateTheta(levelArg(options.level), ...schemeArgs(options)), this.#live());
+    }
+    /**
      * Computes theta^e. storage 'cage' keeps the rows of the level-e cage vertices (what editing
      * needs); 'full' keeps every entry. onProgress(fraction) may return false to cancel.
      */

@@ -155,3 +155,21 @@ TEST(VolumeTensor, CageTensorVolumeEqualsMeshVolume) {
     }
   }
 }
+
+// The estimate that decides between the tensor and the matrix-free path is of the right size.
+TEST(VolumeTensor, EstimateIsWithinAFactorOfTheActualTensor) {
+  for (int n : {3, 4})
+    for (int e : {0, n - 2}) {
+      Hierarchy h = Hierarchy::subdivide(fixtures::icosahedron(), n);
+      WaveletTransform wt(h, SchemeOptions{});
+      TensorEstimate est = estimateCageTensor(wt, e);
+      VolumeTensor t = computeVolumeTensor(wt, e, TensorStorage::Cage);
+      const double ratio = double(est.entries) / double(t.storedCount());
+      EXPECT_GT(ratio, 0.8) << "n=" << n << " e=" << e;
+      EXPECT_LT(ratio, 3.0) << "n=" << n << " e=" << e;
+      EXPECT_TRUE(est.fits());
+    }
+  Hierarchy big = Hierarchy::subdivide(fixtures::icosahedron(), 6);
+  WaveletTransform wt(big, SchemeOptions{});
+  EXPECT_FALSE(estimateCageTensor(wt, 0, 2).fits());  // 12 patches of ~40k vertices: 12 GB each
+}

@@ -188,6 +188,20 @@ val js_thetaVolume(const MultiresMesh& m, const Theta& t, int level, std::string
     return val(m.tensorVolume(t.tensor, o));
   });
 }
+val js_estimateTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    TensorEstimate e = m.estimateTensor(level, toScheme(scheme, alpha, beta));
+    val out = val::object();
+    out.set("cageSize", double(e.cageSize));
+    out.set("maxPatch", double(e.maxPatch));
+    out.set("entries", double(e.entries));
+    out.set("bytes", double(e.bytes));
+    out.set("denseBytes", double(e.denseBytes));
+    out.set("milliseconds", e.milliseconds);
+    out.set("fits", e.fits());
+    return out;
+  });
+}
 val js_fingerprint(const MultiresMesh& m) {
   return guarded([&] {
     char hex[17];
@@ -354,6 +368,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("computeTheta", &js_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &js_thetaVolume)
       .function("fingerprint", &js_fingerprint)
+      .function("estimateTheta", &js_estimateTheta)
       .function("createEditor", &js_createEditor, allow_raw_pointers());
   class_<VolumeEditor>("_VolumeEditor")
       .function("level", &VolumeEditor::level)

@@ -108,6 +108,11 @@ VolumeTensor MultiresMesh::computeTensor(int level, const SchemeOptions& scheme,
   return computeVolumeTensor(transform(scheme), level, storage, progress);
 }
 
+TensorEstimate MultiresMesh::estimateTensor(int level, const SchemeOptions& scheme) const {
+  checkLevel(level);
+  return estimateCageTensor(transform(scheme), level);
+}
+
 uint64_t MultiresMesh::fingerprint() const { return connectivityFingerprint(mesh_.faces, mesh_.vertexCount()); }
 
 ThetaFileHeader MultiresMesh::thetaHeader(const VolumeTensor& tensor, const SchemeOptions& scheme) const {

@@ -54,6 +54,7 @@ class MultiresMesh {
   // theta^e for this connectivity and scheme, and the header a theta file of it carries.
   VolumeTensor computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
                              const TensorProgress& progress = {}) const;
+  TensorEstimate estimateTensor(int level, const SchemeOptions& scheme) const;
   ThetaFileHeader thetaHeader(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
   uint64_t fingerprint() const;
   // Throws Error naming the first mismatch (mesh connectivity, scheme, level) of a theta file.

@@ -57,6 +57,17 @@ struct TensorProgress {
 VolumeTensor computeVolumeTensor(const WaveletTransform& transform, int level, TensorStorage storage,
                                  const TensorProgress& progress = {}, uint64_t maxTerms = 400'000'000);
 
+// What computing the cage rows of theta^e would take, from the patches of a few sampled cage
+// vertices (a synthesis each, no tensor work): the editor uses the tensor when this fits.
+struct TensorEstimate {
+  uint32_t cageSize = 0, maxPatch = 0;
+  uint64_t entries = 0, bytes = 0, denseBytes = 0;
+  double milliseconds = 0;
+  // The policy of "tensor when it fits": at most 512 MB stored, a 1 GB working patch, ~15 s.
+  bool fits() const { return bytes <= (uint64_t(512) << 20) && denseBytes <= (uint64_t(1) << 30) && milliseconds <= 15000; }
+};
+TensorEstimate estimateCageTensor(const WaveletTransform& transform, int level, int samples = 16);
+
 // The same tensor built directly as sum over fine triangles (a, b, c) of alt(R_a x R_b x R_c) / 6
 // with R the synthesis operator from level e (rows assembled by synthesis of unit vectors).
 // O(N^2) memory: for tests on small meshes only.
