@@ -257,6 +257,11 @@ export interface MultiresMesh {
   /** Connectivity fingerprint (16 hex digits): what a volume tensor depends on besides scheme and level. */
   fingerprint(): string;
   /** Computes the volume tensor theta^e of this mesh for a scheme and level e. */
+  /**
+   * What computing theta^e with cage storage would take (sampled patches, no tensor work); `fits`
+   * is the policy the CLI and the web editor follow (tensor when it fits, else matrix-free).
+   */
+  estimateTheta(options?: { level?: number } & SchemeOptions): ThetaEstimate;
   computeTheta(options?: ThetaOptions): Theta;
   /** Volume of the current positions through theta (checks that theta matches mesh, scheme and level). */
   thetaVolume(theta: Theta, options?: TransformOptions): number;
@@ -354,3 +359,15 @@ export interface RemeshResult {
  * Exported by lib/api.mjs and lib/node.mjs; `mrvol` is the API object.
  */
 export function remesh(mrvol: Mrvol, mesh: Mesh, options?: RemeshOptions): Promise<RemeshResult>;
+
+/** The estimate of MultiresMesh.estimateTheta. */
+export interface ThetaEstimate {
+  cageSize: number;
+  /** Largest patch (indices the dense 2-form of one cage vertex spans). */
+  maxPatch: number;
+  entries: number;
+  bytes: number;
+  denseBytes: number;
+  milliseconds: number;
+  fits: boolean;
+}
