@@ -4,25 +4,14 @@
 import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
+import {
+  mesh, icosahedron, octahedron, openPatch, rng, shuffleMesh, maxAbs, maxDiff, throwsMrvol as throwsMrvolError,
+} from './helpers.mjs';
 
-// ---- fixtures (the same models as tests/native/fixtures.h) -------------------------------------
-
-const T = (1 + Math.sqrt(5)) / 2;
-
-function mesh(positions, faces) {
-  return { positions: Float64Array.from(positions), faces: Uint32Array.from(faces) };
-}
-
-const icosahedron = () => mesh(
-  [-1, T, 0, 1, T, 0, -1, -T, 0, 1, -T, 0, 0, -1, T, 0, 1, T, 0, -1, -T, 0, 1, -T, T, 0, -1, T, 0, 1, -T, 0, -1, -T, 0, 1],
-  [0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-    3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1]);
+// ---- fixtures (the same models as tests/native/fixtures.h; the shared ones in helpers.mjs) -------
 
 // Unit right tetrahedron, outward: volume 1/6.
 const unitTetrahedron = () => mesh([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1], [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]);
-
-const octahedron = () => mesh([1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1],
-  [0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5]);
 
 function torus(u = 6, v = 4, R = 2, r = 0.7) {
   const p = [], f = [];
@@ -40,19 +29,6 @@ function torus(u = 6, v = 4, R = 2, r = 0.7) {
   return mesh(p, f);
 }
 
-// Hexagon fan plus an outer ring of 12 (an open mesh with 12 boundary edges).
-function openPatch() {
-  const p = [0, 0, 0.3], f = [];
-  for (let k = 0; k < 6; ++k) p.push(Math.cos(k * Math.PI / 3), Math.sin(k * Math.PI / 3), 0.1 * k);
-  for (let k = 0; k < 12; ++k) p.push(2 * Math.cos(k * Math.PI / 6), 2 * Math.sin(k * Math.PI / 6), -0.05 * k);
-  for (let k = 0; k < 6; ++k) f.push(0, 1 + k, 1 + (k + 1) % 6);
-  for (let k = 0; k < 6; ++k) {
-    const in0 = 1 + k, in1 = 1 + (k + 1) % 6, o0 = 7 + 2 * k, o1 = 7 + 2 * k + 1, o2 = 7 + (2 * k + 2) % 12;
-    f.push(in0, o0, o1, in0, o1, in1, in1, o1, o2);
-  }
-  return mesh(p, f);
-}
-
 const SCHEMES = [
   { scheme: 'loop' },
   { scheme: 'loop', alpha: 0, beta: 0 },
@@ -61,66 +37,13 @@ const SCHEMES = [
 ];
 const label = (s) => s.scheme + (s.alpha === 0 ? ' (plain)' : '');
 
-// Seeded PRNG (mulberry32).
-function rng(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
 function randomPositions(n, seed, scale = 1) {
   const r = rng(seed);
   return Float64Array.from({ length: 3 * n }, () => (2 * r() - 1) * scale);
 }
 
-// Random vertex order, faces shuffled and rotated (orientation kept). perm[v] = new index of v.
-function shuffleMesh(m, seed) {
-  const r = rng(seed);
-  const nv = m.positions.length / 3, nf = m.faces.length / 3;
-  const perm = Array.from({ length: nv }, (_, i) => i);
-  for (let i = nv - 1; i > 0; --i) {
-    const j = Math.floor(r() * (i + 1));
-    [perm[i], perm[j]] = [perm[j], perm[i]];
-  }
-  const positions = new Float64Array(m.positions.length);
-  for (let v = 0; v < nv; ++v) for (let k = 0; k < 3; ++k) positions[3 * perm[v] + k] = m.positions[3 * v + k];
-  const order = Array.from({ length: nf }, (_, i) => i);
-  for (let i = nf - 1; i > 0; --i) {
-    const j = Math.floor(r() * (i + 1));
-    [order[i], order[j]] = [order[j], order[i]];
-  }
-  const faces = new Uint32Array(m.faces.length);
-  order.forEach((f, i) => {
-    const rot = Math.floor(r() * 3);
-    for (let k = 0; k < 3; ++k) faces[3 * i + k] = perm[m.faces[3 * f + (k + rot) % 3]];
-  });
-  return { mesh: { positions, faces }, perm };
-}
-
-const maxAbs = (a) => a.reduce((m, x) => Math.max(m, Math.abs(x)), 0);
-function maxDiff(a, b) {
-  assert.equal(a.length, b.length);
-  let m = 0;
-  for (let i = 0; i < a.length; ++i) m = Math.max(m, Math.abs(a[i] - b[i]));
-  return m;
-}
-
-// Throws a MrvolError whose message is exactly `message` (or matches a RegExp).
-function throwsMrvol(fn, message) {
-  assert.throws(fn, (e) => {
-    assert.ok(e instanceof MrvolError, `expected a MrvolError, got ${e?.constructor?.name}: ${e?.message}`);
-    assert.ok(e instanceof Error);
-    assert.equal(e.name, 'MrvolError');
-    if (message instanceof RegExp) assert.match(e.message, message);
-    else if (message !== undefined) assert.equal(e.message, message);
-    return true;
-  });
-}
+// Errors of the API are MrvolErrors, Errors named 'MrvolError'.
+const throwsMrvol = (fn, message) => throwsMrvolError(fn, message, { named: true });
 
 // ---- tests -------------------------------------------------------------------------------------
 
@@ -139,7 +62,7 @@ describe('OBJ text', () => {
   });
 
   test('writeObj -> readObj keeps vertex order and exact coordinates', () => {
-    const m = shuffleMesh(torus(), 3).mesh;
+    const m = shuffleMesh(torus(), 3, { shuffleFaces: true }).mesh;
     const r = rng(5);
     for (let i = 0; i < m.positions.length; ++i) m.positions[i] = m.positions[i] / 3 + (r() - 0.5) * 1e-9;
     m.positions[0] = 1e-300;
@@ -248,7 +171,7 @@ describe('subdivide and openMesh', () => {
       const levels = c.V.length - 1;
       const built = mrvol.subdivide(c.base(), { levels });
       for (const seed of [1, 2]) {
-        const { mesh: m, perm } = shuffleMesh(built.toMesh(), seed);
+        const { mesh: m, perm } = shuffleMesh(built.toMesh(), seed, { shuffleFaces: true });
         const mr = mrvol.openMesh(m);
         assert.equal(mr.levels, levels, c.name);
         assert.equal(mr.vertexCount, c.V[levels]);
@@ -277,7 +200,7 @@ describe('subdivide and openMesh', () => {
 
   test('openMesh honours maxLevels; a base mesh has 0 levels', () => {
     const built = mrvol.subdivide(icosahedron(), { levels: 3 });
-    const m = shuffleMesh(built.toMesh(), 4).mesh;
+    const m = shuffleMesh(built.toMesh(), 4, { shuffleFaces: true }).mesh;
     for (let maxLevels = 0; maxLevels <= 4; ++maxLevels) {
       const mr = mrvol.openMesh(m, { maxLevels });
       assert.equal(mr.levels, Math.min(3, maxLevels));
@@ -295,7 +218,8 @@ describe('wavelet transforms', () => {
   test('analyze/synthesize reconstruct random positions for every scheme and level', () => {
     for (const [name, base, levels] of [['icosahedron', icosahedron, 3], ['torus', torus, 2], ['open patch', openPatch, 2]]) {
       const built = mrvol.subdivide(base(), { levels });
-      const { mesh: m } = shuffleMesh({ positions: randomPositions(built.vertexCount, 11), faces: built.faces() }, 7);
+      const { mesh: m } = shuffleMesh({ positions: randomPositions(built.vertexCount, 11), faces: built.faces() }, 7,
+        { shuffleFaces: true });
       built.delete();
       const mr = mrvol.openMesh(m, { maxLevels: levels });
       assert.equal(mr.levels, levels);

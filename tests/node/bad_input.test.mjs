@@ -4,17 +4,14 @@
 // exits with status 1; usage errors exit with status 2.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
 import { readFileSync, readdirSync } from 'node:fs';
 import { availableParallelism } from 'node:os';
 import { join } from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
+import { ROOT as root, runCli } from './helpers.mjs';
 
-const root = fileURLToPath(new URL('../../', import.meta.url));
 const badDir = 'tests/data/bad';
 const goodDir = 'tests/data/good';
-const cli = join(root, 'bin/mrvol.mjs');
 
 const manifest = JSON.parse(readFileSync(join(root, badDir, 'expected.json'), 'utf8')).files;
 const badFiles = Object.keys(manifest).sort();
@@ -103,16 +100,8 @@ test('accepted-but-odd files read exactly like the plain octahedron', () => {
 
 // ---- the command line ---------------------------------------------------------------------------
 
-function runCli(args) {
-  return new Promise((resolve, reject) => {
-    const child = spawn(process.execPath, [cli, ...args], { cwd: root, stdio: ['ignore', 'pipe', 'pipe'] });
-    let stdout = '', stderr = '';
-    child.stdout.setEncoding('utf8').on('data', (d) => { stdout += d; });
-    child.stderr.setEncoding('utf8').on('data', (d) => { stderr += d; });
-    child.on('error', reject);
-    child.on('close', (status, signal) => resolve({ status, signal, stdout, stderr }));
-  });
-}
+// Runs from the repository root: the paths below are relative to it.
+const mrvolCli = (args) => runCli(args, { cwd: root });
 
 // Runs every job, `limit` at a time, keeping the order of the results.
 async function inParallel(items, limit, job) {
@@ -130,7 +119,7 @@ async function inParallel(items, limit, job) {
 
 test('mrvol info FILE --json: exit status 1, nothing on stdout, one line on stderr', async (t) => {
   const paths = badFiles.map((name) => `${badDir}/${name}`);
-  const results = await inParallel(paths, Math.max(2, availableParallelism()), (path) => runCli(['info', path, '--json']));
+  const results = await inParallel(paths, Math.max(2, availableParallelism()), (path) => mrvolCli(['info', path, '--json']));
   for (const [i, name] of badFiles.entries()) {
     await t.test(name, () => {
       const { status, signal, stdout, stderr } = results[i];
@@ -161,7 +150,7 @@ test('mrvol usage errors exit with status 2', async (t) => {
     { args: ['roundtrip', good, '--level='], stderr: "mrvol: error: --level expects an integer, got ''" },
     { args: ['roundtrip', good, '--level'], stderr: "mrvol: error: Option '--level <value>' argument missing" },
   ];
-  const results = await inParallel(cases, Math.max(2, availableParallelism()), (c) => runCli(c.args));
+  const results = await inParallel(cases, Math.max(2, availableParallelism()), (c) => mrvolCli(c.args));
   for (const [i, c] of cases.entries()) {
     await t.test(`mrvol ${c.args.join(' ')}`, () => {
       const { status, stdout, stderr } = results[i];
@@ -174,8 +163,8 @@ test('mrvol usage errors exit with status 2', async (t) => {
 
 test('mrvol run-time errors that are not about usage exit with status 1', async () => {
   const [missing, level] = await Promise.all([
-    runCli(['info', `${badDir}/no-such-file.obj`]),
-    runCli(['roundtrip', `${goodDir}/octahedron.obj`, '--level', '99']),
+    mrvolCli(['info', `${badDir}/no-such-file.obj`]),
+    mrvolCli(['roundtrip', `${goodDir}/octahedron.obj`, '--level', '99']),
   ]);
   assert.equal(missing.status, 1);
   assert.equal(missing.stdout, '');

@@ -3,73 +3,21 @@
 // paths and stored theta files, free sets, --no-preserve, and the error contract (exit 1 with one
 // line `mrvol: error: ...`, exit 2 on bad usage, no output file either way). Independent runs go
 // in parallel.
-import { test, describe, before, after } from 'node:test';
+import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
-import { execFile } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync, readFileSync, existsSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { join } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { writeFileSync, existsSync } from 'node:fs';
 import { createMrvol } from '../../lib/node.mjs';
+import { tempFolder, runCli, json, failsWith, usageError, model, readObjFile, openPatch, relErr, maxDiff } from './helpers.mjs';
 
-const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
-const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
-const model = (name) => join(MODELS, `${name}.obj`);
+const mrvolCli = (...args) => runCli(args, { timeout: 60000 });
 
-function mrvolCli(...args) {
-  return new Promise((resolve, reject) => {
-    execFile(process.execPath, [CLI, ...args], { encoding: 'utf8', timeout: 60000 }, (error, stdout, stderr) => {
-      if (error && typeof error.code !== 'number') reject(error);
-      else resolve({ status: error ? error.code : 0, stdout, stderr });
-    });
-  });
-}
-
-function json(r) {
-  assert.equal(r.status, 0, `exit ${r.status}: ${r.stderr}`);
-  assert.equal(r.stderr, '');
-  const lines = r.stdout.trimEnd().split('\n');
-  assert.equal(lines.length, 1, 'one line of JSON');
-  return JSON.parse(lines[0]);
-}
-
-// Exit 1 and exactly one stderr line `mrvol: error: ...`; nothing on stdout.
-function failsWith(r, pattern) {
-  assert.equal(r.status, 1, `expected exit 1, got ${r.status}; stderr: ${r.stderr}`);
-  assert.equal(r.stdout, '');
-  assert.ok(r.stderr.endsWith('\n'));
-  const lines = r.stderr.slice(0, -1).split('\n');
-  assert.equal(lines.length, 1, `one stderr line, got: ${r.stderr}`);
-  assert.match(lines[0], /^mrvol: error: \S/);
-  if (pattern) assert.match(lines[0], pattern);
-}
-
-function usageError(r, pattern) {
-  assert.equal(r.status, 2, `expected exit 2, got ${r.status}; stderr: ${r.stderr}`);
-  assert.equal(r.stdout, '');
-  if (pattern) assert.match(r.stderr.split('\n')[0], pattern);
-}
-
-const relErr = (a, b) => Math.abs(a - b) / Math.abs(b);
-function maxDiff(a, b) {
-  assert.equal(a.length, b.length);
-  let m = 0;
-  for (let i = 0; i < a.length; ++i) m = Math.max(m, Math.abs(a[i] - b[i]));
-  return m;
-}
-
-let mrvol, dir;
-const file = (name) => join(dir, name);
-const readMesh = (path) => mrvol.readObj(readFileSync(path, 'utf8'));
+let mrvol;
+const file = tempFolder('mrvol-edit-test-');
+const readMesh = (path) => readObjFile(mrvol, path);
 const EDIT_FIELDS = ['volumeReference', 'volumeTarget', 'volumeResult', 'relativeError', 'iterations', 'stepMs', 'path'];
 
 before(async () => {
   mrvol = await createMrvol();
-  dir = mkdtempSync(join(tmpdir(), 'mrvol-edit-test-'));
-});
-
-after(() => {
-  if (dir) rmSync(dir, { recursive: true, force: true });
 });
 
 // ---- results ------------------------------------------------------------------------------------
@@ -239,15 +187,7 @@ describe('theta files and free sets', () => {
 describe('edit errors', () => {
   before(() => {
     // The hexagon fan with an outer ring (12 boundary edges), subdivided once.
-    const p = [0, 0, 0.3], f = [];
-    for (let k = 0; k < 6; ++k) p.push(Math.cos(k * Math.PI / 3), Math.sin(k * Math.PI / 3), 0.1 * k);
-    for (let k = 0; k < 12; ++k) p.push(2 * Math.cos(k * Math.PI / 6), 2 * Math.sin(k * Math.PI / 6), -0.05 * k);
-    for (let k = 0; k < 6; ++k) f.push(0, 1 + k, 1 + (k + 1) % 6);
-    for (let k = 0; k < 6; ++k) {
-      const in0 = 1 + k, in1 = 1 + (k + 1) % 6, o0 = 7 + 2 * k, o1 = 7 + 2 * k + 1, o2 = 7 + (2 * k + 2) % 12;
-      f.push(in0, o0, o1, in0, o1, in1, in1, o1, o2);
-    }
-    const mr = mrvol.subdivide({ positions: Float64Array.from(p), faces: Uint32Array.from(f) }, { levels: 1 });
+    const mr = mrvol.subdivide(openPatch(), { levels: 1 });
     writeFileSync(file('patch.obj'), mrvol.writeObj(mr.toMesh()));
     mr.delete();
   });

@@ -1,94 +1,22 @@
 // The mrvol command line (bin/mrvol.mjs) run as a child process: info, subdivide and roundtrip
 // with --json, and the error contract (exit 1 with one line `mrvol: error: ...`, exit 2 on bad
 // usage). Test meshes are made with the JS API and written to a fresh temporary folder.
-import { test, describe, before, after } from 'node:test';
+import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawnSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync, readFileSync, existsSync } from 'node:fs';
-import { tmpdir } from 'node:os';
+import { writeFileSync, readFileSync, existsSync } from 'node:fs';
 import { join } from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { createMrvol } from '../../lib/node.mjs';
+import { tempFolder, runCliSync, json, failsWith, usageError, icosahedron, rng, shuffleMesh } from './helpers.mjs';
 
-const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
+// The CLI waits at most 30 s per run here.
+const mrvolCli = (...args) => runCliSync(args, { timeout: 30000 });
 
-function mrvolCli(...args) {
-  const r = spawnSync(process.execPath, [CLI, ...args], { encoding: 'utf8', timeout: 30000 });
-  if (r.error) throw r.error;
-  return { status: r.status, stdout: r.stdout, stderr: r.stderr };
-}
-
-function json(r) {
-  assert.equal(r.status, 0, `exit ${r.status}: ${r.stderr}`);
-  assert.equal(r.stderr, '');
-  const lines = r.stdout.trimEnd().split('\n');
-  assert.equal(lines.length, 1, 'one line of JSON');
-  return JSON.parse(lines[0]);
-}
-
-// Exit 1 and exactly one stderr line `mrvol: error: ...`; nothing on stdout.
-function failsWith(r, pattern) {
-  assert.equal(r.status, 1, `expected exit 1, got ${r.status}; stderr: ${r.stderr}`);
-  assert.equal(r.stdout, '');
-  assert.ok(r.stderr.endsWith('\n'));
-  const lines = r.stderr.slice(0, -1).split('\n');
-  assert.equal(lines.length, 1, `one stderr line, got: ${r.stderr}`);
-  assert.match(lines[0], /^mrvol: error: \S/);
-  if (pattern) assert.match(lines[0], pattern);
-}
-
-function usageError(r, pattern) {
-  assert.equal(r.status, 2, `expected exit 2, got ${r.status}; stderr: ${r.stderr}`);
-  assert.equal(r.stdout, '');
-  if (pattern) assert.match(r.stderr.split('\n')[0], pattern);
-}
-
-// ---- models ------------------------------------------------------------------------------------
-
-const T = (1 + Math.sqrt(5)) / 2;
-const icosahedron = () => ({
-  positions: Float64Array.from([-1, T, 0, 1, T, 0, -1, -T, 0, 1, -T, 0, 0, -1, T, 0, 1, T, 0, -1, -T, 0, 1, -T, T, 0, -1,
-    T, 0, 1, -T, 0, -1, -T, 0, 1]),
-  faces: Uint32Array.from([0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-    3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1]),
-});
-
-// Seeded PRNG (mulberry32).
-function rng(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
-// Random vertex order; perm[v] = the new index of vertex v.
-function shuffleMesh(m, seed) {
-  const r = rng(seed), nv = m.positions.length / 3;
-  const perm = Array.from({ length: nv }, (_, i) => i);
-  for (let i = nv - 1; i > 0; --i) {
-    const j = Math.floor(r() * (i + 1));
-    [perm[i], perm[j]] = [perm[j], perm[i]];
-  }
-  const positions = new Float64Array(m.positions.length);
-  for (let v = 0; v < nv; ++v) for (let k = 0; k < 3; ++k) positions[3 * perm[v] + k] = m.positions[3 * v + k];
-  return { mesh: { positions, faces: m.faces.map((i) => perm[i]) }, perm };
-}
-
-let mrvol, dir;
-const file = (name) => join(dir, name);
+let mrvol;
+const file = tempFolder('mrvol-cli-test-');
 
 before(async () => {
   mrvol = await createMrvol();
-  dir = mkdtempSync(join(tmpdir(), 'mrvol-cli-test-'));
   writeFileSync(file('ico.obj'), mrvol.writeObj(icosahedron()));
-});
-
-after(() => {
-  if (dir) rmSync(dir, { recursive: true, force: true });
 });
 
 // ---- info --------------------------------------------------------------------------------------
@@ -238,7 +166,7 @@ describe('errors', () => {
   });
 
   test('output that cannot be written: exit 1', () => {
-    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', join(dir, 'no', 'such', 'dir.obj')), /cannot write/);
+    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file(join('no', 'such', 'dir.obj'))), /cannot write/);
   });
 
   test('bad usage: exit 2', () => {

@@ -6,71 +6,13 @@
 // meshes, and the errors and life cycle of editors.
 import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { createMrvol, MrvolError } from '../../lib/node.mjs';
+import { createMrvol } from '../../lib/node.mjs';
+import { loadModel, openPatch, rng, shuffleMesh, relErr, maxDiff, maxAbs, throwsMrvol } from './helpers.mjs';
 
-const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
-
-// Seeded PRNG (mulberry32).
-function rng(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
-// Random vertex order; perm[v] = the new index of vertex v.
-function shuffleMesh(m, seed) {
-  const r = rng(seed), nv = m.positions.length / 3;
-  const perm = Array.from({ length: nv }, (_, i) => i);
-  for (let i = nv - 1; i > 0; --i) {
-    const j = Math.floor(r() * (i + 1));
-    [perm[i], perm[j]] = [perm[j], perm[i]];
-  }
-  const positions = new Float64Array(m.positions.length);
-  for (let v = 0; v < nv; ++v) for (let k = 0; k < 3; ++k) positions[3 * perm[v] + k] = m.positions[3 * v + k];
-  return { mesh: { positions, faces: m.faces.map((i) => perm[i]) }, perm };
-}
-
-// Hexagon fan plus an outer ring of 12: an open mesh with 12 boundary edges (the outer ring).
-function openPatch() {
-  const p = [0, 0, 0.3], f = [];
-  for (let k = 0; k < 6; ++k) p.push(Math.cos(k * Math.PI / 3), Math.sin(k * Math.PI / 3), 0.1 * k);
-  for (let k = 0; k < 12; ++k) p.push(2 * Math.cos(k * Math.PI / 6), 2 * Math.sin(k * Math.PI / 6), -0.05 * k);
-  for (let k = 0; k < 6; ++k) f.push(0, 1 + k, 1 + (k + 1) % 6);
-  for (let k = 0; k < 6; ++k) {
-    const in0 = 1 + k, in1 = 1 + (k + 1) % 6, o0 = 7 + 2 * k, o1 = 7 + 2 * k + 1, o2 = 7 + (2 * k + 2) % 12;
-    f.push(in0, o0, o1, in0, o1, in1, in1, o1, o2);
-  }
-  return { positions: Float64Array.from(p), faces: Uint32Array.from(f) };
-}
-
-const relErr = (a, b) => Math.abs(a - b) / Math.abs(b);
-function maxDiff(a, b) {
-  assert.equal(a.length, b.length);
-  let m = 0;
-  for (let i = 0; i < a.length; ++i) m = Math.max(m, Math.abs(a[i] - b[i]));
-  return m;
-}
-const maxAbs = (a) => a.reduce((m, x) => Math.max(m, Math.abs(x)), 0);
 // Bitwise equality of two Float64Arrays (faster than deepEqual, and -0 !== 0 counts).
 function sameBits(a, b) {
   if (a.length !== b.length) return false;
   return Buffer.compare(Buffer.from(a.buffer, a.byteOffset, a.byteLength), Buffer.from(b.buffer, b.byteOffset, b.byteLength)) === 0;
-}
-
-function throwsMrvol(fn, message) {
-  assert.throws(fn, (e) => {
-    assert.ok(e instanceof MrvolError, `expected a MrvolError, got ${e?.constructor?.name}: ${e?.message}`);
-    if (message instanceof RegExp) assert.match(e.message, message);
-    else if (message !== undefined) assert.equal(e.message, message);
-    return true;
-  });
 }
 
 let mrvol;
@@ -78,7 +20,7 @@ const meshes = {};
 before(async () => {
   mrvol = await createMrvol();
   for (const name of ['icosahedron', 'spiky-ball', 'torus', 'blob'])
-    meshes[name] = mrvol.readObj(readFileSync(`${MODELS}${name}.obj`, 'utf8'));
+    meshes[name] = loadModel(mrvol, name);
 });
 
 // Random moves of 1 to 3 distinct cage vertices, offsets up to `size` per coordinate.

@@ -5,54 +5,13 @@
 // and the CLI commands `volume` and `theta`.
 import { test, describe, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawnSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync, readFileSync, existsSync, statSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { createMrvol, MrvolError } from '../../lib/node.mjs';
-
-const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
-const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
-const model = (name) => join(MODELS, `${name}.obj`);
+import { writeFileSync, readFileSync, existsSync, statSync } from 'node:fs';
+import { createMrvol } from '../../lib/node.mjs';
+import {
+  tempFolder, runCliSync, json, failsWith, usageError, model, loadModel as loadModelWith, octahedron, rng, shuffleMesh, relErr, throwsMrvol,
+} from './helpers.mjs';
 
 const SCHEMES = ['loop', 'butterfly', 'linear'];
-
-// Seeded PRNG (mulberry32).
-function rng(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
-// Random vertex order; perm[v] = the new index of vertex v.
-function shuffleMesh(m, seed) {
-  const r = rng(seed), nv = m.positions.length / 3;
-  const perm = Array.from({ length: nv }, (_, i) => i);
-  for (let i = nv - 1; i > 0; --i) {
-    const j = Math.floor(r() * (i + 1));
-    [perm[i], perm[j]] = [perm[j], perm[i]];
-  }
-  const positions = new Float64Array(m.positions.length);
-  for (let v = 0; v < nv; ++v) for (let k = 0; k < 3; ++k) positions[3 * perm[v] + k] = m.positions[3 * v + k];
-  return { positions, faces: m.faces.map((i) => perm[i]) };
-}
-
-const relErr = (a, b) => Math.abs(a - b) / Math.abs(b);
-
-function throwsMrvol(fn, message) {
-  assert.throws(fn, (e) => {
-    assert.ok(e instanceof MrvolError, `expected a MrvolError, got ${e?.constructor?.name}: ${e?.message}`);
-    if (message instanceof RegExp) assert.match(e.message, message);
-    else if (message !== undefined) assert.equal(e.message, message);
-    return true;
-  });
-}
 
 // The theta file layout (format version 1, little-endian), as written by wasm/core/src/theta_file.cpp:
 // 'MRVOLTHT', u32 version @8, u32 header size (96) @12, u8 scheme @16, u8 storage @17, u8 index
@@ -122,53 +81,15 @@ function directTensor(mr, level, scheme) {
   return T;
 }
 
-function mrvolCli(...args) {
-  const r = spawnSync(process.execPath, [CLI, ...args], { encoding: 'utf8', timeout: 60000 });
-  if (r.error) throw r.error;
-  return { status: r.status, stdout: r.stdout, stderr: r.stderr };
-}
+const mrvolCli = (...args) => runCliSync(args, { timeout: 60000 });
 
-function json(r) {
-  assert.equal(r.status, 0, `exit ${r.status}: ${r.stderr}`);
-  assert.equal(r.stderr, '');
-  const lines = r.stdout.trimEnd().split('\n');
-  assert.equal(lines.length, 1, 'one line of JSON');
-  return JSON.parse(lines[0]);
-}
-
-// Exit 1 and exactly one stderr line `mrvol: error: ...`; nothing on stdout.
-function failsWith(r, pattern) {
-  assert.equal(r.status, 1, `expected exit 1, got ${r.status}; stderr: ${r.stderr}`);
-  assert.equal(r.stdout, '');
-  assert.ok(r.stderr.endsWith('\n'));
-  const lines = r.stderr.slice(0, -1).split('\n');
-  assert.equal(lines.length, 1, `one stderr line, got: ${r.stderr}`);
-  assert.match(lines[0], /^mrvol: error: \S/);
-  if (pattern) assert.match(lines[0], pattern);
-}
-
-function usageError(r, pattern) {
-  assert.equal(r.status, 2, `expected exit 2, got ${r.status}; stderr: ${r.stderr}`);
-  assert.equal(r.stdout, '');
-  if (pattern) assert.match(r.stderr.split('\n')[0], pattern);
-}
-
-let mrvol, dir;
-const file = (name) => join(dir, name);
-const loadModel = (name) => mrvol.readObj(readFileSync(model(name), 'utf8'));
+let mrvol;
+const file = tempFolder('mrvol-theta-test-');
+const loadModel = (name) => loadModelWith(mrvol, name);
 const icosahedron = () => loadModel('icosahedron');
-const octahedron = () => ({
-  positions: Float64Array.from([1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1]),
-  faces: Uint32Array.from([0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5]),
-});
 
 before(async () => {
   mrvol = await createMrvol();
-  dir = mkdtempSync(join(tmpdir(), 'mrvol-theta-test-'));
-});
-
-after(() => {
-  if (dir) rmSync(dir, { recursive: true, force: true });
 });
 
 // ---- the tensor volume ---------------------------------------------------------------------------
@@ -465,7 +386,7 @@ describe('theta files', () => {
     throwsMrvol(() => octa.thetaVolume(t, { level: 1 }), otherMessage);
     octa.delete();
     // The same mesh with its vertices in another order: same counts, other connectivity.
-    const shuffled = mrvol.openMesh(shuffleMesh(mr.toMesh(), 5));
+    const shuffled = mrvol.openMesh(shuffleMesh(mr.toMesh(), 5).mesh);
     assert.equal(shuffled.levels, 2);
     assert.notEqual(shuffled.fingerprint(), mr.fingerprint());
     throwsMrvol(() => shuffled.thetaVolume(t, { level: 1 }), otherMessage);
