@@ -98,4 +98,43 @@ describe('teaching views', { timeout: 120_000 }, () => {
     await shot('ball');
     assert.deepEqual(page.problems, []);
   });
+
+  test('#demo/skinning: a skeleton drives the cage; linear blend skinning loses volume, the correction keeps it', async () => {
+    await open('demo/skinning');
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 8.*section 5/s);
+    await page.click('[data-testid="demo-play"]');
+    let s = await state();
+    assert.equal(s.vertices, 674);
+    assert.equal(s.cageSize, 44);
+    await page.evaluate(() => window.mrvolLearn.act('run', 75, 1 / 30)); // 2.5 s of animation
+    s = await state();
+    assert.equal(s.failures, 0);
+    assert.ok(s.minRatio < 0.97, `skinning alone changes the volume (min ratio ${s.minRatio})`);
+    assert.ok(s.maxError <= 1.01e-5, `preserved within 1e-5 (worst ${s.maxError})`);
+    assert.ok(await inkFraction() > 0.03);
+    await shot('skinning');
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('#learn/tensor: theta^l for l = n..0 read from the live tensors, blocks by depth and coarse count', async () => {
+    await open('learn/tensor');
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 4.*section 3\.1/s);
+    let s = await state();
+    assert.equal(s.n, 2);
+    assert.equal(s.N, 66);
+    assert.deepEqual(s.levels.map((x) => x.level), [2, 1, 0]);
+    for (const level of s.levels) {
+      assert.equal(level.stored, level.nnzStored, 'every stored entry is read back from the file');
+      assert.equal(6 * level.stored, level.nnzFull, 'alternating: six orderings per stored entry');
+    }
+    assert.deepEqual(s.levels[0].classCounts.slice(0, 3), [0, 0, 0], 'at the fine level every index is coarse');
+    assert.ok(s.levels[2].classCounts[0] > 0 && s.levels[2].stored > s.levels[0].stored, 'theta^0 fills in, with detail-only entries');
+    assert.equal(await page.locator('canvas[data-testid^="tensor-slab-"]').count(), 9);
+    await shot('tensor');
+    await page.selectOption('[data-testid="tensor-scheme"]', 'linear');
+    await page.waitForFunction(() => window.mrvolLearn.state()?.scheme === 'linear');
+    s = await state();
+    assert.equal(6 * s.levels[2].stored, s.levels[2].nnzFull);
+    assert.deepEqual(page.problems, []);
+  });
 });

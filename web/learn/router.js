@@ -8,8 +8,8 @@ import './learn.css';
 export const VIEWS = [
   { route: 'learn/levels', title: 'Levels', load: () => import('./levels.js') },
   { route: 'demo/ball', title: 'Bouncing ball', load: () => import('./ball.js') },
-  // { route: 'demo/skinning', title: 'Skinning', load: () => import('./skinning.js') },
-  // { route: 'learn/tensor', title: 'Volume tensor', load: () => import('./tensor.js') },
+  { route: 'demo/skinning', title: 'Skinning', load: () => import('./skinning.js') },
+  { route: 'learn/tensor', title: 'Volume tensor', load: () => import('./tensor.js') },
   // { route: 'demo/bunny', title: 'Pulling ears', load: () => import('./bunny.js') },
 ];
 

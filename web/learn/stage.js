@@ -137,8 +137,10 @@ export function bounds(positions) {
   const box = new THREE.Box3();
   const p = new THREE.Vector3();
   for (let i = 0; i < positions.length; i += 3) box.expandByPoint(p.fromArray(positions, i));
-  const sphere = box.getBoundingSphere(new THREE.Sphere());
-  return { center: sphere.center.toArray(), radius: Math.max(sphere.radius, 1e-6) };
+  const center = box.getCenter(new THREE.Vector3());
+  let r2 = 0;
+  for (let i = 0; i < positions.length; i += 3) r2 = Math.max(r2, center.distanceToSquared(p.fromArray(positions, i)));
+  return { center: center.toArray(), radius: Math.max(Math.sqrt(r2), 1e-6) };
 }
 
 /** A shaded surface; colors (3 per vertex, 0..1) optional. update() takes new positions. */

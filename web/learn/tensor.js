@@ -1,0 +1,202 @@
+// #learn/tensor: the block structure of the volume tensors theta^l, l = n .. e (Figure 4, paper
+// section 3.1), from live tensors: computeTheta({ level: l, storage: 'full' }) for every l, read
+// back from theta.bytes() (the theta file: 96-byte header, then the CSR arrays; layout in
+// wasm/core/src/theta_file.cpp). Indices are in hierarchy order, grouped by depth; an entry's
+// colour says how many of its three indices are coarse at level l.
+import { explain, control, select, readoutTable } from './stage.js';
+
+const CLASS_COLORS = ['#2da44e', '#d4a72c', '#54aeff', '#0b3d91']; // 0, 1, 2, 3 coarse indices
+const CLASS_NAMES = ['no coarse index (details only)', '1 coarse', '2 coarse', '3 coarse'];
+
+const OCTAHEDRON = {
+  positions: Float64Array.from([1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1]),
+  faces: Uint32Array.from([0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5]),
+};
+const TETRAHEDRON = {
+  positions: Float64Array.from([1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1]),
+  faces: Uint32Array.from([0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2]),
+};
+
+/**
+ * The arrays of a theta file (little-endian): { vertexCount, level, storage, rowStart, pairJ,
+ * pairStart, k, values, nnzFull }.
+ */
+export function parseThetaFile(bytes) {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const headerBytes = view.getUint32(12, true);
+  const indexBytes = view.getUint8(18);
+  const level = view.getUint32(24, true);
+  const vertexCount = view.getUint32(28, true);
+  const nnzFull = Number(view.getBigUint64(56, true));
+  const rows = Number(view.getBigUint64(64, true));
+  const pairs = Number(view.getBigUint64(72, true));
+  const entries = Number(view.getBigUint64(80, true));
+  let at = headerBytes;
+  const take = (Type, count) => {
+    const out = new Type(bytes.slice(at, at + count * Type.BYTES_PER_ELEMENT).buffer);
+    at += count * Type.BYTES_PER_ELEMENT;
+    return out;
+  };
+  const rowStart = take(Uint32Array, rows + 1);
+  const pairJ = take(Uint32Array, pairs);
+  const pairStart = take(Uint32Array, pairs + 1);
+  const k = take(indexBytes === 2 ? Uint16Array : Uint32Array, entries);
+  at = Math.ceil(at / 8) * 8;
+  const values = take(Float64Array, entries);
+  return { vertexCount, level, storage: view.getUint8(17) ? 'full' : 'cage', rows, rowStart, pairJ, pairStart, k, values, nnzFull };
+}
+
+export async function mount({ mrvol, layout, el }) {
+  explain(layout.text, 'The volume tensors θˡ (Figure 4, section 3.1)', [
+    'At the fine level the volume is a trilinear form Θ = Σ θ<sup>n</sup><sub>ijk</sub> x<sub>i</sub> y<sub>j</sub> z<sub>k</sub>: ' +
+      'θ<sup>n</sup><sub>ijk</sub> = ±1/6 when ijk is a triangle. Since synthesis is linear, the volume is also a trilinear ' +
+      'form of the level-l coefficients; θ<sup>l−1</sup> comes from θ<sup>l</sup> by applying the transposed synthesis ' +
+      'filters (S<sup>l</sup>)<sup>T</sup>, (C<sup>l</sup>)<sup>T</sup> along each of the three axes (section 3.1, Figure 4).',
+    'Each row of pictures is one live tensor θ<sup>l</sup> of the mesh below, computed by the core with every entry kept. ' +
+      'Indices are sorted by depth (the level where a vertex is born; grey lines separate the groups). One picture per group of ' +
+      'the third index k shows which (i, j) have a non-zero θ<sub>ijk</sub> (all orderings), coloured by how many of ' +
+      'i, j, k are <b>coarse</b> (depth ≤ l) — the rest are details.',
+    'From θ<sup>n</sup> to θ<sup>e</sup> the tensor fills in (section 3.2). It is alternating, so only i &lt; j &lt; k is ' +
+      'stored; and when only coarse vertices move (the free set F of section 4), the green entries (no coarse index) ' +
+      'are a constant and need not be stored at all.',
+  ]);
+  const meshes = {
+    'octahedron, n = 2': () => mrvol.subdivide(OCTAHEDRON, { levels: 2 }),
+    'tetrahedron, n = 3': () => mrvol.subdivide(TETRAHEDRON, { levels: 3 }),
+    'icosahedron, n = 2': async () => {
+      const text = await (await fetch(`${import.meta.env.BASE_URL}models/icosahedron.obj`)).text();
+      return mrvol.subdivide(mrvol.readObj(text), { levels: 2 });
+    },
+  };
+  const s = { mesh: 'octahedron, n = 2', scheme: 'loop', allOrderings: true };
+  const meshSelect = control(layout.controls, 'mesh', select(Object.keys(meshes).map((k) => [k, k]), s.mesh, 'tensor-mesh'));
+  const schemeSelect = control(layout.controls, 'scheme', select(['loop', 'butterfly', 'linear'].map((k) => [k, k]), s.scheme, 'tensor-scheme'));
+  const legend = el('div', { class: 'legend' });
+  CLASS_COLORS.forEach((c, i) => {
+    const item = el('span', {}, el('i', { style: `background:${c}` }), CLASS_NAMES[i]);
+    legend.append(item);
+  });
+  layout.controls.append(legend);
+  const set = readoutTable(layout.readouts, [['mesh', 'tensor-info'], ['computed in', 'tensor-ms']]);
+  const tableBox = el('div', { testid: 'tensor-blocks' });
+  layout.readouts.append(tableBox);
+  const grid = el('div', { class: 'tensor-grid', testid: 'tensor-grid' });
+  layout.stage.append(grid);
+  let result = null;
+
+  async function build() {
+    const mr = await meshes[s.mesh]();
+    try {
+      const n = mr.levels;
+      const depthsSorted = Uint8Array.from(mr.depths()).sort(); // hierarchy order is by depth
+      const N = depthsSorted.length;
+      const groupStart = [];
+      for (let g = 0; g <= n; g++) groupStart.push(depthsSorted.indexOf(g));
+      groupStart.push(N);
+      grid.replaceChildren();
+      tableBox.replaceChildren();
+      const started = performance.now();
+      const levels = [];
+      for (let l = n; l >= 0; l--) {
+        const theta = mr.computeTheta({ level: l, storage: 'full', scheme: s.scheme });
+        const info = theta.info();
+        const file = parseThetaFile(theta.bytes());
+        theta.delete();
+        levels.push(draw(l, file, info, depthsSorted, groupStart, n));
+      }
+      result = { n, N, levels, ms: performance.now() - started };
+      set('tensor-info', `${s.mesh}: N = ${N}, levels ${n} → 0, ${s.scheme}`);
+      set('tensor-ms', `${result.ms.toFixed(0)} ms for ${n + 1} tensors`, result.ms);
+    } finally {
+      mr.delete();
+    }
+  }
+
+  function draw(l, file, info, depth, groupStart, n) {
+    const N = file.vertexCount;
+    const groups = n + 1;
+    const pixels = Array.from({ length: groups }, () => new Uint32Array(N * N)); // count per (slab, i, j)
+    const classCounts = [0, 0, 0, 0];
+    const blockCounts = new Map(); // "ga,gb,gc" (sorted groups) -> stored entries
+    const coarse = (v) => (depth[v] <= l ? 1 : 0);
+    for (let i = 0; i < file.rows; i++)
+      for (let p = file.rowStart[i]; p < file.rowStart[i + 1]; p++) {
+        const j = file.pairJ[p];
+        for (let t = file.pairStart[p]; t < file.pairStart[p + 1]; t++) {
+          const k = file.k[t];
+          if (file.values[t] === 0) continue;
+          classCounts[coarse(i) + coarse(j) + coarse(k)]++;
+          const key = [depth[i], depth[j], depth[k]].join(',');
+          blockCounts.set(key, (blockCounts.get(key) ?? 0) + 1);
+          // every ordering: the third index picks the slab, the other two the pixel
+          for (const [a, b, c] of [[i, j, k], [j, i, k], [i, k, j], [k, i, j], [j, k, i], [k, j, i]]) {
+            if (!s.allOrderings && !(a < b && b < c)) continue;
+            pixels[depth[c]][a * N + b]++;
+          }
+        }
+      }
+    const scale = Math.max(1, Math.floor(200 / N));
+    const row = el('div', { class: 'tensor-level', testid: `tensor-level-${l}` });
+    const stored = classCounts.reduce((x, y) => x + y, 0);
+    row.append(el('h3', { text: `θ${sup(l)}: coarse = depth ≤ ${l} · ${stored} stored entries (i<j<k), ${info.nnzFull ?? '?'} non-zeros in all` }));
+    const slabs = el('div', { class: 'tensor-slabs' });
+    for (let g = 0; g < groups; g++) {
+      const canvas = document.createElement('canvas');
+      canvas.width = canvas.height = N * scale;
+      canvas.dataset.testid = `tensor-slab-${l}-${g}`;
+      const ctx = canvas.getContext('2d');
+      ctx.fillStyle = '#ffffff';
+      ctx.fillRect(0, 0, N * scale, N * scale);
+      let max = 1;
+      for (const c of pixels[g]) max = Math.max(max, c);
+      for (let a = 0; a < N; a++)
+        for (let b = 0; b < N; b++) {
+          const count = pixels[g][a * N + b];
+          if (!count) continue;
+          ctx.globalAlpha = 0.35 + 0.65 * Math.log1p(count) / Math.log1p(max);
+          ctx.fillStyle = CLASS_COLORS[coarse(a) + coarse(b) + (g <= l ? 1 : 0)];
+          ctx.fillRect(b * scale, a * scale, scale, scale);
+        }
+      ctx.globalAlpha = 1;
+      ctx.strokeStyle = '#8c959f';
+      ctx.lineWidth = 1;
+      for (const x of groupStart.slice(1, -1)) {
+        ctx.beginPath();
+        ctx.moveTo(x * scale + 0.5, 0); ctx.lineTo(x * scale + 0.5, N * scale);
+        ctx.moveTo(0, x * scale + 0.5); ctx.lineTo(N * scale, x * scale + 0.5);
+        ctx.stroke();
+      }
+      const kind = g <= l ? (g === 0 ? 'coarse' : `coarse (depth ${g})`) : `details d${sup(g - 1)}`;
+      slabs.append(el('figure', {}, canvas, el('figcaption', { text: `k: ${kind}` })));
+    }
+    row.append(slabs);
+    grid.append(row);
+    // Entry counts per block class, and per block of depth groups.
+    const table = el('table', { class: 'learn-block-table', testid: `tensor-table-${l}` });
+    table.append(el('tr', {}, el('th', { text: `θ${sup(l)}` }), ...CLASS_NAMES.map((name, c) => el('th', { style: `color:${CLASS_COLORS[c]}`, text: `${c} coarse` }))));
+    table.append(el('tr', {}, el('td', { text: 'stored' }), ...classCounts.map((c) => el('td', { text: String(c) }))));
+    tableBox.append(table);
+    const blocks = [...blockCounts].sort(([a], [b]) => a.localeCompare(b));
+    tableBox.append(el('div', { class: 'muted', text: `blocks (depths of i ≤ j ≤ k: entries): ${blocks.map(([k, c]) => `${k}: ${c}`).join(', ')}` }));
+    return { level: l, stored, classCounts, blocks: Object.fromEntries(blocks), nnzFull: info.nnzFull, nnzStored: info.nnzStored };
+  }
+
+  const orderings = document.createElement('input');
+  orderings.type = 'checkbox';
+  orderings.checked = true;
+  orderings.dataset.testid = 'tensor-orderings';
+  control(layout.controls, 'all orderings', orderings);
+  meshSelect.addEventListener('change', () => { s.mesh = meshSelect.value; build(); });
+  schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; build(); });
+  orderings.addEventListener('change', () => { s.allOrderings = orderings.checked; build(); });
+  await build();
+  return {
+    dispose() {},
+    debug: () => (result ? { ...result, mesh: s.mesh, scheme: s.scheme, allOrderings: s.allOrderings } : null),
+  };
+}
+
+const SUP = '⁰¹²³⁴⁵⁶⁷⁸⁹';
+function sup(n) {
+  return String(n).replace(/\d/g, (d) => SUP[d]);
+}
