@@ -125,11 +125,16 @@ function checkInput(mrvol, mesh, keepLargest) {
 // ---- the original surface as a BVH ---------------------------------------------------------------
 
 class Surface {
-  constructor(mesh) {
+  constructor(mesh, { normals = true } = {}) {
+    this.mesh = mesh;
     const geometry = new BufferGeometry();
     geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
     geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
     this.bvh = new MeshBVH(geometry);
+    this.point = new Vector3();
+    this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
+    this.ray = new Ray();
+    if (!normals) return;
     // The BVH reorders the triangles of the index: face normals follow its order.
     const index = geometry.index.array, p = mesh.positions;
     this.normals = new Float64Array(index.length);
@@ -158,9 +163,6 @@ class Surface {
       const l = Math.hypot(m[0], m[1], m[2]) || 1;
       for (let k = 0; k < 3; k++) this.smoothNormals[f + k] = m[k] / l;
     }
-    this.point = new Vector3();
-    this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
-    this.ray = new Ray();
   }
   /** Closest point: { point: Vector3, distance, faceIndex } (reused object). */
   closest(x, y, z) {
@@ -293,6 +295,72 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
   }
 }
 
+/**
+ * Tips and ridges the base mesh cut off stay cut off by the fit (rays from a midpoint do not reach
+ * them and relaxation does not spread outwards). Each input vertex farther than 0.2% of the
+ * diagonal from the result pulls the nearest corner of the closest result triangle onto itself
+ * (at most a local edge length away); those corners are then held while the others relax, and a
+ * snap that folds the surface (flipped triangles around it) is undone. Two rounds.
+ */
+function snapToFeatures(surface, positions, faces, relaxIterations) {
+  const input = surface.mesh.positions;
+  const threshold = 0.002 * boundingDiagonal(input);
+  const vertexCount = positions.length / 3;
+  const held = new Uint8Array(vertexCount);
+  const adjacency = neighbours(faces, vertexCount);
+  for (let round = 0; round < 2; round++) {
+    const result = new Surface({ positions, faces }, { normals: false });
+    const index = result.bvh.geometry.index.array;
+    const candidates = [];
+    for (let i = 0; i < input.length / 3; i++) {
+      const hit = result.closest(input[3 * i], input[3 * i + 1], input[3 * i + 2]);
+      if (hit.distance > threshold) candidates.push([hit.distance, i, hit.faceIndex]);
+    }
+    if (candidates.length === 0) break;
+    candidates.sort((a, b) => b[0] - a[0]);
+    let moved = 0;
+    const before = new Map();
+    for (const [, i, f] of candidates) {
+      let best = -1, bestDistance = Infinity;
+      for (let j = 0; j < 3; j++) {
+        const v = index[3 * f + j];
+        if (held[v]) continue;
+        const d = Math.hypot(positions[3 * v] - input[3 * i], positions[3 * v + 1] - input[3 * i + 1], positions[3 * v + 2] - input[3 * i + 2]);
+        if (d < bestDistance) best = v, bestDistance = d;
+      }
+      if (best < 0) continue;
+      // The move must stay local: no farther than the longest edge at that vertex.
+      let reach = 0;
+      for (let e = adjacency.offsets[best]; e < adjacency.offsets[best + 1]; e++) {
+        const w = adjacency.list[e];
+        reach = Math.max(reach, Math.hypot(positions[3 * w] - positions[3 * best], positions[3 * w + 1] - positions[3 * best + 1], positions[3 * w + 2] - positions[3 * best + 2]));
+      }
+      if (bestDistance > reach) continue;
+      before.set(best, positions.slice(3 * best, 3 * best + 3));
+      for (let k = 0; k < 3; k++) positions[3 * best + k] = input[3 * i + k];
+      held[best] = 1;
+      moved++;
+    }
+    if (moved === 0) break;
+    if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, held.map((h) => (h === 1 ? 1 : 0)));
+    // A snap that folds the surface is undone: the corners of flipped triangles go back.
+    for (let pass = 0; pass < 3; pass++) {
+      const flipped = flippedFaces({ positions, faces }, surface);
+      let undone = 0;
+      for (const f of flipped)
+        for (let j = 0; j < 3; j++) {
+          const v = faces[3 * f + j];
+          if (held[v] !== 1 || !before.has(v)) continue;
+          positions.set(before.get(v), 3 * v);
+          held[v] = 2;  // never snapped again
+          undone++;
+        }
+      if (undone === 0) break;
+      if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, held.map((h) => (h === 1 ? 1 : 0)));
+    }
+  }
+}
+
 // ---- measures --------------------------------------------------------------------------------------
 
 /**
@@ -327,16 +395,43 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
  * point to their centroid, or that are degenerate.
  */
 function countFlipped(mesh, surface) {
+  return flippedFaces(mesh, surface).length;
+}
+
+function flippedFaces(mesh, surface) {
   const { positions: p, faces } = mesh;
-  let flipped = 0;
-  for (let f = 0; f < faces.length; f += 3) {
-    const a = faces[f], b = faces[f + 1], c = faces[f + 2];
-    const n = triangleNormal(p, a, b, c);
-    const len = Math.hypot(n[0], n[1], n[2]);
+  const faceCount = faces.length / 3;
+  const normals = new Float64Array(faces.length);
+  for (let f = 0; f < faceCount; f++) {
+    const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
+    const l = Math.hypot(n[0], n[1], n[2]);
+    for (let k = 0; k < 3; k++) normals[3 * f + k] = l > 0 ? n[k] / l : 0;
+  }
+  // Edge-adjacent faces: the face on the other side of each directed edge.
+  const across = new Map();
+  for (let f = 0; f < faceCount; f++)
+    for (let j = 0; j < 3; j++) across.set(faces[3 * f + j] * 0x100000000 + faces[3 * f + (j + 1) % 3], f);
+  const flipped = [];
+  for (let f = 0; f < faceCount; f++) {
+    const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
+    const n = [normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]];
+    if (n[0] === 0 && n[1] === 0 && n[2] === 0) {
+      flipped.push(f);
+      continue;
+    }
     const hit = surface.closest((p[3 * a] + p[3 * b] + p[3 * c]) / 3, (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
                                 (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3);
     const m = surface.smoothNormal(hit.faceIndex);
-    if (!(len > 0) || (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]) / len < 0) flipped++;
+    if (n[0] * m[0] + n[1] * m[1] + n[2] * m[2] >= 0) continue;
+    // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
+    // tip, where the input's normal is ambiguous, has neighbours that agree with it).
+    for (let j = 0; j < 3; j++) {
+      const g = across.get(faces[3 * f + (j + 1) % 3] * 0x100000000 + faces[3 * f + j]);
+      if (g !== undefined && n[0] * normals[3 * g] + n[1] * normals[3 * g + 1] + n[2] * normals[3 * g + 2] < 0) {
+        flipped.push(f);
+        break;
+      }
+    }
   }
   return flipped;
 }
@@ -395,7 +490,7 @@ export async function remesh(mrvol, input, options = {}) {
   if (result.flippedTriangles > 0 && !options.allowFlipped)
     throw new MrvolError(`the remeshed surface folds over: ${result.flippedTriangles} flipped triangles (base of ${result.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
 
-  const resultSurface = new Surface(result.mesh);
+  const resultSurface = new Surface(result.mesh, { normals: false });
   const toInput = oneSidedHausdorff(result.mesh, surface, maxSamples);
   const fromInput = oneSidedHausdorff(mesh, resultSurface, maxSamples);
   const volume = mrvol.volume(result.mesh);
@@ -474,6 +569,7 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations) {
       }
       if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held);
     }
+    if (levels > 0) snapToFeatures(surface, positions, faces, relaxIterations);
     return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks };
   } finally {
     mr.delete();
