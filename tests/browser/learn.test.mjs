@@ -137,4 +137,23 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.equal(6 * s.levels[2].stored, s.levels[2].nnzFull);
     assert.deepEqual(page.problems, []);
   });
+
+  test('#demo/bunny: pulling two ears grows the free mesh, the preserved one keeps its volume; level e changes', async () => {
+    await open('demo/bunny');
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 7.*section 5/s);
+    await page.click('[data-testid="demo-play"]');
+    let s = await state();
+    assert.equal(s.ears.length, 2);
+    await page.evaluate(() => window.mrvolLearn.act('run', 60, 1 / 30)); // 2 s: pulled out
+    s = await state();
+    assert.equal(s.failures, 0);
+    assert.ok(s.maxRatio > 1.01, `the ears add volume (max ratio ${s.maxRatio})`);
+    assert.ok(s.maxError <= 1.01e-5, `preserved within 1e-5 (worst ${s.maxError})`);
+    await shot('bunny');
+    await page.selectOption('[data-testid="bunny-level"]', '1');
+    s = await state();
+    assert.equal(s.level, 1);
+    assert.ok(await inkFraction() > 0.03);
+    assert.deepEqual(page.problems, []);
+  });
 });
