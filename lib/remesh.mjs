@@ -164,10 +164,14 @@ class Surface {
       for (let k = 0; k < 3; k++) this.smoothNormals[f + k] = m[k] / l;
     }
   }
-  /** Closest point: { point: Vector3, distance, faceIndex } (reused object). */
-  closest(x, y, z) {
+  /**
+   * Closest point: { point: Vector3, distance, faceIndex } (reused object). A bound on the
+   * distance, when known, prunes the BVH traversal (searched without it if nothing is that close).
+   */
+  closest(x, y, z, bound = Infinity) {
     this.point.set(x, y, z);
-    return this.bvh.closestPointToPoint(this.point, this.hit);
+    return (bound < Infinity && this.bvh.closestPointToPoint(this.point, this.hit, 0, bound)) ||
+      this.bvh.closestPointToPoint(this.point, this.hit);
   }
   /** Nearest hit of the line through (x,y,z) along ±n within `cap`, or null. */
   castBothWays(x, y, z, n, cap) {
@@ -280,15 +284,19 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
         for (let k = 0; k < 3; k++) next[3 * i + k] = positions[3 * i + k];
         continue;
       }
-      const d = [0, 0, 0];
-      for (let e = offsets[i]; e < offsets[i + 1]; e++)
-        for (let k = 0; k < 3; k++) d[k] += positions[3 * list[e] + k];
-      for (let k = 0; k < 3; k++) d[k] = d[k] / count - positions[3 * i + k];
+      let d0 = 0, d1 = 0, d2 = 0;
+      for (let e = offsets[i]; e < offsets[i + 1]; e++) {
+        const w = 3 * list[e];
+        d0 += positions[w], d1 += positions[w + 1], d2 += positions[w + 2];
+      }
+      const d = [d0 / count - positions[3 * i], d1 / count - positions[3 * i + 1], d2 / count - positions[3 * i + 2]];
       const dn = d[0] * normals[3 * i] + d[1] * normals[3 * i + 1] + d[2] * normals[3 * i + 2];
       const x = positions[3 * i] + weight * (d[0] - dn * normals[3 * i]);
       const y = positions[3 * i + 1] + weight * (d[1] - dn * normals[3 * i + 1]);
       const z = positions[3 * i + 2] + weight * (d[2] - dn * normals[3 * i + 2]);
-      const p = surface.closest(x, y, z).point;
+      // The vertex was on the surface: the step is an upper bound of the distance back to it.
+      const step = weight * Math.hypot(d[0], d[1], d[2]);
+      const p = surface.closest(x, y, z, 1.01 * step + 1e-12).point;
       next[3 * i] = p.x, next[3 * i + 1] = p.y, next[3 * i + 2] = p.z;
     }
     positions.set(next);
@@ -342,7 +350,22 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
       moved++;
     }
     if (moved === 0) break;
-    if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, held.map((h) => (h === 1 ? 1 : 0)));
+    // Only the neighbourhood of the snapped vertices (6 rings) relaxes.
+    let front = [...before.keys()];
+    const near = new Uint8Array(vertexCount);
+    for (const v of front) near[v] = 1;
+    for (let ring = 0; ring < 6; ring++) {
+      const next = [];
+      for (const v of front)
+        for (let e = adjacency.offsets[v]; e < adjacency.offsets[v + 1]; e++)
+          if (!near[adjacency.list[e]]) near[adjacency.list[e]] = 1, next.push(adjacency.list[e]);
+      front = next;
+    }
+    const nearFaces = [];
+    for (let f = 0; f < faces.length / 3; f++)
+      if (near[faces[3 * f]] || near[faces[3 * f + 1]] || near[faces[3 * f + 2]]) nearFaces.push(f);
+    const frozen = () => held.map((h, v) => (h === 1 || !near[v] ? 1 : 0));
+    if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen());
     // A snap that folds the surface is undone: the corners of flipped triangles go back.
     for (let pass = 0; pass < 3; pass++) {
       const flipped = flippedFaces({ positions, faces }, surface);
@@ -356,7 +379,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
           undone++;
         }
       if (undone === 0) break;
-      if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, held.map((h) => (h === 1 ? 1 : 0)));
+      if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen());
     }
   }
 }
@@ -373,7 +396,7 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
   const total = vertexCount + 4 * faceCount;
   const stride = Math.max(1, Math.ceil(total / maxSamples));
   const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]];
-  let worst = 0;
+  let worst = 0, previous = Infinity, px = 0, py = 0, pz = 0;
   for (let s = 0; s < total; s += stride) {
     let x, y, z;
     if (s < vertexCount) {
@@ -385,7 +408,11 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
       y = w[0] * p[3 * a + 1] + w[1] * p[3 * b + 1] + w[2] * p[3 * c + 1];
       z = w[0] * p[3 * a + 2] + w[1] * p[3 * b + 2] + w[2] * p[3 * c + 2];
     }
-    worst = Math.max(worst, surface.closest(x, y, z).distance);
+    // Distance to a surface is 1-Lipschitz: the previous sample's distance plus the step bounds it.
+    const bound = previous + Math.hypot(x - px, y - py, z - pz);
+    previous = surface.closest(x, y, z, 1.0001 * bound + 1e-12).distance;
+    px = x, py = y, pz = z;
+    worst = Math.max(worst, previous);
   }
   return worst;
 }
@@ -398,7 +425,7 @@ function countFlipped(mesh, surface) {
   return flippedFaces(mesh, surface).length;
 }
 
-function flippedFaces(mesh, surface) {
+function flippedFaces(mesh, surface, onlyFaces = null) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3;
   const normals = new Float64Array(faces.length);
@@ -412,7 +439,8 @@ function flippedFaces(mesh, surface) {
   for (let f = 0; f < faceCount; f++)
     for (let j = 0; j < 3; j++) across.set(faces[3 * f + j] * 0x100000000 + faces[3 * f + (j + 1) % 3], f);
   const flipped = [];
-  for (let f = 0; f < faceCount; f++) {
+  for (let q = 0, count = onlyFaces ? onlyFaces.length : faceCount; q < count; q++) {
+    const f = onlyFaces ? onlyFaces[q] : q;
     const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
     const n = [normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]];
     if (n[0] === 0 && n[1] === 0 && n[2] === 0) {
