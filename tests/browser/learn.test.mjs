@@ -156,4 +156,39 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.ok(await inkFraction() > 0.03);
     assert.deepEqual(page.problems, []);
   });
+
+  test('#learn/lifting: what one coefficient writes in a synthesis step and what reads a vertex in analysis', async () => {
+    await open('learn/lifting');
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 3.*section 2/s);
+    let s = await state();
+    assert.equal(s.level, 1);
+    assert.equal(s.vertex, 0);
+    assert.equal(s.odd, false);
+    assert.ok(s.touched > 1, `an even coefficient writes several vertices (${s.touched})`);
+    assert.ok(s.weights.some((w) => w.vertex === 0), 'including itself');
+    // An odd vertex, by clicking it on the canvas.
+    await page.click('[data-testid="lifting-next-odd"]');
+    s = await state();
+    assert.equal(s.odd, true);
+    const oddVertex = s.vertex;
+    await page.click('[data-testid="lifting-next-even"]');
+    assert.equal((await state()).odd, false);
+    await page.evaluate((v) => window.mrvolLearn.act('pick', v), oddVertex); // the camera faces it
+    await page.evaluate(() => window.mrvolLearn.act('pick', 0, false)); // another one picked, the camera stays
+    assert.equal((await state()).vertex, 0);
+    const [x, y] = await page.evaluate((v) => window.mrvolLearn.act('screenOf', v), oddVertex);
+    await settle(page);
+    await page.mouse.click(x, y);
+    s = await state();
+    assert.equal(s.vertex, oddVertex, 'a click picks the vertex under the pointer');
+    // A detail writes its own vertex (P_o) and, through U and P_e, even vertices around it.
+    assert.ok(s.weights.some((w) => w.vertex === oddVertex), 'the odd vertex itself');
+    assert.ok(s.weights.some((w) => !w.odd), `even vertices too: ${JSON.stringify(s.weights.slice(0, 4))}`);
+    await page.selectOption('[data-testid="lifting-mode"]', 'analysis');
+    s = await state();
+    assert.equal(s.mode, 'analysis');
+    assert.ok(s.touched > 1);
+    await shot('lifting');
+    assert.deepEqual(page.problems, []);
+  });
 });

@@ -11,6 +11,7 @@ export const VIEWS = [
   { route: 'demo/skinning', title: 'Skinning', load: () => import('./skinning.js') },
   { route: 'learn/tensor', title: 'Volume tensor', load: () => import('./tensor.js') },
   { route: 'demo/bunny', title: 'Pulling ears', load: () => import('./bunny.js') },
+  { route: 'learn/lifting', title: 'Lifting', load: () => import('./lifting.js') },
 ];
 
 /** The learn route of a hash ('#learn/levels' -> 'learn/levels'), or null for the editor. */
