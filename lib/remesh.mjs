@@ -308,7 +308,8 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
  * them and relaxation does not spread outwards). Each input vertex farther than 0.2% of the
  * diagonal from the result pulls the nearest corner of the closest result triangle onto itself
  * (at most a local edge length away); those corners are then held while the others relax, and a
- * snap that folds the surface (flipped triangles around it) is undone. Two rounds.
+ * snap that folds the surface (flipped triangles around it) is pulled halfway back, twice, then
+ * undone. Two rounds.
  */
 function snapToFeatures(surface, positions, faces, relaxIterations) {
   const input = surface.mesh.positions;
@@ -367,15 +368,24 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
     const frozen = () => held.map((h, v) => (h === 1 || !near[v] ? 1 : 0));
     if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen());
     // A snap that folds the surface is undone: the corners of flipped triangles go back.
-    for (let pass = 0; pass < 3; pass++) {
+    for (let pass = 0; pass < 4; pass++) {
       const flipped = flippedFaces({ positions, faces }, surface);
+      const touched = new Set();
       let undone = 0;
       for (const f of flipped)
         for (let j = 0; j < 3; j++) {
           const v = faces[3 * f + j];
-          if (held[v] !== 1 || !before.has(v)) continue;
-          positions.set(before.get(v), 3 * v);
-          held[v] = 2;  // never snapped again
+          if (held[v] !== 1 || !before.has(v) || touched.has(v)) continue;
+          touched.add(v);
+          const b = before.get(v);
+          if (pass < 2) {
+            // Halfway back first (then reprojected): part of the tip is kept if that unfolds it.
+            const p = surface.closest((b[0] + positions[3 * v]) / 2, (b[1] + positions[3 * v + 1]) / 2, (b[2] + positions[3 * v + 2]) / 2).point;
+            positions[3 * v] = p.x, positions[3 * v + 1] = p.y, positions[3 * v + 2] = p.z;
+          } else {
+            positions.set(b, 3 * v);
+            held[v] = 2;  // never snapped again
+          }
           undone++;
         }
       if (undone === 0) break;
