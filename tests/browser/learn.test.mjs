@@ -191,4 +191,21 @@ describe('teaching views', { timeout: 120_000 }, () => {
     await shot('lifting');
     assert.deepEqual(page.problems, []);
   });
+
+  test('navigation: the bar switches views, a learn URL in the editor opens it, the editor link goes back', async () => {
+    await open('learn/tensor');
+    await page.click('[data-testid="nav-demo-skinning"]');
+    await page.waitForFunction(() => window.mrvolLearn.route() === 'demo/skinning' && window.mrvolLearn.ready());
+    assert.equal(await page.locator('.learn-stage canvas').count(), 1, 'the previous view is gone');
+    await page.goto(`${browser.url}#learn/nothing`);
+    await page.waitForFunction(() => window.mrvolLearn?.ready());
+    assert.match(await page.textContent('[data-testid="learn-text"]'), /no view 'learn\/nothing'/);
+    await page.click('.learn-editor-link');
+    await page.waitForFunction(() => window.mrvolDebug?.ready() === true, null, { timeout: 30_000 });
+    assert.equal(await page.isVisible('[data-testid="readouts"]'), true, 'the editor is back');
+    await page.evaluate(() => { location.hash = '#learn/levels'; });
+    await page.waitForFunction(() => window.mrvolLearn?.route() === 'learn/levels' && window.mrvolLearn.ready(), null, { timeout: 30_000 });
+    assert.equal(await page.isVisible('[data-testid="readouts"]'), false, 'the editor is hidden');
+    assert.deepEqual(page.problems, []);
+  });
 });

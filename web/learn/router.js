@@ -56,6 +56,7 @@ function clearLayout(layout) {
   for (const part of [layout.stage, layout.text, layout.controls, layout.readouts, layout.bottom]) part.replaceChildren();
   layout.bottom.hidden = true;
   layout.status.textContent = '';
+  layout.status.classList.remove('learn-error');
   layout.root.dataset.ready = 'false';
 }
 
@@ -87,7 +88,7 @@ async function show(route) {
   } catch (e) {
     if (generation !== state.generation) return;
     layout.status.textContent = `This view failed: ${e.message}`;
-    layout.status.classList.add('error-text');
+    layout.status.classList.add('learn-error');
     layout.root.dataset.ready = 'error';
     console.error(e);
   }

@@ -71,7 +71,7 @@ export async function mount({ mrvol, layout, el }) {
   const s = { mesh: 'octahedron, n = 2', scheme: 'loop', allOrderings: true };
   const meshSelect = control(layout.controls, 'mesh', select(Object.keys(meshes).map((k) => [k, k]), s.mesh, 'tensor-mesh'));
   const schemeSelect = control(layout.controls, 'scheme', select(['loop', 'butterfly', 'linear'].map((k) => [k, k]), s.scheme, 'tensor-scheme'));
-  const legend = el('div', { class: 'legend' });
+  const legend = el('div', { class: 'learn-legend' });
   CLASS_COLORS.forEach((c, i) => {
     const item = el('span', {}, el('i', { style: `background:${c}` }), CLASS_NAMES[i]);
     legend.append(item);
