@@ -41,7 +41,7 @@ options:
                                    (512 MB, a 1 GB working patch, ~15 s), else matrix-free
   --levels n                       remesh: levels of 1-to-4 splits (default 2)
   --base-faces k                   remesh: faces of the simplified base mesh (default: the
-                                   input's faces / 4^n, within 128..8000)
+                                   input's faces / 4^n, within 300..8000)
   --keep-largest                   remesh: keep the largest connected component, drop the others
   --json                           print the result as JSON
   -o, --output FILE                output file`;

@@ -308,7 +308,7 @@ export interface RemeshOptions {
   levels?: number;
   /**
    * Faces of the simplified base mesh (>= 4). Default: the input's face count / 4^levels within
-   * 128..8000; then a folded result is retried with twice the base (3 attempts).
+   * 300..8000; then a folded result is retried with twice the base (3 attempts).
    */
   baseFaces?: number;
   /** Keep the largest connected component instead of refusing several (default false). */
