@@ -7,13 +7,24 @@ import { sampleModels } from 'virtual:mrvol-models';
 import { explain, fetchModel, control, select, bounds } from './stage.js';
 import { twinEditors, playControls } from './demo-common.js';
 
-/** Two "ears": the cage vertex farthest from the centroid, then the farthest one at least 45 degrees away. */
-function pickEars(cage) {
+/**
+ * Two "ears". upright (the bunny, y up): the highest cage vertex, then the highest one at least
+ * 12 % of the size away from it. Otherwise: the vertex farthest from the centroid, then the
+ * farthest one at least 45 degrees away.
+ */
+function pickEars(cage, upright = false) {
   const n = cage.length / 3;
   const c = [0, 0, 0];
   for (let i = 0; i < n; i++) for (let k = 0; k < 3; k++) c[k] += cage[3 * i + k] / n;
   const dir = (i) => [0, 1, 2].map((k) => cage[3 * i + k] - c[k]);
   const len = (v) => Math.hypot(...v);
+  if (upright) {
+    const size = Math.max(...[...Array(n).keys()].map((i) => len(dir(i))));
+    const high = [...Array(n).keys()].sort((a, b) => cage[3 * b + 1] - cage[3 * a + 1]);
+    const top = high[0];
+    const other = high.find((i) => len([0, 1, 2].map((k) => cage[3 * i + k] - cage[3 * top + k])) > 0.12 * size) ?? high[1];
+    return { ears: [top, other], centroid: c };
+  }
   const order = [...Array(n).keys()].sort((a, b) => len(dir(b)) - len(dir(a)));
   const first = order[0];
   const a = dir(first);
@@ -25,11 +36,12 @@ function pickEars(cage) {
 }
 
 export async function mount({ mrvol, layout, el, stale }) {
-  const name = sampleModels.includes('bunny') ? 'bunny' : 'blob';
+  const name = sampleModels.includes('bunny') ? 'bunny' : sampleModels.find((m) => m.startsWith('bunny')) ?? 'blob';
+  const isBunny = name.startsWith('bunny');
   explain(layout.text, 'Pulling ears (Figure 7, section 5)', [
     'In Figure 7 the ears of the Stanford bunny (N = 2002, n = 2, e = 0) are pulled by moving a few vertices of ' +
       'its control mesh; the volume constraint keeps the proportions and the multiresolution keeps the fine features. ' +
-      (name === 'bunny' ? 'Here: the bunny sample.' : 'There is no bunny among the samples yet: here the blob (N = 1026, n = 4) plays its part, ' +
+      (isBunny ? `Here: the ${name} sample, its two highest control vertices (the ear tips) as the ears.` : 'There is no bunny among the samples yet: here the blob (N = 1026, n = 4) plays its part, ' +
         'its two most protruding control vertices as the ears.'),
     'The two ears (held) are pulled out and back along their direction from the centre. <b>Left</b>: nothing else moves, ' +
       'the volume grows with the ears. <b>Right</b>: the rest of the control mesh (the free set F: every cage vertex but ' +
@@ -41,7 +53,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   const mesh = mrvol.readObj(text);
   const mr = mrvol.openMesh(mesh);
   const n = mr.levels;
-  const levelSelect = control(layout.controls, 'level e', select([...Array(n + 1).keys()].map((l) => [String(l), String(l)]), String(Math.min(2, n)), 'bunny-level'));
+  const levelSelect = control(layout.controls, 'level e', select([...Array(n + 1).keys()].map((l) => [String(l), String(l)]), String(isBunny ? 0 : Math.min(2, n)), 'bunny-level'));
   const amplitudeSelect = control(layout.controls, 'pull', select([['0.3', '30 %'], ['0.6', '60 %'], ['1', '100 %']], '1', 'bunny-pull'));
   const b = bounds(mesh.positions);
   let twins = null, restCage, ears, centroid, target, held;
@@ -54,12 +66,12 @@ export async function mount({ mrvol, layout, el, stale }) {
     const level = Number(levelSelect.value);
     twins = twinEditors({ mr, level, scheme: 'loop', layout });
     restCage = twins.kept.cagePositions();
-    ({ ears, centroid } = pickEars(restCage));
+    ({ ears, centroid } = pickEars(restCage, isBunny));
     // Seen across the plane of the two ears: both stick out of the silhouette.
     const [u, v] = ears.map((e) => [0, 1, 2].map((k) => restCage[3 * e + k] - centroid[k]));
     let view = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
     if (Math.hypot(...view) < 1e-9) view = [0.45, 0.35, 1];
-    twins.stage.frame(b.center, 1.5 * b.radius, view);
+    twins.stage.frame(b.center, (isBunny ? 1.2 : 1.5) * b.radius, view);
     target = new Float64Array(restCage.length);
     held = new Uint8Array(twins.kept.cageSize);
     for (const e of ears) held[e] = 1;

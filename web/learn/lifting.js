@@ -162,6 +162,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
     const rect = canvas.getBoundingClientRect();
     const ndc = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1, 1 - (e.clientY - rect.top) / rect.height * 2);
+    stage.camera.updateMatrixWorld();
     raycaster.setFromCamera(ndc, stage.camera);
     const hits = raycaster.intersectObject(current.points);
     if (hits.length) pick(current.vertices[hits[0].index], false);
@@ -183,6 +184,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       /** Screen position (viewport CSS pixels) of a vertex of M^l, for click tests. */
       screenOf(vertex) {
         const k = current.index.get(vertex);
+        stage.camera.updateMatrixWorld(); // frame() moved it; the next render has not run yet
         const p = new THREE.Vector3().fromArray(current.positions, 3 * k).project(stage.camera);
         const rect = canvas.getBoundingClientRect();
         return [rect.left + (p.x + 1) / 2 * rect.width, rect.top + (1 - p.y) / 2 * rect.height];
