@@ -5,7 +5,7 @@
 //   - while dragging a handle: the drag step (deformCage + reading positions back + updating the
 //     geometry) and the time from the pointer event to the rendered frame.
 // Run by hand after `node scripts/setup.mjs --no-native`:
-//   node bench/web.mjs [--runs 3] [--models spiky-ball,torus] [--modes dev,preview]
+//   node bench/web.mjs [--runs 3] [--models spiky-ball,bunny-remeshed] [--modes dev,preview]
 import { writeFileSync } from 'node:fs';
 import { cpus, totalmem, platform, release } from 'node:os';
 import { join } from 'node:path';
@@ -17,7 +17,7 @@ const option = (name, fallback) => {
   return i >= 0 && args[i + 1] ? args[i + 1] : fallback;
 };
 const RUNS = Number(option('--runs', '3'));
-const MODELS = option('--models', 'spiky-ball,torus').split(',');
+const MODELS = option('--models', 'spiky-ball,bunny-remeshed').split(',');
 const MODES = option('--modes', 'dev,preview').split(',');
 const DRAG_MOVES = 120;
 
@@ -155,7 +155,7 @@ lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles 
   '  the cache lookup; the rest is openMesh in the worker, computeTheta, moving the file to the page',
   '  (transferred), readTheta and useTheta. Right after start-up the main thread spends a few hundred ms in',
   '  native code ("(program)" in the profile; most likely the first WebGL frames on SwiftShader), which delays the answers.',
-  '- Warm theta: reading the cached file from IndexedDB (9 MB for the spiky ball, 54 MB for the torus) takes most',
+  '- Warm theta: reading the cached file from IndexedDB (its size is in the theta readout: 9 MB for the spiky ball) takes most',
   '  of the gap; the read is started from the session\'s fingerprint before the core has loaded.',
   '- A drag step costs well under a millisecond with the tensor; the frame rate is bound by the display',
   '  (input to frame is about one 60 Hz period).');
