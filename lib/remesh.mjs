@@ -351,7 +351,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
       moved++;
     }
     if (moved === 0) break;
-    // Only the neighbourhood of the snapped vertices (6 rings) relaxes.
+    // Only the neighbourhood of the snapped vertices (6 rings) relaxes and is checked for folds.
     let front = [...before.keys()];
     const near = new Uint8Array(vertexCount);
     for (const v of front) near[v] = 1;
@@ -369,7 +369,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
     if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen());
     // A snap that folds the surface is undone: the corners of flipped triangles go back.
     for (let pass = 0; pass < 4; pass++) {
-      const flipped = flippedFaces({ positions, faces }, surface);
+      const flipped = flippedFaces({ positions, faces }, surface, nearFaces);
       const touched = new Set();
       let undone = 0;
       for (const f of flipped)
@@ -457,8 +457,12 @@ function flippedFaces(mesh, surface, onlyFaces = null) {
       flipped.push(f);
       continue;
     }
-    const hit = surface.closest((p[3 * a] + p[3 * b] + p[3 * c]) / 3, (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
-                                (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3);
+    const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
+          cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
+    // The corners lie on the surface: the nearest one bounds the centroid's distance.
+    let bound = Infinity;
+    for (const v of [a, b, c]) bound = Math.min(bound, Math.hypot(p[3 * v] - cx, p[3 * v + 1] - cy, p[3 * v + 2] - cz));
+    const hit = surface.closest(cx, cy, cz, 1.0001 * bound + 1e-12);
     const m = surface.smoothNormal(hit.faceIndex);
     if (n[0] * m[0] + n[1] * m[1] + n[2] * m[2] >= 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
