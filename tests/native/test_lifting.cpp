@@ -215,3 +215,19 @@ TEST(Lifting, ZeroDetailSynthesisSkipsOnlyStepsThatReadDetails) {
     }
   }
 }
+
+TEST(Lifting, CoarseOnlyAdjointEqualsTheFullAdjointOnTheCoarseCoefficients) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    for (const auto& options : allSchemes()) {
+      WaveletTransform wt(h, options);
+      for (int e = 0; e < h.levels; ++e) {
+        auto a = fixtures::randomVector(3 * h.fineVertexCount(), 23);
+        auto b = a;
+        wt.synthesisAdjoint(a.data(), e);
+        wt.synthesisAdjoint(b.data(), e, 3, false);
+        for (size_t i = 0; i < 3 * size_t(h.vertexCount[e]); ++i) ASSERT_EQ(a[i], b[i]) << fx.name;
+      }
+    }
+  }
+}

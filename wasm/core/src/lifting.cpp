@@ -387,12 +387,13 @@ void WaveletTransform::synthesize(double* x, int fromLevel) const {
     for (const auto& step : steps_[l - 1]) step.forward(x);
 }
 
-void WaveletTransform::synthesisAdjoint(double* g, int toLevel, int stride) const {
+void WaveletTransform::synthesisAdjoint(double* g, int toLevel, int stride, bool details) const {
   if (toLevel < 0 || toLevel > levels())
     throw Error("level " + std::to_string(toLevel) + " is out of range 0.." + std::to_string(levels()));
   for (int l = levels(); l > toLevel; --l) {
     const auto& steps = steps_[l - 1];
-    for (auto it = steps.rbegin(); it != steps.rend(); ++it) it->transposed(g, stride);
+    for (auto it = steps.rbegin(); it != steps.rend(); ++it)
+      if (details || !it->readsOnlyDetails) it->transposed(g, stride);
   }
 }
 

@@ -248,7 +248,10 @@ std::vector<double> VolumeEditor::shiftedCage() const {
 void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOptions& o, EditReport& report) {
   const bool tensor = polynomial_ && freeDetailLevels_.empty();
   const double scale = std::max(std::fabs(reference_), 1e-300);
-  std::vector<double> g, q;
+  std::vector<double>& g = scratchGradient_;
+  std::vector<double>& q = scratchDirection_;
+  g.clear();
+  const bool detailsFree = !freeDetailLevels_.empty();
   for (int it = 0;; ++it) {
     double v;
     std::vector<double> cage;
@@ -272,7 +275,7 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
     }
     if (!tensor) {
       if (g.size() != x_.size()) v = volumeAndGradient(g);  // checked on the cubic's value: gradient now
-      transform_->synthesisAdjoint(g.data(), level_);
+      transform_->synthesisAdjoint(g.data(), level_, 3, detailsFree);
     }
     double norm2 = 0;
     for (uint32_t i : free) norm2 += dot(&g[3 * size_t(i)], &g[3 * size_t(i)]);

@@ -68,7 +68,9 @@ class WaveletTransform {
   void synthesizeZeroDetails(double* x, int fromLevel) const;
   // The adjoint of synthesis (transposed steps, outwards): a per-fine-vertex covector (for example
   // the volume gradient) to the corresponding covector of the level-e coefficients.
-  void synthesisAdjoint(double* g, int toLevel, int stride = 3) const;
+  // With details = false only the coarse part (depth <= e) of the result is wanted: the steps that
+  // would only write detail entries (the transposes of readsOnlyDetails steps) are skipped.
+  void synthesisAdjoint(double* g, int toLevel, int stride = 3, bool details = true) const;
 
  private:
   const Hierarchy* hierarchy_;

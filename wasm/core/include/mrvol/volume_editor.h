@@ -124,6 +124,7 @@ class VolumeEditor {
   mutable double cachedVolume_ = 0;
   mutable std::vector<double> cachedGradient_;
   mutable bool volumeValid_ = false, gradientValid_ = false;
+  std::vector<double> scratchGradient_, scratchDirection_;  // kept between steps: no 3N allocations
   double volumeAndGradient(std::vector<double>& fineGradient) const;
   void prepareGradient() const;
   double reference_ = 0;
