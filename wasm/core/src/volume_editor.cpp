@@ -483,7 +483,8 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
   report.path = partTriangles_.empty() && freeDetailLevels_.empty() ? path() : GradientPath::MatrixFree;
   report.volumeReference = reference_;
   std::vector<double> start(x_.begin(), x_.begin() + 3 * size_t(cageSize_));
-  for (size_t i = 0; i < move.size(); ++i) x_[i] += move[i];
+  // The cage takes the target as given (x + (t - x) need not round to t).
+  std::copy(target.begin(), target.end(), x_.begin());
   fineValid_ = false;
   const bool tensor = polynomial_ && freeDetailLevels_.empty() && partTriangles_.empty();
   if (tensor) report.volumeTarget = polynomial_->evaluate(shiftedCage().data(), nullptr);
