@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mrvol/lifting.h"
 #include "mrvol/mesh.h"
 
 namespace fixtures {
@@ -79,6 +80,15 @@ struct Fixture {
 inline std::vector<Fixture> baseFixtures() {
   return {{"icosahedron", icosahedron(), 3}, {"tetrahedron", tetrahedron(), 3}, {"octahedron", octahedron(), 3},
           {"torus", torus(), 2}, {"open-patch", openPatch(), 2}};
+}
+
+// Every scheme the tests run over: Loop (stabilized and plain), Butterfly, linear.
+inline std::vector<mrvol::SchemeOptions> allSchemes() {
+  mrvol::SchemeOptions loop, plain, butterfly, linear;
+  plain.alpha = plain.beta = 0;
+  butterfly.kind = mrvol::SchemeKind::Butterfly;
+  linear.kind = mrvol::SchemeKind::Linear;
+  return {loop, plain, butterfly, linear};
 }
 
 inline std::string readFile(const std::string& path) {

@@ -223,13 +223,7 @@ double maxDiff(const std::vector<double>& a, const std::vector<double>& b) {
   return m;
 }
 
-std::vector<SchemeOptions> allSchemes() {
-  SchemeOptions loop, plain, butterfly, linear;
-  plain.alpha = plain.beta = 0;
-  butterfly.kind = SchemeKind::Butterfly;
-  linear.kind = SchemeKind::Linear;
-  return {loop, plain, butterfly, linear};
-}
+using fixtures::allSchemes;
 
 std::string label(const SchemeOptions& o) {
   return std::string(schemeName(o.kind)) + (o.kind == SchemeKind::Loop && o.alpha == 0 ? " (plain)" : "");

@@ -18,13 +18,7 @@ double maxAbs(const std::vector<double>& v) {
   return m;
 }
 
-std::vector<SchemeOptions> allSchemes() {
-  SchemeOptions loop, plain, butterfly, linear;
-  plain.alpha = plain.beta = 0;
-  butterfly.kind = SchemeKind::Butterfly;
-  linear.kind = SchemeKind::Linear;
-  return {loop, plain, butterfly, linear};
-}
+using fixtures::allSchemes;
 
 // Positions of the zero-detail synthesis from the base positions.
 std::vector<double> zeroDetailSynthesis(const WaveletTransform& wt, const TriangleMesh& base) {

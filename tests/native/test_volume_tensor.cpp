@@ -13,13 +13,7 @@ using namespace mrvol;
 
 namespace {
 
-std::vector<SchemeOptions> allSchemes() {
-  SchemeOptions loop, plain, butterfly, linear;
-  plain.alpha = plain.beta = 0;
-  butterfly.kind = SchemeKind::Butterfly;
-  linear.kind = SchemeKind::Linear;
-  return {loop, plain, butterfly, linear};
-}
+using fixtures::allSchemes;
 
 std::map<std::tuple<uint32_t, uint32_t, uint32_t>, double> entries(const VolumeTensor& t) {
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, double> out;
