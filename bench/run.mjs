@@ -433,6 +433,16 @@ async function loadSectionModules() {
 
 // ---- the report ---------------------------------------------------------------------------------
 
+// The commit of the sources measured, with a + when wasm/ or CMakeLists.txt have uncommitted changes.
+function sourceCommit() {
+  try {
+    const git = (args) => execFileSync('git', ['-C', root, ...args], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'ignore'] }).trim();
+    return git(['rev-parse', '--short', 'HEAD']) + (git(['status', '--porcelain', '--', 'wasm', 'CMakeLists.txt']) ? '+' : '');
+  } catch {
+    return undefined;
+  }
+}
+
 function machine() {
   const cpuinfo = existsSync('/proc/cpuinfo') ? readFileSync('/proc/cpuinfo', 'utf8') : '';
   const model = cpuinfo.match(/^model name\s*:\s*(.*)$/m)?.[1] ?? cpus()[0]?.model ?? 'unknown';
@@ -483,8 +493,8 @@ function table({ title, columns, rows }) {
   return lines.join('\n');
 }
 
-function sectionMarkdown(bench, result, when) {
-  const parts = [`## ${bench.title}`, '', `_Measured ${when}._`, ''];
+function sectionMarkdown(bench, result, when, commit) {
+  const parts = [`## ${bench.title}`, '', `_Measured ${when}${commit ? ` on commit ${commit}` : ''}._`, ''];
   if (result.intro) parts.push(result.intro, '');
   for (const t of result.tables) parts.push(table(t), '');
   if (result.notes?.length) parts.push(result.notes.join('\n'), '');
@@ -517,7 +527,7 @@ function writeResults(sections, env, load) {
     `- Sources: ${env.source}`,
     `- Date: ${new Date().toISOString()}`,
     `- Load average (1 min) before / after: ${load.before} / ${load.after}`,
-    `- Other processes' CPU use just before each run (% of all CPUs): ${load.busy}`,
+    `- Other processes' CPU use just before each run (% of all CPUs): ${load.busy || 'not sampled in the last run'}`,
     '  (the machine may be shared with other jobs: under load, minima are the better estimate of the cost)',
   ].join('\n');
   const ids = [...new Set([...BENCHMARKS.map((b) => b.id), ...existing.keys()])];
@@ -553,7 +563,7 @@ async function main() {
       failed.push(bench.id);
       continue;
     }
-    const md = sectionMarkdown(bench, result, when);
+    const md = sectionMarkdown(bench, result, when, sourceCommit());
     sections.set(bench.id, md);
     process.stderr.write(`\n${md}\n`);
   }
