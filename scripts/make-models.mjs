@@ -415,15 +415,21 @@ ${rows.join('\n')}
 
 ${sections.join('\n')}`;
 
+// Other generators (scripts/make-remeshed-models.mjs) keep their own sections at the end of the
+// README, each after an HTML comment marker line: this script owns the text before the first such
+// line and keeps the rest as it is.
 const readmePath = join(outDir, 'README.md');
+const current = existsSync(readmePath) ? readFileSync(readmePath, 'utf8') : '';
+const foreign = current.search(/^<!-- /m);
+const fullReadme = foreign >= 0 ? readme.replace(/\n*$/, '\n\n') + current.slice(foreign) : readme;
 if (checkOnly) {
-  if (!existsSync(readmePath) || readFileSync(readmePath, 'utf8') !== readme) {
+  if (current !== fullReadme) {
     process.stderr.write('models: README.md differs from the generator\'s output\n');
     ++changed;
   }
   process.stderr.write(changed ? `models: ${changed} file(s) out of date\n` : 'models: up to date\n');
   process.exitCode = changed ? 1 : 0;
 } else {
-  writeFileSync(readmePath, readme);
+  writeFileSync(readmePath, fullReadme);
   process.stderr.write(`models: wrote ${models.length} models and README.md to public/models\n`);
 }
