@@ -100,7 +100,8 @@ export async function startLearn() {
   Object.defineProperty(window, 'mrvolLearn', {
     value: Object.freeze({
       route: () => learnRoute(),
-      ready: () => state.layout.root.dataset.ready === 'true',
+      // Ready for the route in the address bar, not a view it is about to leave (hashchange comes later).
+      ready: () => state.layout.root.dataset.ready === 'true' && state.layout.root.dataset.view === learnRoute(),
       state: () => state.current?.debug?.() ?? null,
       act: (name, ...args) => state.current?.actions?.[name]?.(...args),
     }),
