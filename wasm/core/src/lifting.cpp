@@ -108,17 +108,43 @@ namespace {
 // Collects (target, source, weight) triplets and compiles them into a lift step (rows sorted by
 // target, duplicate sources merged) or a scaling step.
 struct StepBuilder {
-  std::map<uint32_t, std::map<uint32_t, double>> rows;
-  void add(uint32_t t, uint32_t s, double w) { rows[t][s] += w; }
-  void touch(uint32_t t) { rows[t]; }
+  struct Triplet { uint32_t t, s; double w; };
+  std::vector<Triplet> triplets;
+  bool compiled = false;
+  void add(uint32_t t, uint32_t s, double w) { triplets.push_back({t, s, w}); compiled = false; }
+  void touch(uint32_t t) { triplets.push_back({t, kNone, 0.0}); compiled = false; }
+  // Sorted by (target, source), duplicates summed in insertion order (as the std::map did).
+  void compile() {
+    if (compiled) return;
+    std::stable_sort(triplets.begin(), triplets.end(), [](const Triplet& a, const Triplet& b) {
+      return a.t != b.t ? a.t < b.t : a.s < b.s;
+    });
+    size_t out = 0;
+    for (size_t i = 0; i < triplets.size();) {
+      Triplet acc = triplets[i];
+      size_t j = i + 1;
+      if (acc.s == kNone) acc.w = 0.0;
+      for (; j < triplets.size() && triplets[j].t == acc.t && triplets[j].s == acc.s; ++j) acc.w += triplets[j].w;
+      triplets[out++] = acc;
+      i = j;
+    }
+    triplets.resize(out);
+    compiled = true;
+  }
+  template <class F> void forEach(F&& f) {
+    compile();
+    for (auto& x : triplets) if (x.s != kNone) f(x.t, x.s, x.w);
+  }
   LiftingStep lift(const std::string& name) {
+    compile();
     LiftingStep st;
     st.name = name;
     st.offsets.push_back(0);
-    for (auto& [t, row] : rows) {
+    for (size_t i = 0; i < triplets.size();) {
+      uint32_t t = triplets[i].t;
       st.targets.push_back(t);
-      for (auto& [s, w] : row)
-        if (w != 0.0) st.sources.push_back(s), st.weights.push_back(w);
+      for (; i < triplets.size() && triplets[i].t == t; ++i)
+        if (triplets[i].s != kNone && triplets[i].w != 0.0) st.sources.push_back(triplets[i].s), st.weights.push_back(triplets[i].w);
       st.offsets.push_back(uint32_t(st.sources.size()));
     }
     return st;
@@ -315,8 +341,7 @@ std::vector<std::vector<LiftingStep>> interpolatingLevels(const Hierarchy& h, Sc
     std::vector<double> integral(h.fineVertexCount(), 1.0);
     for (int l = n; l >= 1; --l) {
       std::vector<double> coarse(integral.begin(), integral.begin() + h.vertexCount[l - 1]);
-      for (auto& [m, row] : predicts[l].rows)
-        for (auto& [k, p] : row) coarse[k] += p * integral[m];
+      predicts[l].forEach([&](uint32_t m, uint32_t k, double p) { coarse[k] += p * integral[m]; });
       StepBuilder update;
       for (uint32_t m = h.vertexCount[l - 1]; m < h.vertexCount[l]; ++m)
         for (int j = 0; j < 2; ++j) {
