@@ -18,6 +18,8 @@ const point = new THREE.Vector3();
  *   pick(index, shiftKey) -> handle indices to drag, or null (no drag),
  *   dragStart(handles), drag(delta: [dx, dy, dz], eventTime), dragEnd(), dragCancel(),
  *   clickEmpty(),
+ *   painting() -> true while presses paint handles instead of dragging them,
+ *   paint(index, first) for each handle a stroke passes over (first: the one pressed), paintEnd(),
  * }
  */
 export class CageDragger {
@@ -27,6 +29,7 @@ export class CageDragger {
     this.handlers = handlers;
     this.drag = null;
     this.down = null;
+    this.stroke = null; // a paint stroke: { pointerId, last }
     this.enabled = true;
     // Capture phase on the container: runs before OrbitControls' listeners on the canvas, so a
     // press on a handle never starts an orbit.
@@ -44,7 +47,7 @@ export class CageDragger {
   }
 
   #pointerDown(e) {
-    if (!this.enabled || e.button !== 0 || this.drag) return;
+    if (!this.enabled || e.button !== 0 || this.drag || this.stroke) return;
     const [x, y] = this.#local(e);
     const index = this.viewer.pickHandle(x, y, PICK_RADIUS_PX);
     if (index < 0) {
@@ -53,6 +56,13 @@ export class CageDragger {
     }
     e.stopPropagation();
     e.preventDefault();
+    if (this.handlers.painting?.()) {
+      // A stroke: every handle it passes over is painted (no orbit meanwhile).
+      this.stroke = { pointerId: e.pointerId, last: index };
+      this.viewer.canvas.setPointerCapture?.(e.pointerId);
+      this.handlers.paint(index, true);
+      return;
+    }
     const handles = this.handlers.pick(index, e.shiftKey);
     if (!handles || handles.length === 0) return;
     this.viewer.viewDirection(normal);
@@ -68,6 +78,19 @@ export class CageDragger {
   }
 
   #pointerMove(e) {
+    const stroke = this.stroke;
+    if (stroke) {
+      if (e.pointerId !== stroke.pointerId) return;
+      e.stopPropagation();
+      const [x, y] = this.#local(e);
+      const index = this.viewer.pickHandle(x, y, PICK_RADIUS_PX);
+      this.viewer.setHover(index);
+      if (index >= 0 && index !== stroke.last) {
+        stroke.last = index;
+        this.handlers.paint(index, false);
+      }
+      return;
+    }
     const drag = this.drag;
     if (!drag) {
       if (e.buttons !== 0 || !this.enabled) return;
@@ -90,6 +113,14 @@ export class CageDragger {
   }
 
   #pointerUp(e, cancelled = false) {
+    const stroke = this.stroke;
+    if (stroke && e.pointerId === stroke.pointerId) {
+      e.stopPropagation();
+      this.stroke = null;
+      this.viewer.canvas.releasePointerCapture?.(e.pointerId);
+      this.handlers.paintEnd?.();
+      return;
+    }
     const drag = this.drag;
     if (drag && e.pointerId === drag.pointerId) {
       e.stopPropagation();

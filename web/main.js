@@ -10,7 +10,7 @@ import { History } from './history.js';
 import { ThetaCache, thetaKey } from './theta-cache.js';
 import { ThetaJobs } from './theta-jobs.js';
 import { loadSession, saveSession, clearSession, decodeFloat64 } from './session.js';
-import { createPanel } from './panel.js';
+import { createPanel, MAX_PARTS } from './panel.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
 
 const DEFAULT_MODEL = 'spiky-ball';
@@ -18,10 +18,21 @@ const DEFAULT_MODEL = 'spiky-ball';
 const ALPHA = -1.70943, BETA = 0.42954;
 // Without 1-to-4 splits every vertex is a handle: fine for a small base mesh, not for a big one.
 const MAX_FLAT_VERTICES = 64;
+const FREE_SET_MODES = ['minus-held', 'all', 'painted', 'parts'];
+const TOOLS = ['drag', 'paint', 'assign'];
+// painted: the painted region (caller's indices of cage vertices); parts[p]: those of part p + 1.
+// Both are replaced, never mutated.
 const DEFAULT_SETTINGS = Object.freeze({
   model: DEFAULT_MODEL, scheme: 'loop', level: 0, preserve: true, freeSet: 'minus-held', tolerance: 1e-6,
   flat: true, showMesh: true, showCage: true,
+  tool: 'drag', part: 1, painted: Object.freeze([]), parts: Object.freeze([]),
+  showApprox: false, approxLevel: 0, showDetails: false,
 });
+const PAINT_COLOR = '#bf3989';
+const PART_COLORS = ['#cf222e', '#8250df', '#0e8a94', '#9a6700', '#bf3989', '#57606a', '#24292f', '#7d8a00'];
+// The layers are recomputed after every drag step while that costs less than this; otherwise once
+// the drag ends.
+const LAYER_BUDGET_MS = 4;
 
 const $ = (id) => document.getElementById(id);
 
@@ -36,6 +47,12 @@ const app = {
   model: null,   // { name, kind: 'sample' | 'file', text, mr, info, fingerprint, faces }
   editor: null,
   cageSize: 0,
+  cageVertices: null, // caller's index of every cage vertex, cage order
+  cageIndex: null,    // Map: caller's index -> cage index
+  parts: [],          // part numbers (1..MAX_PARTS) of the editor's parts, in the editor's order
+  partReferences: null,
+  stroke: null,       // the paint stroke going on: { add }
+  layers: { level: null, updates: 0, lastMs: null, dirty: false },
   heldAll: null, // Uint8Array of ones: every cage vertex held (restoring a cage)
   selection: new Set(),
   history: new History(),
@@ -50,7 +67,7 @@ const app = {
   // theta in use; the worker's computeTheta time; per drag step and per frame (input to frame, render).
   stats: {
     scriptAt: null, coreAt: null, cacheAt: null, modelAt: null, readyAt: null, thetaReadyAt: null, thetaMs: null,
-    steps: [], frames: [], renders: [],
+    steps: [], frames: [], renders: [], layers: [],
   },
   pendingInput: null,
 };
@@ -101,8 +118,67 @@ function updateReadouts() {
   set('step-iterations', report ? String(report.iterations) : '–');
   set('step-ms', app.lastStepMs === null ? '–' : app.lastStepMs.toFixed(2));
   set('step-path', report ? report.path : editor.path());
+  updateModeReadouts();
   if (report && !report.converged) notice(`The last step did not converge: ${report.message}`);
   else if (report && $('notice').textContent.startsWith('The last step did not converge')) notice('');
+}
+
+// Rows of the readout table made here, after the relative error, in this order.
+const EXTRA_ROWS = [['free-set-info', 'free set'], ['part-volumes', 'part volumes'], ['layer-info', 'layers']];
+
+function readoutRow(id) {
+  if (!$(id)) {
+    let previous = $('volume-error').closest('tr');
+    for (const [rowId, label] of EXTRA_ROWS) {
+      if (!$(rowId)) {
+        const row = document.createElement('tr');
+        const th = document.createElement('th');
+        th.textContent = label;
+        const cell = document.createElement('td');
+        cell.id = rowId;
+        cell.dataset.testid = rowId;
+        row.append(th, cell);
+        row.hidden = rowId !== 'free-set-info';
+        previous.after(row);
+      }
+      previous = $(rowId).closest('tr');
+    }
+  }
+  return $(id);
+}
+
+function updateModeReadouts() {
+  const { freeSet, painted } = app.settings;
+  const free = readoutRow('free-set-info');
+  free.textContent = freeSet === 'painted' ? `painted region: ${painted.length} handle${painted.length === 1 ? '' : 's'}`
+    : freeSet === 'parts' ? `cage minus held; ${app.parts.length} part${app.parts.length === 1 ? '' : 's'} keep their volumes`
+    : freeSet === 'all' ? 'all cage' : 'cage minus held';
+  const cell = readoutRow('part-volumes');
+  const volumes = app.parts.length ? app.editor.partVolumes() : null;
+  cell.closest('tr').hidden = !volumes;
+  if (!volumes) {
+    cell.textContent = '';
+    delete cell.dataset.value;
+    return;
+  }
+  const lines = app.parts.map((number, p) => {
+    const reference = app.partReferences[p];
+    const error = Math.abs(volumes[p] - reference) / Math.max(Math.abs(reference), 1e-300);
+    if (reference === 0 && volumes[p] === 0) return `${number}: no triangle (assign neighbouring handles)`;
+    return `${number}: ${volumes[p].toPrecision(8)} / ${reference.toPrecision(8)} (${error.toExponential(1)})`;
+  });
+  cell.textContent = lines.join('\n');
+  cell.style.whiteSpace = 'pre';
+  cell.dataset.value = JSON.stringify({ parts: app.parts, volumes: Array.from(volumes), references: Array.from(app.partReferences) });
+}
+
+function updateLayerReadout() {
+  const cell = readoutRow('layer-info');
+  const shown = app.settings.showApprox || app.settings.showDetails;
+  cell.closest('tr').hidden = !shown || app.layers.level === null;
+  const { level, lastMs } = app.layers;
+  cell.textContent = shown && level !== null ? `level ${level} approximation, ${lastMs.toFixed(2)} ms` +
+    (app.layers.deferred ? ' (after each drag)' : '') : '';
 }
 
 function updateThetaReadout() {
@@ -190,7 +266,7 @@ function openModelText({ name, kind, text }, restore = null) {
   app.theta.memory.clear();
   app.editor = null;
   app.model?.mr.delete();
-  app.model = { name, kind, text, mr, info, fingerprint, faces: mr.faces() };
+  app.model = { name, kind, text, mr, info, fingerprint, faces: mr.faces(), depths: mr.depths() };
   app.settings.level = Math.min(app.settings.level, info.levels);
   app.settings.model = name;
 
@@ -201,7 +277,7 @@ function openModelText({ name, kind, text }, restore = null) {
   }
   app.ready = false;
   app.viewer.setMesh(mr.positions(), app.model.faces);
-  app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+  applyViewLayers();
   app.panel.setLevels(info.levels);
   app.panel.update();
   buildEditor(reference);
@@ -259,7 +335,6 @@ function buildEditor(reference = null) {
   const { scheme, level } = app.settings;
   const editor = mr.createEditor({ level, scheme, alpha: ALPHA, beta: BETA });
   if (reference !== null) editor.setReferenceVolume(reference);
-  editor.setFreeSet({ cage: app.settings.freeSet });
   app.editor = editor;
   app.cageSize = editor.cageSize;
   app.heldAll = new Uint8Array(editor.cageSize).fill(1);
@@ -271,10 +346,14 @@ function buildEditor(reference = null) {
 
   const cageVertices = editor.cageVertices();
   const cageIndex = new Map(Array.from(cageVertices, (v, i) => [v, i]));
+  app.cageVertices = cageVertices;
+  app.cageIndex = cageIndex;
   const edges = cageEdges(app.model.mr.levelFaces(level), cageIndex);
   app.viewer.setCage(editor.cagePositions(), edges);
   app.viewer.updateMesh(editor.positions());
-  updateReadouts();
+  keepCageMarks();
+  applyFreeSet();
+  updateLayers();
   if (app.model) $('model-info').textContent = modelInfoText();
   requestTheta();
 }
@@ -282,7 +361,130 @@ function buildEditor(reference = null) {
 function showEditorState() {
   app.viewer.updateMesh(app.editor.positions());
   app.viewer.updateCage(app.editor.cagePositions());
+  updateLayers();
   updateReadouts();
+}
+
+// ---- free set: painted region, parts ----------------------------------------------------------------
+
+/** Keeps of the painted region and the parts only this cage's vertices (after a level or model change). */
+function keepCageMarks() {
+  const s = app.settings;
+  const ok = (v) => Number.isInteger(v) && app.cageIndex.has(v);
+  if (!FREE_SET_MODES.includes(s.freeSet)) s.freeSet = DEFAULT_SETTINGS.freeSet;
+  if (!TOOLS.includes(s.tool)) s.tool = DEFAULT_SETTINGS.tool;
+  s.painted = Array.isArray(s.painted) ? [...new Set(s.painted.filter(ok))] : [];
+  const seen = new Set();
+  s.parts = Array.from({ length: MAX_PARTS }, (_, p) => {
+    const list = Array.isArray(s.parts?.[p]) ? s.parts[p] : [];
+    return list.filter((v) => ok(v) && !seen.has(v) && seen.add(v));
+  });
+  app.panel.showModeControls();
+  toolNotice();
+}
+
+/**
+ * Hands the free set to the editor: cage minus held, all cage, the painted region (a list), or the
+ * parts (cage minus held, each part keeping its own volume, references = the volumes now).
+ */
+function applyFreeSet() {
+  const editor = app.editor;
+  if (!editor) return;
+  const { freeSet, painted, parts } = app.settings;
+  const active = freeSet === 'parts'
+    ? parts.map((vertices, p) => ({ number: p + 1, vertices })).filter((part) => part.vertices.length > 0) : [];
+  try {
+    editor.setFreeSet({ cage: freeSet === 'painted' ? painted : freeSet === 'all' ? 'all' : 'minus-held' });
+    editor.setParts(active.map((part) => part.vertices));
+    app.parts = active.map((part) => part.number);
+    app.partReferences = active.length ? Array.from(editor.partVolumes()) : null;
+  } catch (e) {
+    app.parts = [];
+    app.partReferences = null;
+    showError(`The free set could not be set: ${e.message}`);
+  }
+  showCageMarks();
+  updateReadouts();
+}
+
+/** Painted handles (paint tool or painted free set) or the parts' colours (assign tool or parts). */
+function showCageMarks() {
+  const { tool, freeSet, painted, parts } = app.settings;
+  const marks = new Map();
+  const showParts = tool === 'assign' || (tool !== 'paint' && freeSet === 'parts');
+  const showPainted = tool === 'paint' || (tool !== 'assign' && freeSet === 'painted');
+  if (showParts) parts.forEach((list, p) => list.forEach((v) => marks.set(app.cageIndex.get(v), PART_COLORS[p % PART_COLORS.length])));
+  else if (showPainted) for (const v of painted) marks.set(app.cageIndex.get(v), PAINT_COLOR);
+  app.viewer.setMarks(marks);
+}
+
+function toolNotice() {
+  const { tool } = app.settings;
+  const text = tool === 'paint' ? 'Painting: click or drag over handles to add them to the free set or take them out.'
+    : tool === 'assign' ? 'Assigning: click or drag over handles to put them in the chosen part or take them out.' : '';
+  if (text || /^(Painting|Assigning):/.test($('notice').textContent)) notice(text);
+}
+
+/** A paint stroke passes over handle `index` (the first decides: add or remove). */
+function paintHandle(index, first) {
+  const s = app.settings;
+  const vertex = app.cageVertices[index];
+  if (s.tool === 'paint') {
+    const painted = new Set(s.painted);
+    if (first || !app.stroke) app.stroke = { add: !painted.has(vertex) };
+    if (app.stroke.add) painted.add(vertex);
+    else painted.delete(vertex);
+    s.painted = [...painted];
+  } else {
+    const p = Math.min(MAX_PARTS, Math.max(1, Math.round(s.part))) - 1;
+    if (first || !app.stroke) app.stroke = { add: !s.parts[p].includes(vertex) };
+    s.parts = s.parts.map((list, q) => (app.stroke.add || q === p ? list.filter((v) => v !== vertex) : list));
+    if (app.stroke.add) s.parts[p] = [...s.parts[p], vertex];
+  }
+  applyFreeSet();
+}
+
+// ---- layers: the level-l approximation and the detail vectors -----------------------------------------
+
+function layersShown() {
+  return app.settings.showApprox || app.settings.showDetails;
+}
+
+function applyViewLayers() {
+  app.viewer.setLayers({
+    mesh: app.settings.showMesh, cage: app.settings.showCage,
+    approx: app.settings.showApprox, details: app.settings.showDetails,
+  });
+}
+
+/**
+ * The level-l approximation of the current shape: its analysis at level min(l, e) with the details
+ * of levels >= l (the vertices born after level l) set to zero, synthesized (both by the core); the
+ * detail vectors go from it to the fine positions.
+ */
+function updateLayers() {
+  app.layers.dirty = false;
+  if (!app.editor || !layersShown()) {
+    updateLayerReadout();
+    return;
+  }
+  const started = performance.now();
+  const { mr, depths, info } = app.model;
+  const l = Math.max(0, Math.min(info.levels, Math.round(app.settings.approxLevel)));
+  const options = { level: Math.min(l, app.settings.level), scheme: app.settings.scheme, alpha: ALPHA, beta: BETA };
+  const fine = app.editor.positions();
+  const coefficients = mr.analyze(fine, options);
+  for (let i = 0; i < depths.length; i++)
+    if (depths[i] > l) coefficients[3 * i] = coefficients[3 * i + 1] = coefficients[3 * i + 2] = 0;
+  const approx = mr.synthesize(coefficients, options);
+  if (app.settings.showApprox) app.viewer.updateApprox(approx);
+  if (app.settings.showDetails) app.viewer.updateDetails(approx, fine);
+  const ms = performance.now() - started;
+  app.layers.level = l;
+  app.layers.updates++;
+  app.layers.lastMs = ms;
+  pushStat(app.stats.layers, ms);
+  updateLayerReadout();
 }
 
 function editOptions() {
@@ -337,6 +539,12 @@ const dragHandlers = {
     }
     app.viewer.updateMesh(app.editor.positions());
     app.viewer.updateCage(app.editor.cagePositions());
+    if (layersShown()) {
+      // Every step while cheap, else once the drag ends.
+      app.layers.deferred = app.layers.lastMs !== null && app.layers.lastMs > LAYER_BUDGET_MS;
+      if (app.layers.deferred) app.layers.dirty = true;
+      else updateLayers();
+    }
     app.lastStepMs = performance.now() - started;
     pushStat(app.stats.steps, app.lastStepMs);
     app.pendingInput ??= eventTime;
@@ -348,12 +556,19 @@ const dragHandlers = {
     if (!drag) return;
     const after = app.editor.cagePositions();
     if (after.some((v, i) => v !== drag.before[i])) app.history.push(drag.before, after);
+    if (app.layers.dirty) updateLayers();
     saveSoon();
   },
   dragCancel() {
     const drag = app.drag;
     app.drag = null;
     if (drag) restoreCage(drag.before);
+  },
+  painting: () => app.ready && app.editor !== null && app.settings.tool !== 'drag',
+  paint: (index, first) => paintHandle(index, first),
+  paintEnd() {
+    app.stroke = null;
+    saveSoon();
   },
   clickEmpty() {
     if (app.selection.size === 0) return;
@@ -583,7 +798,7 @@ async function reset() {
   clearSession();
   Object.assign(app.settings, DEFAULT_SETTINGS, { model: app.model?.name ?? DEFAULT_MODEL });
   app.viewer.setFlat(app.settings.flat);
-  app.viewer.setLayers({ mesh: true, cage: true });
+  applyViewLayers();
   if (app.model) await openModel({ kind: app.model.kind, name: app.model.name, text: app.model.kind === 'file' ? app.model.text : undefined });
   app.panel.update();
 }
@@ -600,17 +815,45 @@ const actions = {
   changePreserve: () => saveSoon(),
   changeTolerance: () => saveSoon(),
   changeFreeSet: () => {
-    app.editor?.setFreeSet({ cage: app.settings.freeSet });
+    // The pointer follows: painting for the painted region, assigning for the parts.
+    const mode = app.settings.freeSet;
+    app.settings.tool = mode === 'painted' ? 'paint' : mode === 'parts' ? 'assign' : 'drag';
+    app.panel.update();
+    app.panel.showModeControls();
+    toolNotice();
+    applyFreeSet();
+    saveSoon();
+  },
+  changeTool: () => {
+    app.panel.showModeControls();
+    toolNotice();
+    if (app.editor) showCageMarks();
+    saveSoon();
+  },
+  clearPainted: () => {
+    app.settings.painted = [];
+    applyFreeSet();
+    saveSoon();
+  },
+  clearParts: () => {
+    app.settings.parts = Array.from({ length: MAX_PARTS }, () => []);
+    applyFreeSet();
     saveSoon();
   },
   changeView: () => {
     app.viewer.setFlat(app.settings.flat);
-    app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+    applyViewLayers();
+    saveSoon();
+  },
+  changeLayers: () => {
+    applyViewLayers();
+    updateLayers();
     saveSoon();
   },
   setReference: () => {
     if (!app.editor) return;
     app.editor.setReferenceVolume(app.editor.volume());
+    if (app.parts.length) applyFreeSet(); // the parts' references too
     updateReadouts();
     saveSoon();
   },
@@ -705,7 +948,31 @@ function installDebugHook() {
     ready: () => app.ready,
     thetaReady: () => app.ready && app.theta.source !== null && app.editor?.path() === 'tensor',
     /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
-    stats: () => ({ ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders] }),
+    stats: () => ({
+      ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders],
+      layers: [...app.stats.layers],
+    }),
+    /** The layers: shown or not, what the viewer draws (counts), the level l, updates and their cost. */
+    layers: () => {
+      const drawn = app.viewer.overlayInfo();
+      return {
+        approx: { shown: app.settings.showApprox, ...drawn.approx },
+        details: { shown: app.settings.showDetails, ...drawn.details },
+        level: app.layers.level, updates: app.layers.updates, lastMs: app.layers.lastMs, deferred: Boolean(app.layers.deferred),
+      };
+    },
+    /** The free set: mode, pointer tool, painted handles and parts' handles (cage indices, sorted). */
+    freeSet: () => {
+      const toCage = (list) => list.map((v) => app.cageIndex?.get(v)).filter((i) => i !== undefined).sort((a, b) => a - b);
+      return {
+        mode: app.settings.freeSet, tool: app.settings.tool,
+        painted: toCage(app.settings.painted), parts: app.settings.parts.map(toCage),
+      };
+    },
+    /** Localized preservation: part numbers, their volumes now and their references; null without parts. */
+    partVolumes: () => (app.editor && app.parts.length ? {
+      parts: [...app.parts], volumes: Array.from(app.editor.partVolumes()), references: [...app.partReferences],
+    } : null),
   };
   Object.defineProperty(window, 'mrvolDebug', { value: Object.freeze(hook), writable: false, configurable: false });
 }
@@ -799,12 +1066,12 @@ async function start() {
   $('cache-status').textContent = app.cache.available ? 'IndexedDB'
     : `none: ${app.cache.reason}; θ is computed on every load`;
   refreshCacheList();
-  app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+  applyViewLayers();
   if (!(await openModel(source, restore)) && !app.model && source.name !== DEFAULT_MODEL) {
     const why = $('error-text').textContent;
     if (await openModel({ kind: 'sample', name: DEFAULT_MODEL })) showError(`${why}\nOpened ${DEFAULT_MODEL} instead.`);
   }
-  app.viewer.setLayers({ mesh: app.settings.showMesh, cage: app.settings.showCage });
+  applyViewLayers();
   window.addEventListener('pagehide', saveNow);
 }
 

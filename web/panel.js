@@ -3,7 +3,9 @@
 import GUI from 'lil-gui';
 
 const SCHEMES = ['loop', 'butterfly', 'linear'];
-const FREE_SETS = { 'cage minus held': 'minus-held', 'all cage': 'all' };
+const FREE_SETS = { 'cage minus held': 'minus-held', 'all cage': 'all', 'painted region': 'painted', parts: 'parts' };
+const TOOLS = { 'drag handles': 'drag', 'paint free set': 'paint', 'assign to part': 'assign' };
+export const MAX_PARTS = 8;
 const TOLERANCES = { '1e-4': 1e-4, '1e-5': 1e-5, '1e-6': 1e-6, '1e-7': 1e-7, '1e-8': 1e-8 };
 
 function tag(controller, id) {
@@ -20,10 +22,11 @@ function formatBytes(n) {
 }
 
 /**
- * settings: { model, scheme, level, preserve, freeSet, tolerance, flat, showMesh, showCage }
+ * settings: { model, scheme, level, preserve, freeSet, tolerance, flat, showMesh, showCage, tool, part,
+ *             showApprox, approxLevel, showDetails }
  * actions: { openSample(name), openFile(), changeScheme(), changeLevel(), changePreserve(),
- *            changeFreeSet(), changeView(), setReference(), exportObj(), reset(), recomputeTheta(),
- *            refreshCache(), clearCache() }
+ *            changeFreeSet(), changeTool(), clearPainted(), clearParts(), changeView(), changeLayers(),
+ *            setReference(), exportObj(), reset(), recomputeTheta(), refreshCache(), clearCache() }
  */
 export function createPanel({ settings, samples, actions }) {
   const gui = new GUI({ title: 'mrvol' });
@@ -40,6 +43,10 @@ export function createPanel({ settings, samples, actions }) {
   const level = tag(edit.add(settings, 'level', [0]).name('level e').onChange(() => actions.changeLevel()), 'level');
   const preserve = tag(edit.add(settings, 'preserve').name('preserve volume').onChange(() => actions.changePreserve()), 'preserve');
   tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set').onChange(() => actions.changeFreeSet()), 'free-set');
+  tag(edit.add(settings, 'tool', TOOLS).name('pointer').onChange(() => actions.changeTool()), 'tool');
+  const part = tag(edit.add(settings, 'part', 1, MAX_PARTS, 1).name('part to assign'), 'part-number');
+  const clearPainted = tag(edit.add({ clear: () => actions.clearPainted() }, 'clear').name('clear painted region'), 'clear-painted');
+  const clearParts = tag(edit.add({ clear: () => actions.clearParts() }, 'clear').name('clear parts'), 'clear-parts');
   tag(edit.add(settings, 'tolerance', TOLERANCES).onChange(() => actions.changeTolerance()), 'tolerance');
   tag(edit.add({ setReference: () => actions.setReference() }, 'setReference').name('reference = current volume'), 'set-reference');
   tag(edit.add({ recompute: () => actions.recomputeTheta() }, 'recompute').name('compute θ again'), 'theta-recompute');
@@ -50,6 +57,9 @@ export function createPanel({ settings, samples, actions }) {
   tag(view.add(settings, 'showMesh').name('fine mesh').onChange(() => actions.changeView()), 'show-mesh');
   tag(view.add(settings, 'showCage').name('cage').onChange(() => actions.changeView()), 'show-cage');
   tag(view.add(settings, 'flat').name('flat shading').onChange(() => actions.changeView()), 'flat');
+  tag(view.add(settings, 'showApprox').name('level-l approximation').onChange(() => actions.changeLayers()), 'show-approx');
+  const approxLevel = tag(view.add(settings, 'approxLevel', 0, 1, 1).name('l').onChange(() => actions.changeLayers()), 'approx-level');
+  tag(view.add(settings, 'showDetails').name('detail vectors').onChange(() => actions.changeLayers()), 'show-details');
 
   const cache = gui.addFolder('θ cache (IndexedDB)');
   cache.close();
@@ -68,6 +78,16 @@ export function createPanel({ settings, samples, actions }) {
       level.options(Array.from({ length: n + 1 }, (_, i) => i));
       tag(level, 'level');
       level.updateDisplay();
+      approxLevel.max(Math.max(n, 1));
+      approxLevel.updateDisplay();
+    },
+    /** Shows the controls of the painted region and of the parts when they apply. */
+    showModeControls() {
+      const painting = settings.freeSet === 'painted' || settings.tool === 'paint';
+      const parts = settings.freeSet === 'parts' || settings.tool === 'assign';
+      clearPainted.show(painting);
+      part.show(parts);
+      clearParts.show(parts);
     },
     update() {
       for (const c of gui.controllersRecursive()) c.updateDisplay();

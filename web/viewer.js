@@ -9,6 +9,8 @@ const CAGE_COLOR = 0x1f6feb;
 const HANDLE_COLOR = new THREE.Color(0x1f6feb);
 const SELECTED_COLOR = new THREE.Color(0xf0a020);
 const HOVER_COLOR = new THREE.Color(0x3fb950);
+const APPROX_COLOR = 0x2da44e;
+const DETAIL_COLOR = 0xcf222e;
 
 // Scratch objects: pointer handlers and projections do not allocate.
 const scratch = new THREE.Vector3();
@@ -67,6 +69,18 @@ export class Viewer {
       depthTest: false, transparent: false,
     });
     this.handles = null;
+    // Optional layers: a second, semi-transparent mesh (an approximation of the fine one, same
+    // faces) and line segments (one per vertex, from the approximation to the fine position).
+    this.approxMaterial = new THREE.MeshStandardMaterial({
+      color: APPROX_COLOR, roughness: 0.7, metalness: 0.0, flatShading: true, side: THREE.DoubleSide,
+      transparent: true, opacity: 0.4, depthWrite: false,
+    });
+    this.detailMaterial = new THREE.LineBasicMaterial({ color: DETAIL_COLOR });
+    this.approx = null;
+    this.details = null;
+    this.overlay = { approx: false, details: false };
+    this.layerData = { approx: false, details: false };
+    this.marks = new Map(); // handle index -> THREE.Color (painted handles, parts)
     this.cageGroup = new THREE.Group();
     this.scene.add(this.cageGroup);
 
@@ -129,15 +143,31 @@ export class Viewer {
 
   /** Replaces the fine mesh. positions: Float64Array (3 per vertex), faces: Uint32Array. */
   setMesh(positions, faces) {
-    if (this.mesh) {
-      this.scene.remove(this.mesh);
-      this.mesh.geometry.dispose();
+    for (const object of [this.mesh, this.approx, this.details]) {
+      if (!object) continue;
+      this.scene.remove(object);
+      object.geometry.dispose();
     }
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
     geometry.setIndex(new THREE.BufferAttribute(faces.length > 0 ? new Uint32Array(faces) : new Uint32Array(0), 1));
     this.mesh = new THREE.Mesh(geometry, this.meshMaterial);
     this.scene.add(this.mesh);
+    // The layers: same faces; filled in by updateApprox / updateDetails.
+    const approxGeometry = new THREE.BufferGeometry();
+    approxGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
+    approxGeometry.setIndex(geometry.getIndex());
+    this.approx = new THREE.Mesh(approxGeometry, this.approxMaterial);
+    this.approx.renderOrder = 1;
+    const detailGeometry = new THREE.BufferGeometry();
+    detailGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(2 * positions.length), 3));
+    this.details = new THREE.LineSegments(detailGeometry, this.detailMaterial);
+    for (const object of [this.approx, this.details]) {
+      object.frustumCulled = false;
+      object.visible = false;
+      this.scene.add(object);
+    }
+    this.layerData = { approx: false, details: false }; // filled since the last setMesh
     if (!this.flat) geometry.computeVertexNormals();
     geometry.computeBoundingSphere();
     this.requestRender();
@@ -188,10 +218,55 @@ export class Viewer {
     this.requestRender();
   }
 
-  setLayers({ mesh, cage }) {
+  setLayers({ mesh, cage, approx = this.overlay.approx, details = this.overlay.details }) {
     if (this.mesh) this.mesh.visible = mesh;
     this.cageGroup.visible = cage;
+    this.overlay = { approx, details };
+    this.#showOverlay();
     this.requestRender();
+  }
+
+  #showOverlay() {
+    if (this.approx) this.approx.visible = this.overlay.approx && this.layerData.approx;
+    if (this.details) this.details.visible = this.overlay.details && this.layerData.details;
+  }
+
+  /** The approximation layer's positions (same vertices and faces as the fine mesh). */
+  updateApprox(positions) {
+    const attribute = this.approx.geometry.getAttribute('position');
+    attribute.array.set(positions);
+    attribute.needsUpdate = true;
+    this.layerData.approx = true;
+    this.#showOverlay();
+    this.requestRender();
+  }
+
+  /** One segment per vertex, from `from` to `to` (3 per vertex each). */
+  updateDetails(from, to) {
+    const attribute = this.details.geometry.getAttribute('position');
+    const out = attribute.array;
+    for (let i = 0, n = from.length / 3; i < n; i++) {
+      out[6 * i] = from[3 * i];
+      out[6 * i + 1] = from[3 * i + 1];
+      out[6 * i + 2] = from[3 * i + 2];
+      out[6 * i + 3] = to[3 * i];
+      out[6 * i + 4] = to[3 * i + 1];
+      out[6 * i + 5] = to[3 * i + 2];
+    }
+    attribute.needsUpdate = true;
+    this.layerData.details = true;
+    this.#showOverlay();
+    this.requestRender();
+  }
+
+  /** What the layers draw now (read-only counts for tests). */
+  overlayInfo() {
+    const drawn = (object) => Boolean(object?.visible && object.parent === this.scene);
+    return {
+      approx: { drawn: drawn(this.approx), vertices: this.approx ? this.approx.geometry.getAttribute('position').count : 0,
+        triangles: this.approx ? this.approx.geometry.getIndex().count / 3 : 0 },
+      details: { drawn: drawn(this.details), segments: drawn(this.details) ? this.details.geometry.getAttribute('position').count / 2 : 0 },
+    };
   }
 
   /** Replaces the cage: positions (3 per handle) and edges (pairs of handle indices). */
@@ -217,6 +292,7 @@ export class Viewer {
     for (const object of [this.cageLines, this.cageLinesHidden, this.handles]) object.frustumCulled = false;
     this.cageGroup.add(this.cageLines, this.cageLinesHidden, this.handles);
     this.selection = new Set();
+    this.marks = new Map();
     this.hover = -1;
     this.updateColors();
   }
@@ -234,6 +310,12 @@ export class Viewer {
     this.updateColors();
   }
 
+  /** Colours of marked handles (painted, parts): Map of handle index to a colour (hex or CSS). */
+  setMarks(marks) {
+    this.marks = new Map([...marks].map(([i, c]) => [i, new THREE.Color(c)]));
+    this.updateColors();
+  }
+
   setHover(index) {
     if (index === this.hover) return;
     this.hover = index;
@@ -244,7 +326,7 @@ export class Viewer {
     if (!this.handles) return;
     const colors = this.handles.geometry.getAttribute('color');
     for (let i = 0; i < this.cageCount; i++) {
-      const c = this.selection.has(i) ? SELECTED_COLOR : i === this.hover ? HOVER_COLOR : HANDLE_COLOR;
+      const c = this.selection.has(i) ? SELECTED_COLOR : i === this.hover ? HOVER_COLOR : this.marks.get(i) ?? HANDLE_COLOR;
       colors.setXYZ(i, c.r, c.g, c.b);
     }
     colors.needsUpdate = true;
