@@ -18,6 +18,7 @@ const point = new THREE.Vector3();
  *   pick(index, shiftKey) -> handle indices to drag, or null (no drag),
  *   dragStart(handles), drag(delta: [dx, dy, dz], eventTime), dragEnd(), dragCancel(),
  *   clickEmpty(),
+ *   boxSelect(indices) for a shift-drag on empty space: the handles inside the box,
  *   painting() -> true while presses paint handles instead of dragging them,
  *   paint(index, first) for each handle a stroke passes over (first: the one pressed), paintEnd(),
  * }
@@ -30,6 +31,7 @@ export class CageDragger {
     this.drag = null;
     this.down = null;
     this.stroke = null; // a paint stroke: { pointerId, last }
+    this.box = null;    // a selection box: { pointerId, x0, y0, x1, y1, el }
     this.enabled = true;
     // Capture phase on the container: runs before OrbitControls' listeners on the canvas, so a
     // press on a handle never starts an orbit.
@@ -47,9 +49,24 @@ export class CageDragger {
   }
 
   #pointerDown(e) {
-    if (!this.enabled || e.button !== 0 || this.drag || this.stroke) return;
+    if (!this.enabled || e.button !== 0 || this.drag || this.stroke || this.box) return;
     const [x, y] = this.#local(e);
     const index = this.viewer.pickHandle(x, y, PICK_RADIUS_PX);
+    if (index < 0 && e.shiftKey && this.handlers.boxSelect && !this.handlers.painting?.()) {
+      // Shift-drag on empty space: a selection box (instead of OrbitControls' pan).
+      e.stopPropagation();
+      e.preventDefault();
+      const el = document.createElement('div');
+      el.className = 'selection-box';
+      el.dataset.testid = 'selection-box';
+      Object.assign(el.style, { position: 'fixed', pointerEvents: 'none', border: '1px dashed #1f6feb',
+                                background: 'rgba(31, 111, 235, 0.08)', left: `${e.clientX}px`, top: `${e.clientY}px`,
+                                width: '0px', height: '0px' });
+      document.body.append(el);
+      this.box = { pointerId: e.pointerId, x0: e.clientX, y0: e.clientY, x1: e.clientX, y1: e.clientY, el };
+      this.viewer.canvas.setPointerCapture?.(e.pointerId);
+      return;
+    }
     if (index < 0) {
       this.down = { x: e.clientX, y: e.clientY };
       return;
@@ -78,6 +95,15 @@ export class CageDragger {
   }
 
   #pointerMove(e) {
+    const box = this.box;
+    if (box) {
+      if (e.pointerId !== box.pointerId) return;
+      e.stopPropagation();
+      box.x1 = e.clientX, box.y1 = e.clientY;
+      Object.assign(box.el.style, { left: `${Math.min(box.x0, box.x1)}px`, top: `${Math.min(box.y0, box.y1)}px`,
+                                    width: `${Math.abs(box.x1 - box.x0)}px`, height: `${Math.abs(box.y1 - box.y0)}px` });
+      return;
+    }
     const stroke = this.stroke;
     if (stroke) {
       if (e.pointerId !== stroke.pointerId) return;
@@ -113,6 +139,27 @@ export class CageDragger {
   }
 
   #pointerUp(e, cancelled = false) {
+    const box = this.box;
+    if (box && e.pointerId === box.pointerId) {
+      e.stopPropagation();
+      this.box = null;
+      box.el.remove();
+      this.viewer.canvas.releasePointerCapture?.(e.pointerId);
+      if (cancelled || Math.hypot(box.x1 - box.x0, box.y1 - box.y0) < CLICK_SLOP_PX) return;
+      // Handles whose projection lies in the box (and in front of the camera).
+      const rect = this.viewer.canvas.getBoundingClientRect();
+      const depths = new Float64Array(this.viewer.cageCount);
+      const screen = this.viewer.projectHandles(undefined, depths);
+      const [xa, xb] = [Math.min(box.x0, box.x1) - rect.left, Math.max(box.x0, box.x1) - rect.left];
+      const [ya, yb] = [Math.min(box.y0, box.y1) - rect.top, Math.max(box.y0, box.y1) - rect.top];
+      const inside = [];
+      for (let i = 0; i < this.viewer.cageCount; i++) {
+        const sx = screen[2 * i], sy = screen[2 * i + 1];
+        if (depths[i] >= -1 && depths[i] <= 1 && sx >= xa && sx <= xb && sy >= ya && sy <= yb) inside.push(i);
+      }
+      this.handlers.boxSelect(inside);
+      return;
+    }
     const stroke = this.stroke;
     if (stroke && e.pointerId === stroke.pointerId) {
       e.stopPropagation();

@@ -570,6 +570,10 @@ const dragHandlers = {
     app.stroke = null;
     saveSoon();
   },
+  boxSelect(indices) {
+    for (const i of indices) app.selection.add(i);
+    app.viewer.setSelection(app.selection);
+  },
   clickEmpty() {
     if (app.selection.size === 0) return;
     app.selection.clear();

@@ -1,0 +1,62 @@
+// Box selection in the editor: shift-drag on empty space selects the handles inside the box, and a
+// drag of one of them moves the whole selection with the volume kept.
+import { after, before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { launch, waitReady, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
+
+let browser, page;
+
+describe('web editor: box selection', { timeout: 40_000 }, () => {
+  before(async () => {
+    browser = await launch();
+    page = await browser.newPage();
+    await page.goto(browser.url);
+    await waitReady(page);
+  });
+
+  after(async () => {
+    await browser?.close();
+  });
+
+  test('shift-drag on empty space selects the handles in the box; dragging one moves them all', async () => {
+    const points = await page.evaluate(() => window.mrvolDebug.cageScreenPositions());
+    const canvasAt = (x, y) => page.evaluate(([x, y]) => document.elementFromPoint(x, y) === document.querySelector('#view canvas'), [x, y]);
+    // A box of 140 px around a handle, whose corners are on the canvas and away from every handle.
+    let box = null;
+    for (const [x, y] of points) {
+      const b = { x0: x - 70, y0: y - 70, x1: x + 70, y1: y + 70 };
+      const clearOf = (px, py) => points.every(([hx, hy]) => Math.hypot(hx - px, hy - py) > 16);
+      if (clearOf(b.x0, b.y0) && (await canvasAt(b.x0, b.y0)) && (await canvasAt(b.x1, b.y1))) { box = b; break; }
+    }
+    assert.ok(box, 'a box with free corners on the canvas');
+    const expected = points.map(([x, y], i) => [x, y, i])
+      .filter(([x, y]) => x >= box.x0 && x <= box.x1 && y >= box.y0 && y <= box.y1).map(([, , i]) => i);
+    assert.ok(expected.length >= 1);
+    const before = await page.evaluate(() => window.mrvolDebug.cagePositions());
+
+    await page.keyboard.down('Shift');
+    await page.mouse.move(box.x0, box.y0);
+    await page.mouse.down();
+    for (let i = 1; i <= 8; i++) await page.mouse.move(box.x0 + (box.x1 - box.x0) * i / 8, box.y0 + (box.y1 - box.y0) * i / 8);
+    assert.equal(await page.locator('[data-testid="selection-box"]').count(), 1, 'the box is drawn');
+    await page.mouse.up();
+    await page.keyboard.up('Shift');
+    assert.equal(await page.locator('[data-testid="selection-box"]').count(), 0, 'and removed');
+    const selected = (await page.evaluate(() => window.mrvolDebug.selection())).sort((a, b) => a - b);
+    assert.deepEqual(selected, [...expected].sort((a, b) => a - b));
+    // The camera did not move: the handles are where they were on screen.
+    assert.deepEqual(await page.evaluate(() => window.mrvolDebug.cageScreenPositions()), points);
+
+    await dragHandle(page, expected[0], 40, -30);
+    await settle(page);
+    const afterDrag = await page.evaluate(() => window.mrvolDebug.cagePositions());
+    for (const i of expected) {
+      const moved = Math.hypot(afterDrag[3 * i] - before[3 * i], afterDrag[3 * i + 1] - before[3 * i + 1], afterDrag[3 * i + 2] - before[3 * i + 2]);
+      assert.ok(moved > 1e-3, `selected handle ${i} moved`);
+    }
+    const r = await readouts(page);
+    assert.ok(r.error <= 1e-5, `relative error ${r.error}`);
+    await page.screenshot({ path: join(RESULTS_DIR, 'box-select.png') });
+  });
+});
