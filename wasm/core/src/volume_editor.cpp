@@ -324,22 +324,24 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       for (int k = 0; k < 3; ++k) q[3 * size_t(i) + k] = g[3 * size_t(i) + k];
     if (freeDetailLevels_.empty()) transform_->synthesizeZeroDetails(q.data(), level_);
     else transform_->synthesize(q.data(), level_);
-    double c[4] = {0, 0, 0, 0};
+    // c0 = v and c1 = g_F . g_F (the derivative along the direction) are known; one pass gives
+    // c2 = sum a.(qb x qd) + qa.(b x qd + qb x d) and c3 = sum qa.(qb x qd), over 6.
+    double c[4] = {v * 6.0, norm2 * 6.0, 0, 0};
     const auto& faces = hierarchy_->fineFaces();
     const double org[3] = {origin_.x, origin_.y, origin_.z};
-    double t[3];
+    double t[3], u[3];
     for (size_t f = 0; f < faces.size(); f += 3) {
-      double a[3], b[3], d[3];
-      const double *qa = &q[3 * size_t(faces[f])], *qb = &q[3 * size_t(faces[f + 1])], *qd = &q[3 * size_t(faces[f + 2])];
-      for (int k = 0; k < 3; ++k) {
-        a[k] = p[3 * size_t(faces[f]) + k] - org[k];
-        b[k] = p[3 * size_t(faces[f + 1]) + k] - org[k];
-        d[k] = p[3 * size_t(faces[f + 2]) + k] - org[k];
-      }
-      cross(b, d, t), c[0] += dot(a, t), c[1] += dot(qa, t);
-      cross(qb, d, t), c[1] += dot(a, t), c[2] += dot(qa, t);
-      cross(b, qd, t), c[1] += dot(a, t), c[2] += dot(qa, t);
-      cross(qb, qd, t), c[2] += dot(a, t), c[3] += dot(qa, t);
+      const size_t ia = 3 * size_t(faces[f]), ib = 3 * size_t(faces[f + 1]), id = 3 * size_t(faces[f + 2]);
+      const double *qa = &q[ia], *qb = &q[ib], *qd = &q[id];
+      const double a[3] = {p[ia] - org[0], p[ia + 1] - org[1], p[ia + 2] - org[2]};
+      const double b[3] = {p[ib] - org[0], p[ib + 1] - org[1], p[ib + 2] - org[2]};
+      const double d[3] = {p[id] - org[0], p[id + 1] - org[1], p[id + 2] - org[2]};
+      cross(qb, qd, t);
+      c[3] += dot(qa, t);
+      c[2] += dot(a, t);
+      cross(b, qd, t);
+      cross(qb, d, u);
+      c[2] += qa[0] * (t[0] + u[0]) + qa[1] * (t[1] + u[1]) + qa[2] * (t[2] + u[2]);
     }
     for (double& k : c) k /= 6.0;
     // Newton on c0 + c1 s + c2 s^2 + c3 s^3 = reference, from the linearized step.
