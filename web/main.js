@@ -782,20 +782,33 @@ async function openFile(file) {
   await openModel({ kind: 'file', name: file.name, file });
 }
 
-function exportObj() {
-  if (!app.editor) return;
-  const text = app.mrvol.writeObj({ positions: app.editor.positions(), faces: app.model.faces });
+function download(text, name, testid) {
   const blob = new Blob([text], { type: 'text/plain' });
   const link = document.createElement('a');
   link.href = URL.createObjectURL(blob);
-  link.download = `${app.model.name.replace(/\.obj$/i, '')}-edited.obj`;
-  link.dataset.testid = 'export-link';
+  link.download = name;
+  link.dataset.testid = testid;
   document.body.appendChild(link);
   link.click();
   setTimeout(() => {
     URL.revokeObjectURL(link.href);
     link.remove();
   }, 1000);
+}
+
+function exportObj() {
+  if (!app.editor) return;
+  const text = app.mrvol.writeObj({ positions: app.editor.positions(), faces: app.model.faces });
+  download(text, `${app.model.name.replace(/\.obj$/i, '')}-edited.obj`, 'export-link');
+}
+
+/** The level-e cage as its own OBJ: cage positions in cage order, the level-e triangles. */
+function exportCage() {
+  if (!app.editor) return;
+  const cageIndex = new Map(Array.from(app.editor.cageVertices(), (v, i) => [v, i]));
+  const faces = Uint32Array.from(app.model.mr.levelFaces(app.editor.level), (v) => cageIndex.get(v));
+  const text = app.mrvol.writeObj({ positions: app.editor.cagePositions(), faces });
+  download(text, `${app.model.name.replace(/\.obj$/i, '')}-cage-level${app.editor.level}.obj`, 'export-cage-link');
 }
 
 async function reset() {
@@ -811,6 +824,7 @@ const actions = {
   openSample: (name) => openModel({ kind: 'sample', name }),
   openFile: pickFile,
   exportObj,
+  exportCage,
   reset,
   undo,
   redo,

@@ -26,7 +26,7 @@ function formatBytes(n) {
  *             showApprox, approxLevel, showDetails }
  * actions: { openSample(name), openFile(), changeScheme(), changeLevel(), changePreserve(),
  *            changeFreeSet(), changeTool(), clearPainted(), clearParts(), changeView(), changeLayers(),
- *            setReference(), exportObj(), reset(), recomputeTheta(), refreshCache(), clearCache() }
+ *            setReference(), exportObj(), exportCage(), reset(), recomputeTheta(), refreshCache(), clearCache() }
  */
 export function createPanel({ settings, samples, actions }) {
   const gui = new GUI({ title: 'mrvol' });
@@ -36,6 +36,7 @@ export function createPanel({ settings, samples, actions }) {
   const modelChoice = tag(model.add(settings, 'model', samples).name('sample').onChange((name) => actions.openSample(name)), 'model-select');
   tag(model.add({ open: () => actions.openFile() }, 'open').name('open OBJ file…'), 'open-button');
   tag(model.add({ exportObj: () => actions.exportObj() }, 'exportObj').name('export OBJ'), 'export');
+  tag(model.add({ exportCage: () => actions.exportCage() }, 'exportCage').name('export cage OBJ'), 'export-cage');
   tag(model.add({ reset: () => actions.reset() }, 'reset').name('reset (forget edits)'), 'reset');
 
   const edit = gui.addFolder('Editing');

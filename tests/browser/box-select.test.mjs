@@ -1,9 +1,11 @@
 // Box selection in the editor: shift-drag on empty space selects the handles inside the box, and a
-// drag of one of them moves the whole selection with the volume kept.
+// drag of one of them moves the whole selection with the volume kept. And the cage's own export.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
+import { readFile } from 'node:fs/promises';
 import { launch, waitReady, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
+import { createMrvol } from '../../lib/node.mjs';
 
 let browser, page;
 
@@ -58,5 +60,22 @@ describe('web editor: box selection', { timeout: 40_000 }, () => {
     const r = await readouts(page);
     assert.ok(r.error <= 1e-5, `relative error ${r.error}`);
     await page.screenshot({ path: join(RESULTS_DIR, 'box-select.png') });
+  });
+
+  test('exports the level-e cage as an OBJ: the cage positions shown, the level-e triangles', async () => {
+    const mrvol = await createMrvol();
+    const [download] = await Promise.all([
+      page.waitForEvent('download', { timeout: 30_000 }),
+      page.locator('[data-testid="export-cage"]').click(),
+    ]);
+    assert.equal(download.suggestedFilename(), 'spiky-ball-cage-level0.obj');
+    const cage = mrvol.readObj(await readFile(await download.path(), 'utf8'));
+    const shown = await page.evaluate(() => window.mrvolDebug.cagePositions());
+    assert.deepEqual(Array.from(cage.positions), Array.from(shown));  // %.17g: exact
+    assert.equal(cage.faces.length, 3 * 20);  // the icosahedron's 20 triangles
+    const topology = mrvol.validate(cage);
+    assert.equal(topology.closed, true);
+    assert.equal(topology.genus, 0);
+    assert.ok(mrvol.volume(cage) > 0, 'outward oriented');
   });
 });
