@@ -254,11 +254,14 @@ function openModelText({ name, kind, text }, restore = null) {
         'so it has no coarse cage to edit (mrvol edits meshes made by repeated 1-to-4 splits of a base mesh)');
     fingerprint = mr.fingerprint();
   } catch (e) {
+    const notSemiRegular = mr !== null && info?.levels === 0;
     mr?.delete();
     showError(`Could not open ${name}: ${e.message}`);
+    if (notSemiRegular) offerRemesh({ name, text });
     return false;
   }
   clearError();
+  $('remesh-offer').hidden = true;
   notice('');
   // Commit: the previous model goes (its editors with it), with its cached tensors.
   cancelTheta();
@@ -289,6 +292,52 @@ function openModelText({ name, kind, text }, restore = null) {
   app.viewer.requestRender();
   saveSoon();
   return true;
+}
+
+/**
+ * A closed mesh that is not semi-regular: offers remeshing (lib/remesh.mjs in a worker) with its
+ * parameters; the result opens as a new model.
+ */
+function offerRemesh(source) {
+  $('remesh-offer').hidden = false;
+  $('remesh-progress').hidden = true;
+  $('remesh-stage').textContent = '';
+  $('remesh-go').disabled = false;
+  $('remesh-go').onclick = () => {
+    const levels = Number($('remesh-levels').value), base = Number($('remesh-base').value);
+    app.remeshWorker?.terminate();
+    const worker = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
+    app.remeshWorker = worker;
+    $('remesh-go').disabled = true;
+    $('remesh-progress').hidden = false;  // indeterminate: the stage text says where it is
+    const started = performance.now();
+    const finish = (stage) => {
+      worker.terminate();
+      if (app.remeshWorker === worker) app.remeshWorker = null;
+      $('remesh-progress').hidden = true;
+      $('remesh-go').disabled = false;
+      $('remesh-stage').textContent = stage;
+    };
+    worker.onmessage = async ({ data }) => {
+      if (data.type === 'stage') {
+        $('remesh-stage').textContent = data.stage;
+        return;
+      }
+      if (data.type === 'error') return finish(`remeshing failed: ${data.message}`);
+      finish('');
+      const r = data.report;
+      const ok = await openModel({ name: `${source.name.replace(/\.obj$/i, '')}-remeshed`, kind: 'file', text: data.text });
+      if (ok)
+        notice(`Remeshed in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
+          `${r.vertices} vertices, Hausdorff ${(100 * r.hausdorff).toFixed(2)}% of the diagonal, ` +
+          `${r.flippedTriangles} flipped triangles, volume change ${(100 * r.volumeChange).toFixed(2)}%`);
+    };
+    worker.onerror = (e) => {
+      e.preventDefault?.();
+      finish(`remeshing failed: ${e.message || 'the worker could not start'}`);
+    };
+    worker.postMessage({ text: source.text, levels, baseFaces: base > 0 ? base : undefined });
+  };
 }
 
 /** Loads a model from its source; false when it could not be read or opened. */

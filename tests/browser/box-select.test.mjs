@@ -1,15 +1,17 @@
 // Box selection in the editor: shift-drag on empty space selects the handles inside the box, and a
-// drag of one of them moves the whole selection with the volume kept. And the cage's own export.
+// drag of one of them moves the whole selection with the volume kept. The cage's own export. And an
+// ordinary closed mesh (the bunny scan, not semi-regular) offered for remeshing in a worker.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
 import { readFile } from 'node:fs/promises';
 import { launch, waitReady, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
 import { createMrvol } from '../../lib/node.mjs';
+import { createRequire } from 'node:module';
 
 let browser, page;
 
-describe('web editor: box selection', { timeout: 40_000 }, () => {
+describe('web editor: box selection, cage export, remeshing offer', { timeout: 100_000 }, () => {
   before(async () => {
     browser = await launch();
     page = await browser.newPage();
@@ -77,5 +79,24 @@ describe('web editor: box selection', { timeout: 40_000 }, () => {
     assert.equal(topology.closed, true);
     assert.equal(topology.genus, 0);
     assert.ok(mrvol.volume(cage) > 0, 'outward oriented');
+  });
+
+  test('a mesh that is not semi-regular is offered remeshing; the result opens, ready to edit', { timeout: 60_000 }, async () => {
+    const bunny = createRequire(import.meta.url)('bunny');
+    const obj = bunny.positions.map((p) => `v ${p.join(' ')}`).concat(bunny.cells.map((c) => `f ${c.map((i) => i + 1).join(' ')}`)).join('\n');
+    await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'scan.obj', mimeType: 'text/plain', buffer: Buffer.from(obj) });
+    await page.waitForSelector('[data-testid="remesh-offer"]:not([hidden])');
+    assert.match(await page.textContent('[data-testid="error-text"]'), /not semi-regular/);
+    assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), 'spiky-ball', 'the current model stays');
+    await page.fill('[data-testid="remesh-levels"]', '2');
+    await page.click('[data-testid="remesh-go"]');
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'scan-remeshed' && window.mrvolDebug.ready(), null, { timeout: 50_000 });
+    assert.equal(await page.isVisible('[data-testid="remesh-offer"]'), false);
+    assert.equal(await page.isVisible('[data-testid="error"]'), false);
+    assert.match(await page.textContent('[data-testid="notice"]'), /Remeshed in .* 2 levels, \d+ vertices, Hausdorff [\d.]+% of the diagonal, 0 flipped/);
+    assert.match(await page.textContent('[data-testid="model-info"]'), /2 levels/);
+    const r = await readouts(page);
+    assert.ok(Math.abs(r.current - r.reference) <= 1e-9 * Math.abs(r.reference));
+    await page.screenshot({ path: join(RESULTS_DIR, 'remeshed-bunny.png') });
   });
 });
