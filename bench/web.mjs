@@ -90,7 +90,7 @@ async function measureModel(server, model) {
   return { model, cold, warm, drags };
 }
 
-const modeName = { dev: 'dev server (npm start)', preview: 'production build (vite preview)' };
+const modeName = { dev: 'dev server (serve.mjs)', preview: 'production build (npm start)' };
 
 let version;
 const results = [];
@@ -122,8 +122,9 @@ lines.push(`Measured by \`node bench/web.mjs\` on ${new Date().toISOString().sli
 lines.push('Times in ms from navigation start (`performance.now()` in the page). "Drag-ready" is the first frame with',
   'the model and its cage drawn: dragging works from then on, on the matrix-free path until theta arrives.',
   'Cold: a fresh browser profile, theta computed in the worker. Warm: a reload, theta read from IndexedDB',
-  '(and the session restored from localStorage). Served by the vite dev server (what `npm start` runs: one',
-  'request per module) or the production bundle (`node scripts/serve.mjs --preview`).', '');
+  '(and the session restored from localStorage). Served by the production bundle (what `npm start` runs:',
+  '`node scripts/serve.mjs --preview`, a 2 s vite build then vite preview) or the vite dev server',
+  '(`node scripts/serve.mjs`, for working on web/: one request per module).', '');
 lines.push('| server | model | run | main.js running | core loaded | model opened | drag-ready frame | theta in use | worker computeTheta |');
 lines.push('|---|---|---|---:|---:|---:|---:|---:|---:|');
 for (const r of results)
