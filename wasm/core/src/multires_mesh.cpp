@@ -71,28 +71,28 @@ void MultiresMesh::checkLevel(int level) const {
                 std::to_string(hierarchy_.levels));
 }
 
-std::vector<double> MultiresMesh::analyze(const std::vector<double>& positions, int level,
-                                          const SchemeOptions& scheme) const {
+// Caller's order in, one transform in hierarchy order, caller's order out.
+template <class Apply>
+std::vector<double> MultiresMesh::inHierarchyOrder(const std::vector<double>& values, const char* what, int level,
+                                                   Apply&& apply) const {
   checkLevel(level);
-  if (positions.size() != mesh_.positions.size())
-    throw Error("expected " + std::to_string(mesh_.positions.size()) + " coordinates, got " + std::to_string(positions.size()));
-  std::vector<double> x(positions.size()), out(positions.size());
-  hierarchy_.toHierarchyOrder(positions.data(), x.data());
-  transform(scheme).analyze(x.data(), level);
+  if (values.size() != mesh_.positions.size())
+    throw Error("expected " + std::to_string(mesh_.positions.size()) + " " + what + ", got " + std::to_string(values.size()));
+  std::vector<double> x(values.size()), out(values.size());
+  hierarchy_.toHierarchyOrder(values.data(), x.data());
+  apply(x.data());
   hierarchy_.toInputOrder(x.data(), out.data());
   return out;
 }
 
+std::vector<double> MultiresMesh::analyze(const std::vector<double>& positions, int level,
+                                          const SchemeOptions& scheme) const {
+  return inHierarchyOrder(positions, "coordinates", level, [&](double* x) { transform(scheme).analyze(x, level); });
+}
+
 std::vector<double> MultiresMesh::synthesize(const std::vector<double>& coefficients, int level,
                                              const SchemeOptions& scheme) const {
-  checkLevel(level);
-  if (coefficients.size() != mesh_.positions.size())
-    throw Error("expected " + std::to_string(mesh_.positions.size()) + " coefficients, got " + std::to_string(coefficients.size()));
-  std::vector<double> x(coefficients.size()), out(coefficients.size());
-  hierarchy_.toHierarchyOrder(coefficients.data(), x.data());
-  transform(scheme).synthesize(x.data(), level);
-  hierarchy_.toInputOrder(x.data(), out.data());
-  return out;
+  return inHierarchyOrder(coefficients, "coefficients", level, [&](double* x) { transform(scheme).synthesize(x, level); });
 }
 
 double MultiresMesh::roundtripError(int level, const SchemeOptions& scheme) const {

@@ -67,6 +67,8 @@ class MultiresMesh {
  private:
   MultiresMesh() = default;
   void checkLevel(int level) const;
+  template <class Apply>
+  std::vector<double> inHierarchyOrder(const std::vector<double>& values, const char* what, int level, Apply&& apply) const;
   TriangleMesh mesh_;
   MeshTopology topology_;
   Hierarchy hierarchy_;
