@@ -21,7 +21,7 @@ commands:
        [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]
        [--theta FILE.theta] -o OUT.obj [--json]
                                               moves level-e cage vertices, keeping the volume
-  remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] -o OUT.obj [--json]
+  remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m]] -o OUT.obj [--json]
                                               semi-regular remeshing of any closed manifold mesh
 
 options:
@@ -43,6 +43,9 @@ options:
   --base-faces k                   remesh: faces of the simplified base mesh (default: the
                                    input's faces / 4^n, within 300..8000)
   --keep-largest                   remesh: keep the largest connected component, drop the others
+  --repair                         remesh: repair a scan first: weld, drop duplicate faces, fins,
+                                   non-manifold and folded faces, close holes (reported in --json)
+  --max-hole m                     remesh --repair: close holes of at most m edges (default 100)
   --json                           print the result as JSON
   -o, --output FILE                output file`;
 
@@ -66,6 +69,8 @@ const OPTIONS = {
   theta: { type: 'string' },
   'base-faces': { type: 'string' },
   'keep-largest': { type: 'boolean' },
+  repair: { type: 'boolean' },
+  'max-hole': { type: 'string' },
   help: { type: 'boolean', short: 'h' },
 };
 
@@ -350,11 +355,14 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   if (levels < 0 || levels > 6) throw new UsageError(`--levels must be in 0..6, got ${levels}`);
   const baseFaces = values['base-faces'] === undefined ? undefined : integer(values['base-faces'], 'base-faces');
   if (baseFaces !== undefined && baseFaces < 4) throw new UsageError(`--base-faces must be at least 4, got ${baseFaces}`);
+  const maxHoleEdges = values['max-hole'] === undefined ? undefined : integer(values['max-hole'], 'max-hole');
+  if (maxHoleEdges !== undefined && (maxHoleEdges < 3 || !values.repair)) throw new UsageError('--max-hole needs --repair and at least 3 edges');
   if (!values.output) throw new UsageError('-o OUT.obj is required');
   const mesh = loadMesh(mrvol, input);
   let r;
   try {
-    r = await remesh(mrvol, mesh, { levels, baseFaces, keepLargest: values['keep-largest'] ?? false });
+    r = await remesh(mrvol, mesh, { levels, baseFaces, keepLargest: values['keep-largest'] ?? false,
+                                    repair: values.repair ?? false, maxHoleEdges });
   } catch (e) {
     throw e instanceof MrvolError ? new MrvolError(`${input}: ${e.message}`) : e;
   }
@@ -364,12 +372,14 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
     levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces, vertices: r.vertices, faces: r.faces,
     hausdorff: r.hausdorff, hausdorffToInput: r.hausdorffToInput, hausdorffFromInput: r.hausdorffFromInput,
     flippedTriangles: r.flippedTriangles, volumeChange: r.volumeChange, ms: round(r.ms, 1), output: values.output,
+    genus: r.input.genus, repair: r.repair,
   };
   print(values, result, (x) => [
     `wrote            ${x.output}: ${x.vertices} vertices, ${x.faces} faces, ${x.levels} levels over ${x.baseVertices} base vertices`,
     `hausdorff        ${round(100 * x.hausdorff, 3)}% of the bounding-box diagonal (to input ${round(100 * x.hausdorffToInput, 3)}%, from input ${round(100 * x.hausdorffFromInput, 3)}%)`,
     `flipped          ${x.flippedTriangles} triangles`,
     `volume change    ${round(100 * x.volumeChange, 4)}%`,
+    ...(x.repair ? [`repaired         ${Object.entries(x.repair).filter(([, v]) => v).map(([k, v]) => `${k} ${v}`).join(', ') || 'nothing'}`] : []),
     `time             ${x.ms} ms`].join('\n'));
 };
 

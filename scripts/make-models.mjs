@@ -3,7 +3,7 @@
 // real WASM module through the public JS API (lib/node.mjs). Deterministic: no randomness, fixed
 // parameters; running it twice gives the same files byte for byte.
 //
-//   node scripts/make-models.mjs [--check]
+//   node scripts/make-models.mjs [--check]    (--check also runs make-remeshed-models.mjs --check)
 //
 // Every model is checked before it is written: it is read back from its OBJ text, its hierarchy is
 // detected with the intended number of levels and base vertices, it is closed with the intended
@@ -11,9 +11,11 @@
 // its Loop/Butterfly/linear analysis-synthesis round trip is exact to rounding. With --check
 // nothing is written: the files on disk are compared with what would be generated.
 import { mkdirSync, readFileSync, writeFileSync, existsSync } from 'node:fs';
+import { spawnSync } from 'node:child_process';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createMrvol } from '../lib/node.mjs';
+import { updateReadme } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
@@ -415,21 +417,18 @@ ${rows.join('\n')}
 
 ${sections.join('\n')}`;
 
-// Other generators (scripts/make-remeshed-models.mjs) keep their own sections at the end of the
-// README, each after an HTML comment marker line: this script owns the text before the first such
-// line and keeps the rest as it is.
-const readmePath = join(outDir, 'README.md');
-const current = existsSync(readmePath) ? readFileSync(readmePath, 'utf8') : '';
-const foreign = current.search(/^<!-- /m);
-const fullReadme = foreign >= 0 ? readme.replace(/\n*$/, '\n\n') + current.slice(foreign) : readme;
+// scripts/make-remeshed-models.mjs keeps its own part at the end of the README, after a marker
+// line (scripts/models-readme.mjs): this script owns the text before it and keeps the rest. With
+// --check both are checked: the remeshed models through that script's own --check.
+const stale = updateReadme(join(outDir, 'README.md'), null, readme, checkOnly);
 if (checkOnly) {
-  if (current !== fullReadme) {
+  if (stale) {
     process.stderr.write('models: README.md differs from the generator\'s output\n');
     ++changed;
   }
   process.stderr.write(changed ? `models: ${changed} file(s) out of date\n` : 'models: up to date\n');
-  process.exitCode = changed ? 1 : 0;
+  const remeshed = spawnSync(process.execPath, [join(root, 'scripts/make-remeshed-models.mjs'), '--check'], { stdio: 'inherit' });
+  process.exitCode = changed || remeshed.status !== 0 ? 1 : 0;
 } else {
-  writeFileSync(readmePath, fullReadme);
   process.stderr.write(`models: wrote ${models.length} models and README.md to public/models\n`);
 }

@@ -15,12 +15,12 @@ import { fileURLToPath } from 'node:url';
 import bunny from 'bunny';
 import { TorusKnotGeometry } from 'three';
 import { createMrvol, remesh } from '../lib/node.mjs';
+import { REMESHED_MARKER, updateReadme } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
 const checkOnly = process.argv.includes('--check');
 const generator = 'scripts/make-remeshed-models.mjs';
-const MARKER = '<!-- Remeshed models: the section below is written by scripts/make-remeshed-models.mjs. -->';
 
 const mrvol = await createMrvol();
 const fmt = (x, digits = 6) => Number(x.toPrecision(digits)).toString();
@@ -93,9 +93,7 @@ for (const model of models) {
     `${r.flippedTriangles} flipped triangles; volume change ${percent(r.volumeChange)}.\n`);
 }
 
-const section = `${MARKER}
-
-## Remeshed models
+const section = `## Remeshed models
 
 Made from meshes that are not semi-regular by \`remesh\` (lib/remesh.mjs, \`mrvol remesh\`), written by
 [\`${generator}\`](../../${generator}), which \`npm run models\` runs after make-models.mjs and which
@@ -107,18 +105,14 @@ ${rows.join('\n')}
 
 ${sections.join('\n')}`;
 
-const readmePath = join(outDir, 'README.md');
-const current = readFileSync(readmePath, 'utf8');
-const at = current.indexOf(MARKER);
-const readme = (at >= 0 ? current.slice(0, at) : current.replace(/\n*$/, '\n\n')) + section;
+const stale = updateReadme(join(outDir, 'README.md'), REMESHED_MARKER, section, checkOnly);
 if (checkOnly) {
-  if (current !== readme) {
+  if (stale) {
     process.stderr.write('models: the remeshed section of README.md differs from the generator\'s output\n');
     ++changed;
   }
   process.stderr.write(changed ? `models: ${changed} file(s) out of date\n` : 'models: remeshed models up to date\n');
   process.exitCode = changed ? 1 : 0;
 } else {
-  writeFileSync(readmePath, readme);
   process.stderr.write(`models: wrote ${models.length} remeshed models and their README section\n`);
 }

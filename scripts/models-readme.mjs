@@ -1,0 +1,41 @@
+// public/models/README.md has one part per generator: scripts/make-models.mjs owns the text before
+// the first marker line (an HTML comment); each later generator owns the text from its own marker
+// line to the next marker or the end. Both generators write and check their part through this
+// module, so that either one leaves the other's part as it is and `--check` compares the same text
+// that a run writes.
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+
+export const REMESHED_MARKER = '<!-- Remeshed models: the section below is written by scripts/make-remeshed-models.mjs. -->';
+
+/** Splits README text into the head and the marked parts: { head, parts: Map(marker -> text) }. */
+function split(text) {
+  const starts = [...text.matchAll(/^<!-- .*-->$/gm)].map((m) => m.index);
+  const head = starts.length ? text.slice(0, starts[0]) : text;
+  const parts = new Map();
+  starts.forEach((at, i) => {
+    const end = i + 1 < starts.length ? starts[i + 1] : text.length;
+    const marker = text.slice(at, text.indexOf('\n', at) >= 0 ? text.indexOf('\n', at) : end);
+    parts.set(marker, text.slice(at, end));
+  });
+  return { head, parts };
+}
+
+/** The README text with the part of `marker` (null: the head) replaced by `body`. */
+export function withPart(current, marker, body) {
+  const { head, parts } = split(current);
+  const trimmed = (s) => s.replace(/\n*$/, '\n');
+  if (marker === null) return [trimmed(body), ...[...parts.values()].map(trimmed)].join('\n');
+  parts.set(marker, `${marker}\n\n${body}`);
+  return [trimmed(head), ...[...parts.values()].map(trimmed)].filter((s) => s.trim()).join('\n');
+}
+
+/**
+ * Writes (or with `checkOnly`, compares) the part of `marker` of the README at `path`. Returns
+ * true when the file is (or was) out of date.
+ */
+export function updateReadme(path, marker, body, checkOnly) {
+  const current = existsSync(path) ? readFileSync(path, 'utf8') : '';
+  const next = withPart(current, marker, body);
+  if (!checkOnly && next !== current) writeFileSync(path, next);
+  return next !== current;
+}
