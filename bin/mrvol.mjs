@@ -21,7 +21,7 @@ commands:
        [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]
        [--theta FILE.theta] -o OUT.obj [--json]
                                               moves level-e cage vertices, keeping the volume
-  remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m]] -o OUT.obj [--json]
+  remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]] -o OUT.obj [--json]
                                               semi-regular remeshing of any closed manifold mesh
 
 options:
@@ -46,6 +46,7 @@ options:
   --repair                         remesh: repair a scan first: weld, drop duplicate faces, fins,
                                    non-manifold and folded faces, close holes (reported in --json)
   --max-hole m                     remesh --repair: close holes of at most m edges (default 100)
+  --smooth k                       remesh --repair: k Taubin smoothing steps after the repair
   --json                           print the result as JSON
   -o, --output FILE                output file`;
 
@@ -71,6 +72,7 @@ const OPTIONS = {
   'keep-largest': { type: 'boolean' },
   repair: { type: 'boolean' },
   'max-hole': { type: 'string' },
+  smooth: { type: 'string' },
   help: { type: 'boolean', short: 'h' },
 };
 
@@ -357,12 +359,14 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   if (baseFaces !== undefined && baseFaces < 4) throw new UsageError(`--base-faces must be at least 4, got ${baseFaces}`);
   const maxHoleEdges = values['max-hole'] === undefined ? undefined : integer(values['max-hole'], 'max-hole');
   if (maxHoleEdges !== undefined && (maxHoleEdges < 3 || !values.repair)) throw new UsageError('--max-hole needs --repair and at least 3 edges');
+  const smooth = values.smooth === undefined ? 0 : integer(values.smooth, 'smooth');
+  if (smooth < 0 || (smooth > 0 && !values.repair)) throw new UsageError('--smooth needs --repair and a count >= 0');
   if (!values.output) throw new UsageError('-o OUT.obj is required');
   const mesh = loadMesh(mrvol, input);
   let r;
   try {
     r = await remesh(mrvol, mesh, { levels, baseFaces, keepLargest: values['keep-largest'] ?? false,
-                                    repair: values.repair ?? false, maxHoleEdges });
+                                    repair: values.repair ?? false, maxHoleEdges, smooth });
   } catch (e) {
     throw e instanceof MrvolError ? new MrvolError(`${input}: ${e.message}`) : e;
   }

