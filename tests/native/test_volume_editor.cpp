@@ -214,3 +214,56 @@ TEST(VolumeEditor, FreeDetailsAbsorbTheCorrectionToo) {
   EXPECT_LT(r.relativeError, 1e-5);
   EXPECT_EQ(r.path, GradientPath::MatrixFree);
 }
+
+TEST(VolumeEditor, CagePolynomialAlongADirectionIsItsCubic) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  CagePolynomial p;
+  p.cageSize = 9;
+  p.constant = 0.3;
+  for (int i = 0; i < 27; ++i) p.linear.push_back(u(rng));
+  for (uint32_t i = 0; i < 9; ++i)
+    for (uint32_t j = i + 1; j < 9; ++j) {
+      if ((i + j) % 2) p.pairI.push_back(i), p.pairJ.push_back(j), p.pairQ.insert(p.pairQ.end(), {u(rng), u(rng), u(rng)});
+      for (uint32_t k = j + 1; k < 9; ++k)
+        if ((i * j + k) % 3 == 0) p.tripleI.push_back(i), p.tripleJ.push_back(j), p.tripleK.push_back(k), p.tripleT.push_back(u(rng));
+    }
+  std::vector<double> c(27), g(27);
+  for (auto& x : c) x = u(rng);
+  for (auto& x : g) x = u(rng);
+  double k[4];
+  p.alongDirection(c.data(), g.data(), k);
+  for (double s : {0.0, 0.3, -0.7, 1.9}) {
+    auto at = c;
+    for (size_t i = 0; i < at.size(); ++i) at[i] += s * g[i];
+    EXPECT_NEAR(k[0] + s * (k[1] + s * (k[2] + s * k[3])), p.evaluate(at.data(), nullptr), 1e-12) << "s=" << s;
+  }
+}
+
+TEST(VolumeEditor, FinePositionsStayTheSynthesisOfTheCoefficientsOverLongDrags) {
+  // The editor updates its fine positions incrementally (zero-detail synthesis of each move and
+  // correction) with a full synthesis now and then: they must not drift from the coefficients.
+  std::mt19937 rng(11);
+  for (const auto& fx : fixtures::baseFixtures())
+    for (const auto& o : schemes()) {
+      EditFixture s(fx, o, 3);
+      VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
+      const double size = maxAbs(s.positions);
+      std::uniform_real_distribution<double> u(-0.01 * size, 0.01 * size);
+      double worst = 0;
+      for (int d = 0; d < 150; ++d) {
+        auto cage = editor.cagePositions();
+        const uint32_t c = d / 10 % editor.cageSize();
+        if (s.h.boundary[c]) continue;
+        std::vector<uint8_t> held(editor.cageSize(), 0);
+        held[c] = 1;
+        for (int k = 0; k < 3; ++k) cage[3 * c + k] += u(rng);
+        ASSERT_TRUE(editor.deformCage(cage, held, EditOptions{}).converged);
+        auto expected = editor.coefficients();
+        s.wt.synthesize(expected.data(), 0);
+        const auto got = editor.positions();
+        for (size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::fabs(got[i] - expected[i]));
+      }
+      EXPECT_LT(worst, 1e-12 * size) << fx.name << " " << schemeName(o.kind);
+    }
+}

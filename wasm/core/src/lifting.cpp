@@ -29,6 +29,21 @@ void liftRows(const LiftingStep& st, double* x, double sign) {
   }
 }
 
+// x_t = W x_s: a lift whose targets held zeros (the first prediction of a zero-detail synthesis).
+void assignRows(const LiftingStep& st, double* x) {
+  const size_t rows = st.targets.size();
+  for (size_t r = 0; r < rows; ++r) {
+    double acc[3] = {};
+    for (uint32_t k = st.offsets[r]; k < st.offsets[r + 1]; ++k) {
+      const double w = st.weights[k];
+      const double* p = x + 3 * size_t(st.sources[k]);
+      acc[0] += w * p[0], acc[1] += w * p[1], acc[2] += w * p[2];
+    }
+    double* t = x + 3 * size_t(st.targets[r]);
+    t[0] = acc[0], t[1] = acc[1], t[2] = acc[2];
+  }
+}
+
 template <int S>
 void liftRowsTransposed(const LiftingStep& st, double* x) {
   const size_t rows = st.targets.size();
@@ -385,15 +400,42 @@ WaveletTransform::WaveletTransform(const Hierarchy& hierarchy, const SchemeOptio
                               std::all_of(step.sources.begin(), step.sources.end(), [&](uint32_t s) { return s >= evens; });
       oddWritten = oddWritten || std::any_of(step.targets.begin(), step.targets.end(), [&](uint32_t t) { return t >= evens; });
     }
+    // The first step a zero-detail synthesis runs can assign instead of add when it is a lift that
+    // writes every vertex born at level l from older ones: the details then need no zeroing.
+    const uint32_t odds = hierarchy.vertexCount[l] - evens;
+    int assign = -1;
+    const auto& steps = steps_[l - 1];
+    for (size_t k = 0; k < steps.size(); ++k) {
+      if (steps[k].readsOnlyDetails) continue;
+      const auto& st = steps[k];
+      std::vector<uint8_t> seen(odds, 0);
+      bool ok = !st.scaling && st.targets.size() == odds &&
+                std::all_of(st.sources.begin(), st.sources.end(), [&](uint32_t s) { return s < evens; });
+      for (size_t r = 0; ok && r < st.targets.size(); ++r) {
+        const uint32_t t = st.targets[r];
+        ok = t >= evens && t - evens < odds && !seen[t - evens];
+        if (ok) seen[t - evens] = 1;
+      }
+      if (ok) assign = int(k);
+      break;
+    }
+    zeroDetailAssign_.push_back(assign);
   }
 }
 
 void WaveletTransform::synthesizeZeroDetails(double* x, int fromLevel) const {
   if (fromLevel < 0 || fromLevel > levels())
     throw Error("level " + std::to_string(fromLevel) + " is out of range 0.." + std::to_string(levels()));
-  for (int l = fromLevel + 1; l <= levels(); ++l)
-    for (const auto& step : steps_[l - 1])
-      if (!step.readsOnlyDetails) step.forward(x);
+  const auto& count = hierarchy_->vertexCount;
+  for (int l = fromLevel + 1; l <= levels(); ++l) {
+    const auto& steps = steps_[l - 1];
+    const int assign = zeroDetailAssign_[l - 1];
+    if (assign < 0) std::fill(x + 3 * size_t(count[l - 1]), x + 3 * size_t(count[l]), 0.0);
+    for (size_t k = 0; k < steps.size(); ++k) {
+      if (int(k) == assign) assignRows(steps[k], x);
+      else if (!steps[k].readsOnlyDetails) steps[k].forward(x);
+    }
+  }
 }
 
 void WaveletTransform::analyze(double* x, int toLevel) const {

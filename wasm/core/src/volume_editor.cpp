@@ -19,6 +19,37 @@ inline void cross(const double* a, const double* b, double* out) {
 }
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 inline void axpy(double w, const double* a, double* out) { out[0] += w * a[0], out[1] += w * a[1], out[2] += w * a[2]; }
+inline double dotDifference(const double* a, const double* d, const double* w) {
+  return (a[0] - d[0]) * w[0] + (a[1] - d[1]) * w[1] + (a[2] - d[2]) * w[2];
+}
+
+// A full synthesis after this many incremental updates of the fine positions, so that rounding
+// cannot build up.
+constexpr int kResyncAfter = 64;
+
+// The edge table of VolumeEditor::edges_ for a validated closed or bounded manifold.
+std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t outside) {
+  struct Half { uint64_t key; uint32_t b, c, a; };  // b -> c, with a opposite
+  std::vector<Half> halves;
+  halves.reserve(faces.size());
+  for (size_t f = 0; f < faces.size(); f += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = faces[f + k], b = faces[f + (k + 1) % 3], c = faces[f + (k + 2) % 3];
+      halves.push_back({uint64_t(std::min(b, c)) << 32 | std::max(b, c), b, c, a});
+    }
+  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) { return x.key != y.key ? x.key < y.key : x.b < y.b; });
+  std::vector<uint32_t> edges;
+  edges.reserve(halves.size() / 2 * 4 + 8);
+  for (size_t i = 0; i < halves.size();) {
+    const Half& h = halves[i];
+    const bool paired = i + 1 < halves.size() && halves[i + 1].key == h.key;
+    if (paired && (halves[i + 1].b != h.c || (i + 2 < halves.size() && halves[i + 2].key == h.key)))
+      throw Error("edge " + std::to_string(h.b) + "-" + std::to_string(h.c) + " is not a manifold edge of a consistently oriented mesh");
+    edges.insert(edges.end(), {h.b, h.c, h.a, paired ? halves[i + 1].a : outside});
+    i += paired ? 2 : 1;
+  }
+  return edges;
+}
 }  // namespace
 
 double CagePolynomial::evaluate(const double* c, double* g) const {
@@ -55,6 +86,34 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
   return v;
 }
 
+void CagePolynomial::alongDirection(const double* c, const double* g, double* k) const {
+  // Expands Theta(c + s g) term by term: (c_i + s g_i) . ((c_j + s g_j) x (c_k + s g_k)).
+  k[0] = constant, k[1] = k[2] = k[3] = 0;
+  for (uint32_t i = 0; i < cageSize; ++i) k[0] += dot(&linear[3 * i], c + 3 * i), k[1] += dot(&linear[3 * i], g + 3 * i);
+  double t[3];
+  for (size_t p = 0; p < pairI.size(); ++p) {
+    const double *ci = c + 3 * pairI[p], *cj = c + 3 * pairJ[p], *gi = g + 3 * pairI[p], *gj = g + 3 * pairJ[p], *q = &pairQ[3 * p];
+    cross(cj, q, t);
+    k[0] += dot(ci, t), k[1] += dot(gi, t);
+    cross(gj, q, t);
+    k[1] += dot(ci, t), k[2] += dot(gi, t);
+  }
+  double u[3];
+  for (size_t p = 0; p < tripleT.size(); ++p) {
+    const double *ci = c + 3 * tripleI[p], *cj = c + 3 * tripleJ[p], *ck = c + 3 * tripleK[p];
+    const double *gi = g + 3 * tripleI[p], *gj = g + 3 * tripleJ[p], *gk = g + 3 * tripleK[p];
+    const double T = tripleT[p];
+    cross(cj, ck, t);
+    k[0] += T * dot(ci, t), k[1] += T * dot(gi, t);
+    cross(gj, gk, t);
+    k[2] += T * dot(ci, t), k[3] += T * dot(gi, t);
+    cross(gj, ck, t);
+    cross(cj, gk, u);
+    k[1] += T * (ci[0] * (t[0] + u[0]) + ci[1] * (t[1] + u[1]) + ci[2] * (t[2] + u[2]));
+    k[2] += T * (gi[0] * (t[0] + u[0]) + gi[1] * (t[1] + u[1]) + gi[2] * (t[2] + u[2]));
+  }
+}
+
 VolumeEditor::VolumeEditor(const Hierarchy& hierarchy, const WaveletTransform& transform, int level,
                            const double* positions)
     : hierarchy_(&hierarchy), transform_(&transform), level_(level) {
@@ -70,6 +129,7 @@ VolumeEditor::VolumeEditor(const Hierarchy& hierarchy, const WaveletTransform& t
     if (!std::isfinite(v)) throw Error("positions must be finite numbers");
   fine.faces = hierarchy.fineFaces();
   origin_ = volumeReferencePoint(fine);
+  edges_ = edgeTable(fine.faces, uint32_t(n));
   x_ = std::move(fine.positions);
   transform.analyze(x_.data(), level);
   reference_ = volume();
@@ -96,43 +156,82 @@ void VolumeEditor::setReferenceVolume(double volume) {
 }
 
 const std::vector<double>& VolumeEditor::fine() const {
-  if (!fineValid_) {
-    fine_ = x_;
+  if (fineValid_) return fine_;
+  const size_t cage3 = 3 * size_t(cageSize_), n3 = x_.size();
+  if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter) {
+    // Only the cage moved: synthesis is linear, so add the zero-detail synthesis of the move.
+    fineDelta_.resize(n3);
+    for (size_t i = 0; i < cage3; ++i) fineDelta_[i] = x_[i] - fineCage_[i];
+    transform_->synthesizeZeroDetails(fineDelta_.data(), level_);
+    for (size_t i = 0; i < n3; ++i) fine_[i] += fineDelta_[i];
+    ++incrementalUpdates_;
+  } else {
+    // Synthesis commutes with translations of the cage: shifting the cage before synthesis gives the
+    // fine positions relative to origin_ without cancellation.
+    fine_.assign(n3 + 3, 0.0);
+    std::copy(x_.begin(), x_.end(), fine_.begin());
+    for (size_t i = 0; i < cage3; i += 3) fine_[i] -= origin_.x, fine_[i + 1] -= origin_.y, fine_[i + 2] -= origin_.z;
     transform_->synthesize(fine_.data(), level_);
-    fineValid_ = true;
-    volumeValid_ = gradientValid_ = false;
+    incrementalUpdates_ = 0;
   }
+  fineCage_.assign(x_.begin(), x_.begin() + cage3);
+  fineValid_ = fineBaseValid_ = true;
+  volumeValid_ = gradientValid_ = false;
   return fine_;
 }
 
-double VolumeEditor::passVolume(const std::vector<double>& p, std::vector<double>* grad,
-                                const std::vector<uint8_t>* mask) const {
+double VolumeEditor::edgePass(const double* p, double* grad) const {
+  // Edge (b, c) enters triangle (a, b, c) as a . (b x c) and triangle (d, c, b) as -d . (b x c):
+  // sum (a - d) . (b x c) over the edges is 3 sum over the triangles of their triple products, and
+  // b x c / 6 is the share of the volume gradient at a (minus it at d). Half the cross products of
+  // a pass over the triangles, and edges in order of their ends read the positions nearly in order.
+  const uint32_t* e = edges_.data();
+  const size_t m = edges_.size();
+  double sum = 0, w[3];
+  if (!grad) {
+    for (size_t k = 0; k < m; k += 4) {
+      cross(p + 3 * size_t(e[k]), p + 3 * size_t(e[k + 1]), w);
+      sum += dotDifference(p + 3 * size_t(e[k + 2]), p + 3 * size_t(e[k + 3]), w);
+    }
+    return sum / 18.0;
+  }
+  std::fill(grad, grad + x_.size() + 3, 0.0);
+  for (size_t k = 0; k < m; k += 4) {
+    cross(p + 3 * size_t(e[k]), p + 3 * size_t(e[k + 1]), w);
+    w[0] *= 1.0 / 6.0, w[1] *= 1.0 / 6.0, w[2] *= 1.0 / 6.0;
+    const size_t a = 3 * size_t(e[k + 2]), d = 3 * size_t(e[k + 3]);
+    sum += dotDifference(p + a, p + d, w);
+    grad[a] += w[0], grad[a + 1] += w[1], grad[a + 2] += w[2];
+    grad[d] -= w[0], grad[d + 1] -= w[1], grad[d + 2] -= w[2];
+  }
+  return sum / 3.0;
+}
+
+double VolumeEditor::maskedVolume(const double* p, double* grad, const std::vector<uint8_t>& mask) const {
   const auto& faces = hierarchy_->fineFaces();
-  if (grad) grad->assign(p.size(), 0.0);
-  const double o[3] = {origin_.x, origin_.y, origin_.z};
+  if (grad) std::fill(grad, grad + x_.size() + 3, 0.0);
   double sum = 0;
   double t[3];
   for (size_t f = 0, tri = 0; f < faces.size(); f += 3, ++tri) {
-    if (mask && !(*mask)[tri]) continue;
-    const double *pa = &p[3 * size_t(faces[f])], *pb = &p[3 * size_t(faces[f + 1])], *pc = &p[3 * size_t(faces[f + 2])];
-    const double a[3] = {pa[0] - o[0], pa[1] - o[1], pa[2] - o[2]};
-    const double b[3] = {pb[0] - o[0], pb[1] - o[1], pb[2] - o[2]};
-    const double c[3] = {pc[0] - o[0], pc[1] - o[1], pc[2] - o[2]};
+    if (!mask[tri]) continue;
+    const double *a = p + 3 * size_t(faces[f]), *b = p + 3 * size_t(faces[f + 1]), *c = p + 3 * size_t(faces[f + 2]);
     cross(b, c, t);
     sum += dot(a, t);
     if (grad) {
-      axpy(1.0 / 6.0, t, &(*grad)[3 * size_t(faces[f])]);
+      axpy(1.0 / 6.0, t, grad + 3 * size_t(faces[f]));
       cross(c, a, t);
-      axpy(1.0 / 6.0, t, &(*grad)[3 * size_t(faces[f + 1])]);
+      axpy(1.0 / 6.0, t, grad + 3 * size_t(faces[f + 1]));
       cross(a, b, t);
-      axpy(1.0 / 6.0, t, &(*grad)[3 * size_t(faces[f + 2])]);
+      axpy(1.0 / 6.0, t, grad + 3 * size_t(faces[f + 2]));
     }
   }
   return sum / 6.0;
 }
 
 double VolumeEditor::fineVolumeAndGradient(std::vector<double>* grad, const std::vector<uint8_t>* mask) const {
-  return passVolume(fine(), grad, mask);
+  const double* p = fine().data();
+  if (grad) grad->resize(x_.size() + 3);
+  return mask ? maskedVolume(p, grad ? grad->data() : nullptr, *mask) : edgePass(p, grad ? grad->data() : nullptr);
 }
 
 double VolumeEditor::volume() const {
@@ -230,6 +329,7 @@ std::vector<uint32_t> VolumeEditor::freeCoefficients(const std::vector<uint8_t>&
 double VolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const {
   double v = fineVolumeAndGradient(&gradient, nullptr);
   transform_->synthesisAdjoint(gradient.data(), level_);
+  gradient.resize(x_.size());
   return v;
 }
 
@@ -252,19 +352,23 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
   std::vector<double>& q = scratchDirection_;
   g.clear();
   const bool detailsFree = !freeDetailLevels_.empty();
+  std::vector<double> cage;
+  bool cubicValue = false;  // v already holds the exact volume after the last step (its cubic)
+  double v = 0;
   for (int it = 0;; ++it) {
-    double v;
-    std::vector<double> cage;
     if (tensor) {
-      cage = shiftedCage();
-      g.resize(3 * size_t(cageSize_));
-      v = polynomial_->evaluate(cage.data(), g.data());
-    } else if (fineValid_ && volumeValid_ && !gradientValid_ && it > 0) {
+      if (!cubicValue || std::fabs(v - reference_) / scale >= o.tolerance) {
+        cage = shiftedCage();
+        g.resize(3 * size_t(cageSize_));
+        v = polynomial_->evaluate(cage.data(), g.data());
+      }
+    } else if (cubicValue && fineValid_ && volumeValid_ && !gradientValid_) {
       v = cachedVolume_;  // from the cubic of the previous step: no pass needed to check it
       if (std::fabs(v - reference_) / scale >= o.tolerance) v = volumeAndGradient(g);
     } else {
       v = volumeAndGradient(g);
     }
+    cubicValue = false;
     report.volumeResult = v;
     report.relativeError = std::fabs(v - reference_) / scale;
     if (report.relativeError < o.tolerance) return;
@@ -273,10 +377,7 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       report.message = "no convergence in " + std::to_string(o.maxIterations) + " iterations";
       return;
     }
-    if (!tensor) {
-      if (g.size() != x_.size()) v = volumeAndGradient(g);  // checked on the cubic's value: gradient now
-      transform_->synthesisAdjoint(g.data(), level_, 3, detailsFree);
-    }
+    if (!tensor) transform_->synthesisAdjoint(g.data(), level_, 3, detailsFree);
     double norm2 = 0;
     for (uint32_t i : free) norm2 += dot(&g[3 * size_t(i)], &g[3 * size_t(i)]);
     if (!(norm2 > 0) || free.empty()) {
@@ -286,64 +387,44 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       return;
     }
     // Minimal-norm correction of the linearized constraint: delta_i = r / sum |g|^2 g_i.
-    double step = (reference_ - v) / norm2;
+    const double step = (reference_ - v) / norm2;
     ++report.iterations;
     if (!o.lineSearch) {
       for (uint32_t i : free) axpy(step, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
       fineValid_ = false;
+      fineBaseValid_ = fineBaseValid_ && !detailsFree;
       continue;
     }
+    // Along that same direction the volume is a cubic in the step length s: c0 = v and
+    // c1 = g_F . g_F are known, one pass gives c2 and c3, and solving the cubic replaces further
+    // linearized iterations (each, on the matrix-free path, a synthesis and an adjoint).
+    double c[4] = {v, norm2, 0, 0};
+    const size_t n3 = x_.size(), cage3 = 3 * size_t(cageSize_);
     if (tensor) {
-      // Along the same direction, Newton on phi(s) = Theta(c + s g_F), each evaluation a few
-      // hundred flops: the same root the matrix-free path finds on its cubic.
-      std::vector<double> trial(cage.size()), gt(cage.size());
-      double s = step;
-      for (int n = 0; n < 60; ++n) {
-        trial = cage;
-        for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &trial[3 * size_t(i)]);
-        const double f = polynomial_->evaluate(trial.data(), gt.data()) - reference_;
-        double df = 0;
-        for (uint32_t i : free) df += dot(&gt[3 * size_t(i)], &g[3 * size_t(i)]);
-        if (!(df != 0) || !std::isfinite(f)) break;
-        const double next = s - f / df;
-        if (!std::isfinite(next) || std::fabs(next - step) > 4 * std::fabs(step) + 1e-300) break;
-        const bool done = std::fabs(next - s) <= 1e-15 * std::fabs(s);
-        s = next;
-        if (done) break;
+      q.assign(cage3, 0.0);
+      for (uint32_t i : free)
+        for (int k = 0; k < 3; ++k) q[3 * size_t(i) + k] = g[3 * size_t(i) + k];
+      polynomial_->alongDirection(cage.data(), q.data(), c);
+    } else {
+      const std::vector<double>& p = fine();
+      if (q.size() != n3 + 3) q.assign(n3 + 3, 0.0);  // the last vertex, the origin, stays 0
+      std::fill(q.begin(), q.begin() + (detailsFree ? n3 : cage3), 0.0);  // zero-detail synthesis overwrites the rest
+      for (uint32_t i : free)
+        for (int k = 0; k < 3; ++k) q[3 * size_t(i) + k] = g[3 * size_t(i) + k];
+      if (detailsFree) transform_->synthesize(q.data(), level_);
+      else transform_->synthesizeZeroDetails(q.data(), level_);
+      // Over the edges as in edgePass: c2 = sum (a - d) . (qb x qc) / 6, c3 = sum (qa - qd) . (qb x qc) / 18.
+      const uint32_t* e = edges_.data();
+      const double* pq = q.data();
+      double w[3], c2 = 0, c3 = 0;
+      for (size_t k = 0; k < edges_.size(); k += 4) {
+        cross(pq + 3 * size_t(e[k]), pq + 3 * size_t(e[k + 1]), w);
+        const size_t a = 3 * size_t(e[k + 2]), d = 3 * size_t(e[k + 3]);
+        c2 += dotDifference(&p[a], &p[d], w);
+        c3 += dotDifference(pq + a, pq + d, w);
       }
-      for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
-      fineValid_ = false;
-      continue;
+      c[2] = c2 / 6.0, c[3] = c3 / 18.0;
     }
-    // Matrix-free: along that same direction the volume is a cubic in the step length, whose
-    // coefficients one pass over the triangles gives; solving it exactly replaces the further
-    // linearized iterations (each a synthesis and an adjoint).
-    const std::vector<double>& p = fine();
-    q.assign(x_.size(), 0.0);
-    for (uint32_t i : free)
-      for (int k = 0; k < 3; ++k) q[3 * size_t(i) + k] = g[3 * size_t(i) + k];
-    if (freeDetailLevels_.empty()) transform_->synthesizeZeroDetails(q.data(), level_);
-    else transform_->synthesize(q.data(), level_);
-    // c0 = v and c1 = g_F . g_F (the derivative along the direction) are known; one pass gives
-    // c2 = sum a.(qb x qd) + qa.(b x qd + qb x d) and c3 = sum qa.(qb x qd), over 6.
-    double c[4] = {v * 6.0, norm2 * 6.0, 0, 0};
-    const auto& faces = hierarchy_->fineFaces();
-    const double org[3] = {origin_.x, origin_.y, origin_.z};
-    double t[3], u[3];
-    for (size_t f = 0; f < faces.size(); f += 3) {
-      const size_t ia = 3 * size_t(faces[f]), ib = 3 * size_t(faces[f + 1]), id = 3 * size_t(faces[f + 2]);
-      const double *qa = &q[ia], *qb = &q[ib], *qd = &q[id];
-      const double a[3] = {p[ia] - org[0], p[ia + 1] - org[1], p[ia + 2] - org[2]};
-      const double b[3] = {p[ib] - org[0], p[ib + 1] - org[1], p[ib + 2] - org[2]};
-      const double d[3] = {p[id] - org[0], p[id + 1] - org[1], p[id + 2] - org[2]};
-      cross(qb, qd, t);
-      c[3] += dot(qa, t);
-      c[2] += dot(a, t);
-      cross(b, qd, t);
-      cross(qb, d, u);
-      c[2] += qa[0] * (t[0] + u[0]) + qa[1] * (t[1] + u[1]) + qa[2] * (t[2] + u[2]);
-    }
-    for (double& k : c) k /= 6.0;
     // Newton on c0 + c1 s + c2 s^2 + c3 s^3 = reference, from the linearized step.
     double s = step;
     for (int n = 0; n < 60; ++n) {
@@ -357,8 +438,16 @@ void VolumeEditor::solveGlobal(const std::vector<uint32_t>& free, const EditOpti
       if (done) break;
     }
     for (uint32_t i : free) axpy(s, &g[3 * size_t(i)], &x_[3 * size_t(i)]);
-    for (size_t i = 0; i < q.size(); ++i) fine_[i] += s * q[i];  // fine() stays in step with x_
-    cachedVolume_ = c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+    v = c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+    cubicValue = true;
+    if (tensor) {
+      fineValid_ = false;
+      continue;
+    }
+    for (size_t i = 0; i < n3; ++i) fine_[i] += s * q[i];  // fine() stays in step with x_
+    fineCage_.assign(x_.begin(), x_.begin() + cage3);
+    ++incrementalUpdates_;
+    cachedVolume_ = v;
     volumeValid_ = true;
     gradientValid_ = false;
     g.clear();
@@ -441,6 +530,7 @@ void VolumeEditor::solveParts(const std::vector<uint32_t>& free, const EditOptio
     for (size_t i = 0; i < m; ++i)
       for (int c = 0; c < 3; ++c) x_[3 * size_t(free[i]) + c] += delta[3 * i + c];
     fineValid_ = false;
+    fineBaseValid_ = fineBaseValid_ && freeDetailLevels_.empty();
     ++report.iterations;
   }
 }
@@ -557,6 +647,7 @@ std::vector<double> VolumeEditor::coefficients() const { return x_; }
 std::vector<double> VolumeEditor::positions() const {
   std::vector<double> out(x_.size());
   hierarchy_->toInputOrder(fine().data(), out.data());
+  for (size_t i = 0; i < out.size(); i += 3) out[i] += origin_.x, out[i + 1] += origin_.y, out[i + 2] += origin_.z;
   return out;
 }
 

@@ -64,7 +64,7 @@ class WaveletTransform {
   void analyze(double* x, int toLevel) const;       // fine -> level e coefficients
   void synthesize(double* x, int fromLevel) const;  // level e coefficients -> fine positions
   // The same when every detail of levels e..n-1 is zero (subdivision): skips the steps that read
-  // only details.
+  // only details. The detail entries of x are not read, only overwritten: they need no zeroing.
   void synthesizeZeroDetails(double* x, int fromLevel) const;
   // The adjoint of synthesis (transposed steps, outwards): a per-fine-vertex covector (for example
   // the volume gradient) to the corresponding covector of the level-e coefficients.
@@ -76,6 +76,9 @@ class WaveletTransform {
   const Hierarchy* hierarchy_;
   SchemeOptions options_;
   std::vector<std::vector<LiftingStep>> steps_;
+  // Per level: the step a zero-detail synthesis runs as an assignment (x_t = W x_s), or -1 when
+  // none can be, and the details of that level are zeroed first.
+  std::vector<int> zeroDetailAssign_;
 };
 
 // Mask weights, exposed for tests and teaching views.

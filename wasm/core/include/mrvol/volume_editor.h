@@ -27,6 +27,8 @@ struct CagePolynomial {
   std::vector<uint32_t> tripleI, tripleJ, tripleK;     // cage triples
   std::vector<double> tripleT;
   double evaluate(const double* cage, double* gradient /* 3 * cageSize or null */) const;
+  // The cubic s -> Theta(cage + s direction): its coefficients k[0] + k[1] s + k[2] s^2 + k[3] s^3.
+  void alongDirection(const double* cage, const double* direction, double* k) const;
 };
 
 struct EditOptions {
@@ -101,9 +103,12 @@ class VolumeEditor {
   double gradientTensor(std::vector<double>& gradient) const;
 
  private:
-  const std::vector<double>& fine() const;  // fine positions of x_ (cached)
-  double passVolume(const std::vector<double>& fine, std::vector<double>* fineGradient,
-                    const std::vector<uint8_t>* triangleMask) const;
+  // Fine positions of x_ relative to origin_, hierarchy order, plus one more vertex at the origin
+  // (index N) that closes boundary loops as cones: 3 (N + 1) doubles (cached).
+  const std::vector<double>& fine() const;
+  // Volume of fine positions p (about origin_) and, if grad is given, its gradient (3 (N + 1)).
+  double edgePass(const double* p, double* grad) const;
+  double maskedVolume(const double* p, double* grad, const std::vector<uint8_t>& triangleMask) const;
   double fineVolumeAndGradient(std::vector<double>* fineGradient, const std::vector<uint8_t>* triangleMask) const;
   std::vector<double> shiftedCage() const;  // cage coefficients relative to origin_
   std::vector<uint32_t> freeCoefficients(const std::vector<uint8_t>& held) const;
@@ -116,10 +121,19 @@ class VolumeEditor {
   uint32_t cageSize_;
   Vec3 origin_;
   std::vector<double> x_;  // level-e coefficients, hierarchy order
+  // Every fine edge once, 4 indices each: its ends b, c and the vertices opposite it, a in the
+  // triangle (a, b, c) and d in (d, c, b), d = N on the boundary; sorted by the ends, so that the
+  // passes over it walk the vertex arrays nearly in order.
+  std::vector<uint32_t> edges_;
   // Volumes are evaluated about origin_ (fixed: the boundary stays put), so that meshes far from
   // the origin keep their digits; a translation only shifts the cage coefficients.
-  mutable std::vector<double> fine_;  // synthesis of x_, hierarchy order, when fineValid_
+  mutable std::vector<double> fine_;  // see fine(); in step with x_ when fineValid_
   mutable bool fineValid_ = false;
+  // While fineBaseValid_, fine_ is the synthesis of x_ with its cage replaced by fineCage_ (the
+  // details agree): a cage move then updates fine_ by a zero-detail synthesis of the move.
+  mutable bool fineBaseValid_ = false;
+  mutable std::vector<double> fineCage_, fineDelta_;
+  mutable int incrementalUpdates_ = 0;  // since the last full synthesis
   // Volume (and fine-level gradient) of fine_, valid while fine_ is.
   mutable double cachedVolume_ = 0;
   mutable std::vector<double> cachedGradient_;
