@@ -566,3 +566,38 @@ TEST(Hierarchy, LevelFacesAreTheCoarseMeshesInCallerIndices) {
     EXPECT_THROW(mr.levelFaces(3), mrvol::Error);
   }
 }
+
+TEST(Corners, HubsOfHighValenceAreWalkedByBinarySearchWithTheSameAnswers) {
+  // A bipyramid with a rim of k vertices: two hubs of valence k (sorted corners), rim vertices of
+  // valence 4 (scanned). Then the same with the bottom removed: an open cone.
+  for (bool open : {false, true}) {
+    const uint32_t k = 500, top = 0, bottom = 1;
+    std::vector<uint32_t> faces;
+    for (uint32_t i = 0; i < k; ++i) {
+      const uint32_t a = 2 + i, b = 2 + (i + 1) % k;
+      faces.insert(faces.end(), {top, a, b});
+      if (!open) faces.insert(faces.end(), {bottom, b, a});
+    }
+    VertexCorners vc(faces.data(), faces.size() / 3, k + 2);
+    ASSERT_GT(vc.count(top), VertexCorners::kScanLimit);
+    for (uint32_t i = 0; i < k; ++i) {
+      const uint32_t a = 2 + i, b = 2 + (i + 1) % k;
+      EXPECT_EQ(vc.opposite(top, a), b);
+      EXPECT_EQ(vc.opposite(a, b), top);
+      EXPECT_EQ(vc.opposite(top, b) == a, false);
+      EXPECT_EQ(vc.opposite(b, a), open ? kNone : bottom);
+      if (!open) EXPECT_EQ(vc.opposite(bottom, b), a);
+    }
+    EXPECT_EQ(vc.opposite(top, bottom), kNone);
+    std::vector<uint32_t> ring;
+    bool boundary = true;
+    vc.ring(top, ring, &boundary);
+    EXPECT_FALSE(boundary);
+    ASSERT_EQ(ring.size(), k);
+    for (uint32_t i = 0; i + 1 < k; ++i) EXPECT_EQ(ring[i + 1], 2 + (ring[i] - 2 + 1) % k);
+    vc.ring(2, ring, &boundary);
+    EXPECT_EQ(boundary, open);
+    ASSERT_EQ(ring.size(), open ? 3u : 4u);
+    if (open) EXPECT_EQ(ring[0], 2 + 1u);  // starts at the boundary neighbour v with face (u, v, .) only
+  }
+}

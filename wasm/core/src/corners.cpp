@@ -1,5 +1,7 @@
 #include "mrvol/corners.h"
 
+#include <algorithm>
+
 namespace mrvol {
 
 VertexCorners::VertexCorners(const uint32_t* faces, size_t faceCount, size_t vertexCount) {
@@ -19,6 +21,30 @@ VertexCorners::VertexCorners(const uint32_t* faces, size_t faceCount, size_t ver
       face[c] = static_cast<uint32_t>(f);
     }
   }
+  for (size_t v = 0; v < vertexCount; ++v) {
+    if (count(uint32_t(v)) <= kScanLimit) continue;
+    if (sortedStart.empty()) sortedStart.assign(vertexCount, kNone);
+    sortedStart[v] = uint32_t(sortedCorners.size());
+    for (uint32_t c = offset[v]; c < offset[v + 1]; ++c) sortedCorners.push_back(c);
+    std::sort(sortedCorners.begin() + sortedStart[v], sortedCorners.end(),
+              [&](uint32_t a, uint32_t b) { return next[a] != next[b] ? next[a] < next[b] : a < b; });
+  }
+}
+
+uint32_t VertexCorners::cornerTo(uint32_t u, uint32_t v) const {
+  if (count(u) > kScanLimit) {
+    const auto first = sortedCorners.begin() + sortedStart[u], last = first + count(u);
+    auto it = std::lower_bound(first, last, v, [&](uint32_t c, uint32_t value) { return next[c] < value; });
+    return it != last && next[*it] == v ? *it : kNone;
+  }
+  for (uint32_t c = offset[u]; c < offset[u + 1]; ++c)
+    if (next[c] == v) return c;
+  return kNone;
+}
+
+uint32_t VertexCorners::oppositeSorted(uint32_t u, uint32_t v) const {
+  const uint32_t c = cornerTo(u, v);
+  return c == kNone ? kNone : prev[c];
 }
 
 void VertexCorners::ring(uint32_t u, std::vector<uint32_t>& out, bool* isBoundary) const {
@@ -28,10 +54,9 @@ void VertexCorners::ring(uint32_t u, std::vector<uint32_t>& out, bool* isBoundar
   uint32_t start = next[offset[u]];
   bool boundary = false;
   for (uint32_t c = offset[u]; c < offset[u + 1]; ++c) {
-    bool isPrevOfSome = false;
-    for (uint32_t d = offset[u]; d < offset[u + 1]; ++d)
-      if (prev[d] == next[c]) { isPrevOfSome = true; break; }
-    if (!isPrevOfSome) { start = next[c]; boundary = true; break; }
+    // next[c] is the prev of some corner of u iff a face (u, x, next[c]) exists, iff the face
+    // (next[c], u, x) does: a corner of next[c] towards u.
+    if (cornerTo(next[c], u) == kNone) { start = next[c]; boundary = true; break; }
   }
   if (isBoundary) *isBoundary = boundary;
   ringFrom(u, start, out);

@@ -69,8 +69,8 @@ std::vector<uint32_t> splitOnce(const std::vector<uint32_t>& faces, uint32_t ver
       if (cornerOdd[c] == kNone) {
         uint32_t v = corners.next[c];
         cornerOdd[c] = next;
-        for (uint32_t d = corners.begin(v); d < corners.end(v); ++d)
-          if (corners.next[d] == u) cornerOdd[d] = next;
+        const uint32_t d = corners.cornerTo(v, u);  // the other side of the edge, if any
+        if (d != kNone) cornerOdd[d] = next;
         ends.push_back(u);
         ends.push_back(v);
         ++next;
@@ -130,9 +130,8 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, Quadris
   if (nf % 4 != 0 || nf == 0) return false;
   VertexCorners corners(faces.data(), nf, vertexCount);
   auto faceOf = [&](uint32_t u, uint32_t v) -> uint32_t {  // face (u, v, .)
-    for (uint32_t c = corners.begin(u); c < corners.end(u); ++c)
-      if (corners.next[c] == v) return corners.face[c];
-    return kNone;
+    const uint32_t c = corners.cornerTo(u, v);
+    return c == kNone ? kNone : corners.face[c];
   };
   std::vector<uint8_t> role(vertexCount, kUnknown);
   std::vector<uint32_t> ends(2 * size_t(vertexCount), kNone);
