@@ -38,6 +38,13 @@ function checkMesh(mesh) {
   return mesh;
 }
 
+// The OBJ lines readObj attached, when they still describe these arrays (else undefined).
+function linesOf(mesh) {
+  const l = mesh.lines;
+  if (!l || !(l.vertex instanceof Uint32Array) || !(l.face instanceof Uint32Array)) return undefined;
+  return l.vertex.length * 3 === mesh.positions.length && l.face.length * 3 === mesh.faces.length ? l : undefined;
+}
+
 /**
  * Wraps an instantiated emscripten module.
  * @param {object} module the result of createMrvolModule()
@@ -266,7 +273,11 @@ export function wrapModule(module) {
       return new Theta(call(module._readTheta, bytes));
     },
     MrvolError,
-    /** Parses OBJ text into { positions: Float64Array, faces: Uint32Array } (0-based). */
+    /**
+     * Parses OBJ text into { positions: Float64Array, faces: Uint32Array } (0-based), with
+     * lines: { vertex, face } (Uint32Array: the OBJ line of each), which validate, volume and
+     * openMesh use to name the line of a vertex or face in their errors.
+     */
     readObj(text) {
       if (typeof text !== 'string') throw new MrvolError('readObj expects the OBJ file as a string');
       return call(module._readObj, text);
@@ -278,18 +289,18 @@ export function wrapModule(module) {
     /** Checks manifoldness and orientation; returns { edges, boundaryEdges, components, closed, genus }. */
     validate(mesh) {
       checkMesh(mesh);
-      return call(module._validate, mesh.positions, mesh.faces);
+      return call(module._validate, mesh.positions, mesh.faces, linesOf(mesh));
     },
     /** Signed enclosed volume of a valid mesh. */
     volume(mesh) {
       checkMesh(mesh);
-      return call(module._volume, mesh.positions, mesh.faces);
+      return call(module._volume, mesh.positions, mesh.faces, linesOf(mesh));
     },
     /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */
     openMesh(mesh, options = {}) {
       checkMesh(mesh);
       const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
-      return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels));
+      return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels, linesOf(mesh)));
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {

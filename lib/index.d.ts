@@ -7,6 +7,12 @@ export interface Mesh {
   positions: Float64Array;
   /** 3 vertex indices (0-based) per triangle, counter-clockwise seen from outside. */
   faces: Uint32Array;
+  /**
+   * Set by readObj: the OBJ line of every vertex and face. Errors of validate, volume and openMesh
+   * then name each vertex and face with its line ("face 3 (line 17)"); ignored when the lengths
+   * no longer match positions and faces.
+   */
+  lines?: { vertex: Uint32Array; face: Uint32Array };
 }
 
 /** The wavelet scheme's name. */
@@ -274,7 +280,7 @@ export interface MultiresMesh {
 /** The API object: what wrapModule() and createMrvol() return. */
 export interface Mrvol {
   MrvolError: typeof MrvolError;
-  /** Parses OBJ text (triangles only) into a mesh with 0-based indices. */
+  /** Parses OBJ text (triangles only) into a mesh with 0-based indices and the line of each vertex and face. */
   readObj(text: string): Mesh;
   /** OBJ text: `v` lines (17 significant digits) then `f` lines, vertex order kept. */
   writeObj(mesh: Mesh): string;

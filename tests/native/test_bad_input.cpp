@@ -32,6 +32,7 @@ const std::string kGoodDir = fixtures::sourcePath("tests/data/good");
 struct Expectation {
   std::string stage;  // "read" or "validate"
   std::string error;  // substring of the core's message
+  std::string errorWithLines;  // validation given the OBJ lines of vertices and faces
 };
 
 // Just enough JSON for the manifest: objects, arrays, strings (with escapes), numbers, literals.
@@ -48,6 +49,7 @@ class ManifestParser {
         object([&](const std::string& field) {
           if (field == "stage") e.stage = string();
           else if (field == "error") e.error = string();
+          else if (field == "errorWithLines") e.errorWithLines = string();
           else skipValue();
         });
         if (!out.emplace(file, e).second) fail("file listed twice: " + file);
@@ -225,8 +227,9 @@ TEST_P(BadFile, FailsWithTheExpectedMessage) {
     return;
   }
   TriangleMesh mesh;
+  SourceLines lines;
   try {
-    mesh = readObj(text);
+    mesh = readObj(text, &lines);
   } catch (const Error& e) {
     FAIL() << "expected the file to read and fail validation, but readObj threw: " << e.what();
   }
@@ -238,6 +241,11 @@ TEST_P(BadFile, FailsWithTheExpectedMessage) {
   EXPECT_EQ(multires, message);
   std::string detect = errorOf([&] { Hierarchy::detect(mesh); }, "Hierarchy::detect");
   EXPECT_EQ(detect, message);
+  // Given the OBJ lines, the same message names each vertex's and face's line too.
+  ASSERT_FALSE(expected.errorWithLines.empty()) << name << ": expected.json gives no errorWithLines";
+  std::string withLines = errorOf([&] { MultiresMesh m(mesh, 16, &lines); }, "MultiresMesh with lines");
+  EXPECT_NE(withLines.find(expected.errorWithLines), std::string::npos) << "got:      " << withLines << "\nexpected: " << expected.errorWithLines;
+  EXPECT_NE(withLines.find("(line "), std::string::npos);
 }
 
 INSTANTIATE_TEST_SUITE_P(BadInput, BadFile, testing::ValuesIn(manifestNames()), testName);

@@ -17,6 +17,8 @@ const manifest = JSON.parse(readFileSync(join(root, badDir, 'expected.json'), 'u
 const badFiles = Object.keys(manifest).sort();
 // Under Node the file arrives as a UTF-8-decoded string: see `errorNode` in the manifest.
 const expectedError = (name) => manifest[name].errorNode ?? manifest[name].error;
+// A mesh from readObj carries the OBJ lines of its vertices and faces: validation names them.
+const expectedFromObj = (name) => manifest[name].errorWithLines ?? expectedError(name);
 const objFiles = (dir) => readdirSync(join(root, dir)).filter((f) => f.endsWith('.obj')).sort();
 const readText = (dir, name) => readFileSync(join(root, dir, name), 'utf8');
 
@@ -74,9 +76,15 @@ test('every bad file fails as a MrvolError with its expected message; the instan
         let mesh;
         assert.doesNotThrow(() => { mesh = mrvol.readObj(text); }, 'the file should read and fail validation');
         const message = errorOf(() => mrvol.openMesh(mesh), 'openMesh');
-        assert.ok(message.includes(expected), `got:      ${message}\nexpected: ${expected}`);
+        const withLines = expectedFromObj(name);
+        assert.ok(message.includes(withLines), `got:      ${message}\nexpected: ${withLines}`);
         assert.equal(errorOf(() => mrvol.validate(mesh), 'validate'), message);
         assert.equal(errorOf(() => mrvol.volume(mesh), 'volume'), message);
+        // The same arrays without their lines (or with lines that no longer fit): indices only.
+        const bare = errorOf(() => mrvol.openMesh({ positions: mesh.positions, faces: mesh.faces }), 'openMesh (arrays)');
+        assert.ok(bare.includes(expected) && !bare.includes('(line '), `got:      ${bare}\nexpected: ${expected}`);
+        const stale = { ...mesh, lines: { vertex: mesh.lines.vertex.subarray(1), face: mesh.lines.face } };
+        assert.equal(errorOf(() => mrvol.validate(stale), 'validate (stale lines)'), bare);
       }
       assertStillWorks(name);
     });
@@ -131,7 +139,7 @@ test('mrvol info FILE --json: exit status 1, nothing on stdout, one line on stde
       const lines = stderr.slice(0, -1).split('\n');
       assert.equal(lines.length, 1, `stderr should be one line: ${JSON.stringify(stderr)}`);
       assert.ok(lines[0].startsWith(`mrvol: error: ${path}: `), lines[0]);
-      assert.ok(lines[0].includes(expectedError(name)), `got:      ${lines[0]}\nexpected: ${expectedError(name)}`);
+      assert.ok(lines[0].includes(expectedFromObj(name)), `got:      ${lines[0]}\nexpected: ${expectedFromObj(name)}`);
       assert.doesNotMatch(lines[0], /[\r\x00]/);
     });
   }

@@ -70,6 +70,15 @@ val meshToJs(const TriangleMesh& m) {
   return out;
 }
 
+// { vertex: Uint32Array, face: Uint32Array } (the OBJ line of each), or undefined.
+std::unique_ptr<SourceLines> toLines(val lines) {
+  if (lines.isUndefined() || lines.isNull()) return nullptr;
+  auto out = std::make_unique<SourceLines>();
+  out->vertex = toVector<uint32_t>(lines["vertex"], "lines.vertex");
+  out->face = toVector<uint32_t>(lines["face"], "lines.face");
+  return out;
+}
+
 val topologyToJs(const MeshTopology& t) {
   val out = val::object();
   out.set("edges", double(t.edges));
@@ -89,24 +98,32 @@ SchemeOptions toScheme(const std::string& name, double alpha, double beta) {
 }
 
 val js_readObj(const std::string& text) {
-  return guarded([&] { return meshToJs(mrvol::readObj(std::string_view(text))); });
+  return guarded([&] {
+    SourceLines lines;
+    val out = meshToJs(mrvol::readObj(std::string_view(text), &lines));
+    val l = val::object();
+    l.set("vertex", toTyped(lines.vertex));
+    l.set("face", toTyped(lines.face));
+    out.set("lines", l);
+    return out;
+  });
 }
 val js_writeObj(val positions, val faces) {
   return guarded([&] { return val(mrvol::writeObj(toMesh(positions, faces))); });
 }
-val js_validate(val positions, val faces) {
-  return guarded([&] { return topologyToJs(validateMesh(toMesh(positions, faces))); });
+val js_validate(val positions, val faces, val lines) {
+  return guarded([&] { return topologyToJs(validateMesh(toMesh(positions, faces), toLines(lines).get())); });
 }
-val js_volume(val positions, val faces) {
+val js_volume(val positions, val faces, val lines) {
   return guarded([&] {
     TriangleMesh m = toMesh(positions, faces);
-    validateMesh(m);
+    validateMesh(m, toLines(lines).get());
     return val(meshVolume(m));
   });
 }
 
-MultiresMesh* js_openMesh(val positions, val faces, int maxLevels) {
-  return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels); });
+MultiresMesh* js_openMesh(val positions, val faces, int maxLevels, val lines) {
+  return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels, toLines(lines).get()); });
 }
 MultiresMesh* js_subdivideBase(val positions, val faces, int levels, std::string scheme, double alpha, double beta) {
   return guarded([&] {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <numeric>
 #include <string>
 
@@ -92,8 +93,9 @@ int64_t parseIndex(std::string_view token, size_t line, size_t verticesSoFar) {
 
 }  // namespace
 
-TriangleMesh readObj(std::string_view text) {
+TriangleMesh readObj(std::string_view text, SourceLines* lines) {
   TriangleMesh mesh;
+  std::vector<uint32_t> vertexLines;
   std::vector<uint32_t> faceLines;
   std::vector<int64_t> pending;  // 0-based indices, range-checked once all vertices are known
   std::vector<std::string_view> tokens;
@@ -131,6 +133,7 @@ TriangleMesh readObj(std::string_view text) {
           throw Error(at(line) + "vertex has " + std::to_string(tokens.size() - 1) +
                       " values, expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)");
       for (int k = 1; k <= 3; ++k) mesh.positions.push_back(parseCoordinate(tokens[k], line));
+      if (lines) vertexLines.push_back(uint32_t(line));
       for (size_t k = 4; k < tokens.size(); ++k) parseCoordinate(tokens[k], line);
     } else if (keyword == "f") {
       size_t corners = tokens.size() - 1;
@@ -158,6 +161,7 @@ TriangleMesh readObj(std::string_view text) {
                   " but the file has " + std::to_string(mesh.vertexCount()) + " vertices");
     mesh.faces[i] = uint32_t(pending[i]);
   }
+  if (lines) lines->vertex = std::move(vertexLines), lines->face = std::move(faceLines);
   return mesh;
 }
 
@@ -180,7 +184,20 @@ std::string writeObj(const TriangleMesh& mesh) {
 
 namespace {
 
-std::string faceName(size_t f) { return "face " + std::to_string(f); }
+// Names of vertices and faces in messages: the index, and the OBJ line when known.
+struct Names {
+  const SourceLines* lines;
+  static std::string at(const std::vector<uint32_t>* l, size_t i) {
+    return l && i < l->size() ? " (line " + std::to_string((*l)[i]) + ")" : "";
+  }
+  std::string vertex(size_t v) const { return "vertex " + std::to_string(v) + at(lines ? &lines->vertex : nullptr, v); }
+  std::string face(size_t f) const { return "face " + std::to_string(f) + at(lines ? &lines->face : nullptr, f); }
+  std::string vertices(std::initializer_list<size_t> vs) const {  // "vertices 1 (line 3), 2 (line 4)"
+    std::string out = "vertices ";
+    for (size_t v : vs) out += (out.size() > 9 ? ", " : "") + std::to_string(v) + at(lines ? &lines->vertex : nullptr, v);
+    return out;
+  }
+};
 
 struct UnionFind {
   std::vector<uint32_t> parent;
@@ -194,7 +211,9 @@ struct UnionFind {
 
 }  // namespace
 
-MeshTopology validateMesh(const TriangleMesh& mesh) {
+MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
+  const Names name{lines};
+  auto faceName = [&](size_t f) { return name.face(f); };
   const size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
   if (mesh.positions.size() % 3 != 0) throw Error("positions must hold 3 numbers per vertex");
   if (mesh.faces.size() % 3 != 0) throw Error("faces must hold 3 vertex indices per triangle");
@@ -202,9 +221,9 @@ MeshTopology validateMesh(const TriangleMesh& mesh) {
   if (nf == 0) throw Error("the mesh has no faces");
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     double x = mesh.positions[i];
-    if (!std::isfinite(x)) throw Error("vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+    if (!std::isfinite(x)) throw Error(name.vertex(i / 3) + " has a non-finite coordinate");
     if (std::fabs(x) > kMaxCoordinate)
-      throw Error("vertex " + std::to_string(i / 3) + " has a coordinate beyond 1e100");
+      throw Error(name.vertex(i / 3) + " has a coordinate beyond 1e100");
   }
   for (size_t f = 0; f < nf; ++f) {
     const uint32_t* t = &mesh.faces[3 * f];
@@ -213,8 +232,8 @@ MeshTopology validateMesh(const TriangleMesh& mesh) {
         throw Error(faceName(f) + " refers to vertex " + std::to_string(t[k]) + " but there are " +
                     std::to_string(nv) + " vertices");
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-      throw Error(faceName(f) + " is degenerate: it uses vertex " +
-                  std::to_string(t[0] == t[1] || t[0] == t[2] ? t[0] : t[1]) + " twice");
+      throw Error(faceName(f) + " is degenerate: it uses " + name.vertex(t[0] == t[1] || t[0] == t[2] ? t[0] : t[1]) +
+                  " twice");
   }
   // Duplicate faces: same three vertices, in either orientation.
   {
@@ -227,9 +246,8 @@ MeshTopology validateMesh(const TriangleMesh& mesh) {
     std::sort(keys.begin(), keys.end());
     for (size_t i = 1; i < nf; ++i)
       if (keys[i][0] == keys[i - 1][0] && keys[i][1] == keys[i - 1][1] && keys[i][2] == keys[i - 1][2])
-        throw Error(faceName(keys[i - 1][3]) + " and " + faceName(keys[i][3]) + " are duplicates (vertices " +
-                    std::to_string(keys[i][0]) + ", " + std::to_string(keys[i][1]) + ", " +
-                    std::to_string(keys[i][2]) + ")");
+        throw Error(faceName(keys[i - 1][3]) + " and " + faceName(keys[i][3]) + " are duplicates (" +
+                    name.vertices({keys[i][0], keys[i][1], keys[i][2]}) + ")");
   }
   // Edges, sorted by their undirected key: each in at most two faces, and two faces sharing one
   // must traverse it in opposite directions (else the orientation is inconsistent).
@@ -245,7 +263,7 @@ MeshTopology validateMesh(const TriangleMesh& mesh) {
   for (size_t i = 0; i < halfEdges.size();) {
     size_t j = i;
     while (j < halfEdges.size() && halfEdges[j][0] == halfEdges[i][0] && halfEdges[j][1] == halfEdges[i][1]) ++j;
-    std::string edge = "edge (" + std::to_string(halfEdges[i][0]) + ", " + std::to_string(halfEdges[i][1]) + ")";
+    const std::string edge = "edge between " + name.vertices({halfEdges[i][0], halfEdges[i][1]});
     if (j - i > 2)
       throw Error("non-manifold " + edge + ": shared by " + std::to_string(j - i) + " faces (" +
                   faceName(halfEdges[i][3]) + ", " + faceName(halfEdges[i + 1][3]) + ", " +
@@ -262,7 +280,7 @@ MeshTopology validateMesh(const TriangleMesh& mesh) {
   // link vertex is at most once a `next` and once a `prev`; a fan is a path or a cycle.
   std::vector<std::pair<uint32_t, uint32_t>> link;  // (next, prev), sorted by next
   for (uint32_t u = 0; u < nv; ++u) {
-    if (corners.count(u) == 0) throw Error("vertex " + std::to_string(u) + " is not used by any face");
+    if (corners.count(u) == 0) throw Error(name.vertex(u) + " is not used by any face");
     link.clear();
     for (uint32_t c = corners.begin(u); c < corners.end(u); ++c) link.emplace_back(corners.next[c], corners.prev[c]);
     std::sort(link.begin(), link.end());
@@ -286,7 +304,7 @@ MeshTopology validateMesh(const TriangleMesh& mesh) {
       v = w;
     }
     if (pathStarts > 1 || walked != link.size())
-      throw Error("non-manifold vertex " + std::to_string(u) + ": its faces form more than one fan");
+      throw Error("non-manifold " + name.vertex(u) + ": its faces form more than one fan");
   }
   MeshTopology topo;
   topo.edges = edges;

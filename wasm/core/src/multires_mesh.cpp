@@ -7,9 +7,9 @@
 
 namespace mrvol {
 
-MultiresMesh::MultiresMesh(TriangleMesh mesh, int maxLevels) : mesh_(std::move(mesh)) {
+MultiresMesh::MultiresMesh(TriangleMesh mesh, int maxLevels, const SourceLines* lines) : mesh_(std::move(mesh)) {
   if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
-  topology_ = validateMesh(mesh_);
+  topology_ = validateMesh(mesh_, lines);
   hierarchy_ = Hierarchy::detect(mesh_, maxLevels);
 }
 

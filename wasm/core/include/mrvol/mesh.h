@@ -17,12 +17,20 @@ struct TriangleMesh {
   size_t faceCount() const { return faces.size() / 3; }
 };
 
+// Where the vertices and faces of a mesh read from OBJ text stand: the (1-based) line of each.
+// Messages about a mesh name vertices and faces by their 0-based index in the arrays and, when
+// these lines are known, by their line too ("vertex 4 (line 6)").
+struct SourceLines {
+  std::vector<uint32_t> vertex, face;
+};
+
 // Reads OBJ text: `v x y z [w]` and `f` lines (`f a`, `f a/b`, `f a//c`, `f a/b/c`, negative
 // indices, `#` comments); other statements (vn, vt, o, g, s, usemtl, mtllib, l ...) are skipped.
 // Faces must be triangles: a polygon is refused with its line number, because triangulating it
 // would break the semi-regular structure the rest of mrvol relies on.
 // Throws Error("line L: ...") for malformed numbers, bad indices, NaN/Inf, empty input.
-TriangleMesh readObj(std::string_view text);
+// With `lines`, also records the line of every vertex and face.
+TriangleMesh readObj(std::string_view text, SourceLines* lines = nullptr);
 
 // Writes `v` then `f` lines, vertex order kept, coordinates with 17 significant digits.
 std::string writeObj(const TriangleMesh& mesh);
@@ -39,7 +47,8 @@ struct MeshTopology {
 // Checks that the mesh is an oriented 2-manifold (possibly with boundary) and says where it is
 // not: index out of range, degenerate or duplicate face, non-manifold edge or vertex, inconsistent
 // orientation, non-finite coordinates, unused vertices. Throws Error; returns the topology.
-MeshTopology validateMesh(const TriangleMesh& mesh);
+// `lines` (optional, as readObj gave them) add the OBJ line of each vertex and face named.
+MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines = nullptr);
 
 // Signed volume enclosed by a closed mesh: sum over triangles of det(a - o, b - o, c - o) / 6.
 // The point o changes nothing for a closed mesh but keeps digits when it is far from the origin:

@@ -27,8 +27,9 @@ struct MeshInfo {
 
 class MultiresMesh {
  public:
-  // Validates the mesh and detects its hierarchy (at most maxLevels levels).
-  explicit MultiresMesh(TriangleMesh mesh, int maxLevels = 16);
+  // Validates the mesh and detects its hierarchy (at most maxLevels levels). `lines` (from readObj)
+  // add the OBJ line of what validation messages name.
+  explicit MultiresMesh(TriangleMesh mesh, int maxLevels = 16, const SourceLines* lines = nullptr);
   // n splits of a validated base mesh; zero-detail synthesis with `scheme` gives the positions.
   static MultiresMesh subdivide(const TriangleMesh& base, int levels, const SchemeOptions& scheme);
 
