@@ -5,23 +5,15 @@ import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
 import { readFile } from 'node:fs/promises';
-import { launch, waitReady, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
+import { openApp, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
 import { createMrvol } from '../../lib/node.mjs';
 import { createRequire } from 'node:module';
 
 let browser, page;
 
 describe('web editor: box selection, cage export, remeshing offer', { timeout: 100_000 }, () => {
-  before(async () => {
-    browser = await launch();
-    page = await browser.newPage();
-    await page.goto(browser.url);
-    await waitReady(page);
-  });
-
-  after(async () => {
-    await browser?.close();
-  });
+  before(async () => ({ browser, page } = await openApp()));
+  after(() => browser?.close());
 
   test('shift-drag on empty space selects the handles in the box; dragging one moves them all', async () => {
     const points = await page.evaluate(() => window.mrvolDebug.cageScreenPositions());

@@ -5,7 +5,7 @@
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { launch, waitReady, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
+import { openApp, readouts, dragHandle, settle, RESULTS_DIR } from './harness.mjs';
 
 let browser, page;
 
@@ -38,16 +38,8 @@ function percentile(values, q) {
 }
 
 describe('web editor: layers, painted free set, parts', { timeout: 40_000 }, () => {
-  before(async () => {
-    browser = await launch();
-    page = await browser.newPage();
-    await page.goto(browser.url);
-    await waitReady(page);
-  });
-
-  after(async () => {
-    await browser?.close();
-  });
+  before(async () => ({ browser, page } = await openApp()));
+  after(() => browser?.close());
 
   test('the level-l approximation and the detail vectors are toggled in the panel, drawn and follow a drag', async () => {
     let layers = await debug('layers');

@@ -7,7 +7,7 @@ import assert from 'node:assert/strict';
 import { readFile } from 'node:fs/promises';
 import { join } from 'node:path';
 import { createMrvol } from '../../lib/node.mjs';
-import { launch, waitReady, waitTheta, readouts, visibleHandles, dragHandle, settle, root, RESULTS_DIR } from './harness.mjs';
+import { openApp, waitReady, waitTheta, readouts, visibleHandles, dragHandle, settle, root, RESULTS_DIR } from './harness.mjs';
 
 const SPIKY = join(root, 'public/models/spiky-ball.obj');
 
@@ -51,13 +51,9 @@ function uvSphereObj(rings = 8, segments = 12) {
 describe('web editor', { timeout: 240_000 }, () => {
   before(async () => {
     mrvol = await createMrvol();
-    browser = await launch();
-    page = await browser.newPage();
+    ({ browser, page } = await openApp({ goto: false }));
   });
-
-  after(async () => {
-    await browser?.close();
-  });
+  after(() => browser?.close());
 
   test('loads the default model (spiky ball) with its level-0 cage and computes theta in the worker', { timeout: 120_000 }, async () => {
     await page.goto(browser.url);

@@ -96,6 +96,25 @@ export async function launch(options = {}) {
   }
 }
 
+/**
+ * A server, a browser on it and a page: at the app (`goto`, default true) and ready to drag
+ * (`ready`, default true). For a describe()'s hooks:
+ *   before(async () => ({ browser, page } = await openApp()));
+ *   after(() => browser?.close());
+ */
+export async function openApp({ goto = true, ready = true, ...options } = {}) {
+  const browser = await launch(options);
+  try {
+    const page = await browser.newPage();
+    if (goto) await page.goto(browser.url);
+    if (goto && ready) await waitReady(page);
+    return { browser, page };
+  } catch (e) {
+    await browser.close();
+    throw e;
+  }
+}
+
 /** Waits until the model is loaded and the first frame is drawn (handles can be dragged). */
 export async function waitReady(page, timeout = 60_000) {
   await page.waitForFunction(() => window.mrvolDebug?.ready() === true, null, { timeout });
