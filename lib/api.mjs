@@ -10,7 +10,7 @@ export class MrvolError extends Error {
   }
 }
 
-export { remesh } from './remesh.mjs';
+export { remesh, repair } from './remesh.mjs';
 
 const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
 

@@ -319,6 +319,12 @@ export interface RemeshOptions {
   baseFaces?: number;
   /** Keep the largest connected component instead of refusing several (default false). */
   keepLargest?: boolean;
+  /** Run repair() on the input first (for scans that are almost a closed 2-manifold; default false). */
+  repair?: boolean;
+  /** With repair: the largest hole (in edges) it closes (default 100). */
+  maxHoleEdges?: number;
+  /** With repair: Taubin smoothing iterations after it (default 0). */
+  smooth?: number;
   /** Tangential relaxation steps per level (default 4). */
   relaxIterations?: number;
   /** At most this many sample points per direction for the Hausdorff distance (default 200000). */
@@ -352,10 +358,42 @@ export interface RemeshResult {
   /** New vertices placed at the closest point because no ray hit within its cap. */
   rayFallbacks: number;
   input: { vertices: number; faces: number; weldedVertices: number; droppedFaces: number; droppedComponents: number; genus: number };
+  /** What repair() did, when the repair option was given (else null). */
+  repair: RepairReport | null;
   /** Simplifier outputs that failed validation (target faces: problem). */
   simplifierRetries: string[];
   ms: number;
 }
+
+/** What repair() did: counts of each fix. */
+export interface RepairReport {
+  weldedVertices: number;
+  degenerateFaces: number;
+  /** Faces repeated with the same orientation (one copy kept). */
+  duplicateFaces: number;
+  /** Faces cancelled in opposite pairs. */
+  finFaces: number;
+  /** Faces dropped on non-manifold edges and vertices. */
+  nonManifoldFaces: number;
+  droppedComponents: number;
+  holesFilled: number;
+  holeEdges: number;
+  /** Holes larger than maxHoleEdges, left for validation to refuse. */
+  holesLeft: number;
+  largestHoleLeft?: number;
+  /** Folded faces cut out and filled again. */
+  foldedFaces: number;
+  [key: string]: number | undefined;
+}
+
+/**
+ * The repair stage of remesh, alone: weld by position, cancel fins and drop repeated faces, drop
+ * the faces of non-manifold edges and vertices, optionally keep the largest component, close holes
+ * of at most maxHoleEdges edges, cut out folds and fill again, optionally smooth. Pure JS; what is
+ * left wrong is for validate() to name.
+ */
+export function repair(mesh: Mesh, options?: { keepLargest?: boolean; maxHoleEdges?: number; smooth?: number }):
+  { mesh: Mesh; report: RepairReport };
 
 /**
  * Semi-regular remeshing of a closed manifold triangle mesh (welded first): meshoptimizer

@@ -4,7 +4,7 @@ import { readFile } from 'node:fs/promises';
 import { wrapModule, MrvolError } from './api.mjs';
 
 export { MrvolError };
-export { remesh } from './remesh.mjs';
+export { remesh, repair } from './remesh.mjs';
 
 const buildDir = new URL('../build/wasm/', import.meta.url);
 
