@@ -1,5 +1,5 @@
 // One level's lifting phases through MultiresMesh, in the caller's vertex order (shuffled meshes):
-// all steps are one level of synthesis, no step is the identity, analysis phase by phase is the
+// all steps are one level of synthesis, zero steps change nothing, analysis phase by phase is the
 // exact reverse, and the steps in caller indices are the hierarchy's steps renumbered, so that
 // applying them to caller-ordered data gives the same phases. Every bad argument is refused.
 #include <gtest/gtest.h>
@@ -76,7 +76,7 @@ TEST(LiftingPhases, AllStepsOfEachLevelAreSynthesisAndTheirInversesAnalysis) {
     }
 }
 
-TEST(LiftingPhases, NoStepIsTheIdentity) {
+TEST(LiftingPhases, ZeroStepsChangeNothing) {
   for (const auto& c : shuffledCases())
     for (const auto& scheme : allSchemes())
       for (int l = 1; l <= c.mesh.levels(); ++l) {
