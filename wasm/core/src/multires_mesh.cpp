@@ -111,8 +111,8 @@ const std::vector<LiftingStep>& MultiresMesh::stepsOfLevel(int level, const Sche
   return transform(scheme).synthesisSteps(level);
 }
 
-// The same, checking that 0 <= steps <= their count.
-const std::vector<LiftingStep>& MultiresMesh::firstSteps(int level, int steps, const SchemeOptions& scheme) const {
+// The same, checking a count of steps to run or undo: 0 <= steps <= their count.
+const std::vector<LiftingStep>& MultiresMesh::checkedSteps(int level, int steps, const SchemeOptions& scheme) const {
   const auto& all = stepsOfLevel(level, scheme);
   if (steps < 0 || size_t(steps) > all.size())
     throw Error("steps " + std::to_string(steps) + " is out of range: the " + schemeName(scheme.kind) + " scheme has " +
@@ -135,7 +135,7 @@ int MultiresMesh::liftingStepCount(int level, const SchemeOptions& scheme) const
 
 std::vector<double> MultiresMesh::synthesizeSteps(const std::vector<double>& coefficients, int level, int steps,
                                                   const SchemeOptions& scheme) const {
-  const auto& all = firstSteps(level, steps, scheme);
+  const auto& all = checkedSteps(level, steps, scheme);
   return inHierarchyOrder(coefficients, "coefficients", level, [&](double* x) {
     for (int k = 0; k < steps; ++k) all[k].forward(x);
   });
@@ -143,7 +143,7 @@ std::vector<double> MultiresMesh::synthesizeSteps(const std::vector<double>& coe
 
 std::vector<double> MultiresMesh::analyzeSteps(const std::vector<double>& coefficients, int level, int steps,
                                                const SchemeOptions& scheme) const {
-  const auto& all = firstSteps(level, steps, scheme);
+  const auto& all = checkedSteps(level, steps, scheme);
   return inHierarchyOrder(coefficients, "coefficients", level, [&](double* x) {
     for (int k = 0; k < steps; ++k) all[all.size() - 1 - k].inverse(x);
   });

@@ -84,7 +84,7 @@ class MultiresMesh {
   MultiresMesh() = default;
   void checkLevel(int level) const;
   const std::vector<LiftingStep>& stepsOfLevel(int level, const SchemeOptions& scheme) const;
-  const std::vector<LiftingStep>& firstSteps(int level, int steps, const SchemeOptions& scheme) const;
+  const std::vector<LiftingStep>& checkedSteps(int level, int steps, const SchemeOptions& scheme) const;
   template <class Apply>
   std::vector<double> inHierarchyOrder(const std::vector<double>& values, const char* what, int level, Apply&& apply) const;
   TriangleMesh mesh_;
