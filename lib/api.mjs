@@ -31,6 +31,12 @@ function levelArg(level, name = 'level') {
   return l;
 }
 
+// Lifting steps belong to a level l >= 1, which has no default.
+function stepLevelArg(level) {
+  if (level === undefined) throw new MrvolError('level is required: level l (1..n) builds M^l from M^(l-1)');
+  return levelArg(level);
+}
+
 function checkMesh(mesh) {
   if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a mesh { positions, faces }');
   if (!(mesh.positions instanceof Float64Array)) throw new MrvolError('mesh.positions must be a Float64Array');
@@ -73,6 +79,12 @@ export function wrapModule(module) {
     info() { return call((r) => r.info(), this.raw); }
     /** The theta file: versioned header, arrays, checksum. */
     bytes() { return call((r) => r.bytes(), this.raw); }
+    /**
+     * The stored entries, one per i < j < k, in storage order: { i, j, k: Uint32Array, values:
+     * Float64Array }. Indices are in hierarchy order (by depth; MultiresMesh.hierarchyOrder() maps
+     * them to the caller's vertices).
+     */
+    entries() { return call((r) => r.entries(), this.raw); }
     delete() {
       if (this.#raw) this.#raw.delete();
       this.#raw = null;
@@ -217,6 +229,40 @@ export function wrapModule(module) {
       if (!(coefficients instanceof Float64Array)) throw new MrvolError('coefficients must be a Float64Array');
       return call((r) => r.synthesize(coefficients, levelArg(options.level), ...schemeArgs(options)), this.#live());
     }
+    /**
+     * The lifting steps of level l (1..n: the synthesis from M^(l-1) to M^l), in the order they
+     * apply: [{ name ('U', 'P_o', 'N', 'P_e' for Loop; 'U', 'P' otherwise), scaling, readsOnlyDetails,
+     * targets, offsets, sources: Uint32Array, weights: Float64Array }], caller's vertex indices.
+     * A lift adds sum of weights[s] * x[sources[s]] for s in offsets[r]..offsets[r+1] to x[targets[r]];
+     * a scaling multiplies x[targets[r]] by weights[r].
+     */
+    liftingSteps(options = {}) {
+      return call((r) => r.liftingSteps(stepLevelArg(options.level), ...schemeArgs(options)), this.#live());
+    }
+    /**
+     * The first `steps` lifting steps of level l (all by default) on level-(l-1) coefficients
+     * (caller's order); all of them give the level-l coefficients.
+     */
+    synthesizeSteps(coefficients, options = {}) {
+      return this.#steps('synthesizeSteps', coefficients, options);
+    }
+    /**
+     * Analysis of level l phase by phase: undoes the last `steps` lifting steps (all by default) of
+     * level-l coefficients, in reverse order; all of them give the level-(l-1) coefficients.
+     */
+    analyzeSteps(coefficients, options = {}) {
+      return this.#steps('analyzeSteps', coefficients, options);
+    }
+    #steps(name, coefficients, options) {
+      if (!(coefficients instanceof Float64Array)) throw new MrvolError('coefficients must be a Float64Array');
+      const level = stepLevelArg(options.level), scheme = schemeArgs(options);
+      const steps = options.steps === undefined
+        ? call((r) => r.liftingStepCount(level, ...scheme), this.#live())
+        : levelArg(options.steps, 'steps');
+      return call((r) => r[name](coefficients, level, steps, ...scheme), this.#live());
+    }
+    /** Caller's vertex index of each hierarchy index (the order of theta entries: by depth). */
+    hierarchyOrder() { return call((r) => r.hierarchyOrder(), this.#live()); }
     /** max |synthesis(analysis(x)) - x| over the current positions. */
     roundtripError(options = {}) {
       return call((r) => r.roundtripError(levelArg(options.level), ...schemeArgs(options)), this.#live());

@@ -98,6 +98,42 @@ export interface ThetaInfo {
   bytes: number;
 }
 
+/** Stored entries of a theta: theta_{i[t] j[t] k[t]} = values[t], i < j < k, hierarchy order. */
+export interface ThetaEntries {
+  i: Uint32Array;
+  j: Uint32Array;
+  k: Uint32Array;
+  values: Float64Array;
+}
+
+/** A scheme and a lifting level l, 1 <= l <= levels (required): the synthesis from M^(l-1) to M^l. */
+export interface LiftingLevelOptions extends SchemeOptions {
+  level: number;
+}
+
+/** Which lifting phases to run: the first `steps` of the level (synthesis) or the last (analysis). */
+export interface LiftingStepsOptions extends LiftingLevelOptions {
+  /** 0..number of steps of the level (default: all of them). */
+  steps?: number;
+}
+
+/**
+ * One lifting step (a phase of paper Figure 3), vertex indices in the caller's order. A lift does,
+ * for every row r, x[targets[r]] += sum over s in [offsets[r], offsets[r+1]) of
+ * weights[s] * x[sources[s]]; a scaling does x[targets[r]] *= weights[r] (offsets and sources empty).
+ */
+export interface LiftingStep {
+  /** 'U', 'P_o', 'N', 'P_e' (Loop); 'U', 'P' (Butterfly, linear). */
+  name: string;
+  scaling: boolean;
+  /** A lift that reads only the details of the level (does nothing in subdivision). */
+  readsOnlyDetails: boolean;
+  targets: Uint32Array;
+  offsets: Uint32Array;
+  sources: Uint32Array;
+  weights: Float64Array;
+}
+
 /** A volume tensor theta^e. Lives in the WebAssembly heap: call delete() when done. */
 export interface Theta {
   /** Milliseconds computeTheta() took; null for a tensor read from a file. */
@@ -105,6 +141,12 @@ export interface Theta {
   info(): ThetaInfo;
   /** The theta file: versioned header, arrays, checksum (a fresh copy). */
   bytes(): Uint8Array;
+  /**
+   * The stored entries, one per i < j < k (the tensor is alternating), in storage order. Indices
+   * are in hierarchy order (vertices by depth); MultiresMesh.hierarchyOrder() maps them to the
+   * caller's vertices.
+   */
+  entries(): ThetaEntries;
   /** Frees the tensor; calling it again does nothing. Other methods then throw MrvolError. */
   delete(): void;
 }
@@ -260,6 +302,20 @@ export interface MultiresMesh {
   synthesize(coefficients: Float64Array, options?: TransformOptions): Float64Array;
   /** max |synthesis(analysis(x)) - x| over the current positions. */
   roundtripError(options?: TransformOptions): number;
+  /** The lifting steps of level l, in the order synthesis applies them. */
+  liftingSteps(options: LiftingLevelOptions): LiftingStep[];
+  /**
+   * Runs the first `steps` lifting steps of level l on level-(l-1) coefficients (caller's order,
+   * 3 per vertex; only vertices of depth <= l change); all steps give the level-l coefficients.
+   */
+  synthesizeSteps(coefficients: Float64Array, options: LiftingStepsOptions): Float64Array;
+  /**
+   * Analysis phase by phase: undoes the last `steps` lifting steps of level l, in reverse order,
+   * on level-l coefficients; analyzeSteps(synthesizeSteps(c, all), S - k) equals synthesizeSteps(c, k).
+   */
+  analyzeSteps(coefficients: Float64Array, options: LiftingStepsOptions): Float64Array;
+  /** Caller's vertex index of each hierarchy index (hierarchy order: by depth, as theta entries). */
+  hierarchyOrder(): Uint32Array;
   /** Connectivity fingerprint (16 hex digits): what a volume tensor depends on besides scheme and level. */
   fingerprint(): string;
   /** Computes the volume tensor theta^e of this mesh for a scheme and level e. */

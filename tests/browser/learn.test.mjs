@@ -124,7 +124,7 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.equal(s.N, 66);
     assert.deepEqual(s.levels.map((x) => x.level), [2, 1, 0]);
     for (const level of s.levels) {
-      assert.equal(level.stored, level.nnzStored, 'every stored entry is read back from the file');
+      assert.equal(level.stored, level.nnzStored, 'every stored entry is listed by theta.entries()');
       assert.equal(6 * level.stored, level.nnzFull, 'alternating: six orderings per stored entry');
     }
     assert.deepEqual(s.levels[0].classCounts.slice(0, 3), [0, 0, 0], 'at the fine level every index is coarse');
@@ -157,16 +157,72 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 
-  test('#learn/lifting: what one coefficient writes in a synthesis step and what reads a vertex in analysis', async () => {
+  test('#learn/lifting: one level played phase by phase around a vertex, synthesis and analysis as its reverse', async () => {
     await open('learn/lifting');
-    assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 3.*section 2/s);
+    const text = await page.textContent('[data-testid="learn-text"]');
+    assert.match(text, /Figure 3.*section 2/s);
+    assert.doesNotMatch(text, /does not offer|not have yet/);
     let s = await state();
     assert.equal(s.level, 1);
     assert.equal(s.vertex, 0);
     assert.equal(s.odd, false);
-    assert.ok(s.touched > 1, `an even coefficient writes several vertices (${s.touched})`);
-    assert.ok(s.weights.some((w) => w.vertex === 0), 'including itself');
+    assert.deepEqual(s.phases, ['U', 'P_o', 'N', 'P_e']);
+    assert.equal(s.phase, 0);
+    assert.equal(s.written, 0);
+    assert.equal(s.touched, 1, 'before the first phase the unit coefficient is on the picked vertex only');
+    // Step through the four phases of the even base vertex 0 (valence 5).
+    const phases = [];
+    for (let k = 1; k <= 4; k++) {
+      await page.click('[data-testid="lifting-step"]');
+      s = await state();
+      assert.equal(s.phase, k);
+      assert.equal(s.phaseName, ['U', 'P_o', 'N', 'P_e'][k - 1]);
+      assert.equal(await page.getAttribute('[data-testid="lifting-written"]', 'data-value'), String(s.written), 'the readout says it');
+      for (const w of s.weights) assert.ok(s.writtenVertices.includes(w.target), 'every weight belongs to a written vertex');
+      phases.push(s);
+    }
+    const [U, Po, Nm, Pe] = phases;
+    assert.deepEqual(U.writtenVertices, [0], 'U writes the even vertex from its odd neighbours');
+    assert.ok(U.read >= 5 && U.weights.every((w) => w.source !== null));
+    assert.equal(U.touched, 1, 'U reads only details: the even unit coefficient is not spread');
+    assert.equal(Po.written, 5, 'P_o writes the five odd neighbours');
+    assert.ok(Po.readVertices.includes(0) && Po.read >= 3);
+    assert.ok(Po.touched > 1, 'P_o spreads the coefficient to the odd ring');
+    const eta = 3 / 8 + Math.cos(2 * Math.PI / 5) / 4;
+    assert.deepEqual(Nm.writtenVertices, [0]);
+    assert.equal(Nm.read, 0, 'N scales, it reads nothing');
+    assert.ok(Math.abs(Nm.weights[0].weight - 8 / 5 * eta * eta) < 1e-12, `N's factor ${Nm.weights[0].weight}`);
+    assert.equal(Pe.written, 1);
+    assert.equal(Pe.read, 5, 'P_e reads the odd neighbours');
+    assert.ok(Pe.weights.every((w) => Math.abs(w.weight - (1 - 8 / 5 * eta * eta) / 5) < 1e-12), 'mu each');
+    assert.ok(new Set(phases.map((p) => `${p.written}/${p.read}`)).size >= 3, 'the counts change from phase to phase');
+    for (let k = 1; k < 4; k++) assert.notDeepEqual(phases[k].weights, phases[k - 1].weights);
+    assert.ok(Pe.reached.some((r) => r.vertex === 0) && Pe.touched > Po.touched, 'P_e spreads it to the even neighbours');
+    await page.click('[data-testid="lifting-step"]'); // past the last phase: nothing
+    assert.equal((await state()).phase, 4);
+    await shot('lifting');
+    // Analysis: the inverse phases in reverse order, with the weights negated and the factor inverted.
+    await page.selectOption('[data-testid="lifting-mode"]', 'analysis');
+    s = await state();
+    assert.equal(s.mode, 'analysis');
+    assert.equal(s.phase, 0);
+    assert.deepEqual(s.phases, ['P_e⁻¹', 'N⁻¹', 'P_o⁻¹', 'U⁻¹']);
+    await page.click('[data-testid="lifting-step"]');
+    s = await state();
+    assert.equal(s.phaseName, 'P_e⁻¹');
+    assert.deepEqual(s.weights.map((w) => ({ ...w, weight: -w.weight })), Pe.weights);
+    await page.click('[data-testid="lifting-step"]');
+    s = await state();
+    assert.ok(Math.abs(s.weights[0].weight * Nm.weights[0].weight - 1) < 1e-12, 'N⁻¹ divides by the factor');
+    await page.click('[data-testid="lifting-reset"]');
+    assert.equal((await state()).phase, 0);
+    // Play runs the phases by itself.
+    await page.click('[data-testid="lifting-play"]');
+    await page.waitForFunction(() => window.mrvolLearn.state().phase === 4 && !window.mrvolLearn.state().playing, null, { timeout: 15_000 });
+    s = await state();
+    assert.ok(s.touched > 1, `analysis of c^1_0 reaches several coefficients (${s.touched})`);
     // An odd vertex, by clicking it on the canvas.
+    await page.selectOption('[data-testid="lifting-mode"]', 'synthesis');
     await page.click('[data-testid="lifting-next-odd"]');
     s = await state();
     assert.equal(s.odd, true);
@@ -181,14 +237,21 @@ describe('teaching views', { timeout: 120_000 }, () => {
     await page.mouse.click(x, y);
     s = await state();
     assert.equal(s.vertex, oddVertex, 'a click picks the vertex under the pointer');
-    // A detail writes its own vertex (P_o) and, through U and P_e, even vertices around it.
-    assert.ok(s.weights.some((w) => w.vertex === oddVertex), 'the odd vertex itself');
-    assert.ok(s.weights.some((w) => !w.odd), `even vertices too: ${JSON.stringify(s.weights.slice(0, 4))}`);
-    await page.selectOption('[data-testid="lifting-mode"]', 'analysis');
+    assert.equal(s.phase, 0, 'a new vertex starts before the first phase');
+    // A detail: U writes the two ends of its edge, reading the odd vertex among others.
+    await page.click('[data-testid="lifting-step"]');
     s = await state();
-    assert.equal(s.mode, 'analysis');
-    assert.ok(s.touched > 1);
-    await shot('lifting');
+    assert.equal(s.written, 2, `U writes the ends of the odd vertex's edge: ${JSON.stringify(s.writtenVertices)}`);
+    assert.ok(s.readVertices.includes(oddVertex));
+    assert.ok(s.touched > 1, 'the detail spreads to the ends in U');
+    await page.evaluate(() => window.mrvolLearn.act('setPhase', 4));
+    s = await state();
+    assert.ok(s.reached.some((r) => r.vertex === oddVertex), 'the odd vertex itself after P_o');
+    assert.ok(s.touched > 3);
+    // Butterfly: two phases.
+    await page.selectOption('[data-testid="lifting-scheme"]', 'butterfly');
+    s = await state();
+    assert.deepEqual(s.phases, ['U', 'P']);
     assert.deepEqual(page.problems, []);
   });
 

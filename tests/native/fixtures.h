@@ -1,8 +1,10 @@
 // Fixture models for the native tests: small base meshes of every kind the core must handle
 // (closed genus 0 with valences 3..6, genus 1, open), and the sample files in public/models.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -107,6 +109,50 @@ inline std::vector<double> randomVector(size_t n, unsigned seed, double scale = 
   std::vector<double> x(n);
   for (auto& v : x) v = u(rng);
   return x;
+}
+
+inline double maxAbs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+inline double maxDiff(const std::vector<double>& a, const std::vector<double>& b) {
+  double m = 0;
+  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::fabs(a[i] - b[i]));
+  return m;
+}
+
+// A scheme's name for messages: "loop (plain)" for Loop without the update weights.
+inline std::string label(const mrvol::SchemeOptions& o) {
+  return std::string(mrvol::schemeName(o.kind)) + (o.kind == mrvol::SchemeKind::Loop && o.alpha == 0 ? " (plain)" : "");
+}
+
+// A mesh in hierarchy order rewritten with a random vertex order; faces shuffled and rotated too
+// (orientation kept). perm[v] = the new index of hierarchy vertex v.
+struct Shuffled {
+  TriangleMesh mesh;
+  std::vector<uint32_t> perm;
+};
+
+inline Shuffled shuffle(const TriangleMesh& m, unsigned seed) {
+  std::mt19937 rng(seed);
+  Shuffled s;
+  const size_t nv = m.vertexCount(), nf = m.faceCount();
+  s.perm.resize(nv);
+  std::iota(s.perm.begin(), s.perm.end(), 0u);
+  std::shuffle(s.perm.begin(), s.perm.end(), rng);
+  s.mesh.positions.resize(m.positions.size());
+  for (size_t v = 0; v < nv; ++v)
+    for (int k = 0; k < 3; ++k) s.mesh.positions[3 * s.perm[v] + k] = m.positions[3 * v + k];
+  std::vector<size_t> order(nf);
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::shuffle(order.begin(), order.end(), rng);
+  for (size_t f : order) {
+    int r = int(rng() % 3);
+    for (int k = 0; k < 3; ++k) s.mesh.faces.push_back(s.perm[m.faces[3 * f + (k + r) % 3]]);
+  }
+  return s;
 }
 
 }  // namespace fixtures

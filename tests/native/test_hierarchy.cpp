@@ -153,32 +153,8 @@ void expectConsistent(const Hierarchy& h, const std::string& where) {
   EXPECT_EQ(h.boundary, boundaryVertices(h.fineFaces(), N));
 }
 
-// A mesh in hierarchy order rewritten with a random vertex order; faces shuffled and rotated too
-// (orientation kept). perm[v] = the new index of hierarchy vertex v.
-struct Shuffled {
-  TriangleMesh mesh;
-  std::vector<uint32_t> perm;
-};
-
-Shuffled shuffle(const TriangleMesh& m, unsigned seed) {
-  std::mt19937 rng(seed);
-  Shuffled s;
-  const size_t nv = m.vertexCount(), nf = m.faceCount();
-  s.perm.resize(nv);
-  std::iota(s.perm.begin(), s.perm.end(), 0u);
-  std::shuffle(s.perm.begin(), s.perm.end(), rng);
-  s.mesh.positions.resize(m.positions.size());
-  for (size_t v = 0; v < nv; ++v)
-    for (int k = 0; k < 3; ++k) s.mesh.positions[3 * s.perm[v] + k] = m.positions[3 * v + k];
-  std::vector<size_t> order(nf);
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::shuffle(order.begin(), order.end(), rng);
-  for (size_t f : order) {
-    int r = int(rng() % 3);
-    for (int k = 0; k < 3; ++k) s.mesh.faces.push_back(s.perm[m.faces[3 * f + (k + r) % 3]]);
-  }
-  return s;
-}
+using fixtures::Shuffled;
+using fixtures::shuffle;
 
 // detect(shuffled) against the hierarchy the mesh was built with.
 void expectEquivalent(const Hierarchy& built, const Hierarchy& found, const std::vector<uint32_t>& perm,
@@ -211,23 +187,12 @@ void expectEquivalent(const Hierarchy& built, const Hierarchy& found, const std:
   EXPECT_EQ(found.fineFaces(), fine);
 }
 
-double maxAbs(const std::vector<double>& v) {
-  double m = 0;
-  for (double x : v) m = std::max(m, std::fabs(x));
-  return m;
-}
-
-double maxDiff(const std::vector<double>& a, const std::vector<double>& b) {
-  double m = 0;
-  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::fabs(a[i] - b[i]));
-  return m;
-}
+using fixtures::maxAbs;
+using fixtures::maxDiff;
 
 using fixtures::allSchemes;
 
-std::string label(const SchemeOptions& o) {
-  return std::string(schemeName(o.kind)) + (o.kind == SchemeKind::Loop && o.alpha == 0 ? " (plain)" : "");
-}
+using fixtures::label;
 
 // Bases whose subdivisions have a unique tiling: every vertex's role is forced by the valences or
 // the boundary. The regular torus grid is not among them: every parity class of its fine grid is

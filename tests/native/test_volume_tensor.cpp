@@ -15,11 +15,12 @@ namespace {
 
 using fixtures::allSchemes;
 
+// The stored entries by (i, j, k), through VolumeTensor::entries (checked against the CSR arrays
+// in EntriesListTheStoredArrays).
 std::map<std::tuple<uint32_t, uint32_t, uint32_t>, double> entries(const VolumeTensor& t) {
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, double> out;
-  for (uint32_t i = 0; i < t.rowCount; ++i)
-    for (uint32_t p = t.rowStart[i]; p < t.rowStart[i + 1]; ++p)
-      for (uint32_t e = t.pairStart[p]; e < t.pairStart[p + 1]; ++e) out[{i, t.pairJ[p], t.kIndex(e)}] = t.values[e];
+  const VolumeTensor::Entries e = t.entries();
+  for (size_t n = 0; n < e.values.size(); ++n) out[{e.i[n], e.j[n], e.k[n]}] = e.values[n];
   return out;
 }
 
@@ -166,4 +167,36 @@ TEST(VolumeTensor, EstimateIsWithinAFactorOfTheActualTensor) {
   Hierarchy big = Hierarchy::subdivide(fixtures::icosahedron(), 6);
   WaveletTransform wt(big, SchemeOptions{});
   EXPECT_FALSE(estimateCageTensor(wt, 0, 2).fits());  // 12 patches of ~40k vertices: 12 GB each
+}
+
+// entries(): one (i < j < k, value) per stored entry, in storage order, the same sum as evaluate.
+TEST(VolumeTensor, EntriesListTheStoredArrays) {
+  for (const auto& fx : smallFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    WaveletTransform wt(h, SchemeOptions{});
+    const auto x = fixtures::randomVector(3 * h.fineVertexCount(), 11);
+    for (TensorStorage storage : {TensorStorage::Full, TensorStorage::Cage}) {
+      VolumeTensor t = computeVolumeTensor(wt, 0, storage);
+      const VolumeTensor::Entries e = t.entries();
+      ASSERT_EQ(e.values.size(), t.storedCount()) << fx.name;
+      ASSERT_EQ(e.i.size(), t.storedCount());
+      ASSERT_EQ(e.j.size(), t.storedCount());
+      ASSERT_EQ(e.k.size(), t.storedCount());
+      EXPECT_EQ(e.values, t.values);
+      double sum = 0, scale = 0;
+      for (size_t n = 0; n < e.values.size(); ++n) {
+        ASSERT_LT(e.i[n], e.j[n]);
+        ASSERT_LT(e.j[n], e.k[n]);
+        ASSERT_LT(e.k[n], t.vertexCount);
+        if (storage == TensorStorage::Cage) ASSERT_LT(e.i[n], h.vertexCount[0]);
+        const double* a = &x[3 * e.i[n]];
+        const double* b = &x[3 * e.j[n]];
+        const double* c = &x[3 * e.k[n]];
+        const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+        sum += e.values[n] * det;
+        scale += std::fabs(e.values[n] * det);
+      }
+      EXPECT_NEAR(sum, t.evaluate(x.data()), 1e-12 * scale) << fx.name;
+    }
+  }
 }

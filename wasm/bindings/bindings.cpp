@@ -169,6 +169,37 @@ val js_synthesize(const MultiresMesh& m, val c, int level, std::string scheme, d
   return guarded(
       [&] { return toTyped(m.synthesize(toVector<double>(c, "coefficients"), level, toScheme(scheme, alpha, beta))); });
 }
+val js_liftingSteps(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    val out = val::array();
+    for (const LiftingStep& step : m.liftingSteps(level, toScheme(scheme, alpha, beta))) {
+      val s = val::object();
+      s.set("name", step.name);
+      s.set("scaling", step.scaling);
+      s.set("readsOnlyDetails", step.readsOnlyDetails);
+      s.set("targets", toTyped(step.targets));
+      s.set("offsets", toTyped(step.offsets));
+      s.set("sources", toTyped(step.sources));
+      s.set("weights", toTyped(step.weights));
+      out.call<void>("push", s);
+    }
+    return out;
+  });
+}
+val js_liftingStepCount(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] { return val(m.liftingStepCount(level, toScheme(scheme, alpha, beta))); });
+}
+val js_synthesizeSteps(const MultiresMesh& m, val c, int level, int steps, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    return toTyped(m.synthesizeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme, alpha, beta)));
+  });
+}
+val js_analyzeSteps(const MultiresMesh& m, val c, int level, int steps, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    return toTyped(m.analyzeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme, alpha, beta)));
+  });
+}
+val js_hierarchyOrder(const MultiresMesh& m) { return guarded([&] { return toTyped(m.hierarchy().inputIndex); }); }
 val js_roundtripError(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
   return guarded([&] { return val(m.roundtripError(level, toScheme(scheme, alpha, beta))); });
 }
@@ -239,6 +270,17 @@ val js_thetaBytes(const Theta& t) {
     std::string bytes = writeThetaFile(t.tensor, t.header);
     return val(emscripten::typed_memory_view(bytes.size(), reinterpret_cast<const uint8_t*>(bytes.data())))
         .call<val>("slice");
+  });
+}
+val js_thetaEntries(const Theta& t) {
+  return guarded([&] {
+    VolumeTensor::Entries e = t.tensor.entries();
+    val out = val::object();
+    out.set("i", toTyped(e.i));
+    out.set("j", toTyped(e.j));
+    out.set("k", toTyped(e.k));
+    out.set("values", toTyped(e.values));
+    return out;
   });
 }
 val js_thetaInfo(const Theta& t) {
@@ -382,6 +424,11 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("analyze", &js_analyze)
       .function("synthesize", &js_synthesize)
       .function("roundtripError", &js_roundtripError)
+      .function("liftingSteps", &js_liftingSteps)
+      .function("liftingStepCount", &js_liftingStepCount)
+      .function("synthesizeSteps", &js_synthesizeSteps)
+      .function("analyzeSteps", &js_analyzeSteps)
+      .function("hierarchyOrder", &js_hierarchyOrder)
       .function("computeTheta", &js_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &js_thetaVolume)
       .function("fingerprint", &js_fingerprint)
@@ -407,6 +454,9 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("deformCage", &js_editorDeformCage)
       .function("correct", &js_editorCorrect)
       .function("gradient", &js_editorGradient);
-  class_<Theta>("_Theta").function("info", &js_thetaInfo).function("bytes", &js_thetaBytes);
+  class_<Theta>("_Theta")
+      .function("info", &js_thetaInfo)
+      .function("bytes", &js_thetaBytes)
+      .function("entries", &js_thetaEntries);
   function("_readTheta", &js_readTheta, allow_raw_pointers());
 }

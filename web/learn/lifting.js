@@ -1,27 +1,42 @@
-// #learn/lifting: one level of the lifting scheme (Figure 3, paper section 2) seen from one vertex.
-// Synthesis: which level-l vertices one coefficient c^{l-1}_v (even v) or d^{l-1}_v (odd v) writes,
-// with the weights, i.e. one column of [S^l C^l]. Analysis: which coefficients of level l-1 read one
-// vertex c^l_w, one column of [A^l; B^l]. Both are measured through the API, exactly: a unit
-// coefficient is synthesized from level l-1 and analysed back to level l (or the reverse). The API
-// has no access to the single phases U, P_o, N, P_e yet, so the view shows their composite.
+// #learn/lifting: one level of the lifting scheme (Figure 3, paper section 2) played phase by phase
+// around one vertex. The phases are the core's lifting steps of level l (mr.liftingSteps: targets,
+// sources, weights in the mesh's vertex indices); the view highlights, for the picked vertex's
+// neighbourhood in M^l, the vertices a phase writes (its targets) and reads (their sources), and
+// lists the weights. Alongside, a unit coefficient at the picked vertex goes through the phases,
+// run by the core (mr.synthesizeSteps / mr.analyzeSteps with steps = k): what it has reached.
+// Analysis plays the inverse phases in reverse order.
 import { sampleModels } from 'virtual:mrvol-models';
 import { Stage, THREE, surface, wire, edgesOf, bounds, fetchModel, explain, control, select, button, readoutTable } from './stage.js';
 
-const POSITIVE = new THREE.Color(0xe36209), NEGATIVE = new THREE.Color(0x6f42c1), IDLE = new THREE.Color(0x6e7781);
+const WRITTEN = new THREE.Color(0xe36209), READ = new THREE.Color(0x1f6feb), PICKED = new THREE.Color(0x1a7f37);
+const IDLE = new THREE.Color(0x6e7781), REACHED = new THREE.Color(0xb392f0);
+const POSITIVE_LINE = new THREE.Color(0xe36209), NEGATIVE_LINE = new THREE.Color(0x6f42c1);
+
+// What each phase does (paper section 2; method.md for the exact masks).
+const PHASES = {
+  U: 'update: the even vertices read the details d of their odd neighbours',
+  P_o: 'predict odd: each odd vertex reads the ends and wings of its edge (3/8, 3/8, 1/8, 1/8)',
+  N: 'normalize: each even vertex is scaled by K = 8/5 (3/8 + cos(2π/v)/4)²',
+  P_e: 'predict even: each even vertex reads its odd neighbours (μ = (1 − K)/v each)',
+  P: 'predict: each odd vertex reads the even vertices of its stencil',
+};
+const PLAY_MS = 900;
 
 export async function mount({ mrvol, layout, el, stale }) {
-  explain(layout.text, 'Lifting: one level, one vertex (Figure 3, section 2)', [
+  explain(layout.text, 'Lifting: one level, phase by phase (Figure 3, section 2)', [
     'One synthesis step (c<sup>l−1</sup>, d<sup>l−1</sup>) → c<sup>l</sup> of the Loop-based scheme runs four phases in place ' +
       '(section 2, Figure 3): <b>U</b> updates the even (old) vertices from the details of the odd (new) ones ' +
       '(weights α/v, β/v), <b>P<sub>o</sub></b> predicts the odd vertices from the even ones (3/8, 3/8, 1/8, 1/8), ' +
       '<b>N</b> scales the even vertices by 8/5 (3/8 + cos(2π/v)/4)², <b>P<sub>e</sub></b> moves the even vertices by μ times ' +
-      'their odd neighbours. Analysis runs the inverse phases in reverse order.',
-    'Pick a vertex of M<sup>l</sup> (click it, or type its index). <b>Synthesis</b>: the coloured vertices are those the ' +
-      'coefficient of the picked vertex writes at level l (even: c<sup>l−1</sup>, odd: d<sup>l−1</sup>), orange positive, ' +
-      'purple negative, with the weights listed: one column of [S<sup>l</sup> C<sup>l</sup>]. <b>Analysis</b>: the ' +
-      'coefficients of level l−1 that read the picked vertex: one column of [A<sup>l</sup>; B<sup>l</sup>].',
-    'These are the four phases composed, measured through the API (a unit coefficient synthesized and analysed back). ' +
-      'Playing the phases one by one needs an API that exposes the lifting steps, which the core does not offer yet.',
+      'their odd neighbours. Butterfly and linear have two phases, U and P. Analysis runs the inverse phases in reverse order: ' +
+      'each subtracts what its phase added (or divides by its factor), so it retraces synthesis exactly.',
+    'Pick a vertex of M<sup>l</sup> (click it, or type its index) and <b>step</b> or <b>play</b> the phases. In each phase the ' +
+      'vertices of its neighbourhood that the phase <span style="color:#e36209">writes</span> are orange, the ones their masks ' +
+      '<span style="color:#1f6feb">read</span> are blue, with a line per weight (orange positive, purple negative) and the ' +
+      'weights listed; the picked vertex is green.',
+    'The phases are the core’s lifting steps, run by the core: a unit coefficient at the picked vertex (c<sup>l−1</sup> or ' +
+      'd<sup>l−1</sup> in synthesis, c<sup>l</sup> in analysis) goes through the first k phases; the vertices it has reached are ' +
+      'lilac. After the last phase they are one column of [S<sup>l</sup> C<sup>l</sup>] (synthesis) or [A<sup>l</sup>; B<sup>l</sup>] (analysis).',
   ]);
   const name = sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0];
   const text = await fetchModel(name);
@@ -31,45 +46,33 @@ export async function mount({ mrvol, layout, el, stale }) {
   const depths = mr.depths();
   const N = mr.vertexCount, n = mr.levels;
   if (n < 1) throw new Error(`${name} has no subdivision level`);
-  const s = { level: 1, scheme: 'loop', mode: 'synthesis', vertex: 0 };
+  const s = { level: 1, scheme: 'loop', mode: 'synthesis', vertex: 0, phase: 0 };
   const levelSelect = control(layout.controls, 'level l', select([...Array(n).keys()].map((k) => [String(k + 1), `${k + 1}: M${k} → M${k + 1}`]), '1', 'lifting-level'));
   const schemeSelect = control(layout.controls, 'scheme', select(['loop', 'butterfly', 'linear'].map((k) => [k, k]), s.scheme, 'lifting-scheme'));
-  const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis: what it writes'], ['analysis', 'analysis: what reads it']], s.mode, 'lifting-mode'));
+  const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis: the phases in order'], ['analysis', 'analysis: inverse phases, reverse order']], s.mode, 'lifting-mode'));
   const vertexInput = document.createElement('input');
   vertexInput.type = 'number';
   vertexInput.min = 0;
   vertexInput.value = 0;
   vertexInput.dataset.testid = 'lifting-vertex';
   control(layout.controls, 'vertex', vertexInput);
-  const row = el('div', { class: 'learn-row' });
-  layout.controls.append(row);
-  const set = readoutTable(layout.readouts, [['picked', 'lifting-picked'], ['touched', 'lifting-touched']]);
+  const pickRow = el('div', { class: 'learn-row' });
+  const phaseRow = el('div', { class: 'learn-row' });
+  layout.controls.append(pickRow, phaseRow);
+  const set = readoutTable(layout.readouts, [
+    ['picked', 'lifting-picked'], ['phase', 'lifting-phase'], ['writes', 'lifting-written'], ['reads', 'lifting-read'],
+    ['reached', 'lifting-touched'],
+  ]);
   const weightsBox = el('div', { testid: 'lifting-weights' });
   layout.readouts.append(weightsBox);
 
   const stage = new Stage(layout.stage, ['']);
   const b = bounds(mesh.positions);
   stage.frame(b.center, b.radius);
-  let current = null; // { vertices (caller indices of M^l), index Map, points, colors }
+  // The level on screen: { vertices (indices of M^l), index Map, positions, points, lines, ring, steps }.
+  let current = null;
   let result = null;
-
-  function unit(vertex) {
-    const a = new Float64Array(3 * N);
-    a[3 * vertex] = 1;
-    return a;
-  }
-
-  function compute() {
-    const l = s.level, v = s.vertex;
-    const options = (level) => ({ level, scheme: s.scheme });
-    let out;
-    if (s.mode === 'synthesis') out = mr.analyze(mr.synthesize(unit(v), options(l - 1)), options(l));
-    else out = mr.analyze(mr.synthesize(unit(v), options(l)), options(l - 1));
-    const touched = [];
-    for (let u = 0; u < N; u++) if (depths[u] <= l && Math.abs(out[3 * u]) > 1e-12) touched.push({ vertex: u, weight: out[3 * u], odd: depths[u] === l });
-    touched.sort((x, y) => Math.abs(y.weight) - Math.abs(x.weight));
-    return touched;
-  }
+  let timer = null;
 
   function buildLevel() {
     const l = s.level;
@@ -82,54 +85,160 @@ export async function mount({ mrvol, layout, el, stale }) {
     const index = new Map(vertices.map((u, k) => [u, k]));
     const positions = new Float64Array(3 * vertices.length);
     vertices.forEach((u, k) => positions.set(coarse.subarray(3 * u, 3 * u + 3), 3 * k));
-    const faces = Uint32Array.from(mr.levelFaces(l), (u) => index.get(u));
+    const levelFaces = mr.levelFaces(l);
+    const faces = Uint32Array.from(levelFaces, (u) => index.get(u));
     scene.add(surface(positions, faces, { color: 0xe8e2d8 }));
     scene.add(wire(positions, edgesOf(faces), { color: 0x8c959f, points: false }));
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
     geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * vertices.length), 3));
-    geometry.setAttribute('size', new THREE.BufferAttribute(new Float32Array(vertices.length), 1));
     const points = new THREE.Points(geometry, new THREE.PointsMaterial({ size: 14, sizeAttenuation: false, vertexColors: true, depthTest: true }));
     scene.add(points);
-    current = { vertices, index, points, positions };
+    const lines = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false, transparent: true, opacity: 0.9 }));
+    lines.renderOrder = 2;
+    scene.add(lines);
+    // Neighbours in M^l (connectivity only, for choosing which rows of a phase to show).
+    const ring = new Map(vertices.map((u) => [u, new Set()]));
+    for (let f = 0; f < levelFaces.length; f += 3)
+      for (let e = 0; e < 3; e++) {
+        const a = levelFaces[f + e], c = levelFaces[f + (e + 1) % 3];
+        ring.get(a).add(c);
+        ring.get(c).add(a);
+      }
+    // The core's steps of level l, with each step's row of a target vertex.
+    const steps = mr.liftingSteps({ level: l, scheme: s.scheme }).map((step) => ({ ...step, rowOf: new Map([...step.targets].map((t, r) => [t, r])) }));
+    current = { vertices, index, positions, points, lines, ring, steps };
     vertexInput.max = N - 1;
     stage.panels[0].tag.textContent = `M${sup(l)}: ${vertices.length} vertices (${vertices.filter((u) => depths[u] === l).length} odd)`;
+  }
+
+  const phaseCount = () => current.steps.length;
+  // The step run by phase k (1-based) in the current direction, and whether it runs inverted.
+  const stepOfPhase = (k) => (s.mode === 'synthesis' ? current.steps[k - 1] : current.steps[phaseCount() - k]);
+  const phaseName = (k) => (k === 0 ? 'start' : s.mode === 'synthesis' ? stepOfPhase(k).name : `${stepOfPhase(k).name}⁻¹`);
+
+  /** Rows of phase k whose target is the picked vertex or one of its neighbours in M^l. */
+  function maskAround(k) {
+    if (k === 0) return { written: [], read: [], weights: [] };
+    const step = stepOfPhase(k);
+    const inverse = s.mode === 'analysis';
+    const written = [], read = new Set(), weights = [];
+    for (const t of [s.vertex, ...current.ring.get(s.vertex)]) {
+      const r = step.rowOf.get(t);
+      if (r === undefined) continue;
+      written.push(t);
+      if (step.scaling) {
+        weights.push({ target: t, source: null, weight: inverse ? 1 / step.weights[r] : step.weights[r], scaling: true });
+        continue;
+      }
+      for (let q = step.offsets[r]; q < step.offsets[r + 1]; q++) {
+        read.add(step.sources[q]);
+        weights.push({ target: t, source: step.sources[q], weight: inverse ? -step.weights[q] : step.weights[q], scaling: false });
+      }
+    }
+    return { written, read: [...read], weights };
+  }
+
+  /** The unit coefficient at the picked vertex after k phases, run by the core. */
+  function unitAfter(k) {
+    const unit = new Float64Array(3 * N);
+    unit[3 * s.vertex] = 1;
+    const options = { level: s.level, scheme: s.scheme, steps: k };
+    const x = s.mode === 'synthesis' ? mr.synthesizeSteps(unit, options) : mr.analyzeSteps(unit, options);
+    const reached = [];
+    for (let u = 0; u < N; u++) if (x[3 * u] !== 0) reached.push({ vertex: u, value: x[3 * u] });
+    reached.sort((p, q) => Math.abs(q.value) - Math.abs(p.value));
+    return reached;
   }
 
   function show() {
     if (depths[s.vertex] > s.level) s.vertex = 0;
     vertexInput.value = s.vertex;
-    const touched = compute();
+    const k = s.phase;
+    const mask = maskAround(k);
+    const reached = unitAfter(k);
+    // Points: reached (lilac) under read (blue) under written (orange) under picked (green).
     const colors = current.points.geometry.getAttribute('color');
-    current.vertices.forEach((u, k) => colors.setXYZ(k, IDLE.r, IDLE.g, IDLE.b));
-    const max = Math.max(...touched.map((t) => Math.abs(t.weight)), 1e-300);
-    for (const t of touched) {
-      const c = (t.weight > 0 ? POSITIVE : NEGATIVE).clone().lerp(new THREE.Color(0xffffff), 0.55 * (1 - Math.sqrt(Math.abs(t.weight) / max)));
-      const k = current.index.get(t.vertex);
-      colors.setXYZ(k, c.r, c.g, c.b);
-    }
-    const picked = current.index.get(s.vertex);
-    colors.setXYZ(picked, 0, 0.6, 0.2);
+    const paint = (u, c) => colors.setXYZ(current.index.get(u), c.r, c.g, c.b);
+    current.vertices.forEach((u) => paint(u, IDLE));
+    for (const r of reached) paint(r.vertex, REACHED);
+    for (const u of mask.read) paint(u, READ);
+    for (const u of mask.written) paint(u, WRITTEN);
+    paint(s.vertex, PICKED);
     colors.needsUpdate = true;
+    // One line per weight, from the source read to the target written.
+    const segment = [], segmentColors = [];
+    for (const w of mask.weights) {
+      if (w.scaling) continue;
+      for (const u of [w.source, w.target]) segment.push(...current.positions.subarray(3 * current.index.get(u), 3 * current.index.get(u) + 3));
+      const c = w.weight >= 0 ? POSITIVE_LINE : NEGATIVE_LINE;
+      segmentColors.push(c.r, c.g, c.b, c.r, c.g, c.b);
+    }
+    current.lines.geometry.dispose();
+    current.lines.geometry = new THREE.BufferGeometry();
+    current.lines.geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(segment), 3));
+    current.lines.geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(segmentColors), 3));
+
     const odd = depths[s.vertex] === s.level;
     const what = s.mode === 'synthesis'
       ? `${odd ? 'd' : 'c'}${sup(s.level - 1)}${sub(s.vertex)} → c${sup(s.level)}`
       : `c${sup(s.level)}${sub(s.vertex)} → c${sup(s.level - 1)}, d${sup(s.level - 1)}`;
     set('lifting-picked', `vertex ${s.vertex} (${odd ? 'odd' : 'even'}, depth ${depths[s.vertex]}): ${what}`, s.vertex);
-    set('lifting-touched', `${touched.length} coefficients`, touched.length);
+    const name = phaseName(k);
+    const about = k === 0 ? 'before the first phase' : (s.mode === 'analysis' ? 'undoes ' : '') + PHASES[stepOfPhase(k).name];
+    set('lifting-phase', `${k} / ${phaseCount()}: ${name} — ${about}`, k);
+    set('lifting-written', `${mask.written.length} vertices near the picked one`, mask.written.length);
+    set('lifting-read', `${mask.read.length} vertices`, mask.read.length);
+    set('lifting-touched', `${reached.length} vertices carry the unit coefficient`, reached.length);
     const table = el('table', { class: 'learn-block-table' });
-    table.append(el('tr', {}, el('th', { text: 'vertex' }), el('th', { text: 'kind' }), el('th', { text: 'weight' })));
-    for (const t of touched.slice(0, 30)) {
-      const kind = s.mode === 'synthesis' ? `c${sup(s.level)}` : t.odd ? `d${sup(s.level - 1)}` : `c${sup(s.level - 1)}`;
-      table.append(el('tr', {}, el('td', { text: String(t.vertex) }), el('td', { text: `${kind} (${t.odd ? 'odd' : 'even'})` }), el('td', { text: t.weight.toFixed(6) })));
-    }
+    table.append(el('tr', {}, el('th', { text: 'writes' }), el('th', { text: 'reads' }), el('th', { text: k > 0 && stepOfPhase(k).scaling ? 'factor' : 'weight' })));
+    for (const w of mask.weights.slice(0, 40))
+      table.append(el('tr', {}, el('td', { text: `${w.target}${w.target === s.vertex ? ' (picked)' : ''}` }),
+        el('td', { text: w.scaling ? '× itself' : `${w.source}${w.source === s.vertex ? ' (picked)' : ''}` }), el('td', { text: w.weight.toFixed(6) })));
     weightsBox.replaceChildren(table);
-    if (touched.length > 30) weightsBox.append(el('div', { class: 'muted', text: `… and ${touched.length - 30} smaller` }));
-    result = { level: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, odd, touched: touched.length, weights: touched.slice(0, 60) };
+    if (mask.weights.length > 40) weightsBox.append(el('div', { class: 'muted', text: `… and ${mask.weights.length - 40} more` }));
+    if (k > 0 && mask.written.length === 0) weightsBox.append(el('div', { class: 'muted', text: `${name} writes no vertex next to this one` }));
+    result = {
+      level: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, odd, phase: k, phaseCount: phaseCount(), phaseName: name,
+      phases: Array.from({ length: phaseCount() }, (_, i) => phaseName(i + 1)),
+      written: mask.written.length, read: mask.read.length, writtenVertices: mask.written, readVertices: mask.read,
+      weights: mask.weights.slice(0, 60), touched: reached.length, reached: reached.slice(0, 60),
+    };
     stage.requestRender();
   }
 
-  /** Picks a vertex of M^l; focus: turn the camera to face it. */
+  function stop() {
+    clearInterval(timer);
+    timer = null;
+    playButton.textContent = '▶ play';
+  }
+  /** Shows phase k (0 = before the first), clamped. */
+  function setPhase(k) {
+    s.phase = Math.max(0, Math.min(phaseCount(), k));
+    show();
+  }
+  function step() {
+    if (s.phase >= phaseCount()) return false;
+    setPhase(s.phase + 1);
+    return true;
+  }
+  function reset() {
+    stop();
+    setPhase(0);
+  }
+  function play() {
+    if (timer !== null) return stop();
+    if (s.phase >= phaseCount()) setPhase(0);
+    timer = setInterval(() => {
+      if (!step() || s.phase >= phaseCount()) stop();
+    }, PLAY_MS);
+    playButton.textContent = '❚❚ pause';
+    show();
+  }
+  const playButton = button('▶ play', 'lifting-play', () => play());
+  phaseRow.append(button('step ▸', 'lifting-step', () => { stop(); step(); }), playButton, button('⟲ reset', 'lifting-reset', reset));
+
+  /** Picks a vertex of M^l; focus: turn the camera to face it. Back to phase 0. */
   function pick(vertex, focus = true) {
     if (!Number.isInteger(vertex) || vertex < 0 || vertex >= N || depths[vertex] > s.level) return false;
     s.vertex = vertex;
@@ -138,7 +247,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       const direction = [0, 1, 2].map((i) => current.positions[3 * k + i] - b.center[i]);
       if (Math.hypot(...direction) > 1e-9) stage.frame(b.center, b.radius, direction.map((d, i) => d + [0.2, 0.3, 0][i] * Math.hypot(...direction)));
     }
-    show();
+    reset();
     return true;
   }
 
@@ -150,7 +259,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     }
     return false;
   }
-  row.append(button('next even', 'lifting-next-even', () => nextOf(false)), button('next odd', 'lifting-next-odd', () => nextOf(true)));
+  pickRow.append(button('next even', 'lifting-next-even', () => nextOf(false)), button('next odd', 'lifting-next-odd', () => nextOf(true)));
 
   // Click on a vertex of M^l.
   const raycaster = new THREE.Raycaster();
@@ -168,19 +277,23 @@ export async function mount({ mrvol, layout, el, stale }) {
     if (hits.length) pick(current.vertices[hits[0].index], false);
   });
 
-  levelSelect.addEventListener('change', () => { s.level = Number(levelSelect.value); buildLevel(); show(); });
-  schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; buildLevel(); show(); });
-  modeSelect.addEventListener('change', () => { s.mode = modeSelect.value; show(); });
+  levelSelect.addEventListener('change', () => { s.level = Number(levelSelect.value); buildLevel(); reset(); });
+  schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; buildLevel(); reset(); });
+  modeSelect.addEventListener('change', () => { s.mode = modeSelect.value; reset(); });
   vertexInput.addEventListener('change', () => { if (!pick(Number(vertexInput.value))) vertexInput.value = s.vertex; });
   buildLevel();
-  show();
+  pick(s.vertex); // the camera faces it
   return {
     dispose() {
+      stop();
       stage.dispose();
       mr.delete();
     },
     actions: {
       pick,
+      step,
+      reset,
+      setPhase,
       /** Screen position (viewport CSS pixels) of a vertex of M^l, for click tests. */
       screenOf(vertex) {
         const k = current.index.get(vertex);
@@ -190,7 +303,7 @@ export async function mount({ mrvol, layout, el, stale }) {
         return [rect.left + (p.x + 1) / 2 * rect.width, rect.top + (1 - p.y) / 2 * rect.height];
       },
     },
-    debug: () => result,
+    debug: () => result && { ...result, playing: timer !== null },
   };
 }
 

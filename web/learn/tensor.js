@@ -1,8 +1,8 @@
 // #learn/tensor: the block structure of the volume tensors theta^l, l = n .. e (Figure 4, paper
-// section 3.1), from live tensors: computeTheta({ level: l, storage: 'full' }) for every l, read
-// back from theta.bytes() (the theta file: 96-byte header, then the CSR arrays; layout in
-// wasm/core/src/theta_file.cpp). Indices are in hierarchy order, grouped by depth; an entry's
-// colour says how many of its three indices are coarse at level l.
+// section 3.1), from live tensors: computeTheta({ level: l, storage: 'full' }) for every l, its
+// stored entries from theta.entries(). Indices are in hierarchy order, grouped by depth
+// (mr.hierarchyOrder() maps them to vertices); an entry's colour says how many of its three
+// indices are coarse at level l.
 import { explain, control, select, readoutTable } from './stage.js';
 
 const CLASS_COLORS = ['#2da44e', '#d4a72c', '#54aeff', '#0b3d91']; // 0, 1, 2, 3 coarse indices
@@ -16,35 +16,6 @@ const TETRAHEDRON = {
   positions: Float64Array.from([1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1]),
   faces: Uint32Array.from([0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2]),
 };
-
-/**
- * The arrays of a theta file (little-endian): { vertexCount, level, storage, rowStart, pairJ,
- * pairStart, k, values, nnzFull }.
- */
-export function parseThetaFile(bytes) {
-  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-  const headerBytes = view.getUint32(12, true);
-  const indexBytes = view.getUint8(18);
-  const level = view.getUint32(24, true);
-  const vertexCount = view.getUint32(28, true);
-  const nnzFull = Number(view.getBigUint64(56, true));
-  const rows = Number(view.getBigUint64(64, true));
-  const pairs = Number(view.getBigUint64(72, true));
-  const entries = Number(view.getBigUint64(80, true));
-  let at = headerBytes;
-  const take = (Type, count) => {
-    const out = new Type(bytes.slice(at, at + count * Type.BYTES_PER_ELEMENT).buffer);
-    at += count * Type.BYTES_PER_ELEMENT;
-    return out;
-  };
-  const rowStart = take(Uint32Array, rows + 1);
-  const pairJ = take(Uint32Array, pairs);
-  const pairStart = take(Uint32Array, pairs + 1);
-  const k = take(indexBytes === 2 ? Uint16Array : Uint32Array, entries);
-  at = Math.ceil(at / 8) * 8;
-  const values = take(Float64Array, entries);
-  return { vertexCount, level, storage: view.getUint8(17) ? 'full' : 'cage', rows, rowStart, pairJ, pairStart, k, values, nnzFull };
-}
 
 export async function mount({ mrvol, layout, el }) {
   explain(layout.text, 'The volume tensors θˡ (Figure 4, section 3.1)', [
@@ -88,10 +59,11 @@ export async function mount({ mrvol, layout, el }) {
     const mr = await meshes[s.mesh]();
     try {
       const n = mr.levels;
-      const depthsSorted = Uint8Array.from(mr.depths()).sort(); // hierarchy order is by depth
-      const N = depthsSorted.length;
+      const depths = mr.depths();
+      const depthOf = Uint8Array.from(mr.hierarchyOrder(), (v) => depths[v]); // hierarchy order: by depth
+      const N = depthOf.length;
       const groupStart = [];
-      for (let g = 0; g <= n; g++) groupStart.push(depthsSorted.indexOf(g));
+      for (let g = 0; g <= n; g++) groupStart.push(depthOf.indexOf(g));
       groupStart.push(N);
       grid.replaceChildren();
       tableBox.replaceChildren();
@@ -100,9 +72,9 @@ export async function mount({ mrvol, layout, el }) {
       for (let l = n; l >= 0; l--) {
         const theta = mr.computeTheta({ level: l, storage: 'full', scheme: s.scheme });
         const info = theta.info();
-        const file = parseThetaFile(theta.bytes());
+        const entries = theta.entries();
         theta.delete();
-        levels.push(draw(l, file, info, depthsSorted, groupStart, n));
+        levels.push(draw(l, entries, info, depthOf, groupStart, n));
       }
       result = { n, N, levels, ms: performance.now() - started };
       set('tensor-info', `${s.mesh}: N = ${N}, levels ${n} → 0, ${s.scheme}`);
@@ -112,29 +84,25 @@ export async function mount({ mrvol, layout, el }) {
     }
   }
 
-  function draw(l, file, info, depth, groupStart, n) {
-    const N = file.vertexCount;
+  function draw(l, entries, info, depth, groupStart, n) {
+    const N = info.vertices;
     const groups = n + 1;
     const pixels = Array.from({ length: groups }, () => new Uint32Array(N * N)); // count per (slab, i, j)
     const classCounts = [0, 0, 0, 0];
     const blockCounts = new Map(); // "ga,gb,gc" (sorted groups) -> stored entries
     const coarse = (v) => (depth[v] <= l ? 1 : 0);
-    for (let i = 0; i < file.rows; i++)
-      for (let p = file.rowStart[i]; p < file.rowStart[i + 1]; p++) {
-        const j = file.pairJ[p];
-        for (let t = file.pairStart[p]; t < file.pairStart[p + 1]; t++) {
-          const k = file.k[t];
-          if (file.values[t] === 0) continue;
-          classCounts[coarse(i) + coarse(j) + coarse(k)]++;
-          const key = [depth[i], depth[j], depth[k]].join(',');
-          blockCounts.set(key, (blockCounts.get(key) ?? 0) + 1);
-          // every ordering: the third index picks the slab, the other two the pixel
-          for (const [a, b, c] of [[i, j, k], [j, i, k], [i, k, j], [k, i, j], [j, k, i], [k, j, i]]) {
-            if (!s.allOrderings && !(a < b && b < c)) continue;
-            pixels[depth[c]][a * N + b]++;
-          }
-        }
+    for (let t = 0; t < entries.values.length; t++) {
+      if (entries.values[t] === 0) continue;
+      const i = entries.i[t], j = entries.j[t], k = entries.k[t];
+      classCounts[coarse(i) + coarse(j) + coarse(k)]++;
+      const key = [depth[i], depth[j], depth[k]].join(',');
+      blockCounts.set(key, (blockCounts.get(key) ?? 0) + 1);
+      // every ordering: the third index picks the slab, the other two the pixel
+      for (const [a, b, c] of [[i, j, k], [j, i, k], [i, k, j], [k, i, j], [j, k, i], [k, j, i]]) {
+        if (!s.allOrderings && !(a < b && b < c)) continue;
+        pixels[depth[c]][a * N + b]++;
       }
+    }
     const scale = Math.max(1, Math.floor(200 / N));
     const row = el('div', { class: 'tensor-level', testid: `tensor-level-${l}` });
     const stored = classCounts.reduce((x, y) => x + y, 0);

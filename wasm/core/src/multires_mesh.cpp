@@ -102,6 +102,53 @@ double MultiresMesh::roundtripError(int level, const SchemeOptions& scheme) cons
   return err;
 }
 
+// The steps of level l, after checking that the mesh has that level.
+const std::vector<LiftingStep>& MultiresMesh::stepsOfLevel(int level, const SchemeOptions& scheme) const {
+  if (hierarchy_.levels == 0) throw Error("this mesh has no subdivision level, so no lifting steps");
+  if (level < 1 || level > hierarchy_.levels)
+    throw Error("level " + std::to_string(level) + " is out of range for lifting steps: level l builds M^l from M^(l-1), l = 1.." +
+                std::to_string(hierarchy_.levels));
+  return transform(scheme).synthesisSteps(level);
+}
+
+// The same, checking a count of steps to run or undo: 0 <= steps <= their count.
+const std::vector<LiftingStep>& MultiresMesh::checkedSteps(int level, int steps, const SchemeOptions& scheme) const {
+  const auto& all = stepsOfLevel(level, scheme);
+  if (steps < 0 || size_t(steps) > all.size())
+    throw Error("steps " + std::to_string(steps) + " is out of range: the " + schemeName(scheme.kind) + " scheme has " +
+                std::to_string(all.size()) + " lifting steps per level (0.." + std::to_string(all.size()) + ")");
+  return all;
+}
+
+std::vector<LiftingStep> MultiresMesh::liftingSteps(int level, const SchemeOptions& scheme) const {
+  std::vector<LiftingStep> out = stepsOfLevel(level, scheme);
+  for (auto& step : out) {
+    for (auto& t : step.targets) t = hierarchy_.inputIndex[t];
+    for (auto& s : step.sources) s = hierarchy_.inputIndex[s];
+  }
+  return out;
+}
+
+int MultiresMesh::liftingStepCount(int level, const SchemeOptions& scheme) const {
+  return int(stepsOfLevel(level, scheme).size());
+}
+
+std::vector<double> MultiresMesh::synthesizeSteps(const std::vector<double>& coefficients, int level, int steps,
+                                                  const SchemeOptions& scheme) const {
+  const auto& all = checkedSteps(level, steps, scheme);
+  return inHierarchyOrder(coefficients, "coefficients", level, [&](double* x) {
+    for (int k = 0; k < steps; ++k) all[k].forward(x);
+  });
+}
+
+std::vector<double> MultiresMesh::analyzeSteps(const std::vector<double>& coefficients, int level, int steps,
+                                               const SchemeOptions& scheme) const {
+  const auto& all = checkedSteps(level, steps, scheme);
+  return inHierarchyOrder(coefficients, "coefficients", level, [&](double* x) {
+    for (int k = 0; k < steps; ++k) all[all.size() - 1 - k].inverse(x);
+  });
+}
+
 VolumeTensor MultiresMesh::computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
                                          const TensorProgress& progress) const {
   checkLevel(level);

@@ -568,6 +568,21 @@ inline void cross(const double* a, const double* b, double* out) {
 }
 }  // namespace
 
+VolumeTensor::Entries VolumeTensor::entries() const {
+  Entries out;
+  const size_t n = storedCount();
+  out.i.reserve(n), out.j.reserve(n), out.k.reserve(n);
+  for (uint32_t i = 0; i < rowCount; ++i)
+    for (uint32_t p = rowStart[i]; p < rowStart[i + 1]; ++p)
+      for (uint32_t t = pairStart[p]; t < pairStart[p + 1]; ++t) {
+        out.i.push_back(i);
+        out.j.push_back(pairJ[p]);
+        out.k.push_back(kIndex(t));
+      }
+  out.values = values;
+  return out;
+}
+
 double VolumeTensor::evaluate(const double* x) const { return evaluateWithGradient(x, nullptr, 0); }
 
 double VolumeTensor::evaluateWithGradient(const double* x, double* grad, uint32_t limit) const {

@@ -52,6 +52,22 @@ class MultiresMesh {
   // max |synthesis(analysis(x)) - x| over the current positions.
   double roundtripError(int level, const SchemeOptions& scheme) const;
 
+  // One level's lifting phases (paper Figure 3), for teaching views. Level l (1 <= l <= n) is the
+  // synthesis step from M^{l-1} to M^l: liftingSteps gives its steps in the order they apply ("U",
+  // "P_o", "N", "P_e" for Loop; "U", "P" for Butterfly and linear) with targets and sources in the
+  // caller's vertex indices (offsets, weights, scaling factors as in LiftingStep).
+  std::vector<LiftingStep> liftingSteps(int level, const SchemeOptions& scheme) const;
+  int liftingStepCount(int level, const SchemeOptions& scheme) const;
+  // Caller's order in and out (3 per vertex, all N vertices; only depth <= l are touched).
+  // synthesizeSteps runs the first `steps` steps of level l on level-(l-1) coefficients (c^{l-1}
+  // for depth < l, d^{l-1} for depth l); all of them give the level-l coefficients c^l.
+  // analyzeSteps undoes the last `steps` steps in reverse order, from c^l: it runs analysis phase
+  // by phase, and analyzeSteps(synthesizeSteps(c, l, S), l, S - k) == synthesizeSteps(c, l, k).
+  std::vector<double> synthesizeSteps(const std::vector<double>& coefficients, int level, int steps,
+                                      const SchemeOptions& scheme) const;
+  std::vector<double> analyzeSteps(const std::vector<double>& coefficients, int level, int steps,
+                                   const SchemeOptions& scheme) const;
+
   // theta^e for this connectivity and scheme, and the header a theta file of it carries.
   VolumeTensor computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
                              const TensorProgress& progress = {}) const;
@@ -68,6 +84,8 @@ class MultiresMesh {
  private:
   MultiresMesh() = default;
   void checkLevel(int level) const;
+  const std::vector<LiftingStep>& stepsOfLevel(int level, const SchemeOptions& scheme) const;
+  const std::vector<LiftingStep>& checkedSteps(int level, int steps, const SchemeOptions& scheme) const;
   template <class Apply>
   std::vector<double> inHierarchyOrder(const std::vector<double>& values, const char* what, int level, Apply&& apply) const;
   TriangleMesh mesh_;

@@ -36,6 +36,14 @@ class VolumeTensor {
   bool narrowIndices() const { return !k16.empty() || k32.empty(); }
   uint32_t kIndex(size_t t) const { return k16.empty() ? k32[t] : k16[t]; }
 
+  // The stored entries as coordinate lists, in storage order: i < j < k in hierarchy numbering
+  // (for teaching views and checks; the CSR arrays stay the storage).
+  struct Entries {
+    std::vector<uint32_t> i, j, k;
+    std::vector<double> values;
+  };
+  Entries entries() const;
+
   // Theta(x) over the stored entries; x: 3 * N level-e coefficients in hierarchy order.
   double evaluate(const double* x) const;
   // Theta(x) and its gradient for the coefficients [0, gradientLimit) (Theta_tau(i), 3 per index);
