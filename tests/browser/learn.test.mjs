@@ -4,7 +4,7 @@
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { launch, settle, RESULTS_DIR } from './harness.mjs';
+import { openApp, settle, RESULTS_DIR } from './harness.mjs';
 
 let browser, page;
 
@@ -40,13 +40,8 @@ async function inkFraction() {
 }
 
 describe('teaching views', { timeout: 120_000 }, () => {
-  before(async () => {
-    browser = await launch();
-    page = await browser.newPage();
-  });
-  after(async () => {
-    await browser?.close();
-  });
+  before(async () => ({ browser, page } = await openApp({ goto: false })));
+  after(() => browser?.close());
 
   test('#learn/levels: every level of the spiky ball, details, three schemes side by side', async () => {
     await open('learn/levels');

@@ -28,6 +28,7 @@
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
 #include "mrvol/mesh.h"
+#include "../native/fixtures.h"
 #include "reference_mesh.h"
 
 using mrvol::Hierarchy;
@@ -59,65 +60,13 @@ class Bytes {
   size_t size_, pos_ = 0;
 };
 
-// ---- base meshes (positions are irrelevant to detection; faces counter-clockwise) ---------------
-TriangleMesh tetrahedron() {
-  TriangleMesh m;
-  m.positions = {1, 1, 1, -1, -1, 1, -1, 1, -1, 1, -1, -1};
-  m.faces = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-  return m;
-}
-
-TriangleMesh octahedron() {
-  TriangleMesh m;
-  m.positions = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
-  m.faces = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-  return m;
-}
-
-TriangleMesh icosahedron() {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriangleMesh m;
-  m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
-                 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-  m.faces = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-             3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
-  return m;
-}
-
-// A hexagon fan plus an outer ring: open, 12 boundary vertices.
-TriangleMesh openPatch() {
-  TriangleMesh m;
-  m.positions = {0, 0, 0.3};
-  for (int k = 0; k < 6; ++k) m.positions.insert(m.positions.end(), {std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), 0.1 * k});
-  for (int k = 0; k < 12; ++k)
-    m.positions.insert(m.positions.end(), {2 * std::cos(k * M_PI / 6), 2 * std::sin(k * M_PI / 6), -0.05 * k});
-  for (uint32_t k = 0; k < 6; ++k) m.faces.insert(m.faces.end(), {0, 1 + k, 1 + (k + 1) % 6});
-  for (uint32_t k = 0; k < 6; ++k) {
-    uint32_t in0 = 1 + k, in1 = 1 + (k + 1) % 6;
-    uint32_t o0 = 7 + 2 * k, o1 = 7 + 2 * k + 1, o2 = 7 + (2 * k + 2) % 12;
-    m.faces.insert(m.faces.end(), {in0, o0, o1, in0, o1, in1, in1, o1, o2});
-  }
-  return m;
-}
-
+// ---- base meshes (tests/native/fixtures.h; positions are irrelevant to detection) ---------------
+using fixtures::icosahedron;
+using fixtures::octahedron;
+using fixtures::openPatch;
+using fixtures::tetrahedron;
 // A 4 x 3 torus of quads split in two: genus 1, valence 6 everywhere.
-TriangleMesh torus() {
-  const int u = 4, v = 3;
-  TriangleMesh m;
-  for (int i = 0; i < u; ++i)
-    for (int j = 0; j < v; ++j) {
-      double a = 2 * M_PI * i / u, b = 2 * M_PI * j / v;
-      m.positions.insert(m.positions.end(), {(2 + 0.7 * std::cos(b)) * std::cos(a), (2 + 0.7 * std::cos(b)) * std::sin(a),
-                                             0.7 * std::sin(b)});
-    }
-  auto id = [&](int i, int j) { return uint32_t(((i + u) % u) * v + (j + v) % v); };
-  for (int i = 0; i < u; ++i)
-    for (int j = 0; j < v; ++j) {
-      uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      m.faces.insert(m.faces.end(), {a, b, c, a, c, d});
-    }
-  return m;
-}
+TriangleMesh torus() { return fixtures::torus(4, 3); }
 
 TriangleMesh triangle() {
   TriangleMesh m;

@@ -100,7 +100,9 @@ inline std::string readFile(const std::string& path) {
   return ss.str();
 }
 
+#ifdef MRVOL_SOURCE_DIR  // the test build defines it; the fuzz targets use the meshes only
 inline std::string sourcePath(const std::string& relative) { return std::string(MRVOL_SOURCE_DIR) + "/" + relative; }
+#endif
 
 // Random positions scaled like the fixtures; seeded.
 inline std::vector<double> randomVector(size_t n, unsigned seed, double scale = 1.0) {
