@@ -4,7 +4,7 @@
 // without preservation (the volume drops at every impact), right with it (section 4: the minimal
 // correction restores the volume; the details ride along).
 import { explain, fetchModel, control, select } from './stage.js';
-import { twinEditors, playControls } from './demo-common.js';
+import { twinEditors, runDemo } from './demo-common.js';
 
 export async function mount({ mrvol, layout, el, stale }) {
   explain(layout.text, 'Bouncing spiky ball (Figure 6, section 5)', [
@@ -68,23 +68,10 @@ export async function mount({ mrvol, layout, el, stale }) {
     twins.drive(target, held);
     twins.chart.draw();
   }
-  const start = () => twins.stage.animate(advance);
-  const stop = () => twins.stage.stop();
-  playControls(layout, el, { start, stop, restart });
   advance(0);
-  start();
-  return {
-    dispose() {
-      twins.dispose();
-      mr.delete();
-    },
+  return runDemo({
+    layout, el, mr, twins: () => twins, advance, restart, dt: 1 / 60,
     actions: {
-      pause: stop,
-      /** Advances the simulation by `count` steps of `dt` seconds (tests). */
-      run(count, dt = 1 / 60) {
-        for (let i = 0; i < count; i++) advance(dt);
-        twins.stage.render();
-      },
       /** Runs until the free ball has lost `fraction` of its volume (at most 600 steps; tests, screenshots). */
       runUntilSquashed(fraction = 0.2, dt = 1 / 60) {
         for (let i = 0; i < 600 && twins.free.volume() > (1 - fraction) * twins.reference; i++) advance(dt);
@@ -92,5 +79,5 @@ export async function mount({ mrvol, layout, el, stale }) {
       },
     },
     debug: () => ({ ...twins.debug(), t: sim.t, height: sim.h }),
-  };
+  }).view;
 }

@@ -5,7 +5,7 @@
 // proportions. The Stanford bunny when public/models has one, otherwise the blob sample.
 import { sampleModels } from 'virtual:mrvol-models';
 import { explain, fetchModel, control, select, bounds } from './stage.js';
-import { twinEditors, playControls } from './demo-common.js';
+import { twinEditors, runDemo } from './demo-common.js';
 
 /**
  * Two "ears". upright (the bunny, y up): the highest cage vertex, then the highest one at least
@@ -91,27 +91,14 @@ export async function mount({ mrvol, layout, el, stale }) {
     sim.t += dt;
     apply();
   }
-  const start = () => twins.stage.animate(advance);
-  const stop = () => twins.stage.stop();
-  const controls = playControls(layout, el, { start, stop, restart: () => { sim.t = 0; apply(); } });
+  build();
+  const demo = runDemo({
+    layout, el, mr, twins: () => twins, advance, restart: () => { sim.t = 0; apply(); }, dt: 1 / 30,
+    debug: () => ({ ...twins.debug(), model: name, level: Number(levelSelect.value), ears: ears.map((e) => twins.cageVertices[e]), t: sim.t }),
+  });
   levelSelect.addEventListener('change', () => {
     build();
-    if (controls.playing()) start();
+    if (demo.controls.playing()) demo.start();
   });
-  build();
-  start();
-  return {
-    dispose() {
-      twins?.dispose();
-      mr.delete();
-    },
-    actions: {
-      pause: stop,
-      run(count, dt = 1 / 30) {
-        for (let i = 0; i < count; i++) advance(dt);
-        twins.stage.render();
-      },
-    },
-    debug: () => ({ ...twins.debug(), model: name, level: Number(levelSelect.value), ears: ears.map((e) => twins.cageVertices[e]), t: sim.t }),
-  };
+  return demo.view;
 }

@@ -84,6 +84,38 @@ export function twinEditors({ mr, level = 0, scheme, layout, floorY = null, sche
   };
 }
 
+/**
+ * The clock of a demo: play / pause / restart buttons over the stage's animation loop, which calls
+ * advance(dt), started at once; and the view the router mounts (dispose, actions pause and run,
+ * debug). `twins()` gives the current twin editors (a demo may rebuild them).
+ */
+export function runDemo({ layout, el, mr, twins, advance, restart, dt, actions = {}, debug }) {
+  const start = () => twins().stage.animate(advance);
+  const stop = () => twins().stage.stop();
+  const controls = playControls(layout, el, { start, stop, restart });
+  start();
+  return {
+    start,
+    controls,
+    view: {
+      dispose() {
+        twins()?.dispose();
+        mr.delete();
+      },
+      actions: {
+        pause: stop,
+        /** Advances the simulation by `count` steps of `step` seconds (tests). */
+        run(count, step = dt) {
+          for (let i = 0; i < count; i++) advance(step);
+          twins().stage.render();
+        },
+        ...actions,
+      },
+      debug,
+    },
+  };
+}
+
 /** Play / pause / restart buttons over a stage loop. */
 export function playControls(layout, el, { start, stop, restart }) {
   const row = el('div', { class: 'learn-row' });

@@ -4,7 +4,7 @@
 // correction (section 4). Linear blend skinning loses volume where bones bend and twist (the
 // "candy wrapper"); the correction gives it back.
 import { THREE, explain } from './stage.js';
-import { twinEditors, playControls } from './demo-common.js';
+import { twinEditors, runDemo } from './demo-common.js';
 
 const RINGS = 7, SEGMENTS = 6, RADIUS = 0.55, HALF = 3, LEVELS = 2;
 const JOINTS = [-1, 1]; // x of the two joints (the root bone is fixed)
@@ -125,23 +125,9 @@ export async function mount({ mrvol, layout, el }) {
     sim.t += dt;
     apply();
   }
-  const start = () => twins.stage.animate(advance);
-  const stop = () => twins.stage.stop();
-  playControls(layout, el, { start, stop, restart: () => { sim.t = 0; apply(); } });
   apply();
-  start();
-  return {
-    dispose() {
-      twins.dispose();
-      mr.delete();
-    },
-    actions: {
-      pause: stop,
-      run(count, dt = 1 / 30) {
-        for (let i = 0; i < count; i++) advance(dt);
-        twins.stage.render();
-      },
-    },
+  return runDemo({
+    layout, el, mr, twins: () => twins, advance, restart: () => { sim.t = 0; apply(); }, dt: 1 / 30,
     debug: () => ({ ...twins.debug(), t: sim.t, vertices: mr.vertexCount, cageSize: twins.kept.cageSize }),
-  };
+  }).view;
 }
