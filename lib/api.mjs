@@ -253,8 +253,16 @@ export function wrapModule(module) {
     analyzeSteps(coefficients, options = {}) {
       return this.#steps('analyzeSteps', coefficients, options);
     }
-    #steps(name, coefficients, options) {
-      if (!(coefficients instanceof Float64Array)) throw new MrvolError('coefficients must be a Float64Array');
+    /**
+     * The adjoint of level l's synthesis phase by phase (paper Figure 5, the masks applied
+     * outwards): the transposes of the last `steps` steps (all by default), in reverse order, on a
+     * covector of the level-l vertices (caller's order, 3 per vertex).
+     */
+    transposeSteps(covector, options = {}) {
+      return this.#steps('transposeSteps', covector, options, 'covector');
+    }
+    #steps(name, coefficients, options, what = 'coefficients') {
+      if (!(coefficients instanceof Float64Array)) throw new MrvolError(`${what} must be a Float64Array`);
       const level = stepLevelArg(options.level), scheme = schemeArgs(options);
       const steps = options.steps === undefined
         ? call((r) => r.liftingStepCount(level, ...scheme), this.#live())

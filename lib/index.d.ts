@@ -314,6 +314,12 @@ export interface MultiresMesh {
    * on level-l coefficients; analyzeSteps(synthesizeSteps(c, all), S - k) equals synthesizeSteps(c, k).
    */
   analyzeSteps(coefficients: Float64Array, options: LiftingStepsOptions): Float64Array;
+  /**
+   * The adjoint of level l's synthesis phase by phase (paper Figure 5: each mask applied outwards,
+   * x_s += w x_t): the transposes of the last `steps` steps, in reverse order, on a covector of the
+   * level-l vertices; all of them give the covector of (c^(l-1), d^(l-1)).
+   */
+  transposeSteps(covector: Float64Array, options: LiftingStepsOptions): Float64Array;
   /** Caller's vertex index of each hierarchy index (hierarchy order: by depth, as theta entries). */
   hierarchyOrder(): Uint32Array;
   /** Connectivity fingerprint (16 hex digits): what a volume tensor depends on besides scheme and level. */

@@ -114,6 +114,7 @@ describe('teaching views', { timeout: 120_000 }, () => {
   test('#learn/tensor: theta^l for l = n..0 read from the live tensors, blocks by depth and coarse count', async () => {
     await open('learn/tensor');
     assert.match(await page.textContent('[data-testid="learn-text"]'), /Figure 4.*section 3\.1/s);
+    assert.equal(await page.getAttribute('[data-testid="tensor-outwards-link"]', 'href'), '#learn/lifting', 'Figure 5 is played there');
     let s = await state();
     assert.equal(s.n, 2);
     assert.equal(s.N, 66);
@@ -209,6 +210,28 @@ describe('teaching views', { timeout: 120_000 }, () => {
     await page.click('[data-testid="lifting-step"]');
     s = await state();
     assert.ok(Math.abs(s.weights[0].weight * Nm.weights[0].weight - 1) < 1e-12, 'N⁻¹ divides by the factor');
+    // Transposed (Figure 5): the same masks outwards, in reverse order; P_e at the picked even vertex
+    // now pushes it to its odd neighbours with the same weights.
+    await page.evaluate(() => window.mrvolLearn.act('setPhase', 4));
+    const analysisEnd = await state();
+    await page.selectOption('[data-testid="lifting-mode"]', 'transposed');
+    s = await state();
+    assert.deepEqual(s.phases, ['P_eᵀ', 'Nᵀ', 'P_oᵀ', 'Uᵀ']);
+    await page.click('[data-testid="lifting-step"]');
+    s = await state();
+    assert.deepEqual(s.readVertices, [0], 'P_eᵀ: the picked vertex pushes');
+    assert.deepEqual([...s.writtenVertices].sort((a, b) => a - b), [...Pe.readVertices].sort((a, b) => a - b), 'to what P_e reads');
+    assert.deepEqual(s.weights.map((w) => w.weight), Pe.weights.map((w) => w.weight));
+    assert.ok(s.touched > 1, 'the unit covector spreads outwards');
+    await page.evaluate(() => window.mrvolLearn.act('setPhase', 4));
+    s = await state();
+    // The adjoint of synthesis: the covector at 0 after all phases is row 0 of [S C]: its value at 0
+    // is what the unit coefficient at 0 synthesizes to at 0.
+    const atZero = (st) => st.reached.find((r) => r.vertex === 0)?.value;
+    assert.ok(Math.abs(atZero(s) - atZero(Pe)) < 1e-12, `row 0 of [S C] at 0: ${atZero(s)} vs ${atZero(Pe)}`);
+    assert.notDeepEqual(s.reached, analysisEnd.reached, 'transposed is not the inverse');
+    await shot('lifting-transposed');
+    await page.selectOption('[data-testid="lifting-mode"]', 'analysis');
     await page.click('[data-testid="lifting-reset"]');
     assert.equal((await state()).phase, 0);
     // Play runs the phases by itself.

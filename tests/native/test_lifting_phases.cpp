@@ -182,3 +182,29 @@ TEST(LiftingPhases, BadArgumentsAreRefusedWithTheirReason) {
   // After all that, the mesh works.
   EXPECT_EQ(c.mesh.synthesizeSteps(x, 1, 0, loop), x);
 }
+
+TEST(LiftingPhases, TransposedStepsAreTheAdjointOfTheLastPhases) {
+  // <S(a), b> = <x_k, T_k(b)> with x_k the first S - k phases of a and T_k the transposes of the
+  // last k: the outwards application (paper Figure 5) is the adjoint, phase by phase.
+  auto dot = [](const std::vector<double>& u, const std::vector<double>& v) {
+    double s = 0;
+    for (size_t i = 0; i < u.size(); ++i) s += u[i] * v[i];
+    return s;
+  };
+  for (const auto& c : shuffledCases())
+    for (const auto& scheme : allSchemes())
+      for (int l = 1; l <= c.mesh.levels(); ++l) {
+        const int count = c.mesh.liftingStepCount(l, scheme);
+        const auto a = c.mesh.analyze(c.positions, l - 1, scheme);
+        auto b = fixtures::randomVector(a.size(), 99);
+        const double whole = dot(c.mesh.synthesizeSteps(a, l, count, scheme), b);
+        for (int k = 0; k <= count; ++k) {
+          const double split = dot(c.mesh.synthesizeSteps(a, l, count - k, scheme), c.mesh.transposeSteps(b, l, k, scheme));
+          EXPECT_NEAR(split, whole, 1e-11 * (std::fabs(whole) + 1)) << where(c, scheme, l, k);
+        }
+        EXPECT_EQ(c.mesh.transposeSteps(b, l, 0, scheme), b) << where(c, scheme, l);
+      }
+  const auto cases = shuffledCases();
+  const std::string message = messageOf([&] { cases.front().mesh.transposeSteps({1, 2, 3}, 1, 1, SchemeOptions{}); });
+  EXPECT_NE(message.find("covector"), std::string::npos) << message;
+}

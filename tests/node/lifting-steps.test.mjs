@@ -193,6 +193,33 @@ describe('theta entries', () => {
 });
 
 describe('bad arguments', () => {
+  test('transposed phases (Figure 5) are the adjoint of the last phases, and apply the step data outwards', () => {
+    const dot = (u, v) => u.reduce((sum, x, i) => sum + x * v[i], 0);
+    for (const { name, mr, positions } of cases)
+      for (const options of SCHEMES)
+        for (let level = 1; level <= mr.levels; level++) {
+          const count = NAMES[options.scheme].length;
+          const a = mr.analyze(positions, { level: level - 1, ...options });
+          const b = Float64Array.from(positions, (x, i) => Math.sin(7 * i + 1));
+          const whole = dot(mr.synthesizeSteps(a, { level, ...options }), b);
+          for (let k = 0; k <= count; k++) {
+            const split = dot(mr.synthesizeSteps(a, { level, ...options, steps: count - k }), mr.transposeSteps(b, { level, ...options, steps: k }));
+            assert.ok(Math.abs(split - whole) < 1e-10 * (Math.abs(whole) + 1), `${name} ${options.scheme} l=${level} k=${k}`);
+          }
+          // One phase outwards: x_s += w x_t over the last step's rows (x_t *= f for a scaling).
+          const last = mr.liftingSteps({ level, ...options }).at(-1);
+          const expected = Float64Array.from(b);
+          for (let r = 0; r < last.targets.length; r++)
+            for (let d = 0; d < 3; d++) {
+              const t = 3 * last.targets[r] + d;
+              if (last.scaling) expected[t] *= last.weights[r];
+              else for (let q = last.offsets[r]; q < last.offsets[r + 1]; q++) expected[3 * last.sources[q] + d] += last.weights[q] * b[t];
+            }
+          assert.ok(maxDiff(mr.transposeSteps(b, { level, ...options, steps: 1 }), expected) < 1e-12 * maxAbs(b), `${name} ${options.scheme} l=${level}`);
+        }
+    throwsMrvol(() => cases[0].mr.transposeSteps([1, 2, 3], { level: 1 }), 'covector must be a Float64Array');
+  });
+
   test('every bad argument is a MrvolError saying why; the module keeps working', () => {
     const { mr, positions } = cases[0];
     const n = mr.levels;

@@ -199,6 +199,11 @@ val js_analyzeSteps(const MultiresMesh& m, val c, int level, int steps, std::str
     return toTyped(m.analyzeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme, alpha, beta)));
   });
 }
+val js_transposeSteps(const MultiresMesh& m, val c, int level, int steps, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    return toTyped(m.transposeSteps(toVector<double>(c, "covector"), level, steps, toScheme(scheme, alpha, beta)));
+  });
+}
 val js_hierarchyOrder(const MultiresMesh& m) { return guarded([&] { return toTyped(m.hierarchy().inputIndex); }); }
 val js_roundtripError(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
   return guarded([&] { return val(m.roundtripError(level, toScheme(scheme, alpha, beta))); });
@@ -428,6 +433,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("liftingStepCount", &js_liftingStepCount)
       .function("synthesizeSteps", &js_synthesizeSteps)
       .function("analyzeSteps", &js_analyzeSteps)
+      .function("transposeSteps", &js_transposeSteps)
       .function("hierarchyOrder", &js_hierarchyOrder)
       .function("computeTheta", &js_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &js_thetaVolume)

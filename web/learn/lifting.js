@@ -4,7 +4,9 @@
 // neighbourhood in M^l, the vertices a phase writes (its targets) and reads (their sources), and
 // lists the weights. Alongside, a unit coefficient at the picked vertex goes through the phases,
 // run by the core (mr.synthesizeSteps / mr.analyzeSteps with steps = k): what it has reached.
-// Analysis plays the inverse phases in reverse order.
+// Analysis plays the inverse phases in reverse order; "transposed" plays the transposed phases in
+// reverse order (paper Figure 5, section 3.2: each mask applied outwards, mr.transposeSteps), as
+// the volume tensors of coarser levels are computed.
 import { sampleModels } from 'virtual:mrvol-models';
 import { Stage, THREE, surface, wire, edgesOf, bounds, fetchModel, explain, control, select, button, readoutTable } from './stage.js';
 
@@ -37,6 +39,11 @@ export async function mount({ mrvol, layout, el, stale }) {
     'The phases are the core’s lifting steps, run by the core: a unit coefficient at the picked vertex (c<sup>l−1</sup> or ' +
       'd<sup>l−1</sup> in synthesis, c<sup>l</sup> in analysis) goes through the first k phases; the vertices it has reached are ' +
       'lilac. After the last phase they are one column of [S<sup>l</sup> C<sup>l</sup>] (synthesis) or [A<sup>l</sup>; B<sup>l</sup>] (analysis).',
+    '<b>Transposed</b> (section 3.2, Figure 5): θ<sup>l−1</sup> comes from θ<sup>l</sup> through the transposed synthesis, ' +
+      'which the paper runs as the same masks applied <i>outwards</i>, in reverse order: a mask instantiated at a vertex does ' +
+      'not read its neighbours, it adds its own value times the same weights to them (x<sub>s</sub> += w x<sub>t</sub>). ' +
+      'In this direction the picked vertex and its neighbours push (blue, “reads”) to the vertices their inward masks would ' +
+      'read (orange, “writes”); a unit covector at the picked vertex spreads to one row of [S<sup>l</sup> C<sup>l</sup>].',
   ]);
   const name = sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0];
   const text = await fetchModel(name);
@@ -49,7 +56,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   const s = { level: 1, scheme: 'loop', mode: 'synthesis', vertex: 0, phase: 0 };
   const levelSelect = control(layout.controls, 'level l', select([...Array(n).keys()].map((k) => [String(k + 1), `${k + 1}: M${k} → M${k + 1}`]), '1', 'lifting-level'));
   const schemeSelect = control(layout.controls, 'scheme', select(['loop', 'butterfly', 'linear'].map((k) => [k, k]), s.scheme, 'lifting-scheme'));
-  const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis: the phases in order'], ['analysis', 'analysis: inverse phases, reverse order']], s.mode, 'lifting-mode'));
+  const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis: the phases in order'], ['analysis', 'analysis: inverse phases, reverse order'], ['transposed', 'transposed: masks outwards, reverse order (Figure 5)']], s.mode, 'lifting-mode'));
   const vertexInput = document.createElement('input');
   vertexInput.type = 'number';
   vertexInput.min = 0;
@@ -115,28 +122,33 @@ export async function mount({ mrvol, layout, el, stale }) {
   const phaseCount = () => current.steps.length;
   // The step run by phase k (1-based) in the current direction, and whether it runs inverted.
   const stepOfPhase = (k) => (s.mode === 'synthesis' ? current.steps[k - 1] : current.steps[phaseCount() - k]);
-  const phaseName = (k) => (k === 0 ? 'start' : s.mode === 'synthesis' ? stepOfPhase(k).name : `${stepOfPhase(k).name}⁻¹`);
+  const phaseName = (k) => (k === 0 ? 'start' : s.mode === 'synthesis' ? stepOfPhase(k).name
+    : `${stepOfPhase(k).name}${s.mode === 'analysis' ? '⁻¹' : 'ᵀ'}`);
 
   /** Rows of phase k whose target is the picked vertex or one of its neighbours in M^l. */
   function maskAround(k) {
     if (k === 0) return { written: [], read: [], weights: [] };
     const step = stepOfPhase(k);
-    const inverse = s.mode === 'analysis';
-    const written = [], read = new Set(), weights = [];
+    const inverse = s.mode === 'analysis', outwards = s.mode === 'transposed';
+    const written = new Set(), read = new Set(), weights = [];
     for (const t of [s.vertex, ...current.ring.get(s.vertex)]) {
       const r = step.rowOf.get(t);
       if (r === undefined) continue;
-      written.push(t);
       if (step.scaling) {
+        written.add(t);
         weights.push({ target: t, source: null, weight: inverse ? 1 / step.weights[r] : step.weights[r], scaling: true });
         continue;
       }
+      // Inwards, row t reads its sources into t; outwards (transposed), t adds itself to them.
+      (outwards ? read : written).add(t);
       for (let q = step.offsets[r]; q < step.offsets[r + 1]; q++) {
-        read.add(step.sources[q]);
-        weights.push({ target: t, source: step.sources[q], weight: inverse ? -step.weights[q] : step.weights[q], scaling: false });
+        const u = step.sources[q];
+        (outwards ? written : read).add(u);
+        weights.push(outwards ? { target: u, source: t, weight: step.weights[q], scaling: false }
+          : { target: t, source: u, weight: inverse ? -step.weights[q] : step.weights[q], scaling: false });
       }
     }
-    return { written, read: [...read], weights };
+    return { written: [...written], read: [...read], weights };
   }
 
   /** The unit coefficient at the picked vertex after k phases, run by the core. */
@@ -144,7 +156,8 @@ export async function mount({ mrvol, layout, el, stale }) {
     const unit = new Float64Array(3 * N);
     unit[3 * s.vertex] = 1;
     const options = { level: s.level, scheme: s.scheme, steps: k };
-    const x = s.mode === 'synthesis' ? mr.synthesizeSteps(unit, options) : mr.analyzeSteps(unit, options);
+    const x = s.mode === 'synthesis' ? mr.synthesizeSteps(unit, options)
+      : s.mode === 'analysis' ? mr.analyzeSteps(unit, options) : mr.transposeSteps(unit, options);
     const reached = [];
     for (let u = 0; u < N; u++) if (x[3 * u] !== 0) reached.push({ vertex: u, value: x[3 * u] });
     reached.sort((p, q) => Math.abs(q.value) - Math.abs(p.value));
@@ -182,10 +195,12 @@ export async function mount({ mrvol, layout, el, stale }) {
     const odd = depths[s.vertex] === s.level;
     const what = s.mode === 'synthesis'
       ? `${odd ? 'd' : 'c'}${sup(s.level - 1)}${sub(s.vertex)} → c${sup(s.level)}`
-      : `c${sup(s.level)}${sub(s.vertex)} → c${sup(s.level - 1)}, d${sup(s.level - 1)}`;
+      : s.mode === 'analysis' ? `c${sup(s.level)}${sub(s.vertex)} → c${sup(s.level - 1)}, d${sup(s.level - 1)}`
+        : `covector at c${sup(s.level)}${sub(s.vertex)} → (c${sup(s.level - 1)}, d${sup(s.level - 1)}), outwards`;
     set('lifting-picked', `vertex ${s.vertex} (${odd ? 'odd' : 'even'}, depth ${depths[s.vertex]}): ${what}`, s.vertex);
     const name = phaseName(k);
-    const about = k === 0 ? 'before the first phase' : (s.mode === 'analysis' ? 'undoes ' : '') + PHASES[stepOfPhase(k).name];
+    const about = k === 0 ? 'before the first phase'
+      : (s.mode === 'analysis' ? 'undoes ' : s.mode === 'transposed' ? 'applied outwards: ' : '') + PHASES[stepOfPhase(k).name];
     set('lifting-phase', `${k} / ${phaseCount()}: ${name} — ${about}`, k);
     set('lifting-written', `${mask.written.length} vertices near the picked one`, mask.written.length);
     set('lifting-read', `${mask.read.length} vertices`, mask.read.length);

@@ -22,7 +22,9 @@ export async function mount({ mrvol, layout, el }) {
     'At the fine level the volume is a trilinear form Θ = Σ θ<sup>n</sup><sub>ijk</sub> x<sub>i</sub> y<sub>j</sub> z<sub>k</sub>: ' +
       'θ<sup>n</sup><sub>ijk</sub> = ±1/6 when ijk is a triangle. Since synthesis is linear, the volume is also a trilinear ' +
       'form of the level-l coefficients; θ<sup>l−1</sup> comes from θ<sup>l</sup> by applying the transposed synthesis ' +
-      'filters (S<sup>l</sup>)<sup>T</sup>, (C<sup>l</sup>)<sup>T</sup> along each of the three axes (section 3.1, Figure 4).',
+      'filters (S<sup>l</sup>)<sup>T</sup>, (C<sup>l</sup>)<sup>T</sup> along each of the three axes (section 3.1, Figure 4). ' +
+      'Those transposed filters are the lifting masks applied <i>outwards</i>, in reverse order (section 3.2, Figure 5): ' +
+      'watch them phase by phase in <a href="#learn/lifting" data-testid="tensor-outwards-link">the lifting view</a>, direction “transposed”.',
     'Each row of pictures is one live tensor θ<sup>l</sup> of the mesh below, computed by the core with every entry kept. ' +
       'Indices are sorted by depth (the level where a vertex is born; grey lines separate the groups). One picture per group of ' +
       'the third index k shows which (i, j) have a non-zero θ<sub>ijk</sub> (all orderings), coloured by how many of ' +

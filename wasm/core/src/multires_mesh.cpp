@@ -149,6 +149,14 @@ std::vector<double> MultiresMesh::analyzeSteps(const std::vector<double>& coeffi
   });
 }
 
+std::vector<double> MultiresMesh::transposeSteps(const std::vector<double>& covector, int level, int steps,
+                                                 const SchemeOptions& scheme) const {
+  const auto& all = checkedSteps(level, steps, scheme);
+  return inHierarchyOrder(covector, "covector", level, [&](double* x) {
+    for (int k = 0; k < steps; ++k) all[all.size() - 1 - k].transposed(x);
+  });
+}
+
 VolumeTensor MultiresMesh::computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
                                          const TensorProgress& progress) const {
   checkLevel(level);

@@ -67,6 +67,11 @@ class MultiresMesh {
                                       const SchemeOptions& scheme) const;
   std::vector<double> analyzeSteps(const std::vector<double>& coefficients, int level, int steps,
                                    const SchemeOptions& scheme) const;
+  // The adjoint of level l's synthesis, phase by phase (paper Figure 5: the masks applied
+  // outwards): the transposes of the last `steps` steps, in reverse order, on a covector of the
+  // level-l vertices; all of them give the covector of (c^{l-1}, d^{l-1}).
+  std::vector<double> transposeSteps(const std::vector<double>& covector, int level, int steps,
+                                     const SchemeOptions& scheme) const;
 
   // theta^e for this connectivity and scheme, and the header a theta file of it carries.
   VolumeTensor computeTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
