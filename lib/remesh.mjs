@@ -646,6 +646,136 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
   }
 }
 
+/**
+ * Two-sided fitting, after snapToFeatures(): what is still far from the result (a thin tip the
+ * base cut off and the fit slid down from) is pulled back gradually. Each round, the input
+ * vertices farther than 0.2% of the diagonal and than half the current worst distance pull the
+ * corners of their closest result triangle by their offset (barycentric weights, farther points
+ * weighing more); the pulled corners go back onto the surface and are held while their 3-ring
+ * relaxes; the corners of triangles that this flips, and their neighbours, return (and are not
+ * pulled again). A round is kept only if it lowers the worst input-vertex distance (or keeps it
+ * and lowers the sum of squared excesses); otherwise it is undone and retried with half the
+ * step, down to a quarter. At most `rounds` rounds. Deterministic.
+ */
+function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}) {
+  const input = surface.mesh.positions, inputCount = input.length / 3;
+  const limit = threshold * boundingDiagonal(input);
+  const vertexCount = positions.length / 3;
+  let adjacency = null;
+  const noMore = new Uint8Array(vertexCount);
+  const disp = new Float64Array(3 * vertexCount), weight = new Float64Array(vertexCount);
+  const distance = new Float64Array(inputCount), hitPoint = new Float64Array(3 * inputCount), hitFace = new Uint32Array(inputCount);
+  let accepted = null, acceptedWorst = Infinity, acceptedExcess = Infinity, step = 1, retry = false;
+  for (let round = 0; round < rounds; round++) {
+    const result = new Surface({ positions, faces }, { normals: false });
+    let worst = 0, excess = 0, previous = Infinity, px = 0, py = 0, pz = 0;
+    for (let i = 0; i < inputCount; i++) {
+      const x = input[3 * i], y = input[3 * i + 1], z = input[3 * i + 2];
+      // Distance to a surface is 1-Lipschitz: the previous vertex's distance plus the step bounds it.
+      const hit = result.closest(x, y, z, 1.0001 * (previous + Math.hypot(x - px, y - py, z - pz)) + 1e-12);
+      px = x, py = y, pz = z, previous = distance[i] = hit.distance;
+      hitPoint[3 * i] = hit.point.x, hitPoint[3 * i + 1] = hit.point.y, hitPoint[3 * i + 2] = hit.point.z;
+      hitFace[i] = hit.faceIndex;
+      worst = Math.max(worst, hit.distance);
+      if (hit.distance > limit) excess += (hit.distance - limit) ** 2;
+    }
+    if (worst <= limit) break;
+    if (accepted && !retry && !(worst < acceptedWorst || (worst <= 1.001 * acceptedWorst && excess < acceptedExcess))) {
+      positions.set(accepted);
+      step /= 2;
+      if (step < 0.25) break;
+      retry = true;
+      continue;
+    }
+    if (!retry) {
+      step = 1;
+      accepted = positions.slice(), acceptedWorst = worst, acceptedExcess = excess;
+    }
+    retry = false;
+    adjacency ??= neighbours(faces, vertexCount);
+    const index = result.bvh.geometry.index.array;
+    disp.fill(0), weight.fill(0);
+    const pull = Math.max(limit, focus * worst);
+    for (let i = 0; i < inputCount; i++) {
+      if (distance[i] <= pull) continue;
+      const f = hitFace[i], qx = hitPoint[3 * i], qy = hitPoint[3 * i + 1], qz = hitPoint[3 * i + 2];
+      const corners = [index[3 * f], index[3 * f + 1], index[3 * f + 2]];
+      const w = barycentric(positions, corners[0], corners[1], corners[2], qx, qy, qz);
+      const o = [input[3 * i] - qx, input[3 * i + 1] - qy, input[3 * i + 2] - qz];
+      for (let j = 0; j < 3; j++) {
+        const v = corners[j];
+        if (noMore[v] || w[j] <= 0) continue;
+        const s = w[j] * distance[i];
+        for (let k = 0; k < 3; k++) disp[3 * v + k] += s * o[k];
+        weight[v] += s;
+      }
+    }
+    const before = positions.slice();
+    const moved = [];
+    for (let v = 0; v < vertexCount; v++) {
+      if (weight[v] === 0) continue;
+      const s = step / weight[v];
+      const p = surface.closest(positions[3 * v] + s * disp[3 * v], positions[3 * v + 1] + s * disp[3 * v + 1],
+                                positions[3 * v + 2] + s * disp[3 * v + 2]).point;
+      positions[3 * v] = p.x, positions[3 * v + 1] = p.y, positions[3 * v + 2] = p.z;
+      moved.push(v);
+    }
+    if (moved.length === 0) break;
+    // The 3-ring around the pulled corners relaxes (they are held) and is checked for folds.
+    const near = new Uint8Array(vertexCount);
+    let front = moved;
+    for (const v of front) near[v] = 1;
+    for (let ring = 0; ring < 3; ring++) {
+      const next = [];
+      for (const v of front)
+        for (let e = adjacency.offsets[v]; e < adjacency.offsets[v + 1]; e++)
+          if (!near[adjacency.list[e]]) near[adjacency.list[e]] = 1, next.push(adjacency.list[e]);
+      front = next;
+    }
+    const frozen = new Uint8Array(vertexCount);
+    for (let v = 0; v < vertexCount; v++) frozen[v] = !near[v] || weight[v] > 0 ? 1 : 0;
+    relaxTangentially(surface, positions, faces, adjacency, 2, 0.5, frozen);
+    const nearFaces = [];
+    for (let f = 0; f < faces.length / 3; f++)
+      if (near[faces[3 * f]] || near[faces[3 * f + 1]] || near[faces[3 * f + 2]]) nearFaces.push(f);
+    // Triangles already flipped before the round (there should be none) are not its doing.
+    const flippedBefore = new Set(flippedFaces({ positions: before, faces }, surface, nearFaces));
+    for (let pass = 0; pass < 6; pass++) {
+      const flipped = flippedFaces({ positions, faces }, surface, nearFaces).filter((f) => !flippedBefore.has(f));
+      if (flipped.length === 0) break;
+      const back = (w) => {
+        if (weight[w] > 0) noMore[w] = 1;
+        for (let k = 0; k < 3; k++) positions[3 * w + k] = before[3 * w + k];
+      };
+      if (pass === 5) {
+        for (let v = 0; v < vertexCount; v++) if (near[v]) back(v);
+        break;
+      }
+      for (const f of flipped)
+        for (let j = 0; j < 3; j++) {
+          const v = faces[3 * f + j];
+          back(v);
+          for (let e = adjacency.offsets[v]; e < adjacency.offsets[v + 1]; e++) back(adjacency.list[e]);
+        }
+    }
+  }
+  // The last round may have been refused: the accepted state stays.
+  if (accepted && retry) positions.set(accepted);
+}
+
+/** Barycentric coordinates of the point q (on or near the triangle a, b, c). */
+function barycentric(p, a, b, c, qx, qy, qz) {
+  const u0 = p[3 * b] - p[3 * a], u1 = p[3 * b + 1] - p[3 * a + 1], u2 = p[3 * b + 2] - p[3 * a + 2];
+  const v0 = p[3 * c] - p[3 * a], v1 = p[3 * c + 1] - p[3 * a + 1], v2 = p[3 * c + 2] - p[3 * a + 2];
+  const w0 = qx - p[3 * a], w1 = qy - p[3 * a + 1], w2 = qz - p[3 * a + 2];
+  const d00 = u0 * u0 + u1 * u1 + u2 * u2, d01 = u0 * v0 + u1 * v1 + u2 * v2, d11 = v0 * v0 + v1 * v1 + v2 * v2;
+  const d20 = w0 * u0 + w1 * u1 + w2 * u2, d21 = w0 * v0 + w1 * v1 + w2 * v2;
+  const den = d00 * d11 - d01 * d01;
+  if (!(den > 0)) return [1 / 3, 1 / 3, 1 / 3];
+  const v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+  return [1 - v - w, v, w];
+}
+
 // ---- measures --------------------------------------------------------------------------------------
 
 /**
@@ -876,7 +1006,10 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations) {
       }
       if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held);
     }
-    if (levels > 0) snapToFeatures(surface, positions, faces, relaxIterations);
+    if (levels > 0) {
+      snapToFeatures(surface, positions, faces, relaxIterations);
+      attractToInput(surface, positions, faces);
+    }
     return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks };
   } finally {
     mr.delete();
