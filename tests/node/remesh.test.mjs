@@ -90,6 +90,15 @@ describe('remesh (API)', () => {
     assert.ok(Math.abs(info.volume - r.volume) < 1e-9 * r.volume);
   });
 
+  test('bunny at the paper\'s size (n = 2, 250 base faces, N = 2002): under 1% of the diagonal, no fold', async () => {
+    // The base cuts off the ear tips; the two-sided fit pulls the result back to them (2.5% without it).
+    const r = await remesh(mrvol, bunnyMesh(), { levels: 2, baseFaces: 250 });
+    assert.equal(r.vertices, 2002);
+    assert.equal(r.flippedTriangles, 0);
+    assert.ok(r.hausdorff < 0.01, `hausdorff ${r.hausdorff}`);
+    assert.ok(r.hausdorffFromInput < 0.01, `input to result ${r.hausdorffFromInput}`);
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
