@@ -418,9 +418,8 @@ class Surface {
    * distance, when known, prunes the BVH traversal (searched without it if nothing is that close).
    */
   closest(x, y, z, bound = Infinity) {
-    this.point.set(x, y, z);
-    return (bound < Infinity && this.bvh.closestPointToPoint(this.point, this.hit, 0, bound)) ||
-      this.bvh.closestPointToPoint(this.point, this.hit);
+    this.closestQuery ??= closestPointQuery(this.bvh, this.hit);
+    return (bound < Infinity && this.closestQuery(x, y, z, bound)) || this.closestQuery(x, y, z, Infinity);
   }
   /** Nearest hit of the line through (x,y,z) along ±n within `cap`, or null. */
   castBothWays(x, y, z, n, cap) {
@@ -433,12 +432,106 @@ class Surface {
     }
     return best;
   }
-  smoothNormal(faceIndex) {
-    return [this.smoothNormals[3 * faceIndex], this.smoothNormals[3 * faceIndex + 1], this.smoothNormals[3 * faceIndex + 2]];
-  }
   normal(faceIndex) {
     return [this.normals[3 * faceIndex], this.normals[3 * faceIndex + 1], this.normals[3 * faceIndex + 2]];
   }
+}
+
+/**
+ * three-mesh-bvh's closestPointToPoint (0.9.x) without its generic shapecast (callbacks, boxes and
+ * triangles as objects: most of the remesher's time): the same traversal of the packed BVH (the
+ * nearer child first, pruned by the best squared distance and the bound) and the same
+ * floating-point steps as three's Triangle.closestPointToPoint on the Float32 positions, so the
+ * same result bit for bit. Writes into `hit` ({ point, distance, faceIndex }); null if nothing
+ * lies within `maxDistance`.
+ */
+function closestPointQuery(bvh, hit) {
+  const roots = bvh._roots;
+  if (!roots || roots.length !== 1 || bvh.indirect) {
+    const point = new Vector3();
+    return (x, y, z, maxDistance) => bvh.closestPointToPoint(point.set(x, y, z), hit, 0, maxDistance);
+  }
+  const f32 = new Float32Array(roots[0]), u16 = new Uint16Array(roots[0]), u32 = new Uint32Array(roots[0]);
+  const index = bvh.geometry.index.array, pos = bvh.geometry.attributes.position.array;
+  let px = 0, py = 0, pz = 0, bestSq = Infinity, maxSq = Infinity, bestTri = -1, bx = 0, by = 0, bz = 0;
+  const boxScore = (n32) => {
+    const dx = Math.max(f32[n32], Math.min(f32[n32 + 3], px)) - px;
+    const dy = Math.max(f32[n32 + 1], Math.min(f32[n32 + 4], py)) - py;
+    const dz = Math.max(f32[n32 + 2], Math.min(f32[n32 + 5], pz)) - pz;
+    return dx * dx + dy * dy + dz * dz;
+  };
+  const leaf = (n32) => {
+    const offset = u32[n32 + 6], end = offset + u16[2 * n32 + 14];
+    for (let t = offset; t < end; t++) {
+      const ia = 3 * index[3 * t], ib = 3 * index[3 * t + 1], ic = 3 * index[3 * t + 2];
+      const ax = pos[ia], ay = pos[ia + 1], az = pos[ia + 2];
+      const abx = pos[ib] - ax, aby = pos[ib + 1] - ay, abz = pos[ib + 2] - az;
+      const acx = pos[ic] - ax, acy = pos[ic + 1] - ay, acz = pos[ic + 2] - az;
+      const apx = px - ax, apy = py - ay, apz = pz - az;
+      let qx, qy, qz;
+      const d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
+      if (d1 <= 0 && d2 <= 0) {
+        qx = ax, qy = ay, qz = az;
+      } else {
+        const bpx = px - pos[ib], bpy = py - pos[ib + 1], bpz = pz - pos[ib + 2];
+        const d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
+        if (d3 >= 0 && d4 <= d3) {
+          qx = pos[ib], qy = pos[ib + 1], qz = pos[ib + 2];
+        } else {
+          const vc = d1 * d4 - d3 * d2;
+          if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) {
+            const v = d1 / (d1 - d3);
+            qx = ax + abx * v, qy = ay + aby * v, qz = az + abz * v;
+          } else {
+            const cpx = px - pos[ic], cpy = py - pos[ic + 1], cpz = pz - pos[ic + 2];
+            const d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
+            if (d6 >= 0 && d5 <= d6) {
+              qx = pos[ic], qy = pos[ic + 1], qz = pos[ic + 2];
+            } else {
+              const vb = d5 * d2 - d1 * d6;
+              if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+                const w = d2 / (d2 - d6);
+                qx = ax + acx * w, qy = ay + acy * w, qz = az + acz * w;
+              } else {
+                const va = d3 * d6 - d5 * d4;
+                if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+                  const w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+                  const bcx = pos[ic] - pos[ib], bcy = pos[ic + 1] - pos[ib + 1], bcz = pos[ic + 2] - pos[ib + 2];
+                  qx = pos[ib] + bcx * w, qy = pos[ib + 1] + bcy * w, qz = pos[ib + 2] + bcz * w;
+                } else {
+                  const denom = 1 / (va + vb + vc), v = vb * denom, w = vc * denom;
+                  qx = ax + abx * v + acx * w, qy = ay + aby * v + acy * w, qz = az + abz * v + acz * w;
+                }
+              }
+            }
+          }
+        }
+      }
+      const ex = px - qx, ey = py - qy, ez = pz - qz, dSq = ex * ex + ey * ey + ez * ez;
+      if (dSq < bestSq) bestSq = dSq, bestTri = t, bx = qx, by = qy, bz = qz;
+    }
+  };
+  // Depth first, the nearer child first, each child checked against the best distance so far.
+  const traverse = (n32) => {
+    if (u16[2 * n32 + 15] === 0xffff) return leaf(n32);
+    let c1 = n32 + 8, c2 = n32 + 8 * u32[n32 + 6];
+    let s1 = boxScore(c1), s2 = boxScore(c2);
+    if (s2 < s1) {
+      const c = c1; c1 = c2, c2 = c;
+      const s = s1; s1 = s2, s2 = s;
+    }
+    if (s1 < bestSq && s1 < maxSq) traverse(c1);
+    if (s2 < bestSq && s2 < maxSq) traverse(c2);
+  };
+  return (x, y, z, maxDistance) => {
+    px = x, py = y, pz = z, bestSq = Infinity, maxSq = maxDistance * maxDistance, bestTri = -1;
+    traverse(0);
+    if (bestSq === Infinity) return null;
+    hit.point.set(bx, by, bz);
+    hit.distance = Math.sqrt(bestSq);
+    hit.faceIndex = bestTri;
+    return hit;
+  };
 }
 
 // ---- geometry helpers -----------------------------------------------------------------------------
@@ -527,31 +620,57 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase) {
 /** Tangential uniform-Laplacian smoothing, each step followed by closest-point reprojection. */
 function relaxTangentially(surface, positions, faces, adjacency, iterations, weight, fixed) {
   const { offsets, list } = adjacency;
-  const next = new Float64Array(positions.length);
+  const vertexCount = positions.length / 3;
+  // Only the vertices that move (in this level's mesh, not held) are computed.
+  let count = 0;
+  for (let i = 0; i < vertexCount; i++) if (offsets[i + 1] > offsets[i] && !fixed[i]) count++;
+  if (count === 0) return;
+  const active = new Uint32Array(count);
+  for (let i = 0, c = 0; i < vertexCount; i++) if (offsets[i + 1] > offsets[i] && !fixed[i]) active[c++] = i;
+  const next = new Float64Array(3 * count);
+  // Few vertices: their normals from their own faces (the same sums, in the same face order).
+  const local = count < vertexCount / 4;
+  const around = local ? vertexFaces(faces, vertexCount) : null;
+  const normals = local ? new Float64Array(3 * count) : null;
   for (let it = 0; it < iterations; it++) {
-    const normals = vertexNormals(positions, faces);
-    for (let i = 0; i < positions.length / 3; i++) {
-      const count = offsets[i + 1] - offsets[i];
-      if (count === 0 || fixed[i]) {  // held, or not yet in this level's mesh
-        for (let k = 0; k < 3; k++) next[3 * i + k] = positions[3 * i + k];
-        continue;
+    let all = null;
+    if (local) {
+      for (let c = 0; c < count; c++) {
+        const i = active[c];
+        let n0 = 0, n1 = 0, n2 = 0;
+        for (let e = around.offsets[i]; e < around.offsets[i + 1]; e++) {
+          const f = 3 * around.list[e];
+          const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
+          n0 += t[0], n1 += t[1], n2 += t[2];
+        }
+        const l = Math.hypot(n0, n1, n2) || 1;
+        normals[3 * c] = n0 / l, normals[3 * c + 1] = n1 / l, normals[3 * c + 2] = n2 / l;
       }
+    } else {
+      all = vertexNormals(positions, faces);
+    }
+    for (let c = 0; c < count; c++) {
+      const i = active[c], m = local ? 3 * c : 3 * i, nv = local ? normals : all;
+      const degree = offsets[i + 1] - offsets[i];
       let d0 = 0, d1 = 0, d2 = 0;
       for (let e = offsets[i]; e < offsets[i + 1]; e++) {
         const w = 3 * list[e];
         d0 += positions[w], d1 += positions[w + 1], d2 += positions[w + 2];
       }
-      const d = [d0 / count - positions[3 * i], d1 / count - positions[3 * i + 1], d2 / count - positions[3 * i + 2]];
-      const dn = d[0] * normals[3 * i] + d[1] * normals[3 * i + 1] + d[2] * normals[3 * i + 2];
-      const x = positions[3 * i] + weight * (d[0] - dn * normals[3 * i]);
-      const y = positions[3 * i + 1] + weight * (d[1] - dn * normals[3 * i + 1]);
-      const z = positions[3 * i + 2] + weight * (d[2] - dn * normals[3 * i + 2]);
+      d0 = d0 / degree - positions[3 * i], d1 = d1 / degree - positions[3 * i + 1], d2 = d2 / degree - positions[3 * i + 2];
+      const dn = d0 * nv[m] + d1 * nv[m + 1] + d2 * nv[m + 2];
+      const x = positions[3 * i] + weight * (d0 - dn * nv[m]);
+      const y = positions[3 * i + 1] + weight * (d1 - dn * nv[m + 1]);
+      const z = positions[3 * i + 2] + weight * (d2 - dn * nv[m + 2]);
       // The vertex was on the surface: the step is an upper bound of the distance back to it.
-      const step = weight * Math.hypot(d[0], d[1], d[2]);
+      const step = weight * Math.hypot(d0, d1, d2);
       const p = surface.closest(x, y, z, 1.01 * step + 1e-12).point;
-      next[3 * i] = p.x, next[3 * i + 1] = p.y, next[3 * i + 2] = p.z;
+      next[3 * c] = p.x, next[3 * c + 1] = p.y, next[3 * c + 2] = p.z;
     }
-    positions.set(next);
+    for (let c = 0; c < count; c++) {
+      const i = active[c];
+      positions[3 * i] = next[3 * c], positions[3 * i + 1] = next[3 * c + 1], positions[3 * i + 2] = next[3 * c + 2];
+    }
   }
 }
 
@@ -820,44 +939,84 @@ function countFlipped(mesh, surface) {
 function flippedFaces(mesh, surface, onlyFaces = null) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3;
-  const normals = new Float64Array(faces.length);
-  for (let f = 0; f < faceCount; f++) {
+  // Edge-adjacent faces: the face on the other side of each directed edge (cached per faces array).
+  const across = faceAdjacency(faces, p.length / 3);
+  // Unit face normals, computed when first needed (a check near a few vertices needs few).
+  const normals = new Float64Array(faces.length), known = new Uint8Array(faceCount);
+  const normal = (f) => {
+    if (known[f]) return;
+    known[f] = 1;
     const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
     const l = Math.hypot(n[0], n[1], n[2]);
     for (let k = 0; k < 3; k++) normals[3 * f + k] = l > 0 ? n[k] / l : 0;
-  }
-  // Edge-adjacent faces: the face on the other side of each directed edge.
-  const across = new Map();
-  for (let f = 0; f < faceCount; f++)
-    for (let j = 0; j < 3; j++) across.set(faces[3 * f + j] * 0x100000000 + faces[3 * f + (j + 1) % 3], f);
+  };
   const flipped = [];
   for (let q = 0, count = onlyFaces ? onlyFaces.length : faceCount; q < count; q++) {
     const f = onlyFaces ? onlyFaces[q] : q;
     const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
-    const n = [normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]];
-    if (n[0] === 0 && n[1] === 0 && n[2] === 0) {
+    normal(f);
+    const n0 = normals[3 * f], n1 = normals[3 * f + 1], n2 = normals[3 * f + 2];
+    if (n0 === 0 && n1 === 0 && n2 === 0) {
       flipped.push(f);
       continue;
     }
     const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
           cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
     // The corners lie on the surface: the nearest one bounds the centroid's distance.
-    let bound = Infinity;
-    for (const v of [a, b, c]) bound = Math.min(bound, Math.hypot(p[3 * v] - cx, p[3 * v + 1] - cy, p[3 * v + 2] - cz));
+    const bound = Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
+                           Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
+                           Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz));
     const hit = surface.closest(cx, cy, cz, 1.0001 * bound + 1e-12);
-    const m = surface.smoothNormal(hit.faceIndex);
-    if (n[0] * m[0] + n[1] * m[1] + n[2] * m[2] >= 0) continue;
+    const m = 3 * hit.faceIndex, sn = surface.smoothNormals;
+    if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
     // tip, where the input's normal is ambiguous, has neighbours that agree with it).
     for (let j = 0; j < 3; j++) {
-      const g = across.get(faces[3 * f + (j + 1) % 3] * 0x100000000 + faces[3 * f + j]);
-      if (g !== undefined && n[0] * normals[3 * g] + n[1] * normals[3 * g + 1] + n[2] * normals[3 * g + 2] < 0) {
+      const g = across[3 * f + j];
+      if (g < 0) continue;
+      normal(g);
+      if (n0 * normals[3 * g] + n1 * normals[3 * g + 1] + n2 * normals[3 * g + 2] < 0) {
         flipped.push(f);
         break;
       }
     }
   }
   return flipped;
+}
+
+const faceAdjacencyCache = new WeakMap();
+
+/**
+ * For each face f and corner j, the face holding the directed edge faces[3f + (j+1)%3] ->
+ * faces[3f + j] (the twin of f's edge from corner j), or -1; the last such face if several.
+ * Cached per faces array (the pipeline never edits one in place).
+ */
+function faceAdjacency(faces, vertexCount) {
+  let across = faceAdjacencyCache.get(faces);
+  if (across) return across;
+  const { offsets, list } = vertexFaces(faces, vertexCount);
+  across = new Int32Array(faces.length).fill(-1);
+  for (let f = 0; f < faces.length / 3; f++)
+    for (let j = 0; j < 3; j++) {
+      const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
+      // Faces at b in increasing order: the last with the edge b -> a.
+      for (let e = offsets[b]; e < offsets[b + 1]; e++) {
+        const g = list[e];
+        for (let k = 0; k < 3; k++) if (faces[3 * g + k] === b && faces[3 * g + (k + 1) % 3] === a) across[3 * f + j] = g;
+      }
+    }
+  faceAdjacencyCache.set(faces, across);
+  return across;
+}
+
+/** Faces around each vertex as CSR (offsets, list), in increasing face order. */
+function vertexFaces(faces, vertexCount) {
+  const offsets = new Uint32Array(vertexCount + 1);
+  for (let i = 0; i < faces.length; i++) offsets[faces[i] + 1]++;
+  for (let v = 0; v < vertexCount; v++) offsets[v + 1] += offsets[v];
+  const fill = offsets.slice(0, vertexCount), list = new Uint32Array(faces.length);
+  for (let i = 0; i < faces.length; i++) list[fill[faces[i]]++] = (i / 3) | 0;
+  return { offsets, list };
 }
 
 // ---- the pipeline ----------------------------------------------------------------------------------
