@@ -5,7 +5,7 @@
 //
 //   node scripts/setup.mjs [--no-native] [--sanitize] [--browser]
 import { execFileSync, spawnSync } from 'node:child_process';
-import { existsSync, statSync, mkdirSync } from 'node:fs';
+import { existsSync, statSync, mkdirSync, openSync, writeSync, closeSync, readFileSync, unlinkSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -86,7 +86,66 @@ export function buildWasm() {
   run('ninja', ['-C', buildDir], { env, stdio: ['ignore', 'ignore', 'inherit'] });
 }
 
-export function setup({ native = true, sanitize = false, browser = false, fuzz = false } = {}) {
+function alive(pid) {
+  try {
+    process.kill(pid, 0);
+    return true;
+  } catch (e) {
+    return e.code === 'EPERM';
+  }
+}
+
+const sleep = (ms) => Atomics.wait(new Int32Array(new SharedArrayBuffer(4)), 0, 0, ms);
+
+/**
+ * Runs fn holding build/.setup.lock, so that two set-ups in one checkout (npm start beside npm
+ * test) do not run ninja in the same build directories at once, which can leave a WASM module
+ * and its loader from different builds. A lock whose process is gone is taken over; a live one is
+ * waited for (at most timeoutMs).
+ */
+export function withSetupLock(fn, { path = join(root, 'build', '.setup.lock'), timeoutMs = 30 * 60_000, pollMs = 250 } = {}) {
+  mkdirSync(dirname(path), { recursive: true });
+  const deadline = Date.now() + timeoutMs;
+  let told = false;
+  for (;;) {
+    try {
+      const fd = openSync(path, 'wx');
+      writeSync(fd, String(process.pid));
+      closeSync(fd);
+      break;
+    } catch (e) {
+      if (e.code !== 'EEXIST') throw e;
+    }
+    let holder = NaN;
+    try {
+      holder = Number(readFileSync(path, 'utf8'));
+    } catch {
+      continue;  // released meanwhile
+    }
+    if (!Number.isInteger(holder) || holder <= 0 || !alive(holder)) {
+      try {
+        unlinkSync(path);  // left by a set-up that is gone
+      } catch {}
+      continue;
+    }
+    if (Date.now() > deadline) throw new Error(`another set-up (pid ${holder}) still holds ${path}`);
+    if (!told) log(`waiting for another set-up to finish (pid ${holder})`), (told = true);
+    sleep(pollMs);
+  }
+  try {
+    return fn();
+  } finally {
+    try {
+      if (Number(readFileSync(path, 'utf8')) === process.pid) unlinkSync(path);
+    } catch {}
+  }
+}
+
+export function setup(options = {}) {
+  return withSetupLock(() => setupUnlocked(options));
+}
+
+function setupUnlocked({ native = true, sanitize = false, browser = false, fuzz = false } = {}) {
   const started = Date.now();
   ensureDebianPackages([...CORE_PACKAGES, ...(browser ? BROWSER_PACKAGES : []), ...(fuzz ? FUZZ_PACKAGES : [])]);
   ensureNpmPackages();
