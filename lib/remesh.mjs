@@ -558,17 +558,27 @@ function vertexNormals(positions, faces) {
 
 /** Vertex neighbours as CSR (offsets, list), from the faces of a closed manifold mesh. */
 function neighbours(faces, vertexCount) {
-  const sets = Array.from({ length: vertexCount }, () => new Set());
+  // Each vertex's neighbours in the order the faces first name them (as a Set would keep them).
+  const start = new Uint32Array(vertexCount + 1);
+  for (let i = 0; i < faces.length; i++) start[faces[i] + 1] += 2;
+  for (let v = 0; v < vertexCount; v++) start[v + 1] += start[v];
+  const size = new Uint32Array(vertexCount), room = new Uint32Array(start[vertexCount]);
+  const add = (a, b) => {
+    const s = start[a], n = size[a];
+    for (let e = s; e < s + n; e++) if (room[e] === b) return;
+    room[s + n] = b;
+    size[a] = n + 1;
+  };
   for (let f = 0; f < faces.length; f += 3)
     for (let j = 0; j < 3; j++) {
       const a = faces[f + j], b = faces[f + (j + 1) % 3];
-      sets[a].add(b);
-      sets[b].add(a);
+      add(a, b);
+      add(b, a);
     }
   const offsets = new Uint32Array(vertexCount + 1);
-  for (let i = 0; i < vertexCount; i++) offsets[i + 1] = offsets[i] + sets[i].size;
+  for (let i = 0; i < vertexCount; i++) offsets[i + 1] = offsets[i] + size[i];
   const list = new Uint32Array(offsets[vertexCount]);
-  for (let i = 0; i < vertexCount; i++) list.set([...sets[i]], offsets[i]);
+  for (let i = 0; i < vertexCount; i++) list.set(room.subarray(start[i], start[i] + size[i]), offsets[i]);
   return { offsets, list };
 }
 
