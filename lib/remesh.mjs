@@ -445,7 +445,7 @@ class Surface {
  * same result bit for bit. Writes into `hit` ({ point, distance, faceIndex }); null if nothing
  * lies within `maxDistance`.
  */
-function closestPointQuery(bvh, hit) {
+export function closestPointQuery(bvh, hit) {
   const roots = bvh._roots;
   if (!roots || roots.length !== 1 || bvh.indirect) {
     const point = new Vector3();

