@@ -241,8 +241,9 @@ TEST(VolumeEditor, CagePolynomialAlongADirectionIsItsCubic) {
 }
 
 TEST(VolumeEditor, FinePositionsStayTheSynthesisOfTheCoefficientsOverLongDrags) {
-  // The editor updates its fine positions incrementally (zero-detail synthesis of each move and
-  // correction) with a full synthesis now and then: they must not drift from the coefficients.
+  // The editor updates its fine positions incrementally (a move of a few cage vertices along their
+  // cached basis functions, a larger one by a zero-detail synthesis, each correction along its
+  // direction) with a full synthesis now and then: they must not drift from the coefficients.
   std::mt19937 rng(11);
   for (const auto& fx : fixtures::baseFixtures())
     for (const auto& o : schemes()) {
@@ -258,6 +259,9 @@ TEST(VolumeEditor, FinePositionsStayTheSynthesisOfTheCoefficientsOverLongDrags) 
         std::vector<uint8_t> held(editor.cageSize(), 0);
         held[c] = 1;
         for (int k = 0; k < 3; ++k) cage[3 * c + k] += u(rng);
+        if (d % 7 == 6)  // now and then every free vertex moves: the update by a whole synthesis
+          for (uint32_t b = 0; b < editor.cageSize(); ++b)
+            if (!s.h.boundary[b]) cage[3 * b + 1] += 0.2 * u(rng);
         ASSERT_TRUE(editor.deformCage(cage, held, EditOptions{}).converged);
         auto expected = editor.coefficients();
         s.wt.synthesize(expected.data(), 0);

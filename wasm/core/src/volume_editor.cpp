@@ -26,6 +26,9 @@ inline double dotDifference(const double* a, const double* d, const double* w) {
 // A full synthesis after this many incremental updates of the fine positions, so that rounding
 // cannot build up.
 constexpr int kResyncAfter = 64;
+// Moves of at most this many cage vertices update the fine positions through cached basis
+// columns; at most kBasisCacheSize columns are kept.
+constexpr size_t kSparseMoveLimit = 4, kBasisCacheSize = 8;
 
 // The edge table of VolumeEditor::edges_ for a validated closed or bounded manifold.
 std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t outside) {
@@ -158,7 +161,20 @@ void VolumeEditor::setReferenceVolume(double volume) {
 const std::vector<double>& VolumeEditor::fine() const {
   if (fineValid_) return fine_;
   const size_t cage3 = 3 * size_t(cageSize_), n3 = x_.size();
-  if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter) {
+  std::vector<uint32_t> moved;
+  if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter)
+    for (uint32_t c = 0; c < cageSize_ && moved.size() <= kSparseMoveLimit; ++c)
+      if (x_[3 * c] != fineCage_[3 * c] || x_[3 * c + 1] != fineCage_[3 * c + 1] || x_[3 * c + 2] != fineCage_[3 * c + 2])
+        moved.push_back(c);
+  if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter && moved.size() <= kSparseMoveLimit) {
+    // Only a few cage vertices moved: add each move times its basis function.
+    for (uint32_t c : moved) {
+      const double d[3] = {x_[3 * c] - fineCage_[3 * c], x_[3 * c + 1] - fineCage_[3 * c + 1], x_[3 * c + 2] - fineCage_[3 * c + 2]};
+      const BasisColumn& column = basisColumn(c);
+      for (size_t k = 0; k < column.vertices.size(); ++k) axpy(column.weights[k], d, &fine_[3 * size_t(column.vertices[k])]);
+    }
+    ++incrementalUpdates_;
+  } else if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter) {
     // Only the cage moved: synthesis is linear, so add the zero-detail synthesis of the move.
     fineDelta_.resize(n3);
     for (size_t i = 0; i < cage3; ++i) fineDelta_[i] = x_[i] - fineCage_[i];
@@ -178,6 +194,25 @@ const std::vector<double>& VolumeEditor::fine() const {
   fineValid_ = fineBaseValid_ = true;
   volumeValid_ = gradientValid_ = false;
   return fine_;
+}
+
+const VolumeEditor::BasisColumn& VolumeEditor::basisColumn(uint32_t c) const {
+  for (size_t i = 0; i < basisCache_.size(); ++i)
+    if (basisCache_[i].cageVertex == c) {
+      if (i + 1 != basisCache_.size()) std::rotate(basisCache_.begin() + i, basisCache_.begin() + i + 1, basisCache_.end());
+      return basisCache_.back();
+    }
+  // The scheme acts on each coordinate alike: synthesize the unit x and keep the x components.
+  std::vector<double>& u = fineDelta_;
+  u.assign(x_.size(), 0.0);
+  u[3 * size_t(c)] = 1.0;
+  transform_->synthesizeZeroDetails(u.data(), level_);
+  BasisColumn column{c, {}, {}};
+  for (size_t v = 0; v < u.size() / 3; ++v)
+    if (u[3 * v] != 0.0) column.vertices.push_back(uint32_t(v)), column.weights.push_back(u[3 * v]);
+  if (basisCache_.size() == kBasisCacheSize) basisCache_.erase(basisCache_.begin());
+  basisCache_.push_back(std::move(column));
+  return basisCache_.back();
 }
 
 double VolumeEditor::edgePass(const double* p, double* grad) const {

@@ -134,6 +134,16 @@ class VolumeEditor {
   mutable bool fineBaseValid_ = false;
   mutable std::vector<double> fineCage_, fineDelta_;
   mutable int incrementalUpdates_ = 0;  // since the last full synthesis
+  // Zero-detail synthesis of one cage vertex (its subdivision basis function at the fine level,
+  // sparse), kept for the last few vertices moved: a drag that moves one or two handles updates
+  // fine_ along their supports instead of by a synthesis of the whole mesh.
+  struct BasisColumn {
+    uint32_t cageVertex;
+    std::vector<uint32_t> vertices;
+    std::vector<double> weights;
+  };
+  mutable std::vector<BasisColumn> basisCache_;  // most recently used last
+  const BasisColumn& basisColumn(uint32_t cageVertex) const;
   // Volume (and fine-level gradient) of fine_, valid while fine_ is.
   mutable double cachedVolume_ = 0;
   mutable std::vector<double> cachedGradient_;
