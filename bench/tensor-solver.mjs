@@ -166,9 +166,10 @@ export const solverBenchmark = {
           `Goal: at most 16 ms at N = 163842 on the matrix-free path: worst median ${fmt(goalLarge, 1)} ms ` +
           `(${goalLarge != null && goalLarge <= 16 ? 'met' : 'NOT met'}).`,
         'Tensor path: the cage rows of theta^e contracted with the fixed details into a cubic polynomial of the cage ' +
-          '(cost independent of N once built). Matrix-free path: one synthesis and one pass for the target volume and its ' +
-          'fine gradient, one transposed synthesis, one zero-detail synthesis of the correction direction and one pass for ' +
-          'the cubic along it: O(N) per step, about 5 passes over the mesh.',
+          '(cost independent of N once built). Matrix-free path: the move added to the fine positions (along the cached basis ' +
+          'functions of the few moved cage vertices, else by a zero-detail synthesis), one pass over the fine edges for the ' +
+          'volume and its gradient, one coarse-only transposed synthesis, one zero-detail synthesis of the correction ' +
+          'direction and one pass over the edges for the cubic along it: O(N) per step.',
       ],
     };
   },
