@@ -243,9 +243,10 @@ async function fetchSample(name) {
  */
 function openModelText({ name, kind, text }, restore = null) {
   const { mrvol } = app;
-  let mr = null, info, fingerprint;
+  let mr = null, info, fingerprint, read = false;
   try {
     const mesh = mrvol.readObj(text);
+    read = true;
     mr = mrvol.openMesh(mesh);
     info = mr.info();
     if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
@@ -255,9 +256,11 @@ function openModelText({ name, kind, text }, restore = null) {
     fingerprint = mr.fingerprint();
   } catch (e) {
     const notSemiRegular = mr !== null && info?.levels === 0;
+    // Read, but not a closed oriented 2-manifold (a raw scan: repeated faces, holes, pieces).
+    const damaged = read && mr === null;
     mr?.delete();
     showError(`Could not open ${name}: ${e.message}`);
-    if (notSemiRegular) offerRemesh({ name, text });
+    if (notSemiRegular || damaged) offerRemesh({ name, text }, { repair: damaged });
     return false;
   }
   clearError();
@@ -296,15 +299,21 @@ function openModelText({ name, kind, text }, restore = null) {
 
 /**
  * A closed mesh that is not semi-regular: offers remeshing (lib/remesh.mjs in a worker) with its
- * parameters; the result opens as a new model.
+ * parameters; the result opens as a new model. A mesh that is not a closed 2-manifold is offered
+ * the repair stage first (`repair` checked).
  */
-function offerRemesh(source) {
+function offerRemesh(source, { repair = false } = {}) {
+  $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
+  $('remesh-repair').checked = repair;
+  $('remesh-smooth').disabled = !repair;
+  $('remesh-repair').onchange = () => { $('remesh-smooth').disabled = !$('remesh-repair').checked; };
   $('remesh-offer').hidden = false;
   $('remesh-progress').hidden = true;
   $('remesh-stage').textContent = '';
   $('remesh-go').disabled = false;
   $('remesh-go').onclick = () => {
     const levels = Number($('remesh-levels').value), base = Number($('remesh-base').value);
+    const repairing = $('remesh-repair').checked, smooth = Number($('remesh-smooth').value);
     app.remeshWorker?.terminate();
     const worker = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
     app.remeshWorker = worker;
@@ -327,8 +336,12 @@ function offerRemesh(source) {
       finish('');
       const r = data.report;
       const ok = await openModel({ name: `${source.name.replace(/\.obj$/i, '')}-remeshed`, kind: 'file', text: data.text });
+      const fixes = r.repair
+        ? `Repaired (${r.repair.finFaces + r.repair.duplicateFaces + r.repair.nonManifoldFaces + r.repair.foldedFaces} faces ` +
+          `dropped, ${r.repair.droppedComponents} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
+        : 'Remeshed';
       if (ok)
-        notice(`Remeshed in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
+        notice(`${fixes} in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
           `${r.vertices} vertices, Hausdorff ${(100 * r.hausdorff).toFixed(2)}% of the diagonal, ` +
           `${r.flippedTriangles} flipped triangles, volume change ${(100 * r.volumeChange).toFixed(2)}%`);
     };
@@ -336,7 +349,8 @@ function offerRemesh(source) {
       e.preventDefault?.();
       finish(`remeshing failed: ${e.message || 'the worker could not start'}`);
     };
-    worker.postMessage({ text: source.text, levels, baseFaces: base > 0 ? base : undefined });
+    worker.postMessage({ text: source.text, levels, baseFaces: base > 0 ? base : undefined,
+      repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined });
   };
 }
 

