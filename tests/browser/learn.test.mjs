@@ -4,7 +4,8 @@
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { openApp, settle, RESULTS_DIR } from './harness.mjs';
+import { readFileSync } from 'node:fs';
+import { openApp, settle, root, RESULTS_DIR } from './harness.mjs';
 
 let browser, page;
 
@@ -151,6 +152,30 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.equal(s.level, 1);
     assert.ok(await inkFraction() > 0.03);
     assert.deepEqual(page.problems, []);
+  });
+
+  test('#learn/levels shows the editor\'s model, with its edits, from the stored session', async () => {
+    // The session the editor keeps (web/session.js): an opened file and its edited positions.
+    const text = readFileSync(join(root, 'public/models/blob.obj'), 'utf8');
+    const positions = Float64Array.from(text.split('\n').filter((l) => l.startsWith('v ')).flatMap((l) => l.split(/\s+/).slice(1, 4).map((x) => 1.1 * Number(x))));
+    const session = { version: 1, model: { kind: 'file', name: 'my-blob.obj', text }, settings: {}, fingerprint: null,
+                      positions: Buffer.from(positions.buffer).toString('base64'), reference: null, saved: Date.now() };
+    await page.goto(`${browser.url}#learn/tensor`);
+    await page.evaluate((json) => localStorage.setItem('mrvol.session.v1', json), JSON.stringify(session));
+    try {
+      await open('learn/levels');
+      const s = await state();
+      assert.equal(s.model, 'my-blob.obj');
+      assert.equal(s.levels, 4);
+      assert.match(await page.textContent('[data-testid="levels-model"]'), /editor: my-blob\.obj/);
+      assert.ok(Math.abs(s.fineVolume - 1.331 * 5.7481791) < 1e-5 * s.fineVolume, `the edited (scaled) blob: ${s.fineVolume}`);
+      // The samples stay a choice away.
+      await page.selectOption('[data-testid="levels-model"]', 'spiky-ball');
+      await page.waitForFunction(() => window.mrvolLearn.state()?.model === 'spiky-ball');
+      assert.deepEqual(page.problems, []);
+    } finally {
+      await page.evaluate(() => localStorage.removeItem('mrvol.session.v1'));
+    }
   });
 
   test('#learn/lifting: one level played phase by phase around a vertex, synthesis and analysis as its reverse', async () => {

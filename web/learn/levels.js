@@ -3,7 +3,7 @@
 // (coarse coefficients c^l on levelFaces(l)), and the details d^l as arrows or as a colour map of
 // their size; the three schemes side by side. Analysis and synthesis come from the core.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, surface, wire, arrows, edgesOf, bounds, ramp, fetchModel, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, surface, wire, arrows, edgesOf, bounds, ramp, fetchModel, editorModel, explain, control, select, button, readoutTable } from './stage.js';
 
 const SCHEMES = ['loop', 'butterfly', 'linear'];
 const MODELS = ['spiky-ball', 'blob', 'torus'];
@@ -20,10 +20,15 @@ export async function mount({ mrvol, layout, el, stale }) {
       'the colour map shows the size of every detail that was zeroed.',
     'Editing at level e moves c<sup>e</sup> and keeps the details: the scale of the edit is the scale of the level. ' +
       'The Loop-based scheme (the paper\'s, with the update step U) smooths; Butterfly interpolates; linear is the baseline.',
+    'The model list starts with the editor\'s model as you left it (your edits included), then the samples.',
   ]);
   const models = [...MODELS.filter((m) => sampleModels.includes(m)), ...sampleModels.filter((m) => !MODELS.includes(m) && m !== 'icosahedron')];
-  const s = { model: models[0], scheme: 'loop', compare: false, level: 0, details: 'arrows' };
-  const modelSelect = control(layout.controls, 'model', select(models.map((m) => [m, m]), s.model, 'levels-model'));
+  // The model on the editor's screen (its stored session, with the edits) comes first.
+  const editor = await editorModel();
+  if (stale()) return null;
+  const options = [...(editor ? [[EDITOR, `editor: ${editor.name}`]] : []), ...models.map((m) => [m, m])];
+  const s = { model: options[0][0], scheme: 'loop', compare: false, level: 0, details: 'arrows' };
+  const modelSelect = control(layout.controls, 'model', select(options, s.model, 'levels-model'));
   const schemeSelect = control(layout.controls, 'scheme', select(SCHEMES.map((m) => [m, m]), s.scheme, 'levels-scheme'));
   const compare = document.createElement('input');
   compare.type = 'checkbox';
@@ -71,14 +76,20 @@ export async function mount({ mrvol, layout, el, stale }) {
     return entry;
   }
 
-  async function openModel(name) {
-    const text = await fetchModel(name);
+  async function openModel(choice) {
+    const name = choice === EDITOR ? editor.name : choice;
+    const text = choice === EDITOR ? editor.text : await fetchModel(name);
     if (stale()) return;
     if (text === null) throw new Error(`no sample model '${name}'`);
-    model?.mr.delete();
     const mesh = mrvol.readObj(text);
+    if (choice === EDITOR && editor.positions?.length === mesh.positions.length) mesh.positions = editor.positions;
     const mr = mrvol.openMesh(mesh);
     const n = mr.levels;
+    if (n === 0) {
+      mr.delete();
+      throw new Error(`${name} has no subdivision level to step through`);
+    }
+    model?.mr.delete();
     model = { name, mr, faces: mesh.faces, positions: mesh.positions, depths: mr.depths(), n, perScheme: new Map(), fineVolume: mr.info().volume };
     model.levelFaces = Array.from({ length: n + 1 }, (_, l) => mr.levelFaces(l));
     s.level = Math.min(s.level, n);
@@ -190,7 +201,14 @@ export async function mount({ mrvol, layout, el, stale }) {
   detailSelect.addEventListener('change', () => { s.details = detailSelect.value; draw(); });
   modelSelect.addEventListener('change', () => { s.model = modelSelect.value; openModel(s.model); });
 
-  await openModel(s.model);
+  try {
+    await openModel(s.model);
+  } catch (e) {
+    if (s.model !== EDITOR) throw e;
+    layout.status.textContent = `The editor's model could not be shown (${e.message}); a sample instead.`;
+    s.model = modelSelect.value = models[0];
+    await openModel(s.model);
+  }
   return {
     dispose() {
       clearInterval(timer);
@@ -207,6 +225,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   };
 }
 
+const EDITOR = '(editor)';
 const SUP = '⁰¹²³⁴⁵⁶⁷⁸⁹';
 function sup(n) {
   return String(n).replace(/\d/g, (d) => SUP[d]);

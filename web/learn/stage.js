@@ -3,6 +3,7 @@
 // It draws arrays it is given; every number comes from the core through the API.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { loadSession, decodeFloat64 } from '../session.js';
 
 export { THREE };
 
@@ -325,6 +326,24 @@ export async function fetchModel(name) {
   const response = await fetch(`${import.meta.env.BASE_URL}models/${encodeURIComponent(name)}.obj`);
   if (!response.ok) return null;
   return response.text();
+}
+
+/**
+ * The editor's model as its stored session left it (web/session.js): { name, text, positions },
+ * positions being the edited fine positions when they were kept (else null); null without a
+ * session or when an opened file was too big to keep.
+ */
+export async function editorModel() {
+  const session = loadSession();
+  if (!session) return null;
+  const { kind, name, text } = session.model;
+  const source = kind === 'file' ? text ?? null : await fetchModel(name);
+  if (typeof source !== 'string') return null;
+  let positions = null;
+  try {
+    positions = session.positions ? decodeFloat64(session.positions) : null;
+  } catch { /* a damaged session: the file's own positions */ }
+  return { name, text: source, positions };
 }
 
 /** A paragraph list from strings (HTML allowed: they are ours). */
