@@ -161,21 +161,22 @@ void VolumeEditor::setReferenceVolume(double volume) {
 const std::vector<double>& VolumeEditor::fine() const {
   if (fineValid_) return fine_;
   const size_t cage3 = 3 * size_t(cageSize_), n3 = x_.size();
+  // Since the last synthesis only the cage moved (and not too often): synthesis is linear, so add
+  // the zero-detail synthesis of the move: along the basis functions of a few moved vertices, else
+  // by a synthesis of the whole move.
+  const bool incremental = fineBaseValid_ && incrementalUpdates_ < kResyncAfter;
   std::vector<uint32_t> moved;
-  if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter)
-    for (uint32_t c = 0; c < cageSize_ && moved.size() <= kSparseMoveLimit; ++c)
-      if (x_[3 * c] != fineCage_[3 * c] || x_[3 * c + 1] != fineCage_[3 * c + 1] || x_[3 * c + 2] != fineCage_[3 * c + 2])
-        moved.push_back(c);
-  if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter && moved.size() <= kSparseMoveLimit) {
-    // Only a few cage vertices moved: add each move times its basis function.
+  for (uint32_t c = 0; incremental && c < cageSize_ && moved.size() <= kSparseMoveLimit; ++c)
+    if (x_[3 * c] != fineCage_[3 * c] || x_[3 * c + 1] != fineCage_[3 * c + 1] || x_[3 * c + 2] != fineCage_[3 * c + 2])
+      moved.push_back(c);
+  if (incremental && moved.size() <= kSparseMoveLimit) {
     for (uint32_t c : moved) {
       const double d[3] = {x_[3 * c] - fineCage_[3 * c], x_[3 * c + 1] - fineCage_[3 * c + 1], x_[3 * c + 2] - fineCage_[3 * c + 2]};
       const BasisColumn& column = basisColumn(c);
       for (size_t k = 0; k < column.vertices.size(); ++k) axpy(column.weights[k], d, &fine_[3 * size_t(column.vertices[k])]);
     }
     ++incrementalUpdates_;
-  } else if (fineBaseValid_ && incrementalUpdates_ < kResyncAfter) {
-    // Only the cage moved: synthesis is linear, so add the zero-detail synthesis of the move.
+  } else if (incremental) {
     fineDelta_.resize(n3);
     for (size_t i = 0; i < cage3; ++i) fineDelta_[i] = x_[i] - fineCage_[i];
     transform_->synthesizeZeroDetails(fineDelta_.data(), level_);
