@@ -73,18 +73,25 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
       axpy(1.0, t, g + 3 * pairJ[p]);
     }
   }
-  for (size_t p = 0; p < tripleT.size(); ++p) {
-    const double *ci = c + 3 * tripleI[p], *cj = c + 3 * tripleJ[p], *ck = c + 3 * tripleK[p];
-    const double T = tripleT[p];
-    cross(cj, ck, t);
-    v += T * dot(ci, t);
+  // Triples in runs of one (i, j): sum_k T_ijk c_i . (c_j x c_k) = c_i . (c_j x w), w = sum_k T_ijk c_k,
+  // and the gradient at k is T_ijk (c_i x c_j): per triple two vector updates, per run the crosses.
+  for (size_t p = 0; p < tripleT.size();) {
+    const uint32_t i = tripleI[p], j = tripleJ[p];
+    size_t end = p + 1;
+    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+    double w[3] = {0, 0, 0};
+    for (size_t q = p; q < end; ++q) axpy(tripleT[q], c + 3 * tripleK[q], w);
+    const double *ci = c + 3 * i, *cj = c + 3 * j;
+    cross(cj, w, t);
+    v += dot(ci, t);
     if (g) {
-      axpy(T, t, g + 3 * tripleI[p]);
-      cross(ck, ci, t);
-      axpy(T, t, g + 3 * tripleJ[p]);
+      axpy(1.0, t, g + 3 * i);
+      cross(w, ci, t);
+      axpy(1.0, t, g + 3 * j);
       cross(ci, cj, t);
-      axpy(T, t, g + 3 * tripleK[p]);
+      for (size_t q = p; q < end; ++q) axpy(tripleT[q], t, g + 3 * tripleK[q]);
     }
+    p = end;
   }
   return v;
 }
@@ -101,19 +108,23 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
     cross(gj, q, t);
     k[1] += dot(ci, t), k[2] += dot(gi, t);
   }
-  double u[3];
-  for (size_t p = 0; p < tripleT.size(); ++p) {
-    const double *ci = c + 3 * tripleI[p], *cj = c + 3 * tripleJ[p], *ck = c + 3 * tripleK[p];
-    const double *gi = g + 3 * tripleI[p], *gj = g + 3 * tripleJ[p], *gk = g + 3 * tripleK[p];
-    const double T = tripleT[p];
-    cross(cj, ck, t);
-    k[0] += T * dot(ci, t), k[1] += T * dot(gi, t);
-    cross(gj, gk, t);
-    k[2] += T * dot(ci, t), k[3] += T * dot(gi, t);
-    cross(gj, ck, t);
-    cross(cj, gk, u);
-    k[1] += T * (ci[0] * (t[0] + u[0]) + ci[1] * (t[1] + u[1]) + ci[2] * (t[2] + u[2]));
-    k[2] += T * (gi[0] * (t[0] + u[0]) + gi[1] * (t[1] + u[1]) + gi[2] * (t[2] + u[2]));
+  // Triples by runs of one (i, j) as in evaluate: (c_i + s g_i) . ((c_j + s g_j) x (wc + s wg)).
+  for (size_t p = 0; p < tripleT.size();) {
+    const uint32_t i = tripleI[p], j = tripleJ[p];
+    size_t end = p + 1;
+    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+    double wc[3] = {0, 0, 0}, wg[3] = {0, 0, 0};
+    for (size_t q = p; q < end; ++q) axpy(tripleT[q], c + 3 * tripleK[q], wc), axpy(tripleT[q], g + 3 * tripleK[q], wg);
+    const double *ci = c + 3 * i, *cj = c + 3 * j, *gi = g + 3 * i, *gj = g + 3 * j;
+    cross(cj, wc, t);
+    k[0] += dot(ci, t), k[1] += dot(gi, t);
+    cross(gj, wc, t);
+    k[1] += dot(ci, t), k[2] += dot(gi, t);
+    cross(cj, wg, t);
+    k[1] += dot(ci, t), k[2] += dot(gi, t);
+    cross(gj, wg, t);
+    k[2] += dot(ci, t), k[3] += dot(gi, t);
+    p = end;
   }
 }
 

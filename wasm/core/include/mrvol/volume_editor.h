@@ -24,7 +24,8 @@ struct CagePolynomial {
   std::vector<double> linear;                          // a_i, 3 per cage vertex
   std::vector<uint32_t> pairI, pairJ;                  // cage pairs with a quadratic term
   std::vector<double> pairQ;                           // q_ij, 3 per pair
-  std::vector<uint32_t> tripleI, tripleJ, tripleK;     // cage triples
+  std::vector<uint32_t> tripleI, tripleJ, tripleK;     // cage triples, in runs of one (i, j) (any order is
+                                                       // correct; runs share their cross products)
   std::vector<double> tripleT;
   double evaluate(const double* cage, double* gradient /* 3 * cageSize or null */) const;
   // The cubic s -> Theta(cage + s direction): its coefficients k[0] + k[1] s + k[2] s^2 + k[3] s^3.
