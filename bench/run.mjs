@@ -226,6 +226,7 @@ function makeContext() {
   return {
     levels: LEVELS,
     schemes: SCHEMES,
+    rounds: ROUNDS,
     // Default: all rounds (coreRounds), shared by every section; other args: one run of that kind.
     native: (args) => (args ? cached(`native ${args.join(' ')}`, () => runBench('native', args))
                             : cached('rounds', coreRounds).filter((r) => r.runner === 'native')),
