@@ -154,7 +154,7 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 
-  test('#learn/levels shows the editor\'s model, with its edits, from the stored session', async () => {
+  test('#learn/levels and #learn/lifting show the editor\'s model, with its edits, from the stored session', async () => {
     // The session the editor keeps (web/session.js): an opened file and its edited positions.
     const text = readFileSync(join(root, 'public/models/blob.obj'), 'utf8');
     const positions = Float64Array.from(text.split('\n').filter((l) => l.startsWith('v ')).flatMap((l) => l.split(/\s+/).slice(1, 4).map((x) => 1.1 * Number(x))));
@@ -172,9 +172,15 @@ describe('teaching views', { timeout: 120_000 }, () => {
       // The samples stay a choice away.
       await page.selectOption('[data-testid="levels-model"]', 'spiky-ball');
       await page.waitForFunction(() => window.mrvolLearn.state()?.model === 'spiky-ball');
+      // The lifting view plays the editor's model too.
+      await open('learn/lifting');
+      const lifting = await state();
+      assert.equal(lifting.model, 'my-blob.obj');
+      assert.deepEqual(lifting.phases, ['U', 'P_o', 'N', 'P_e']);
       assert.deepEqual(page.problems, []);
     } finally {
       await page.evaluate(() => localStorage.removeItem('mrvol.session.v1'));
+      await open('learn/tensor');  // leaves the views that showed the editor's model
     }
   });
 

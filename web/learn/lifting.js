@@ -8,7 +8,7 @@
 // reverse order (paper Figure 5, section 3.2: each mask applied outwards, mr.transposeSteps), as
 // the volume tensors of coarser levels are computed.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, THREE, surface, wire, edgesOf, bounds, fetchModel, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, edgesOf, bounds, fetchModel, openEditorModel, explain, control, select, button, readoutTable } from './stage.js';
 
 const WRITTEN = new THREE.Color(0xe36209), READ = new THREE.Color(0x1f6feb), PICKED = new THREE.Color(0x1a7f37);
 const IDLE = new THREE.Color(0x6e7781), REACHED = new THREE.Color(0xb392f0);
@@ -44,12 +44,21 @@ export async function mount({ mrvol, layout, el, stale }) {
       'not read its neighbours, it adds its own value times the same weights to them (x<sub>s</sub> += w x<sub>t</sub>). ' +
       'In this direction the picked vertex and its neighbours push (blue, “reads”) to the vertices their inward masks would ' +
       'read (orange, “writes”); a unit covector at the picked vertex spreads to one row of [S<sup>l</sup> C<sup>l</sup>].',
+    'The mesh is the editor\'s model as you left it, when it has a subdivision level; else the spiky ball.',
   ]);
-  const name = sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0];
-  const text = await fetchModel(name);
-  if (stale()) return null;
-  const mesh = mrvol.readObj(text);
-  const mr = mrvol.openMesh(mesh);
+  // The editor's model as it was left (edits included) when it has a level to play, else a sample.
+  let { name, mesh, mr } = (await openEditorModel(mrvol, (m) => m.levels >= 1 && m.vertexCount <= 200_000)) ?? {};
+  if (stale()) {
+    mr?.delete();
+    return null;
+  }
+  if (!mr) {
+    name = sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0];
+    const text = await fetchModel(name);
+    if (stale()) return null;
+    mesh = mrvol.readObj(text);
+    mr = mrvol.openMesh(mesh);
+  }
   const depths = mr.depths();
   const N = mr.vertexCount, n = mr.levels;
   if (n < 1) throw new Error(`${name} has no subdivision level`);
@@ -198,10 +207,10 @@ export async function mount({ mrvol, layout, el, stale }) {
       : s.mode === 'analysis' ? `c${sup(s.level)}${sub(s.vertex)} → c${sup(s.level - 1)}, d${sup(s.level - 1)}`
         : `covector at c${sup(s.level)}${sub(s.vertex)} → (c${sup(s.level - 1)}, d${sup(s.level - 1)}), outwards`;
     set('lifting-picked', `vertex ${s.vertex} (${odd ? 'odd' : 'even'}, depth ${depths[s.vertex]}): ${what}`, s.vertex);
-    const name = phaseName(k);
+    const phase = phaseName(k);
     const about = k === 0 ? 'before the first phase'
       : (s.mode === 'analysis' ? 'undoes ' : s.mode === 'transposed' ? 'applied outwards: ' : '') + PHASES[stepOfPhase(k).name];
-    set('lifting-phase', `${k} / ${phaseCount()}: ${name} — ${about}`, k);
+    set('lifting-phase', `${k} / ${phaseCount()}: ${phase} — ${about}`, k);
     set('lifting-written', `${mask.written.length} vertices near the picked one`, mask.written.length);
     set('lifting-read', `${mask.read.length} vertices`, mask.read.length);
     set('lifting-touched', `${reached.length} vertices carry the unit coefficient`, reached.length);
@@ -212,9 +221,9 @@ export async function mount({ mrvol, layout, el, stale }) {
         el('td', { text: w.scaling ? '× itself' : `${w.source}${w.source === s.vertex ? ' (picked)' : ''}` }), el('td', { text: w.weight.toFixed(6) })));
     weightsBox.replaceChildren(table);
     if (mask.weights.length > 40) weightsBox.append(el('div', { class: 'muted', text: `… and ${mask.weights.length - 40} more` }));
-    if (k > 0 && mask.written.length === 0) weightsBox.append(el('div', { class: 'muted', text: `${name} writes no vertex next to this one` }));
+    if (k > 0 && mask.written.length === 0) weightsBox.append(el('div', { class: 'muted', text: `${phase} writes no vertex next to this one` }));
     result = {
-      level: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, odd, phase: k, phaseCount: phaseCount(), phaseName: name,
+      model: name, level: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, odd, phase: k, phaseCount: phaseCount(), phaseName: phase,
       phases: Array.from({ length: phaseCount() }, (_, i) => phaseName(i + 1)),
       written: mask.written.length, read: mask.read.length, writtenVertices: mask.written, readVertices: mask.read,
       weights: mask.weights.slice(0, 60), touched: reached.length, reached: reached.slice(0, 60),

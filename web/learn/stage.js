@@ -346,6 +346,24 @@ export async function editorModel() {
   return { name, text: source, positions };
 }
 
+/**
+ * The editor's model opened as a MultiresMesh ({ name, mesh, mr }) when it `fits` (mr => bool),
+ * else null (no session, unreadable, or not fitting; nothing is left open).
+ */
+export async function openEditorModel(mrvol, fits = () => true) {
+  const editor = await editorModel();
+  if (!editor) return null;
+  let mr = null;
+  try {
+    const mesh = mrvol.readObj(editor.text);
+    if (editor.positions?.length === mesh.positions.length) mesh.positions = editor.positions;
+    mr = mrvol.openMesh(mesh);
+    if (fits(mr)) return { name: editor.name, mesh, mr };
+  } catch { /* shown as a sample instead */ }
+  mr?.delete();
+  return null;
+}
+
 /** A paragraph list from strings (HTML allowed: they are ours). */
 export function explain(box, title, paragraphs) {
   const h = document.createElement('h2');
