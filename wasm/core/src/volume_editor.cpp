@@ -222,8 +222,15 @@ const VolumeEditor::BasisColumn& VolumeEditor::basisColumn(uint32_t c) const {
   BasisColumn column{c, {}, {}};
   for (size_t v = 0; v < u.size() / 3; ++v)
     if (u[3 * v] != 0.0) column.vertices.push_back(uint32_t(v)), column.weights.push_back(u[3 * v]);
-  if (basisCache_.size() == kBasisCacheSize) basisCache_.erase(basisCache_.begin());
   basisCache_.push_back(std::move(column));
+  // At most kBasisCacheSize columns and 4 entries per fine vertex in all (coarse levels have wide
+  // supports): the oldest go first, the newest always stays.
+  size_t entries = 0;
+  for (const auto& b : basisCache_) entries += b.vertices.size();
+  while (basisCache_.size() > 1 && (basisCache_.size() > kBasisCacheSize || entries > 4 * (x_.size() / 3))) {
+    entries -= basisCache_.front().vertices.size();
+    basisCache_.erase(basisCache_.begin());
+  }
   return basisCache_.back();
 }
 

@@ -136,8 +136,9 @@ class VolumeEditor {
   mutable std::vector<double> fineCage_, fineDelta_;
   mutable int incrementalUpdates_ = 0;  // since the last full synthesis
   // Zero-detail synthesis of one cage vertex (its subdivision basis function at the fine level,
-  // sparse), kept for the last few vertices moved: a drag that moves one or two handles updates
-  // fine_ along their supports instead of by a synthesis of the whole mesh.
+  // sparse), kept for the last few vertices moved (at most 8, and 4 entries per fine vertex in
+  // all): a drag that moves one or two handles updates fine_ along their supports instead of by a
+  // synthesis of the whole mesh.
   struct BasisColumn {
     uint32_t cageVertex;
     std::vector<uint32_t> vertices;
