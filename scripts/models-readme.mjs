@@ -3,7 +3,8 @@
 // line to the next marker or the end. Both generators write and check their part through this
 // module, so that either one leaves the other's part as it is and `--check` compares the same text
 // that a run writes.
-import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { dirname } from 'node:path';
 
 export const REMESHED_MARKER = '<!-- Remeshed models: the section below is written by scripts/make-remeshed-models.mjs. -->';
 
@@ -55,4 +56,19 @@ export function finishReadme(path, marker, body, { checkOnly, changed, what, wri
   const out = changed + (stale ? 1 : 0);
   process.stderr.write(out ? `models: ${out} file(s) out of date (${what})\n` : `models: ${what} up to date\n`);
   return out ? 1 : 0;
+}
+
+/**
+ * Writes a model file, or with `checkOnly` compares it with `text` (saying so on stderr when it
+ * differs). Returns 1 when the file is out of date (check), else 0.
+ */
+export function writeOrCheckModel(path, name, text, checkOnly) {
+  if (!checkOnly) {
+    mkdirSync(dirname(path), { recursive: true });
+    writeFileSync(path, text);
+    return 0;
+  }
+  if (existsSync(path) && readFileSync(path, 'utf8') === text) return 0;
+  process.stderr.write(`models: ${name}.obj differs from the generator's output\n`);
+  return 1;
 }
