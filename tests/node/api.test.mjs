@@ -3,9 +3,10 @@
 // are copies, errors as MrvolError with the core's message, and an instance that survives them.
 import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
 import {
-  mesh, icosahedron, octahedron, openPatch, rng, shuffleMesh, maxAbs, maxDiff, throwsMrvol as throwsMrvolError,
+  ROOT, mesh, icosahedron, octahedron, openPatch, rng, shuffleMesh, maxAbs, maxDiff, throwsMrvol as throwsMrvolError,
 } from './helpers.mjs';
 
 // ---- fixtures (the same models as tests/native/fixtures.h; the shared ones in helpers.mjs) -------
@@ -444,6 +445,37 @@ describe('errors', () => {
     assert.equal(other.vertexCount, 18);
     other.delete();
     mr.delete();
+  });
+
+  test('the core entry points load no three.js, three-mesh-bvh or meshoptimizer; mrvol/remesh is apart', () => {
+    // A child process whose module resolver refuses those packages, then loads and uses the core.
+    const refuse = `export async function resolve(s, c, next) {
+      if (/^(three|three-mesh-bvh|meshoptimizer)(\\/|$)/.test(s)) throw new Error('the core loaded ' + s);
+      return next(s, c);
+    }`;
+    const script = `
+      import { register } from 'node:module';
+      register('data:text/javascript,' + encodeURIComponent(${JSON.stringify(refuse)}));
+      const node = await import(${JSON.stringify(new URL('../../lib/node.mjs', import.meta.url).href)});
+      const api = await import(${JSON.stringify(new URL('../../lib/api.mjs', import.meta.url).href)});
+      const mrvol = await node.createMrvol();
+      console.log(JSON.stringify({ volume: mrvol.volume(mrvol.readObj('v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nv 0 0 1\\nf 1 3 2\\nf 1 2 4\\nf 1 4 3\\nf 2 3 4\\n')),
+        nodeExports: Object.keys(node).sort(), apiExports: Object.keys(api).sort() }));
+      let refused = null;
+      try { await import('three'); } catch (e) { refused = e.message; }
+      console.log(JSON.stringify({ refused }));`;
+    const r = spawnSync(process.execPath, ['--input-type=module', '-e', script], { encoding: 'utf8', cwd: ROOT });
+    assert.equal(r.status, 0, r.stderr);
+    const [used, check] = r.stdout.trim().split('\n').map((l) => JSON.parse(l));
+    assert.ok(Math.abs(used.volume - 1 / 6) < 1e-15);
+    assert.deepEqual(used.nodeExports, ['MrvolError', 'createMrvol', 'wrapModule']);
+    assert.deepEqual(used.apiExports, ['MrvolError', 'wrapModule']);
+    assert.match(check.refused, /the core loaded three/, 'the resolver hook is in force');
+  });
+
+  test('mrvol/remesh (lib/remesh.mjs) exports the remesher and the repair stage', async () => {
+    const m = await import('../../lib/remesh.mjs');
+    for (const name of ['remesh', 'repair', 'weld', 'defaultBaseFaces']) assert.equal(typeof m[name], 'function', name);
   });
 
   test('MrvolError is exported by both entry points', async () => {

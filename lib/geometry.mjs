@@ -1,0 +1,34 @@
+// Small geometry helpers shared by the remesher and the repair stage (flat Float64Array positions,
+// 3 per vertex; flat face arrays, 3 vertex indices per face).
+
+/** Length of the diagonal of the axis-aligned bounding box. */
+export function boundingDiagonal(positions) {
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < positions.length; i += 3)
+    for (let k = 0; k < 3; k++) {
+      lo[k] = Math.min(lo[k], positions[i + k]);
+      hi[k] = Math.max(hi[k], positions[i + k]);
+    }
+  return Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
+/** Normal of the triangle a, b, c (not normalized: twice its area long). */
+export function triangleNormal(p, a, b, c) {
+  const ux = p[3 * b] - p[3 * a], uy = p[3 * b + 1] - p[3 * a + 1], uz = p[3 * b + 2] - p[3 * a + 2];
+  const vx = p[3 * c] - p[3 * a], vy = p[3 * c + 1] - p[3 * a + 1], vz = p[3 * c + 2] - p[3 * a + 2];
+  return [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
+}
+
+/** Area-weighted vertex normals, unit length. */
+export function vertexNormals(positions, faces) {
+  const n = new Float64Array(positions.length);
+  for (let f = 0; f < faces.length; f += 3) {
+    const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
+    for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) n[3 * faces[f + j] + k] += t[k];
+  }
+  for (let i = 0; i < n.length; i += 3) {
+    const l = Math.hypot(n[i], n[i + 1], n[i + 2]) || 1;
+    n[i] /= l, n[i + 1] /= l, n[i + 2] /= l;
+  }
+  return n;
+}

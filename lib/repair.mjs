@@ -1,0 +1,312 @@
+// The input stage of remeshing (lib/remesh.mjs): welding, the optional repair of a scan that is
+// almost a closed 2-manifold (duplicate, non-manifold and folded faces dropped, holes closed,
+// optional smoothing), and the validation after it (closed, manifold, one component), which the
+// repair leaves to name what it could not fix. No three.js here: plain arrays and the mrvol API.
+import { connectivity } from './connectivity.mjs';
+import { boundingDiagonal, triangleNormal } from './geometry.mjs';
+
+// ---- input: weld, components, validation ---------------------------------------------------------
+
+/**
+ * Merges vertices with identical coordinates (after rounding to 1e-9 of the bounding-box
+ * diagonal), drops faces that become degenerate and vertices no face uses.
+ * @returns {{ positions: Float64Array, faces: Uint32Array, merged: number, droppedFaces: number }}
+ */
+export function weld(mesh) {
+  const { positions, faces } = mesh;
+  const n = positions.length / 3;
+  const quantum = (boundingDiagonal(positions) || 1) * 1e-9;
+  const key = new Map();
+  const remap = new Uint32Array(n);
+  let unique = 0;
+  for (let i = 0; i < n; i++) {
+    const k = `${Math.round(positions[3 * i] / quantum)},${Math.round(positions[3 * i + 1] / quantum)},${Math.round(positions[3 * i + 2] / quantum)}`;
+    let j = key.get(k);
+    if (j === undefined) key.set(k, (j = unique++));
+    remap[i] = j;
+  }
+  const kept = [];
+  let droppedFaces = 0;
+  for (let f = 0; f < faces.length; f += 3) {
+    const a = remap[faces[f]], b = remap[faces[f + 1]], c = remap[faces[f + 2]];
+    if (a === b || b === c || c === a) droppedFaces++;
+    else kept.push(a, b, c);
+  }
+  // Compact: vertices in order of first use by a face.
+  const order = new Int32Array(unique).fill(-1);
+  const firstOf = new Uint32Array(unique);
+  for (let i = n - 1; i >= 0; i--) firstOf[remap[i]] = i;
+  let used = 0;
+  const outFaces = new Uint32Array(kept.length);
+  for (let i = 0; i < kept.length; i++) {
+    if (order[kept[i]] < 0) order[kept[i]] = used++;
+    outFaces[i] = order[kept[i]];
+  }
+  const outPositions = new Float64Array(3 * used);
+  for (let u = 0; u < unique; u++)
+    if (order[u] >= 0) for (let k = 0; k < 3; k++) outPositions[3 * order[u] + k] = positions[3 * firstOf[u] + k];
+  return { positions: outPositions, faces: outFaces, merged: n - unique, droppedFaces };
+}
+
+function keepLargestComponent(mesh) {
+  const { ofFace, count } = connectivity(mesh.faces, mesh.positions.length / 3).components;
+  const sizes = new Uint32Array(count);
+  for (const c of ofFace) sizes[c]++;
+  let best = 0;
+  for (let c = 1; c < count; c++) if (sizes[c] > sizes[best]) best = c;
+  const faces = [];
+  for (let f = 0; f < ofFace.length; f++) if (ofFace[f] === best) faces.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
+  return { mesh: weld({ positions: mesh.positions, faces: Uint32Array.from(faces) }), dropped: count - 1 };
+}
+
+// ---- repair (optional): a closed 2-manifold from a scan that is almost one -----------------------
+
+/**
+ * Faces of `faces` (flat array) sharing three vertices: opposite orientations cancel in pairs (a
+ * fin, two-sided and without volume, as crude decimation leaves them); of the rest one face stays.
+ * @returns {{ keep: Uint8Array, finFaces: number, duplicateFaces: number }}
+ */
+function cancelDuplicates(faces) {
+  const groups = new Map();
+  for (let f = 0; f < faces.length / 3; f++) {
+    const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
+    const s = [a, b, c].sort((x, y) => x - y);
+    const key = `${s[0]},${s[1]},${s[2]}`;
+    // Same cyclic order as the sorted triple: one orientation; otherwise the other.
+    const even = (a === s[0] && b === s[1]) || (b === s[0] && c === s[1]) || (c === s[0] && a === s[1]);
+    let g = groups.get(key);
+    if (!g) groups.set(key, (g = [[], []]));
+    g[even ? 0 : 1].push(f);
+  }
+  const keep = new Uint8Array(faces.length / 3);
+  let finFaces = 0, duplicateFaces = 0;
+  for (const [plus, minus] of groups.values()) {
+    const pairs = Math.min(plus.length, minus.length);
+    const rest = plus.length > minus.length ? plus : minus;
+    finFaces += 2 * pairs;
+    if (rest.length > pairs) {
+      keep[rest[0]] = 1;
+      duplicateFaces += rest.length - pairs - 1;
+    }
+  }
+  return { keep, finFaces, duplicateFaces };
+}
+
+/**
+ * Faces that make the mesh non-manifold: all faces of an edge shared by more than two faces or
+ * walked twice in the same direction, and at a vertex whose faces form several fans, the faces of
+ * all fans but the largest. Returns a mask of the faces to drop and their count.
+ */
+function nonManifoldFaces(faces, vertexCount) {
+  const drop = new Uint8Array(faces.length / 3);
+  const byEdge = connectivity(faces, vertexCount).edgeFaces;
+  for (const [key, list] of byEdge) {
+    let bad = list.length > 2;
+    if (list.length === 2) {
+      // The two faces must walk the edge in opposite directions.
+      const a = Math.floor(key / 0x100000000);
+      const dir = (f) => { for (let j = 0; j < 3; j++) if (faces[3 * f + j] === a) return faces[3 * f + (j + 1) % 3]; };
+      bad = dir(list[0]) === dir(list[1]);
+    }
+    if (bad) for (const f of list) drop[f] = 1;
+  }
+  // Fans: faces around a vertex, joined across the edges at it that two kept faces share.
+  const around = Array.from({ length: vertexCount }, () => []);
+  for (let f = 0; f < faces.length / 3; f++) if (!drop[f]) for (let j = 0; j < 3; j++) around[faces[3 * f + j]].push(f);
+  for (let v = 0; v < vertexCount; v++) {
+    const list = around[v];
+    if (list.length < 2) continue;
+    const fan = new Map(list.map((f) => [f, f]));
+    const find = (f) => { while (fan.get(f) !== f) f = fan.get(f); return f; };
+    const byOther = new Map();
+    for (const f of list)
+      for (let j = 0; j < 3; j++) {
+        const w = faces[3 * f + j];
+        if (w === v) continue;
+        const g = byOther.get(w);
+        if (g === undefined) byOther.set(w, f);
+        else fan.set(find(f), find(g));
+      }
+    const sizes = new Map();
+    for (const f of list) sizes.set(find(f), (sizes.get(find(f)) ?? 0) + 1);
+    if (sizes.size < 2) continue;
+    const largest = [...sizes].reduce((x, y) => (y[1] > x[1] ? y : x))[0];
+    for (const f of list) if (find(f) !== largest) drop[f] = 1;
+  }
+  let count = 0;
+  for (const d of drop) count += d;
+  return { drop, count };
+}
+
+/**
+ * Closes the boundary loops of at most `maxHoleEdges` edges (a triangle for three edges, else a
+ * fan around a new vertex at the loop's centroid). Needs manifold vertices (one boundary loop
+ * through each boundary vertex at most). Returns the new mesh and what it did.
+ */
+function fillHoles(mesh, maxHoleEdges) {
+  const { positions, faces } = mesh;
+  const next = new Map();  // boundary half-edge of the hole, b -> a for a face edge a -> b without twin
+  const twins = connectivity(faces, positions.length / 3).twins;
+  for (let f = 0; f < faces.length / 3; f++)
+    for (let j = 0; j < 3; j++) {
+      const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
+      if (twins[3 * f + j] < 0) next.set(b, a);
+    }
+  const outPositions = Array.from(positions), outFaces = Array.from(faces);
+  let holesFilled = 0, holeEdges = 0, holesLeft = 0, largestLeft = 0;
+  const seen = new Set();
+  for (const start of next.keys()) {
+    if (seen.has(start)) continue;
+    const loop = [];
+    for (let v = start; !seen.has(v); v = next.get(v)) seen.add(v), loop.push(v);
+    if (loop.length > maxHoleEdges) {
+      holesLeft++;
+      largestLeft = Math.max(largestLeft, loop.length);
+      continue;
+    }
+    holesFilled++;
+    holeEdges += loop.length;
+    if (loop.length === 3) {
+      outFaces.push(loop[0], loop[1], loop[2]);
+      continue;
+    }
+    const c = outPositions.length / 3;
+    for (let k = 0; k < 3; k++) outPositions.push(loop.reduce((s, v) => s + positions[3 * v + k], 0) / loop.length);
+    for (let i = 0; i < loop.length; i++) outFaces.push(loop[i], loop[(i + 1) % loop.length], c);
+  }
+  return { mesh: { positions: Float64Array.from(outPositions), faces: Uint32Array.from(outFaces) },
+           holesFilled, holeEdges, holesLeft, largestLeft };
+}
+
+/**
+ * Folded faces: faces whose normal points against those of at least two of their three edge
+ * neighbours (more than 120 degrees apart), as crude decimation and hole filling leave them. A
+ * mask of those faces and their neighbours (a hole that refills as a fan), and its count.
+ */
+function foldedFaces(mesh) {
+  const { positions: p, faces } = mesh;
+  const faceCount = faces.length / 3;
+  const normals = new Float64Array(faces.length);
+  for (let f = 0; f < faceCount; f++) {
+    const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
+    const l = Math.hypot(n[0], n[1], n[2]) || 1;
+    for (let k = 0; k < 3; k++) normals[3 * f + k] = n[k] / l;
+  }
+  const twins = connectivity(faces, p.length / 3).twins;
+  const drop = new Uint8Array(faceCount);
+  let count = 0;
+  for (let f = 0; f < faceCount; f++) {
+    const neighbours = [];
+    let against = 0;
+    for (let j = 0; j < 3; j++) {
+      const g = twins[3 * f + j];
+      if (g < 0) continue;
+      neighbours.push(g);
+      if (normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
+    }
+    if (against < 2) continue;
+    count++;
+    drop[f] = 1;
+    for (const g of neighbours) drop[g] = 1;
+  }
+  return { drop, count };
+}
+
+/**
+ * Taubin's lambda|mu smoothing (lambda 0.5, mu -0.53, uniform weights), `iterations` pairs, in
+ * place: evens out the crumples of a crudely decimated scan with little shrinking.
+ */
+function taubinSmooth(mesh, iterations) {
+  const p = mesh.positions, { offsets, list } = connectivity(mesh.faces, p.length / 3).neighbours;
+  const q = new Float64Array(p.length);
+  for (let it = 0; it < 2 * iterations; it++) {
+    const step = it % 2 ? -0.53 : 0.5;
+    q.set(p);
+    for (let v = 0; v < p.length / 3; v++) {
+      const count = offsets[v + 1] - offsets[v];
+      if (count === 0) continue;
+      for (let k = 0; k < 3; k++) {
+        let sum = 0;
+        for (let e = offsets[v]; e < offsets[v + 1]; e++) sum += q[3 * list[e] + k];
+        p[3 * v + k] = q[3 * v + k] + step * (sum / count - q[3 * v + k]);
+      }
+    }
+  }
+}
+
+/**
+ * The repair stage (`remesh --repair`), for scans that are almost a closed 2-manifold: weld by
+ * position (weld()), then drop duplicate faces (opposite pairs cancel: fins), the faces of
+ * non-manifold edges and vertices (repeated until none is left), optionally every component but
+ * the largest, close the holes of at most `maxHoleEdges` edges, cut out folded faces and fill
+ * again, and optionally smooth (`smooth` Taubin iterations). What is left wrong (a larger
+ * hole, several components) is for the validation after it to name.
+ * @returns {{ mesh: { positions: Float64Array, faces: Uint32Array }, report: object }}
+ */
+export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth = 0 } = {}) {
+  const welded = weld(input);
+  const report = { weldedVertices: welded.merged, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
+                   nonManifoldFaces: 0, droppedComponents: 0, holesFilled: 0, holeEdges: 0, holesLeft: 0 };
+  let mesh = welded;
+  const keepFaces = (keep) => {
+    const kept = [];
+    for (let f = 0; f < keep.length; f++) if (keep[f]) kept.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
+    mesh = weld({ positions: mesh.positions, faces: Uint32Array.from(kept) });
+  };
+  const duplicates = cancelDuplicates(mesh.faces);
+  report.finFaces = duplicates.finFaces;
+  report.duplicateFaces = duplicates.duplicateFaces;
+  keepFaces(duplicates.keep);
+  report.foldedFaces = 0;
+  // Folds left by the input or by a fill are cut out with their neighbours and filled again.
+  for (let pass = 0; pass < 6; pass++) {
+    for (let round = 0; round < 16; round++) {
+      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3);
+      if (count === 0) break;
+      report.nonManifoldFaces += count;
+      keepFaces(drop.map((d) => 1 - d));
+    }
+    if (pass === 0 && keepLargest && mesh.faces.length > 0) {
+      const largest = keepLargestComponent(mesh);
+      mesh = largest.mesh;
+      report.droppedComponents = largest.dropped;
+    }
+    const filled = fillHoles(mesh, maxHoleEdges);
+    report.holesFilled += filled.holesFilled;
+    report.holeEdges += filled.holeEdges;
+    report.holesLeft = filled.holesLeft;
+    report.largestHoleLeft = filled.largestLeft;
+    mesh = filled.mesh;
+    const folds = foldedFaces(mesh);
+    if (folds.count === 0 || filled.holesLeft > 0 || pass === 5) break;
+    report.foldedFaces += folds.count;
+    keepFaces(folds.drop.map((d) => 1 - d));
+  }
+  report.smoothIterations = smooth;
+  if (smooth > 0) taubinSmooth(mesh, smooth);
+  return { mesh, report };
+}
+
+/** Validates a welded input: closed, manifold, one component. Errors name the problem. */
+export function checkInput(mrvol, mesh, keepLargest, repaired) {
+  const { MrvolError } = mrvol;
+  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
+  const components = connectivity(mesh.faces, mesh.positions.length / 3).components.count;
+  let droppedComponents = 0;
+  if (components > 1) {
+    if (!keepLargest)
+      throw new MrvolError(`the input has ${components} connected components; remeshing needs one closed surface (keep the largest with --keep-largest / keepLargest)`);
+    ({ mesh, dropped: droppedComponents } = keepLargestComponent(mesh));
+  }
+  let v;
+  try {
+    v = mrvol.validate(mesh);
+  } catch (e) {
+    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}${repaired ? '' : ' (--repair drops such faces and closes the holes)'}`);
+  }
+  if (!v.closed)
+    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: ` +
+                         (repaired ? 'holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)' : 'close the holes first (or try --repair)'));
+  return { mesh, validation: v, droppedComponents };
+}
+
