@@ -1,55 +1,123 @@
 #!/usr/bin/env node
 // mrvol command line: the WASM core under Node. Errors: exit 1 and one line
-// `mrvol: error: ...`; bad usage: exit 2.
+// `mrvol: error: ...`; bad usage: exit 2. `mrvol help [COMMAND]`, `COMMAND --help`, `--version`.
+// Steps over about a second draw a progress bar on stderr when it is a terminal (bin/progress.mjs).
+import { open, readFile } from 'node:fs/promises';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError } from '../lib/node.mjs';
-import { remesh } from '../lib/remesh.mjs';
+import { Progress } from './progress.mjs';
 
-const USAGE = `usage: mrvol <command> [options]
+const VERSION = JSON.parse(await readFile(new URL('../package.json', import.meta.url), 'utf8')).version;
+
+// What each command takes and does: `usage` (after `mrvol `), a one-line summary, its options.
+const COMMAND_HELP = {
+  info: { usage: 'info MESH.obj [--json]', summary: 'counts, levels, base vertices, genus, volume', options: ['json'] },
+  subdivide: {
+    usage: 'subdivide BASE.obj --levels n [--scheme S] -o OUT.obj [--json]',
+    summary: 'zero-detail synthesis (subdivision) of a base mesh',
+    options: ['levels', 'scheme', 'alpha', 'output', 'json'],
+  },
+  roundtrip: {
+    usage: 'roundtrip MESH.obj [--scheme S] [--level e] [--json]',
+    summary: 'max error of synthesis(analysis(x)) - x',
+    options: ['scheme', 'alpha', 'level', 'json'],
+  },
+  volume: {
+    usage: 'volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta] [--json]',
+    summary: 'mesh volume and the volume through theta^e',
+    options: ['scheme', 'alpha', 'level', 'storage', 'theta', 'json'],
+  },
+  theta: {
+    usage: 'theta MESH.obj [--scheme S] [--level e] [--storage cage|full] -o FILE.theta [--json]',
+    summary: 'computes theta^e and writes a theta file',
+    options: ['scheme', 'alpha', 'level', 'storage', 'output', 'json'],
+  },
+  edit: {
+    usage: 'edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]\n' +
+           '     [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]\n' +
+           '     [--theta FILE.theta] -o OUT.obj [--json]',
+    summary: 'moves level-e cage vertices, keeping the volume',
+    options: ['scheme', 'alpha', 'level', 'move', 'free', 'free-details', 'no-preserve', 'tolerance', 'path', 'theta',
+              'output', 'json'],
+  },
+  remesh: {
+    usage: 'remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]]\n' +
+           '     -o OUT.obj [--json]',
+    summary: 'semi-regular remeshing of any closed manifold mesh',
+    options: ['levels', 'base-faces', 'keep-largest', 'repair', 'max-hole', 'smooth', 'output', 'json'],
+  },
+  help: { usage: 'help [COMMAND]', summary: 'this help, or one command\'s', options: [] },
+};
+
+const OPTION_HELP = {
+  scheme: '--scheme loop|butterfly|linear   wavelet scheme (default loop)',
+  alpha: '--alpha a --beta b               Loop update weights (default -1.70943, 0.42954)',
+  level: '--level e                        analysis level, 0 <= e <= n (default 0)',
+  levels: '--levels n                       levels of 1-to-4 splits (subdivide: required; remesh: default 2)',
+  storage: '--storage cage|full              theta entries kept: rows of the level-e cage (default) or all;\n' +
+           '                                 nnzFull (the full tensor\'s count) is known only with full',
+  theta: '--theta FILE                     use a stored theta file instead of computing',
+  move: '--move V:dx,dy,dz                moves cage vertex V (0-based, file order) by (dx, dy, dz); held',
+  free: '--free cage|all|LIST             free set: cage minus the moved vertices (default), all cage\n' +
+        '                                 vertices, or a comma-separated list of cage vertices',
+  'free-details': '--free-details L,...             also free the details of these levels (matrix-free path)',
+  'no-preserve': '--no-preserve                    apply the move without volume correction',
+  tolerance: '--tolerance t                    relative volume error to reach (default 1e-5)',
+  path: '--path auto|tensor|matrix-free   gradient path; auto uses the tensor when its estimate fits\n' +
+        '                                 (512 MB, a 1 GB working patch, ~15 s), else matrix-free',
+  'base-faces': '--base-faces k                   remesh: faces of the simplified base mesh (default: the\n' +
+                '                                 input\'s faces / 4^n, within 300..8000)',
+  'keep-largest': '--keep-largest                   remesh: keep the largest connected component, drop the others',
+  repair: '--repair                         remesh: repair a scan first: weld, drop duplicate faces, fins,\n' +
+          '                                 non-manifold and folded faces, close holes (reported in --json)',
+  'max-hole': '--max-hole m                     remesh --repair: close holes of at most m edges (default 100)',
+  smooth: '--smooth k                       remesh --repair: k Taubin smoothing steps after the repair',
+  json: '--json                           print the result as JSON',
+  output: '-o, --output FILE                output file',
+};
+
+const EXIT_STATUS = `exit status:
+  0  success
+  1  error (unreadable or invalid input, a computation that fails): one line 'mrvol: error: ...' on stderr
+  2  bad usage (unknown command or option, missing or malformed argument): the message on stderr`;
+
+const PROGRESS_NOTE = `progress: steps over about a second (reading a big file, theta, remeshing) draw a bar on stderr
+when stderr is a terminal, none when it is piped; MRVOL_PROGRESS_DELAY_MS sets the delay (default 1000).`;
+
+function usage() {
+  const commands = Object.entries(COMMAND_HELP).filter(([name]) => name !== 'help').map(([, c]) => {
+    const first = `  ${c.usage.replace(/\n {5}/g, '\n       ')}`;
+    return first.length <= 46 && !first.includes('\n') ? first.padEnd(46) + c.summary
+      : `${first}\n${' '.repeat(46)}${c.summary}`;
+  });
+  const options = Object.entries(OPTION_HELP).map(([, text]) => '  ' + text.replace(/\n/g, '\n  '));
+  return `usage: mrvol <command> [options]
+       mrvol help [COMMAND]       help on one command (also: mrvol COMMAND --help)
+       mrvol --version            the version of mrvol
 
 commands:
-  info MESH.obj [--json]                      counts, levels, base vertices, genus, volume
-  subdivide BASE.obj --levels n [--scheme S] -o OUT.obj [--json]
-                                              zero-detail synthesis (subdivision) of a base mesh
-  roundtrip MESH.obj [--scheme S] [--level e] [--json]
-                                              max error of synthesis(analysis(x)) - x
-  volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta] [--json]
-                                              mesh volume and the volume through theta^e
-  theta MESH.obj [--scheme S] [--level e] [--storage cage|full] -o FILE.theta [--json]
-                                              computes theta^e and writes a theta file
-  edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]
-       [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]
-       [--theta FILE.theta] -o OUT.obj [--json]
-                                              moves level-e cage vertices, keeping the volume
-  remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]] -o OUT.obj [--json]
-                                              semi-regular remeshing of any closed manifold mesh
+${commands.join('\n')}
 
 options:
-  --scheme loop|butterfly|linear   wavelet scheme (default loop)
-  --alpha a --beta b               Loop update weights (default -1.70943, 0.42954)
-  --level e                        analysis level, 0 <= e <= n (default 0)
-  --storage cage|full              theta entries kept: rows of the level-e cage (default) or all;
-                                   nnzFull (the full tensor's count) is known only with full
-  --theta FILE                     use a stored theta file instead of computing
-  --move V:dx,dy,dz                moves cage vertex V (0-based, file order) by (dx, dy, dz); held
-  --free cage|all|LIST             free set: cage minus the moved vertices (default), all cage
-                                   vertices, or a comma-separated list of cage vertices
-  --free-details L,...             also free the details of these levels (matrix-free path)
-  --no-preserve                    apply the move without volume correction
-  --tolerance t                    relative volume error to reach (default 1e-5)
-  --path auto|tensor|matrix-free   gradient path; auto uses the tensor when its estimate fits
-                                   (512 MB, a 1 GB working patch, ~15 s), else matrix-free
-  --levels n                       remesh: levels of 1-to-4 splits (default 2)
-  --base-faces k                   remesh: faces of the simplified base mesh (default: the
-                                   input's faces / 4^n, within 300..8000)
-  --keep-largest                   remesh: keep the largest connected component, drop the others
-  --repair                         remesh: repair a scan first: weld, drop duplicate faces, fins,
-                                   non-manifold and folded faces, close holes (reported in --json)
-  --max-hole m                     remesh --repair: close holes of at most m edges (default 100)
-  --smooth k                       remesh --repair: k Taubin smoothing steps after the repair
-  --json                           print the result as JSON
-  -o, --output FILE                output file`;
+${options.join('\n')}
+  -h, --help                       this help, or the command's
+  --version                        print the version
+
+${EXIT_STATUS}
+
+${PROGRESS_NOTE}`;
+}
+
+function commandUsage(name) {
+  const c = COMMAND_HELP[name];
+  const options = c.options.map((o) => '  ' + OPTION_HELP[o].replace(/\n/g, '\n  '));
+  return `usage: mrvol ${c.usage}
+
+${c.summary[0].toUpperCase() + c.summary.slice(1)}.
+${options.length ? `\noptions:\n${options.join('\n')}\n  -h, --help                       this help\n` : ''}
+${EXIT_STATUS}`;
+}
 
 class UsageError extends Error {}
 
@@ -75,6 +143,7 @@ const OPTIONS = {
   'max-hole': { type: 'string' },
   smooth: { type: 'string' },
   help: { type: 'boolean', short: 'h' },
+  version: { type: 'boolean' },
 };
 
 function integer(value, name, fallback) {
@@ -115,11 +184,34 @@ function readBytes(path) {
   }
 }
 
-function readText(path) {
+// Progress of one step (see bin/progress.mjs); MRVOL_PROGRESS_DELAY_MS overrides the delay.
+function progress(label) {
+  const delay = Number(process.env.MRVOL_PROGRESS_DELAY_MS);
+  return new Progress(label, Number.isFinite(delay) && delay >= 0 ? { delayMs: delay } : {});
+}
+
+const READ_CHUNK = 4 << 20;
+
+// Reads a text file in chunks, with a progress bar when that takes long (a big scan).
+async function readText(path) {
+  let file;
+  const bar = progress(`reading ${path}`);
   try {
-    return readFileSync(path, 'utf8');
+    file = await open(path, 'r');
+    const size = (await file.stat()).size;
+    const buffer = Buffer.allocUnsafe(size);
+    for (let at = 0; at < size;) {
+      const { bytesRead } = await file.read(buffer, at, Math.min(READ_CHUNK, size - at), at);
+      if (bytesRead === 0) break;
+      at += bytesRead;
+      bar.update(at / size);
+    }
+    return buffer.toString('utf8');
   } catch (e) {
     throw new MrvolError(`cannot read ${path}: ${e.code === 'ENOENT' ? 'no such file' : e.message}`);
+  } finally {
+    bar.done();
+    await file?.close();
   }
 }
 
@@ -132,22 +224,33 @@ function writeText(path, text) {
 }
 
 // Reads an OBJ file; errors name the file.
-function loadMesh(mrvol, path) {
+async function loadMesh(mrvol, path) {
+  const text = await readText(path);
   try {
-    return mrvol.readObj(readText(path));
+    return mrvol.readObj(text);
   } catch (e) {
-    if (e instanceof MrvolError && !e.message.startsWith('cannot read')) throw new MrvolError(`${path}: ${e.message}`);
+    if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
   }
 }
 
-function openMultires(mrvol, path) {
-  const mesh = loadMesh(mrvol, path);
+async function openMultires(mrvol, path) {
+  const mesh = await loadMesh(mrvol, path);
   try {
     return mrvol.openMesh(mesh);
   } catch (e) {
     if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
+  }
+}
+
+// theta^e with a progress bar.
+function computeTheta(mr, options) {
+  const bar = progress(`theta^${options.level} (${options.scheme} scheme)`);
+  try {
+    return mr.computeTheta({ ...options, onProgress: (fraction) => (bar.update(fraction), true) });
+  } finally {
+    bar.done();
   }
 }
 
@@ -163,14 +266,14 @@ function print(values, result, text) {
 }
 
 // Shared by `volume` and `theta`: the tensor (computed or read) and what it says about the mesh.
-function tensorReport(mrvol, values, positionals, { requireOutput }) {
+async function tensorReport(mrvol, values, positionals, { requireOutput }) {
   const path = onePath(positionals, 'MESH.obj');
   const level = integer(values.level, 'level', 0);
   const scheme = schemeOptions(values);
   const storage = storageOption(values);
   if (requireOutput && !values.output) throw new UsageError('-o FILE.theta is required');
   if (values.theta && values.storage) throw new UsageError('--storage applies when computing, not with --theta');
-  const mr = openMultires(mrvol, path);
+  const mr = await openMultires(mrvol, path);
   let theta;
   try {
     if (level < 0 || level > mr.levels)
@@ -182,7 +285,7 @@ function tensorReport(mrvol, values, positionals, { requireOutput }) {
         throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
       }
     } else {
-      theta = mr.computeTheta({ level, storage, ...scheme });
+      theta = computeTheta(mr, { level, storage, ...scheme });
     }
     let thetaVolume;
     try {
@@ -227,8 +330,8 @@ function describeTensor(r) {
 }
 
 const COMMANDS = {
-  info(mrvol, values, positionals) {
-    const mr = openMultires(mrvol, onePath(positionals, 'MESH.obj'));
+  async info(mrvol, values, positionals) {
+    const mr = await openMultires(mrvol, onePath(positionals, 'MESH.obj'));
     const i = mr.info();
     mr.delete();
     const result = {
@@ -242,12 +345,12 @@ const COMMANDS = {
       `genus          ${r.genus}`, `volume         ${r.volume}`].join('\n'));
   },
 
-  subdivide(mrvol, values, positionals) {
+  async subdivide(mrvol, values, positionals) {
     const input = onePath(positionals, 'BASE.obj');
     const levels = integer(values.levels, 'levels');
     const scheme = schemeOptions(values);
     if (!values.output) throw new UsageError('-o OUT.obj is required');
-    const base = loadMesh(mrvol, input);
+    const base = await loadMesh(mrvol, input);
     const mr = mrvol.subdivide(base, { levels, ...scheme });
     const mesh = mr.toMesh();
     const info = mr.info();
@@ -258,11 +361,11 @@ const COMMANDS = {
     print(values, result, (r) => `wrote ${r.output}: ${r.vertices} vertices, ${r.faces} faces (${r.scheme}, ${r.levels} levels)`);
   },
 
-  roundtrip(mrvol, values, positionals) {
+  async roundtrip(mrvol, values, positionals) {
     const path = onePath(positionals, 'MESH.obj');
     const level = integer(values.level, 'level', 0);
     const scheme = schemeOptions(values);
-    const mr = openMultires(mrvol, path);
+    const mr = await openMultires(mrvol, path);
     const maxError = mr.roundtripError({ level, ...scheme });
     const positions = mr.positions();
     mr.delete();
@@ -289,7 +392,7 @@ function parseList(text, name) {
   return items.map(Number);
 }
 
-COMMANDS.edit = (mrvol, values, positionals) => {
+COMMANDS.edit = async (mrvol, values, positionals) => {
   const path = onePath(positionals, 'MESH.obj');
   const level = integer(values.level, 'level', 0);
   const scheme = schemeOptions(values);
@@ -303,7 +406,7 @@ COMMANDS.edit = (mrvol, values, positionals) => {
   const free = values.free ?? 'cage';
   const freeList = free === 'cage' || free === 'all' ? null : parseList(free, 'free');
   const detailLevels = values['free-details'] ? parseList(values['free-details'], 'free-details') : [];
-  const mr = openMultires(mrvol, path);
+  const mr = await openMultires(mrvol, path);
   let theta;
   try {
     if (level < 0 || level > mr.levels)
@@ -322,7 +425,7 @@ COMMANDS.edit = (mrvol, values, positionals) => {
           throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
         }
       } else {
-        theta = mr.computeTheta({ level, ...scheme });
+        theta = computeTheta(mr, { level, ...scheme });
         editor.useTheta(theta);
       }
     }
@@ -363,13 +466,19 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   const smooth = values.smooth === undefined ? 0 : integer(values.smooth, 'smooth');
   if (smooth < 0 || (smooth > 0 && !values.repair)) throw new UsageError('--smooth needs --repair and a count >= 0');
   if (!values.output) throw new UsageError('-o OUT.obj is required');
-  const mesh = loadMesh(mrvol, input);
+  const mesh = await loadMesh(mrvol, input);
+  // Loaded here: the other commands do without three.js, three-mesh-bvh and meshoptimizer.
+  const { remesh } = await import('../lib/remesh.mjs');
+  const bar = progress(`remeshing ${input}`);
   let r;
   try {
     r = await remesh(mrvol, mesh, { levels, baseFaces, keepLargest: values['keep-largest'] ?? false,
-                                    repair: values.repair ?? false, maxHoleEdges, smooth });
+                                    repair: values.repair ?? false, maxHoleEdges, smooth,
+                                    onProgress: (fraction, stage) => bar.update(fraction, `remeshing ${input}: ${stage}`) });
   } catch (e) {
     throw e instanceof MrvolError ? new MrvolError(`${input}: ${e.message}`) : e;
+  } finally {
+    bar.done();
   }
   writeText(values.output, mrvol.writeObj(r.mesh));
   const round = (x, d) => Math.round(x * 10 ** d) / 10 ** d;
@@ -388,32 +497,50 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
     `time             ${x.ms} ms`].join('\n'));
 };
 
-COMMANDS.volume = (mrvol, values, positionals) =>
-  print(values, tensorReport(mrvol, values, positionals, { requireOutput: false }), describeTensor);
-COMMANDS.theta = (mrvol, values, positionals) =>
-  print(values, tensorReport(mrvol, values, positionals, { requireOutput: true }), describeTensor);
+COMMANDS.volume = async (mrvol, values, positionals) =>
+  print(values, await tensorReport(mrvol, values, positionals, { requireOutput: false }), describeTensor);
+COMMANDS.theta = async (mrvol, values, positionals) =>
+  print(values, await tensorReport(mrvol, values, positionals, { requireOutput: true }), describeTensor);
 
 export async function main(argv) {
   let values, positionals;
   try {
     ({ values, positionals } = parseArgs({ args: argv, options: OPTIONS, allowPositionals: true, strict: true }));
   } catch (e) {
-    process.stderr.write(`mrvol: error: ${e.message}\n${USAGE}\n`);
+    process.stderr.write(`mrvol: error: ${e.message}\n${usage()}\n`);
     return 2;
   }
-  if (values.help || positionals.length === 0) {
-    (values.help ? process.stdout : process.stderr).write(USAGE + '\n');
+  if (values.version) {
+    process.stdout.write(`mrvol ${VERSION}\n`);
+    return 0;
+  }
+  if (positionals.length === 0) {
+    (values.help ? process.stdout : process.stderr).write(usage() + '\n');
     return values.help ? 0 : 2;
   }
   const [command, ...rest] = positionals;
-  const run = Object.hasOwn(COMMANDS, command) ? COMMANDS[command] : null;
-  if (!run) {
-    process.stderr.write(`mrvol: error: unknown command '${command}'\n${USAGE}\n`);
+  const known = (name) => Object.hasOwn(COMMAND_HELP, name);
+  if (!known(command)) {
+    process.stderr.write(`mrvol: error: unknown command '${command}'\n${usage()}\n`);
     return 2;
+  }
+  // `mrvol help [COMMAND]` and `mrvol COMMAND --help`.
+  if (command === 'help' || values.help) {
+    const topic = command === 'help' ? rest[0] : command;
+    if (command === 'help' && rest.length > 1) {
+      process.stderr.write(`mrvol: error: unexpected argument '${rest[1]}'\n`);
+      return 2;
+    }
+    if (topic !== undefined && !known(topic)) {
+      process.stderr.write(`mrvol: error: unknown command '${topic}'; the commands: ${Object.keys(COMMAND_HELP).join(', ')}\n`);
+      return 2;
+    }
+    process.stdout.write((topic === undefined || topic === 'help' ? usage() : commandUsage(topic)) + '\n');
+    return 0;
   }
   try {
     const mrvol = await createMrvol();
-    await run(mrvol, values, rest);
+    await COMMANDS[command](mrvol, values, rest);
     return 0;
   } catch (e) {
     if (e instanceof UsageError) {

@@ -26,6 +26,8 @@ export interface RemeshOptions {
   maxSamples?: number;
   /** Return a result with flipped triangles instead of refusing it (default false). */
   allowFlipped?: boolean;
+  /** Called between stages with the rough fraction done (0..1) and the stage's name. */
+  onProgress?: (fraction: number, stage: string) => void;
 }
 
 /** What remesh() returns. */

@@ -613,10 +613,12 @@ export function defaultBaseFaces(inputFaces, levels) {
  * @param {object} mrvol the API object of createMrvol()
  * @param {{ positions: Float64Array, faces: Uint32Array }} input
  * @param {{ levels?: number, baseFaces?: number, keepLargest?: boolean, repair?: boolean, maxHoleEdges?: number,
- *           relaxIterations?: number, maxSamples?: number, allowFlipped?: boolean }} [options]
+ *           relaxIterations?: number, maxSamples?: number, allowFlipped?: boolean,
+ *           onProgress?: (fraction: number, stage: string) => void }} [options]
  *   repair: run repair() first (duplicate and non-manifold faces dropped, holes of at most
  *   maxHoleEdges edges closed, default 100; `smooth` Taubin iterations after it, default 0);
  *   its report is the result's `repair`; the Hausdorff distance is measured to the repaired input.
+ *   onProgress: called between stages with the rough fraction done (0..1) and the stage's name.
  */
 export async function remesh(mrvol, input, options = {}) {
   const { MrvolError } = mrvol;
@@ -629,8 +631,10 @@ export async function remesh(mrvol, input, options = {}) {
     throw new MrvolError(`baseFaces must be an integer >= 4, got ${options.baseFaces}`);
   const relaxIterations = options.relaxIterations ?? 4;
   const maxSamples = options.maxSamples ?? 200000;
+  const progress = (fraction, stage) => options.onProgress?.(fraction, stage);
 
   // Repair (optional) or weld only; then the input must be one closed 2-manifold.
+  progress(0, options.repair ? 'repairing' : 'welding');
   const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
                                                    smooth: options.smooth }) : null;
   const welded = repaired ? repaired.mesh : weld(input);
@@ -649,9 +653,10 @@ export async function remesh(mrvol, input, options = {}) {
   let target = requested, result;
   const simplifierProblems = [];
   for (let attempt = 0; attempt < attempts; attempt++) {
+    progress(0.1, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
     const { base, target: used, problems } = simplifyToBase(mrvol, mesh, validation.genus, target, 8, !!repaired);
     simplifierProblems.push(...problems);
-    result = fitLevels(mrvol, surface, base, levels, relaxIterations);
+    result = fitLevels(mrvol, surface, base, levels, relaxIterations, (f, stage) => progress(0.15 + 0.7 * f, stage));
     result.baseTarget = used;
     result.flippedTriangles = countFlipped(result.mesh, surface);
     if (result.flippedTriangles === 0 || options.allowFlipped) break;
@@ -660,6 +665,7 @@ export async function remesh(mrvol, input, options = {}) {
   if (result.flippedTriangles > 0 && !options.allowFlipped)
     throw new MrvolError(`the remeshed surface folds over: ${result.flippedTriangles} flipped triangles (base of ${result.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
 
+  progress(0.9, 'measuring the Hausdorff distance');
   const resultSurface = new Surface(result.mesh, { normals: false });
   const toInput = oneSidedHausdorff(result.mesh, surface, maxSamples);
   const fromInput = oneSidedHausdorff(mesh, resultSurface, maxSamples);
@@ -697,7 +703,7 @@ export async function remesh(mrvol, input, options = {}) {
  * one parent edge long, then the level-l mesh is relaxed tangentially and reprojected. Output in
  * the hierarchy order of the core (base vertices first).
  */
-function fitLevels(mrvol, surface, base, levels, relaxIterations) {
+function fitLevels(mrvol, surface, base, levels, relaxIterations, onProgress = () => {}) {
   const mr = mrvol.subdivide(base, { levels, scheme: 'linear' });
   try {
     const positions = Float64Array.from(mr.positions());
@@ -708,7 +714,10 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations) {
     // every vertex relaxes.
     const held = new Uint8Array(vertexCount);
     let fallbacks = 0;
+    // Level l's work grows as 4^l; the feature snap and pull after them count as one more level.
+    const work = (l) => (4 ** (l + 1) - 4) / 3;
     for (let level = 1; level <= levels; level++) {
+      onProgress(work(level - 1) / work(levels + 1), `fitting level ${level} of ${levels}`);
       const coarse = level === 1 ? base.faces : mr.levelFaces(level - 1);
       const fine = level === levels ? faces : mr.levelFaces(level);
       const coarseNormals = vertexNormals(positions, coarse);
@@ -743,6 +752,7 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations) {
       if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held);
     }
     if (levels > 0) {
+      onProgress(work(levels) / work(levels + 1), 'fitting features');
       snapToFeatures(surface, positions, faces, relaxIterations);
       attractToInput(surface, positions, faces);
     }

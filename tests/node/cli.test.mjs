@@ -1,12 +1,18 @@
 // The mrvol command line (bin/mrvol.mjs) run as a child process: info, subdivide and roundtrip
-// with --json, and the error contract (exit 1 with one line `mrvol: error: ...`, exit 2 on bad
-// usage). Test meshes are made with the JS API and written to a fresh temporary folder.
+// with --json, the error contract (exit 1 with one line `mrvol: error: ...`, exit 2 on bad
+// usage), --version and help, and the progress bar (its renderer, and the command on a terminal
+// through util-linux `script` and piped). Test meshes are made with the JS API and written to a
+// fresh temporary folder.
 import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
-import { writeFileSync, readFileSync, existsSync } from 'node:fs';
+import { spawnSync } from 'node:child_process';
+import { writeFileSync, readFileSync, existsSync, openSync, closeSync } from 'node:fs';
 import { join } from 'node:path';
 import { createMrvol } from '../../lib/node.mjs';
-import { tempFolder, runCliSync, json, failsWith, usageError, icosahedron, rng, shuffleMesh } from './helpers.mjs';
+import { Progress, renderProgress } from '../../bin/progress.mjs';
+import {
+  ROOT, CLI, model, tempFolder, runCliSync, json, failsWith, usageError, icosahedron, rng, shuffleMesh,
+} from './helpers.mjs';
 
 // The CLI waits at most 30 s per run here.
 const mrvolCli = (...args) => runCliSync(args, { timeout: 30000 });
@@ -189,5 +195,120 @@ describe('errors', () => {
     assert.equal(r.status, 0);
     assert.match(r.stdout, /^usage: mrvol <command>/);
     assert.equal(r.stderr, '');
+  });
+});
+
+// ---- version, help, exit codes ------------------------------------------------------------------
+
+describe('version and help', () => {
+  test('--version prints the version of package.json', () => {
+    const { version } = JSON.parse(readFileSync(join(ROOT, 'package.json'), 'utf8'));
+    const r = mrvolCli('--version');
+    assert.equal(r.status, 0);
+    assert.equal(r.stdout, `mrvol ${version}\n`);
+    assert.equal(r.stderr, '');
+  });
+
+  test('help: every command listed, the exit codes written; help COMMAND equals COMMAND --help', () => {
+    const all = mrvolCli('help');
+    assert.equal(all.status, 0);
+    assert.equal(all.stderr, '');
+    assert.equal(all.stdout, mrvolCli('--help').stdout);
+    assert.match(all.stdout, /^exit status:\n {2}0 {2}success\n {2}1 {2}error .*\n {2}2 {2}bad usage/m);
+    const commands = ['info', 'subdivide', 'roundtrip', 'volume', 'theta', 'edit', 'remesh'];
+    for (const command of commands) {
+      assert.match(all.stdout, new RegExp(`^ {2}${command} `, 'm'), command);
+      const one = mrvolCli('help', command);
+      assert.equal(one.status, 0, one.stderr);
+      assert.equal(one.stderr, '');
+      assert.match(one.stdout, new RegExp(`^usage: mrvol ${command} `));
+      assert.match(one.stdout, /^exit status:$/m);
+      // The same text as COMMAND --help, also with other arguments around.
+      assert.equal(mrvolCli(command, '--help').stdout, one.stdout);
+      assert.equal(mrvolCli(command, 'x.obj', '-h').stdout, one.stdout);
+    }
+    // Each command's help lists its own options only.
+    const edit = mrvolCli('help', 'edit').stdout, remesh = mrvolCli('help', 'remesh').stdout;
+    assert.match(edit, /--move V:dx,dy,dz/);
+    assert.doesNotMatch(edit, /--base-faces/);
+    assert.match(remesh, /--base-faces k/);
+    assert.doesNotMatch(remesh, /--move/);
+  });
+
+  test('help on what does not exist: exit 2', () => {
+    usageError(mrvolCli('help', 'frobnicate'), /^mrvol: error: unknown command 'frobnicate'; the commands: info, /);
+    usageError(mrvolCli('help', 'info', 'edit'), /^mrvol: error: unexpected argument 'edit'/);
+    usageError(mrvolCli('frobnicate', '--help'), /^mrvol: error: unknown command 'frobnicate'/);
+  });
+});
+
+// ---- progress ----------------------------------------------------------------------------------
+
+describe('progress bar', () => {
+  test('renderProgress: bar, percentage, elapsed time; unknown fraction; a label cut to the width', () => {
+    assert.equal(renderProgress('theta^0', 0.38, 1234), `theta^0 [${'#'.repeat(9)}${'-'.repeat(15)}]  38%  1.2 s`);
+    assert.equal(renderProgress('x', 1, 0), `x [${'#'.repeat(24)}] 100%  0.0 s`);
+    assert.equal(renderProgress('x', 7, 0), renderProgress('x', 1, 0), 'clamped to 1');
+    assert.equal(renderProgress('x', -1, 0), `x [${'-'.repeat(24)}]   0%  0.0 s`);
+    assert.equal(renderProgress('reading a.obj', null, 2500), 'reading a.obj [working]  2.5 s');
+    const long = renderProgress('reading ' + 'd/'.repeat(100) + 'big.obj', 0.5, 1000, 60);
+    assert.equal(long.length, 59);
+    assert.match(long, /^reading d\/d\/.*… \[#{12}-{12}\]  50%  1\.0 s$/);
+  });
+
+  test('Progress: nothing before the delay, throttled redraws, the line erased at the end', () => {
+    const path = file('progress.txt');
+    const fd = openSync(path, 'w');
+    let t = 0;
+    const bar = new Progress('theta^0', { enabled: true, delayMs: 1000, fd, columns: 80, now: () => t });
+    bar.update(0.1);
+    t = 999;
+    bar.update(0.2);
+    assert.equal(readFileSync(path, 'utf8'), '', 'within the delay: nothing');
+    t = 1000;
+    bar.update(0.5);
+    t = 1050;
+    bar.update(0.6);  // within 100 ms of the last redraw
+    t = 1200;
+    bar.update(0.9, 'theta^0 (almost)');
+    bar.done();
+    closeSync(fd);
+    assert.equal(readFileSync(path, 'utf8'),
+      `\r${renderProgress('theta^0', 0.5, 1000)}\x1b[K\r${renderProgress('theta^0 (almost)', 0.9, 1200)}\x1b[K\r\x1b[K`);
+    // Disabled (stderr not a terminal), or a step that ends within the delay: no output at all.
+    const quiet = new Progress('x', { enabled: false, delayMs: 0, fd: 1 });
+    quiet.update(0.5);
+    quiet.done();
+  });
+
+  const hasScript = spawnSync('script', ['--version']).status === 0;
+  test('on a terminal (script -qec): theta and remesh draw a bar on stderr, then erase it', { skip: !hasScript && 'util-linux script is missing' }, () => {
+    const env = { ...process.env, MRVOL_PROGRESS_DELAY_MS: '0' };
+    const quote = (s) => `'${s.replace(/'/g, `'\\''`)}'`;
+    // A wide terminal, so that no label is cut.
+    const inTerminal = (...args) => spawnSync('script', ['-qec', 'stty cols 250; ' + [process.execPath, CLI, ...args].map(quote).join(' '), '/dev/null'],
+                                              { encoding: 'utf8', env, timeout: 60000 });
+    const theta = inTerminal('theta', model('spiky-ball'), '-o', file('tty.theta'), '--json');
+    assert.equal(theta.status, 0, theta.stdout);
+    assert.match(theta.stdout, /\rreading \S*spiky-ball\.obj \[#+\] 100% {2}\d+\.\d s\x1b\[K/);
+    assert.match(theta.stdout, /\rtheta\^0 \(loop scheme\) \[[#-]{24}\] +\d+% {2}\d+\.\d s\x1b\[K/);
+    // The last bar is erased; the JSON follows on a clean line.
+    const json = theta.stdout.slice(theta.stdout.lastIndexOf('\r\x1b[K') + 4).trim();
+    assert.equal(JSON.parse(json).nnzStored > 0, true);
+
+    writeFileSync(file('sphere.obj'), mrvol.writeObj(mrvol.subdivide(icosahedron(), { levels: 2 }).toMesh()));
+    const remesh = inTerminal('remesh', file('sphere.obj'), '--levels', '1', '-o', file('sphere-remeshed.obj'), '--json');
+    assert.equal(remesh.status, 0, remesh.stdout);
+    assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: welding \[/);
+    assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: fitting level 1 of 1 \[/);
+    assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: measuring the Hausdorff distance \[/);
+  });
+
+  test('piped: no progress output, even with no delay', () => {
+    const r = spawnSync(process.execPath, [CLI, 'theta', model('spiky-ball'), '-o', file('piped.theta'), '--json'],
+                        { encoding: 'utf8', env: { ...process.env, MRVOL_PROGRESS_DELAY_MS: '0' }, timeout: 60000 });
+    assert.equal(r.status, 0, r.stderr);
+    assert.equal(r.stderr, '');
+    assert.equal(r.stdout.split('\n').length, 2);
   });
 });
