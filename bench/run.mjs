@@ -137,9 +137,9 @@ function coreWasmFlags() {
                     '-I', join(root, 'wasm/core/include')];
   const ninja = join(root, 'build/wasm/build.ninja');
   if (!existsSync(ninja)) return fallback;
-  const m = readFileSync(ninja, 'utf8').match(/^build CMakeFiles\/mrvol_core\.dir\/\S+\.cpp\.o:[^\n]*\n((?:  [^\n]*\n)+)/m);
+  const m = readFileSync(ninja, 'utf8').match(/^build CMakeFiles\/mrvol_core\.dir\/\S+\.cpp\.o:[^\n]*\n((?: {2}[^\n]*\n)+)/m);
   if (!m) return fallback;
-  const vars = Object.fromEntries([...m[1].matchAll(/^  (\w+) = (.*)$/gm)].map((v) => [v[1], v[2]]));
+  const vars = Object.fromEntries([...m[1].matchAll(/^ {2}(\w+) = (.*)$/gm)].map((v) => [v[1], v[2]]));
   const flags = [vars.DEFINES, vars.FLAGS, vars.INCLUDES].filter(Boolean).join(' ').split(/\s+/).filter(Boolean);
   return flags.filter((f) => !/^-W/.test(f));
 }
@@ -469,7 +469,7 @@ function machine() {
     : 'unknown';
   const nativeNinja = join(root, 'build/native/build.ninja');
   const nativeFlags = existsSync(nativeNinja)
-    ? readFileSync(nativeNinja, 'utf8').match(/^build CMakeFiles\/mrvol_core\.dir\/[^\n]*\n(?:  [^\n]*\n)*?  FLAGS = ([^\n]*)/m)?.[1]
+    ? readFileSync(nativeNinja, 'utf8').match(/^build CMakeFiles\/mrvol_core\.dir\/[^\n]*\n(?: {2}[^\n]*\n)*? {2}FLAGS = ([^\n]*)/m)?.[1]
         ?.split(/\s+/).filter((f) => !/^-W/.test(f)).join(' ') ?? 'unknown'
     : 'unknown';
   return {

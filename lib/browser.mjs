@@ -15,7 +15,7 @@ const defaultWasmUrl = () => new URL('../build/wasm/mrvol-web.wasm', import.meta
 
 // Where the .wasm is: wasmUrl, else what locateFile says, else next to this file (bundled or not).
 function wasmLocation({ wasmUrl, locateFile }) {
-  if (wasmUrl !== undefined) return String(wasmUrl);
+  if (wasmUrl !== undefined) return typeof wasmUrl === 'string' ? wasmUrl : wasmUrl.href;
   if (locateFile) return locateFile(WASM_FILE, '');
   return defaultWasmUrl();
 }

@@ -373,16 +373,19 @@ export function wrapModule(module: object): Mrvol;
  */
 export interface CreateMrvolOptions {
   /**
-   * URL of the .wasm (browser: fetched; Node: a path or file: URL, read). The browser build is
-   * `mrvol-web.wasm`, the Node build `mrvol-node.wasm`.
+   * URL of the .wasm, a string or a URL (browser: fetched; Node: a path or file: URL, read).
+   * The browser build is `mrvol-web.wasm`, the Node build `mrvol-node.wasm`.
    */
-  wasmUrl?: string | URL;
+  wasmUrl?: string | { readonly href: string };
   /** emscripten's hook: the URL (browser) or path (Node) of `path`, the .wasm's file name. */
   locateFile?: (path: string, prefix: string) => string;
   /** The .wasm bytes themselves (no fetch, no file read). */
   wasmBinary?: ArrayBuffer | ArrayBufferView;
-  /** Browser entry only: a module compiled already (say by a page, handed to its worker). */
-  wasmModule?: WebAssembly.Module;
+  /**
+   * Browser entry only: a WebAssembly.Module compiled already (say by a page, handed to its
+   * worker). Typed as object so that the declarations need no DOM library.
+   */
+  wasmModule?: object;
 }
 
 /**

@@ -15,7 +15,7 @@ async function wasmBytes({ wasmBinary, wasmUrl, locateFile }) {
     return wasmBinary;
   }
   const where = wasmUrl ?? (locateFile ? locateFile('mrvol-node.wasm', buildDir.href) : new URL('mrvol-node.wasm', buildDir));
-  const path = typeof where === 'string' && !where.startsWith('file:') ? where : new URL(where);
+  const path = typeof where !== 'string' ? new URL(where.href) : where.startsWith('file:') ? new URL(where) : where;
   try {
     return await readFile(path);
   } catch (e) {

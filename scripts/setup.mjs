@@ -4,7 +4,7 @@
 // the WASM module. A second run checks and returns in about a second.
 //
 //   node scripts/setup.mjs [--no-native] [--sanitize] [--browser]
-import { execFileSync, spawnSync } from 'node:child_process';
+import { spawnSync } from 'node:child_process';
 import { existsSync, statSync, mkdirSync, openSync, writeSync, closeSync, readFileSync, unlinkSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -116,7 +116,7 @@ export function withSetupLock(fn, { path = join(root, 'build', '.setup.lock'), t
     } catch (e) {
       if (e.code !== 'EEXIST') throw e;
     }
-    let holder = NaN;
+    let holder;
     try {
       holder = Number(readFileSync(path, 'utf8'));
     } catch {

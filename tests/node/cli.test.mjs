@@ -253,7 +253,7 @@ describe('progress bar', () => {
     assert.equal(renderProgress('reading a.obj', null, 2500), 'reading a.obj [working]  2.5 s');
     const long = renderProgress('reading ' + 'd/'.repeat(100) + 'big.obj', 0.5, 1000, 60);
     assert.equal(long.length, 59);
-    assert.match(long, /^reading d\/d\/.*… \[#{12}-{12}\]  50%  1\.0 s$/);
+    assert.match(long, /^reading d\/d\/.*… \[#{12}-{12}\] {2}50% {2}1\.0 s$/);
   });
 
   test('Progress: nothing before the delay, throttled redraws, the line erased at the end', () => {
