@@ -1,6 +1,7 @@
 #!/usr/bin/env node
 // `npm test`: set-up, then every test: native C++ (GoogleTest through ctest, plain and under
-// ASan+UBSan), Node tests of the WASM module and the CLI, and (once present) browser tests.
+// ASan+UBSan), Node tests of the WASM module and the CLI, browser tests, the package as a user
+// installs it (tests/package), and lint (eslint, counted as one test).
 // Ends with one line `tests: N passed, N failed`.
 import { spawnSync } from 'node:child_process';
 import { existsSync, readdirSync } from 'node:fs';
@@ -45,6 +46,20 @@ function parseNodeTest(out) {
   return { passed: Number(pass[1]), failed: Number(fail[1]) };
 }
 
+// A check counted as one test (lint: eslint over every JS folder reports nothing).
+function runCheck(name, cmd, args) {
+  process.stderr.write(`\n== ${name}\n`);
+  const started = Date.now();
+  const r = spawnSync(cmd, args, { cwd: root, encoding: 'utf8', maxBuffer: 64 * 1024 * 1024 });
+  process.stdout.write(r.stdout ?? '');
+  process.stderr.write(r.stderr ?? '');
+  const ok = r.status === 0;
+  if (ok) passed += 1;
+  else failed += 1, failures.push(name);
+  process.stderr.write(`== ${name}: ${ok ? 'passed' : `failed (${r.error?.message ?? `exit ${r.status}`})`}` +
+                       ` (${((Date.now() - started) / 1000).toFixed(1)} s)\n`);
+}
+
 const ctestArgs = (dir) => ['--test-dir', dir, '--output-on-failure', '-j', '2'];
 runSuite('native tests', 'ctest', ctestArgs('build/native'), parseCtest);
 runSuite('native tests (ASan + UBSan)', 'ctest', ctestArgs('build/asan'), parseCtest,
@@ -55,6 +70,13 @@ if (browserTests) {
   const files = readdirSync(join(root, 'tests/browser')).filter((f) => f.endsWith('.test.mjs')).map((f) => join('tests/browser', f));
   runSuite('browser tests (headless Chromium)', process.execPath, ['--test', '--test-concurrency=1', '--test-reporter=tap', ...files], parseNodeTest);
 }
+
+runSuite('package tests (npm pack, install, Node, CLI, TypeScript, vite + Chromium)', process.execPath,
+         ['--test', '--test-reporter=tap', 'tests/package/package.test.mjs'], parseNodeTest);
+
+// npm run lint
+runCheck('lint (eslint)', process.execPath, [join(root, 'node_modules/eslint/bin/eslint.js'),
+                                             'lib', 'bin', 'web', 'scripts', 'tests', 'bench', 'examples']);
 
 if (failures.length) process.stderr.write(`\nfailed suites: ${failures.join(', ')}\n`);
 process.stdout.write(`\ntests: ${passed} passed, ${failed} failed\n`);

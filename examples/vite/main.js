@@ -16,7 +16,10 @@ async function main() {
   const mr = mrvol.openMesh(mrvol.readObj(await response.text()));
   const editor = mr.createEditor({ level: 0 });
   const vertex = editor.cageVertices()[0];
-  const before = mr.positions();
+  // The cage holds coarse coefficients: the moved vertex's cage position moves by the offset, the
+  // fine surface follows smoothly.
+  const c = editor.cageIndexOf(vertex);
+  const cageBefore = editor.cagePositions();
   const report = editor.moveVertices([{ vertex, offset: [0.25, 0, 0] }]);
   const positions = editor.positions();
   const volume = mrvol.volume({ positions, faces: mr.faces() });
@@ -24,7 +27,7 @@ async function main() {
     vertices: mr.vertexCount,
     levels: mr.levels,
     vertex,
-    movedBy: positions[3 * vertex] - before[3 * vertex],
+    movedBy: editor.cagePositions()[3 * c] - cageBefore[3 * c],
     volumeBefore: report.volumeReference,
     volumeAfter: volume,
     relativeChange: Math.abs(volume - report.volumeReference) / Math.abs(report.volumeReference),

@@ -1,0 +1,171 @@
+// The package as a user gets it: `npm pack` (its prepack builds the WASM module) into a temporary
+// folder, `npm install` of the tarball into a fresh project, then, against the installed package
+// only: the Node example (examples/node/edit.mjs), `npx mrvol --version` and `npx mrvol info`,
+// mrvol/remesh with its dependencies, the TypeScript example type-checked with
+// `tsc --strict --noEmit`, and the vite example (examples/vite/) built with vite, served by vite
+// preview on 127.0.0.1 and run in Debian's Chromium, where it opens a mesh, moves a cage vertex
+// and reports the volume kept. Every step fails loudly with its command's output.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import { cpSync, mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { launchBrowser } from '../browser/harness.mjs';
+
+const ROOT = fileURLToPath(new URL('../../', import.meta.url));
+const { version } = JSON.parse(readFileSync(join(ROOT, 'package.json'), 'utf8'));
+// At most this size packed: the WASM builds and the JS, no tests, benchmarks, web app or models.
+const MAX_TARBALL_BYTES = 5 * 1024 * 1024;
+
+let scratch, project, installed;
+
+/** Runs a command; throws with its output if it fails. */
+function run(cmd, args, { cwd = project, env = {}, timeout = 120_000 } = {}) {
+  const r = spawnSync(cmd, args, { cwd, encoding: 'utf8', timeout, env: { ...process.env, ...env }, maxBuffer: 64 << 20 });
+  if (r.error || r.status !== 0) {
+    throw new Error(`${cmd} ${args.join(' ')} (in ${cwd}) failed: ${r.error?.message ?? `exit ${r.status}`}\n` +
+                    `--- stdout\n${r.stdout}\n--- stderr\n${r.stderr}`);
+  }
+  return r;
+}
+
+const npm = (args, options) => run('npm', [...args, '--no-audit', '--no-fund', '--loglevel=error'], options);
+
+let packed;
+before(() => {
+  scratch = mkdtempSync(join(tmpdir(), 'mrvol-package-'));
+  // npm pack runs prepack (node scripts/setup.mjs --no-native): the tarball always has the WASM.
+  const r = npm(['pack', '--json', '--pack-destination', scratch], { cwd: ROOT, timeout: 600_000 });
+  [packed] = JSON.parse(r.stdout.slice(r.stdout.indexOf('[')));
+  project = join(scratch, 'project');
+  mkdirSync(project);
+  writeFileSync(join(project, 'package.json'), JSON.stringify({ name: 'mrvol-consumer', private: true, type: 'module' }));
+  // The registry is reachable; the local cache makes it quick.
+  npm(['install', '--prefer-offline', join(scratch, packed.filename)]);
+  installed = join(project, 'node_modules', 'mrvol');
+});
+
+after(() => {
+  if (scratch) rmSync(scratch, { recursive: true, force: true });
+});
+
+test('the tarball: the four WASM files, lib, bin, examples, README, LICENSE; nothing else; a few hundred kB', () => {
+  const files = packed.files.map((f) => f.path).sort();
+  for (const f of ['build/wasm/mrvol-node.mjs', 'build/wasm/mrvol-node.wasm', 'build/wasm/mrvol-web.mjs',
+    'build/wasm/mrvol-web.wasm', 'lib/api.mjs', 'lib/node.mjs', 'lib/browser.mjs', 'lib/index.d.ts', 'lib/remesh.mjs',
+    'lib/remesh.d.ts', 'bin/mrvol.mjs', 'bin/progress.mjs', 'examples/node/edit.mjs', 'examples/models/spiky-ball.obj',
+    'README.md', 'LICENSE', 'package.json'])
+    assert.ok(files.includes(f), `${f} is in the tarball`);
+  const allowed = /^(lib\/|bin\/|build\/wasm\/mrvol-(node|web)\.(mjs|wasm)$|examples\/|README\.md$|LICENSE$|package\.json$)/;
+  assert.deepEqual(files.filter((f) => !allowed.test(f)), [], 'only what the package needs');
+  assert.ok(packed.size < MAX_TARBALL_BYTES, `tarball ${packed.size} bytes`);
+  const pkg = JSON.parse(readFileSync(join(installed, 'package.json'), 'utf8'));
+  assert.equal(pkg.private, undefined, 'publishable');
+  // The example's sample is the generated model, byte for byte.
+  assert.equal(readFileSync(join(installed, 'examples/models/spiky-ball.obj'), 'utf8'),
+               readFileSync(join(ROOT, 'public/models/spiky-ball.obj'), 'utf8'));
+});
+
+test('Node: examples/node/edit.mjs against the installed package keeps the volume and writes the OBJ', () => {
+  cpSync(join(installed, 'examples/node/edit.mjs'), join(project, 'edit.mjs'));
+  const r = run(process.execPath, ['edit.mjs', join(installed, 'examples/models/spiky-ball.obj'), 'edited.obj']);
+  assert.match(r.stdout, /^opened .*spiky-ball\.obj: 642 vertices, 3 levels/m);
+  assert.match(r.stdout, /^moved cage vertex \d+ by \(0\.25, 0, 0\): .*relative change \d\.\d\de-\d+/m);
+  assert.match(r.stdout, /^wrote edited\.obj$/m);
+  // Checked anew through the package's bare name: same hierarchy, vertex moved, volume kept.
+  const check = run(process.execPath, ['--input-type=module', '-e', `
+    import { readFileSync } from 'node:fs';
+    import { createMrvol } from 'mrvol';
+    const mrvol = await createMrvol();
+    const read = (f) => mrvol.openMesh(mrvol.readObj(readFileSync(f, 'utf8')));
+    const before = read(${JSON.stringify(join(installed, 'examples/models/spiky-ball.obj'))}), after = read('edited.obj');
+    const moved = Math.max(...after.positions().map((x, i) => Math.abs(x - before.positions()[i])));
+    console.log(JSON.stringify({ levels: after.levels, before: before.info().volume, after: after.info().volume, moved }));`]);
+  const v = JSON.parse(check.stdout);
+  assert.equal(v.levels, 3);
+  // The cage vertex moved by 0.25; the fine surface (Loop: approximating) follows by less.
+  assert.ok(v.moved > 0.05 && v.moved < 0.25, `the surface moved by ${v.moved}`);
+  assert.ok(Math.abs(v.after - v.before) <= 1e-5 * v.before, `volume ${v.before} -> ${v.after}`);
+});
+
+test('CLI: npx mrvol --version and npx mrvol info', () => {
+  assert.equal(run('npx', ['--no-install', 'mrvol', '--version']).stdout, `mrvol ${version}\n`);
+  const info = JSON.parse(run('npx', ['--no-install', 'mrvol', 'info', join(installed, 'examples/models/spiky-ball.obj'), '--json']).stdout);
+  assert.equal(info.vertices, 642);
+  assert.equal(info.levels, 3);
+  assert.equal(info.genus, 0);
+  assert.ok(Math.abs(info.volume - 3.6227887) < 1e-7);
+});
+
+test('mrvol/remesh: the remesher loads with its dependencies from the installed package', () => {
+  const r = run(process.execPath, ['--input-type=module', '-e', `
+    import { createMrvol } from 'mrvol';
+    import { remesh } from 'mrvol/remesh';
+    const mrvol = await createMrvol();
+    // An icosphere with its vertices moved off the sphere: closed, but not semi-regular once welded anew.
+    const sphere = mrvol.subdivide(mrvol.readObj(${JSON.stringify(readFileSync(join(ROOT, 'public/models/icosahedron.obj'), 'utf8'))}), { levels: 2 });
+    const r = await remesh(mrvol, sphere.toMesh(), { levels: 1 });
+    console.log(JSON.stringify({ levels: mrvol.openMesh(r.mesh).levels, hausdorff: r.hausdorff, flipped: r.flippedTriangles }));`]);
+  const result = JSON.parse(r.stdout);
+  assert.equal(result.levels, 1);
+  assert.equal(result.flipped, 0);
+  assert.ok(result.hausdorff < 0.05, `Hausdorff ${result.hausdorff}`);
+});
+
+test('TypeScript: examples/typescript type-checks with tsc --strict --noEmit against the installed types', () => {
+  const dir = join(project, 'ts');
+  mkdirSync(dir);
+  for (const f of ['tsconfig.json', 'edit.ts']) cpSync(join(installed, 'examples/typescript', f), join(dir, f));
+  const tsc = join(ROOT, 'node_modules/typescript/bin/tsc');
+  run(process.execPath, [tsc, '--strict', '--noEmit', '-p', dir], { cwd: dir });
+  // The check can fail: a wrong option is refused.
+  writeFileSync(join(dir, 'wrong.ts'), "import { createMrvol } from 'mrvol';\nexport const m = createMrvol({ wasmUrl: 42 });\n");
+  const wrong = spawnSync(process.execPath, [tsc, '--strict', '--noEmit', '-p', dir], { cwd: dir, encoding: 'utf8' });
+  assert.notEqual(wrong.status, 0);
+  assert.match(wrong.stdout, /wrong\.ts\(2,\d+\): error TS\d+: .*number/);
+});
+
+test('browser: the vite example built and previewed, in Chromium: opens a mesh, moves a cage vertex, keeps the volume', async () => {
+  const app = join(project, 'app');
+  cpSync(join(installed, 'examples/vite'), app, { recursive: true });
+  mkdirSync(join(app, 'public'));
+  cpSync(join(installed, 'examples/models/spiky-ball.obj'), join(app, 'public/spiky-ball.obj'));
+  const { build, preview } = await import('vite');
+  const common = { root: app, configFile: false, logLevel: 'warn', clearScreen: false, cacheDir: join(scratch, 'vite-cache') };
+  await build({ ...common, build: { outDir: join(app, 'dist'), emptyOutDir: true } });
+  const assets = readdirSync(join(app, 'dist/assets'));
+  assert.ok(assets.some((f) => f.endsWith('.wasm')), `vite copied the .wasm: ${assets.join(', ')}`);
+  const server = await preview({ ...common, build: { outDir: join(app, 'dist') }, preview: { host: '127.0.0.1', port: 0 } });
+  const browser = await launchBrowser(null).catch(async (e) => {
+    await server.close();
+    throw e;
+  });
+  try {
+    const address = server.httpServer.address();
+    const page = await browser.newPage();
+    const wasmTypes = [];
+    const failed = [];
+    page.on('response', (r) => {
+      if (r.url().endsWith('.wasm')) wasmTypes.push(r.headers()['content-type']);
+      if (r.status() >= 400) failed.push(`${r.status()} ${r.url()}`);
+    });
+    await page.goto(`http://127.0.0.1:${address.port}/`);
+    await page.waitForSelector('#result[data-state="done"], #result[data-state="error"]', { timeout: 60_000 });
+    const text = await page.textContent('#result');
+    assert.equal(await page.getAttribute('#result', 'data-state'), 'done', text);
+    const result = JSON.parse(text);
+    assert.equal(result.vertices, 642);
+    assert.equal(result.levels, 3);
+    assert.ok(Math.abs(result.movedBy - 0.25) < 1e-12, `moved by ${result.movedBy}`);
+    assert.ok(result.relativeChange <= 1e-5, `relative volume change ${result.relativeChange}`);
+    assert.ok(Math.abs(result.volumeBefore - 3.6227887) < 1e-6);
+    assert.deepEqual(wasmTypes, ['application/wasm'], 'one .wasm fetched, served as application/wasm');
+    assert.deepEqual(failed, [], 'every request served');
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await browser.close();
+    await server.close();
+  }
+});
