@@ -4,7 +4,8 @@
 import { writeSync } from 'node:fs';
 
 const BAR_WIDTH = 24;
-// Redraws at most this often: a progress callback may come thousands of times a second.
+// Redraws at most this often (a progress callback may come thousands of times a second), except
+// for a new label: a new stage always shows.
 const REDRAW_MS = 100;
 
 /**
@@ -40,6 +41,7 @@ export class Progress {
   #started;
   #fraction = null;
   #drawnAt = -Infinity;
+  #drawnLabel = null;
   #shown = false;
 
   /**
@@ -57,14 +59,16 @@ export class Progress {
     this.#started = now();
   }
 
-  /** Sets the fraction done (0..1, or null) and, past the delay, redraws (throttled). */
+  /** Sets the fraction done (0..1, or null) and, past the delay, redraws (throttled but for a new label). */
   update(fraction = this.#fraction, label = this.#label) {
     this.#fraction = fraction;
     this.#label = label;
     if (!this.enabled) return;
     const t = this.now();
-    if (t - this.#started < this.delayMs || t - this.#drawnAt < REDRAW_MS) return;
+    if (t - this.#started < this.delayMs) return;
+    if (this.#label === this.#drawnLabel && t - this.#drawnAt < REDRAW_MS) return;
     this.#drawnAt = t;
+    this.#drawnLabel = this.#label;
     this.#shown = true;
     writeSync(this.fd, `\r${renderProgress(this.#label, this.#fraction, t - this.#started, this.columns)}\x1b[K`);
   }

@@ -256,7 +256,7 @@ describe('progress bar', () => {
     assert.match(long, /^reading d\/d\/.*… \[#{12}-{12}\] {2}50% {2}1\.0 s$/);
   });
 
-  test('Progress: nothing before the delay, throttled redraws, the line erased at the end', () => {
+  test('Progress: nothing before the delay, throttled redraws but for a new label, the line erased at the end', () => {
     const path = file('progress.txt');
     const fd = openSync(path, 'w');
     let t = 0;
@@ -268,13 +268,18 @@ describe('progress bar', () => {
     t = 1000;
     bar.update(0.5);
     t = 1050;
-    bar.update(0.6);  // within 100 ms of the last redraw
+    bar.update(0.6);  // within 100 ms of the last redraw: skipped
+    t = 1060;
+    bar.update(0.7, 'theta^0 (almost)');  // a new label: drawn
+    t = 1100;
+    bar.update(0.8);  // skipped
     t = 1200;
-    bar.update(0.9, 'theta^0 (almost)');
+    bar.update(0.9);
     bar.done();
     closeSync(fd);
-    assert.equal(readFileSync(path, 'utf8'),
-      `\r${renderProgress('theta^0', 0.5, 1000)}\x1b[K\r${renderProgress('theta^0 (almost)', 0.9, 1200)}\x1b[K\r\x1b[K`);
+    const line = (label, fraction, ms) => `\r${renderProgress(label, fraction, ms)}\x1b[K`;
+    assert.equal(readFileSync(path, 'utf8'), line('theta^0', 0.5, 1000) + line('theta^0 (almost)', 0.7, 1060) +
+                 line('theta^0 (almost)', 0.9, 1200) + '\r\x1b[K');
     // Disabled (stderr not a terminal), or a step that ends within the delay: no output at all.
     const quiet = new Progress('x', { enabled: false, delayMs: 0, fd: 1 });
     quiet.update(0.5);
