@@ -59,6 +59,29 @@ function keepLargestComponent(mesh) {
   return { mesh: weld({ positions: mesh.positions, faces: Uint32Array.from(faces) }), dropped: count - 1 };
 }
 
+/** Validates a welded input: closed, manifold, one component. Errors name the problem. */
+export function checkInput(mrvol, mesh, keepLargest, repaired) {
+  const { MrvolError } = mrvol;
+  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
+  const components = connectivity(mesh.faces, mesh.positions.length / 3).components.count;
+  let droppedComponents = 0;
+  if (components > 1) {
+    if (!keepLargest)
+      throw new MrvolError(`the input has ${components} connected components; remeshing needs one closed surface (keep the largest with --keep-largest / keepLargest)`);
+    ({ mesh, dropped: droppedComponents } = keepLargestComponent(mesh));
+  }
+  let v;
+  try {
+    v = mrvol.validate(mesh);
+  } catch (e) {
+    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}${repaired ? '' : ' (--repair drops such faces and closes the holes)'}`);
+  }
+  if (!v.closed)
+    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: ` +
+                         (repaired ? 'holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)' : 'close the holes first (or try --repair)'));
+  return { mesh, validation: v, droppedComponents };
+}
+
 // ---- repair (optional): a closed 2-manifold from a scan that is almost one -----------------------
 
 /**
@@ -286,27 +309,3 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   if (smooth > 0) taubinSmooth(mesh, smooth);
   return { mesh, report };
 }
-
-/** Validates a welded input: closed, manifold, one component. Errors name the problem. */
-export function checkInput(mrvol, mesh, keepLargest, repaired) {
-  const { MrvolError } = mrvol;
-  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
-  const components = connectivity(mesh.faces, mesh.positions.length / 3).components.count;
-  let droppedComponents = 0;
-  if (components > 1) {
-    if (!keepLargest)
-      throw new MrvolError(`the input has ${components} connected components; remeshing needs one closed surface (keep the largest with --keep-largest / keepLargest)`);
-    ({ mesh, dropped: droppedComponents } = keepLargestComponent(mesh));
-  }
-  let v;
-  try {
-    v = mrvol.validate(mesh);
-  } catch (e) {
-    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}${repaired ? '' : ' (--repair drops such faces and closes the holes)'}`);
-  }
-  if (!v.closed)
-    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: ` +
-                         (repaired ? 'holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)' : 'close the holes first (or try --repair)'));
-  return { mesh, validation: v, droppedComponents };
-}
-
