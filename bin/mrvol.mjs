@@ -4,6 +4,7 @@
 import { readFileSync, writeFileSync } from 'node:fs';
 import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError, remesh } from '../lib/node.mjs';
+import { chooseGradientPath } from '../lib/api.mjs';
 
 const USAGE = `usage: mrvol <command> [options]
 
@@ -310,8 +311,7 @@ COMMANDS.edit = (mrvol, values, positionals) => {
     const editor = mr.createEditor({ level, ...scheme });
     editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
     // auto: the tensor when its estimate fits (memory and time), else the matrix-free gradient.
-    const wantTensor = values.theta || gradientPath === 'tensor' ||
-      (gradientPath === 'auto' && detailLevels.length === 0 && mr.estimateTheta({ level, ...scheme }).fits);
+    const wantTensor = values.theta || chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path === 'tensor';
     if (wantTensor && values['no-preserve'] === undefined) {
       if (values.theta) {
         try {

@@ -6,7 +6,7 @@ import { loadMrvol } from './mrvol.js';
 import { Viewer } from './viewer.js';
 import { CageDragger } from './drag.js';
 import { cageEdges } from './cage.js';
-import { History } from './history.js';
+import { History } from '../lib/three/history.mjs';
 import { ThetaCache, thetaKey } from './theta-cache.js';
 import { ThetaJobs } from './theta-jobs.js';
 import { loadSession, saveSession, clearSession, decodeFloat64 } from './session.js';
