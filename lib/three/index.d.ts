@@ -132,6 +132,8 @@ export class EditingSession extends EventTarget {
   dragBy(delta: [number, number, number] | number[]): EditReport | null;
   endDrag(): void;
   cancelDrag(): void;
+  /** The whole cage to `target` (cage order), `held` flags staying put; one step, null when refused. */
+  setCage(target: Float64Array, held: ArrayLike<number>): EditReport | null;
   moveHandles(handles: number[], delta: number[]): EditReport | null;
   undo(): boolean;
   redo(): boolean;

@@ -103,8 +103,10 @@ export class EditingSession extends EventTarget {
       mr.setPositions(restore.positions);
       if (Number.isFinite(restore.reference)) reference = restore.reference;
     }
-    this.#buildEditor(reference);
+    // model first (views replace the mesh), then the new cage.
+    this.#buildEditor(reference, { announce: false });
     this.#emit('model', { model });
+    this.#announceEditor();
     this.#emit('change', { reason: 'model' });
     return model;
   }
@@ -136,7 +138,7 @@ export class EditingSession extends EventTarget {
   }
 
   /** Rebuilds the editor at the current level and scheme from the current shape (keeps the reference). */
-  #buildEditor(reference = null) {
+  #buildEditor(reference = null, { announce = true } = {}) {
     const { mr } = this.model;
     this.cancelDrag();
     if (this.editor) {
@@ -159,9 +161,14 @@ export class EditingSession extends EventTarget {
     const stored = this.#thetas.get(this.#thetaSlot());
     if (stored && this.#tryTheta(stored.theta)) this.thetaSource = stored.source;
     this.setFreeSet(this.freeSet, { quiet: true });
-    this.#emit('editor', { level: this.level, scheme: this.scheme });
-    this.#emit('theta', { source: this.thetaSource, path: editor.path() });
+    if (!announce) return;
+    this.#announceEditor();
     this.#emit('change', { reason: 'editor' });
+  }
+
+  #announceEditor() {
+    this.#emit('editor', { level: this.level, scheme: this.scheme });
+    this.#emit('theta', { source: this.thetaSource, path: this.editor.path() });
   }
 
   /** The level-e cage's edges, pairs of cage indices. */
@@ -237,12 +244,27 @@ export class EditingSession extends EventTarget {
     const target = this.editor.cagePositions();
     for (const h of drag.handles)
       for (let k = 0; k < 3; k++) target[3 * h + k] = drag.before[3 * h + k] + delta[k];
+    const report = this.#step(target, drag.held, started);
+    // Refused (e.g. a boundary vertex of an open mesh, which stays fixed): the cage goes back.
+    if (!report) this.cancelDrag();
+    return report;
+  }
+
+  /**
+   * Moves the whole cage to `target` (Float64Array, 3 per handle, cage order), the `held` handles
+   * (flags, cage order) staying where it puts them, the volume restored when preserving: one step
+   * (animations drive the cage this way). The report, or null when refused (an `error` event).
+   */
+  setCage(target, held) {
+    if (this.#drag) this.cancelDrag();
+    return this.#step(target, held, globalThis.performance.now());
+  }
+
+  #step(target, held, started) {
     let report;
     try {
-      report = this.editor.deformCage(target, drag.held, { tolerance: this.tolerance, preserve: this.preserve });
+      report = this.editor.deformCage(target, held, { tolerance: this.tolerance, preserve: this.preserve });
     } catch (error) {
-      // e.g. a boundary vertex of an open mesh: it stays fixed.
-      this.cancelDrag();
       this.#emit('error', { message: `This edit is not possible: ${error.message}`, error });
       return null;
     }

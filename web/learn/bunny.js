@@ -4,7 +4,7 @@
 // constraint: the pulled ears grow the free mesh, the preserved one keeps its volume and its
 // proportions. The Stanford bunny when public/models has one, otherwise the blob sample.
 import { sampleModels } from 'virtual:mrvol-models';
-import { explain, fetchModel, control, select, bounds } from './stage.js';
+import { explain, fetchSample, control, select, bounds } from './stage.js';
 import { twinEditors, runDemo } from './demo-common.js';
 
 /**
@@ -48,7 +48,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       'the held ones, section 4.1) absorbs the minimal correction (6), so the body shrinks a little as the ears grow.',
     'Choose the level e of the control mesh: the coarser, the larger the pulled region.',
   ]);
-  const text = await fetchModel(name);
+  const text = await fetchSample(name);
   if (stale()) return null;
   const mesh = mrvol.readObj(text);
   const mr = mrvol.openMesh(mesh);
@@ -64,7 +64,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     layout.readouts.replaceChildren();
     layout.bottom.replaceChildren();
     const level = Number(levelSelect.value);
-    twins = twinEditors({ mr, level, scheme: 'loop', layout });
+    twins = twinEditors({ mrvol, mr, level, scheme: 'loop', layout });
     restCage = twins.kept.cagePositions();
     ({ ears, centroid } = pickEars(restCage, isBunny));
     // Seen across the plane of the two ears: both stick out of the silhouette.
