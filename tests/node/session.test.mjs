@@ -195,6 +195,30 @@ test('level and scheme changes keep the shape and the reference volume; the free
   session.dispose();
 });
 
+test('setCage drives the whole cage: two sessions on one mesh, one free and one preserving', () => {
+  const mr = mrvol.openMesh(sample('spiky-ball'));
+  const free = new EditingSession(mrvol, { preserve: false });
+  const kept = new EditingSession(mrvol, { preserve: true, tolerance: 1e-8 });
+  free.open(mr, { name: 'free' });
+  kept.open(mr, { name: 'kept' });
+  const reference = kept.referenceVolume();
+  // Squash the cage along y by 30 %, the lowest handle held.
+  const target = kept.cagePositions();
+  for (let i = 1; i < target.length; i += 3) target[i] *= 0.7;
+  const held = new Uint8Array(kept.cageSize);
+  held[0] = 1;
+  free.setCage(target, new Uint8Array(free.cageSize));
+  const report = kept.setCage(target, held);
+  assert.ok(report.converged);
+  assert.ok(free.volume() < 0.8 * reference, `squashed without preservation: ${free.volume()} vs ${reference}`);
+  assert.ok(relative(kept.volume(), reference) < 1e-7);
+  assert.deepEqual(free.cagePositions(), target, 'without preservation the cage is the target');
+  free.dispose();
+  kept.dispose();
+  assert.ok(mr.info().vertices > 0, 'the mesh stays the caller\'s');
+  mr.delete();
+});
+
 test('a refused edit emits error, cancels the drag and restores the cage', () => {
   const { session, events } = openBall();
   const before = session.cagePositions();
