@@ -33,9 +33,10 @@ export class Layers {
     }
     const started = performance.now();
     const l = Math.max(0, Math.min(session.model.info.levels, Math.round(this.settings.approxLevel)));
-    const approx = session.approximation(l);
+    const fine = session.positions();
+    const approx = session.approximation(l, fine);
     if (this.settings.showApprox) this.viewer.updateApprox(approx);
-    if (this.settings.showDetails) this.viewer.updateDetails(approx, session.positions());
+    if (this.settings.showDetails) this.viewer.updateDetails(approx, fine);
     const ms = performance.now() - started;
     this.level = l;
     this.updates++;

@@ -142,7 +142,7 @@ export class EditingSession extends EventTarget {
   referenceVolume(): number | null;
   positions(): Float64Array;
   cagePositions(): Float64Array;
-  approximation(level: number): Float64Array;
+  approximation(level: number, positions?: Float64Array): Float64Array;
   gradientChoice(): { path: 'tensor' | 'matrix-free'; estimate: ThetaEstimate | null };
   storedTheta(): { theta: Theta; source: string } | null;
   /** The session owns an accepted theta until the model changes. */

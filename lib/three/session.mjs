@@ -333,9 +333,9 @@ export class EditingSession extends EventTarget {
   /** Fine positions (caller's order) and cage positions (cage order), copies. */
   positions() { return this.editor.positions(); }
   cagePositions() { return this.editor.cagePositions(); }
-  /** The level-l approximation of the current shape (MultiresMesh.approximation). */
-  approximation(level) {
-    return this.model.mr.approximation(this.editor.positions(), { level, ...this.schemeOptions });
+  /** The level-l approximation of the current shape, or of `positions` (MultiresMesh.approximation). */
+  approximation(level, positions = this.editor.positions()) {
+    return this.model.mr.approximation(positions, { level, ...this.schemeOptions });
   }
 
   // ---- the volume tensor ----------------------------------------------------------------------------
