@@ -4,7 +4,7 @@
 // geometric quantity comes from the core; the modules here move arrays between it and the screen.
 import { sampleModels } from 'virtual:mrvol-models';
 import { DEFAULT_SCHEME } from '../lib/api.mjs';
-import { EditingSession, FREE_SET_MODES, MAX_PARTS } from '../lib/three/session.mjs';
+import { EditingSession } from '../lib/three/session.mjs';
 import { loadMrvol } from './mrvol.js';
 import { Viewer } from './viewer.js';
 import { CageDragger } from './drag.js';
@@ -13,17 +13,16 @@ import { ThetaJobs } from './theta-jobs.js';
 import { ThetaSource } from './theta-source.js';
 import { Layers } from './layers.js';
 import { loadSession, saveSession, clearSession, decodeFloat64 } from './session.js';
-import { createPanel, TOOLS } from './panel.js';
-import { fetchSample } from './models.js';
+import { createPanel } from './panel.js';
+import { FreeSetTools } from './free-set-ui.js';
+import { fetchSample, sourceText, openObj } from './models.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
-import { showError, clearError, errorText, notice, noticeText, showCacheStatus, followSession } from './readouts.js';
+import { showError, clearError, errorText, notice, showCacheStatus, followSession } from './readouts.js';
 import { installDebugHook } from './debug-hook.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
 
 const DEFAULT_MODEL = 'spiky-ball';
-// Without 1-to-4 splits every vertex is a handle: fine for a small base mesh, not for a big one.
-const MAX_FLAT_VERTICES = 64;
 // painted: the painted region (caller's indices of cage vertices); parts[p]: those of part p + 1.
 // Both are replaced, never mutated.
 const DEFAULT_SETTINGS = Object.freeze({
@@ -32,8 +31,6 @@ const DEFAULT_SETTINGS = Object.freeze({
   tool: 'drag', part: 1, painted: Object.freeze([]), parts: Object.freeze([]),
   showApprox: false, approxLevel: 0, showDetails: false,
 });
-const PAINT_COLOR = '#bf3989';
-const PART_COLORS = ['#cf222e', '#8250df', '#0e8a94', '#9a6700', '#bf3989', '#57606a', '#24292f', '#7d8a00'];
 
 const app = {
   mrvol: null,
@@ -43,9 +40,9 @@ const app = {
   dragger: null,
   theta: null,   // ThetaSource
   layers: null,
+  freeSet: null, // FreeSetTools
   settings: { ...DEFAULT_SETTINGS },
   model: null,   // where the model came from: { name, kind: 'sample' | 'file', text }
-  stroke: null,  // the paint stroke going on: { add }
   selection: new Set(),
   ready: false,
   awaitingFrame: false,
@@ -89,29 +86,18 @@ function saveNow() {
 // ---- models ---------------------------------------------------------------------------------------
 
 /**
- * Parses and checks an OBJ; on success replaces the current model (and returns true), otherwise
- * shows why, offers remeshing when that would help, and keeps the current one (false).
- * restore: { positions: Float64Array, reference, fingerprint } from a stored session.
+ * Opens an OBJ (web/models.js says whether it can be edited); on success replaces the current model
+ * (and returns true), otherwise shows why, offers remeshing when that would help, and keeps the
+ * current one (false). restore: { positions: Float64Array, reference, fingerprint } from a stored session.
  */
 function openModelText({ name, kind, text }, restore = null) {
-  const { mrvol, session } = app;
-  let mr = null, info, read = false;
+  const { session } = app;
+  let mr, info;
   try {
-    const mesh = mrvol.readObj(text);
-    read = true;
-    mr = mrvol.openMesh(mesh);
-    info = mr.info();
-    if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
-      throw new mrvol.MrvolError(
-        `this mesh is not semi-regular: no 1-to-4 subdivision levels were found in its ${info.vertices} vertices, ` +
-        'so it has no coarse cage to edit (mrvol edits meshes made by repeated 1-to-4 splits of a base mesh)');
+    ({ mr, info } = openObj(app.mrvol, text));
   } catch (e) {
-    const notSemiRegular = mr !== null && info?.levels === 0;
-    // Read, but not a closed oriented 2-manifold (a raw scan: repeated faces, holes, pieces).
-    const damaged = read && mr === null;
-    mr?.delete();
     showError(`Could not open ${name}: ${e.message}`);
-    if (notSemiRegular || damaged) offerRemesh({ name, text }, { repair: damaged, open: openModel, notice });
+    if (e.offer) offerRemesh({ name, text }, { repair: e.offer === 'repair', open: openModel, notice });
     return false;
   }
   clearError();
@@ -139,9 +125,7 @@ async function openModel(source, restore = null) {
   const generation = ++app.loadGeneration;
   let text;
   try {
-    const prefetched = source.prefetch ? await source.prefetch : undefined;
-    if (prefetched instanceof Error) throw prefetched;
-    text = source.text ?? prefetched ?? (source.kind === 'sample' ? await fetchSample(source.name) : await source.file.text());
+    text = await sourceText(source);
   } catch (e) {
     if (generation === app.loadGeneration) showError(`Could not open ${source.name}: ${e.message}`);
     return false;
@@ -175,7 +159,7 @@ function followSessionInView(session) {
     app.selection.clear();
     app.viewer.setCage(session.cagePositions(), session.cageEdges());
     app.viewer.updateMesh(session.positions());
-    keepCageMarks();
+    app.freeSet.keepCageMarks();
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
     frameNext = false;
@@ -185,7 +169,6 @@ function followSessionInView(session) {
     if (detail.reason === 'step') return; // the drag handler draws and times its steps
     app.viewer.updateMesh(session.positions());
     app.viewer.updateCage(session.cagePositions());
-    if (detail.reason === 'free-set') showCageMarks();
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
   });
   session.addEventListener('error', ({ detail }) => showError(detail.message));
@@ -197,65 +180,6 @@ function rebuildEditor() {
   if (!session.editor) return;
   session.scheme = settings.scheme;
   session.setLevel(settings.level);  // rebuilds with the scheme too: emits editor
-}
-
-// ---- free set: painted region, parts ----------------------------------------------------------------
-
-/** Hands the panel's free set to the session (it keeps only this cage's vertices). */
-function applyFreeSet() {
-  const { settings, session } = app;
-  if (!session.editor) return;
-  session.setFreeSet({ mode: settings.freeSet, painted: settings.painted, parts: settings.parts });
-}
-
-/** After a new cage: the panel's marks keep only its vertices. */
-function keepCageMarks() {
-  const { settings, session } = app;
-  if (!TOOLS_LIST.includes(settings.tool)) settings.tool = DEFAULT_SETTINGS.tool;
-  if (!FREE_SET_MODES.includes(settings.freeSet)) settings.freeSet = DEFAULT_SETTINGS.freeSet;
-  session.setFreeSet({ mode: settings.freeSet, painted: settings.painted, parts: settings.parts });
-  Object.assign(settings, { painted: session.freeSet.painted, parts: session.freeSet.parts });
-  app.panel.showModeControls();
-  toolNotice();
-}
-const TOOLS_LIST = Object.values(TOOLS);
-
-/** Painted handles (paint tool or painted free set) or the parts' colours (assign tool or parts). */
-function showCageMarks() {
-  const { tool, freeSet, painted, parts } = app.settings;
-  const cageIndex = app.session.cageIndex;
-  const marks = new Map();
-  const showParts = tool === 'assign' || (tool !== 'paint' && freeSet === 'parts');
-  const showPainted = tool === 'paint' || (tool !== 'assign' && freeSet === 'painted');
-  if (showParts) parts.forEach((list, p) => list.forEach((v) => marks.set(cageIndex.get(v), PART_COLORS[p % PART_COLORS.length])));
-  else if (showPainted) for (const v of painted) marks.set(cageIndex.get(v), PAINT_COLOR);
-  app.viewer.setMarks(marks);
-}
-
-function toolNotice() {
-  const { tool } = app.settings;
-  const text = tool === 'paint' ? 'Painting: click or drag over handles to add them to the free set or take them out.'
-    : tool === 'assign' ? 'Assigning: click or drag over handles to put them in the chosen part or take them out.' : '';
-  if (text || /^(Painting|Assigning):/.test(noticeText())) notice(text);
-}
-
-/** A paint stroke passes over handle `index` (the first decides: add or remove). */
-function paintHandle(index, first) {
-  const s = app.settings;
-  const vertex = app.session.cageVertices[index];
-  if (s.tool === 'paint') {
-    const painted = new Set(s.painted);
-    if (first || !app.stroke) app.stroke = { add: !painted.has(vertex) };
-    if (app.stroke.add) painted.add(vertex);
-    else painted.delete(vertex);
-    s.painted = [...painted];
-  } else {
-    const p = Math.min(MAX_PARTS, Math.max(1, Math.round(s.part))) - 1;
-    if (first || !app.stroke) app.stroke = { add: !s.parts[p].includes(vertex) };
-    s.parts = s.parts.map((list, q) => (app.stroke.add || q === p ? list.filter((v) => v !== vertex) : list));
-    if (app.stroke.add) s.parts[p] = [...s.parts[p], vertex];
-  }
-  applyFreeSet();
 }
 
 function applyViewLayers() {
@@ -311,10 +235,10 @@ const dragHandlers = {
   dragCancel() {
     app.session.cancelDrag();
   },
-  painting: () => app.ready && app.session.editor !== null && app.settings.tool !== 'drag',
-  paint: (index, first) => paintHandle(index, first),
+  painting: () => app.ready && app.session.editor !== null && app.freeSet.painting,
+  paint: (index, first) => app.freeSet.paint(index, first),
   paintEnd() {
-    app.stroke = null;
+    app.freeSet.endStroke();
     saveSoon();
   },
   boxSelect(indices) {
@@ -375,32 +299,10 @@ const actions = {
   changeLevel: () => { rebuildEditor(); saveSoon(); },
   changePreserve: () => saveSoon(),
   changeTolerance: () => saveSoon(),
-  changeFreeSet: () => {
-    // The pointer follows: painting for the painted region, assigning for the parts.
-    const mode = app.settings.freeSet;
-    app.settings.tool = mode === 'painted' ? 'paint' : mode === 'parts' ? 'assign' : 'drag';
-    app.panel.update();
-    app.panel.showModeControls();
-    toolNotice();
-    applyFreeSet();
-    saveSoon();
-  },
-  changeTool: () => {
-    app.panel.showModeControls();
-    toolNotice();
-    if (app.session.editor) showCageMarks();
-    saveSoon();
-  },
-  clearPainted: () => {
-    app.settings.painted = [];
-    applyFreeSet();
-    saveSoon();
-  },
-  clearParts: () => {
-    app.settings.parts = Array.from({ length: MAX_PARTS }, () => []);
-    applyFreeSet();
-    saveSoon();
-  },
+  changeFreeSet: () => { app.freeSet.changeMode(); saveSoon(); },
+  changeTool: () => { app.freeSet.changeTool(); saveSoon(); },
+  clearPainted: () => { app.freeSet.clearPainted(); saveSoon(); },
+  clearParts: () => { app.freeSet.clearParts(); saveSoon(); },
   changeView: () => {
     app.viewer.setFlat(app.settings.flat);
     applyViewLayers();
@@ -526,6 +428,7 @@ async function start() {
   app.theta = new ThetaSource(session, { jobs, stats: app.stats, showCache: (entries, note) => app.panel.showCache(entries, note) });
   app.theta.prefetch = prefetch;
   app.layers = new Layers(session, app.viewer, app.settings, (ms) => pushStat(app.stats.layers, ms));
+  app.freeSet = new FreeSetTools({ session, viewer: app.viewer, panel: app.panel, settings: app.settings, defaults: DEFAULT_SETTINGS });
   followSession(session);
   followSessionInView(session);
   // Without a stored session theta is likely not cached: the worker loads its copy of the core
