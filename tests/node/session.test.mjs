@@ -6,6 +6,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { createMrvol } from '../../lib/node.mjs';
+import { chooseGradientPath, DEFAULT_SCHEME } from '../../lib/api.mjs';
 import { EditingSession, FREE_SET_MODES } from '../../lib/three/session.mjs';
 import { MODELS } from './helpers.mjs';
 
@@ -285,6 +286,19 @@ test('an opened MultiresMesh stays the caller\'s unless owned', () => {
   session.open(mr, { name: 'ico', own: true });
   session.dispose();
   assert.throws(() => mr.info(), /deleted/);
+});
+
+test('chooseGradientPath: one rule for the CLI and the editor', () => {
+  const mr = mrvol.openMesh(sample('spiky-ball'));
+  const auto = chooseGradientPath(mr, { level: 0 });
+  assert.equal(auto.path, auto.estimate.fits ? 'tensor' : 'matrix-free');
+  assert.equal(auto.path, 'tensor', 'theta^0 of the spiky ball fits');
+  assert.deepEqual(chooseGradientPath(mr, { level: 0, path: 'matrix-free' }), { path: 'matrix-free', estimate: null });
+  assert.deepEqual(chooseGradientPath(mr, { level: 0, path: 'tensor' }), { path: 'tensor', estimate: null });
+  assert.equal(chooseGradientPath(mr, { level: 0, detailLevels: [1] }).path, 'matrix-free', 'free details need the matrix-free path');
+  assert.throws(() => chooseGradientPath(mr, { path: 'fast' }), /gradient path must be auto, tensor or matrix-free, got 'fast'/);
+  assert.deepEqual({ ...DEFAULT_SCHEME }, { scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
+  mr.delete();
 });
 
 test('approximation: level n gives the shape back, level 0 the smooth base, through the API', () => {
