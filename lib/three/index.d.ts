@@ -13,7 +13,7 @@ export interface VolumeEditControlsOptions {
   tolerance?: number;
   /**
    * Gradients: 'matrix-free' (default), 'auto' (compute theta^e now, synchronously, when its
-   * estimate fits), or a Theta of this mesh, scheme and level (it stays the caller's to delete).
+   * estimate fits), or a Theta of this mesh, scheme and level (the component owns it then: dispose() deletes it).
    */
   theta?: 'matrix-free' | 'auto' | Theta;
   /** How near (CSS pixels) the pointer must press to a handle to grab it (default 10). */

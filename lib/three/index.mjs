@@ -53,7 +53,12 @@ export class VolumeEditControls extends THREE.EventDispatcher {
       if (this.session.gradientChoice().path === 'tensor') this.session.computeTheta();
     } else if (theta && theta !== 'matrix-free') {
       const used = this.session.useTheta(theta, 'given');
-      if (!used.ok) throw new mrvol.MrvolError(`this theta does not fit the mesh: ${used.reason}`);
+      if (!used.ok) {
+        this.surface.dispose();
+        this.cage.dispose();
+        this.session.dispose();
+        throw new mrvol.MrvolError(`this theta does not fit the mesh: ${used.reason}`);
+      }
     }
     this.session.addEventListener('error', this.#onError);
     this.#listen(true);

@@ -120,6 +120,32 @@ describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
     await cdp.detach();
   });
 
+  test("theta: 'auto' edits through the tensor; a tensor of another level is refused, nothing left behind", async () => {
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const { mrvol, model } = editor.session;
+      const Controls = editor.constructor;
+      const second = new Controls(mrvol, editor.camera, editor.domElement, model.mr, { theta: 'auto', level: 0 });
+      const path = second.session.editor.path();
+      const handles = second.handleCount;
+      second.dispose();
+      const foreign = model.mr.computeTheta({ level: 1 });
+      let message = null;
+      try {
+        new Controls(mrvol, editor.camera, editor.domElement, model.mr, { theta: foreign, level: 0 });
+      } catch (e) {
+        message = `${e.name}: ${e.message}`;
+      }
+      foreign.delete();
+      return { path, handles, message, firstStillWorks: Number.isFinite(editor.volume()) };
+    });
+    assert.equal(result.path, 'tensor');
+    assert.equal(result.handles, 12);
+    assert.match(result.message, /^MrvolError: this theta does not fit the mesh: /);
+    assert.ok(result.firstStillWorks, 'the page\'s editor (owner of the mesh) is untouched');
+    assert.deepEqual(page.problems, []);
+  });
+
   test('dispose() removes the object and its listeners', async () => {
     const result = await page.evaluate(() => {
       const editor = window.minimalEditor;
