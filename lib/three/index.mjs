@@ -176,12 +176,17 @@ export class VolumeEditControls extends THREE.EventDispatcher {
   // ---- pointer ----------------------------------------------------------------------------------------
 
   #project(rect) {
+    // Handles in world coordinates (the object may be moved, turned, scaled), into a kept buffer:
+    // pointer moves do not allocate.
     this.object.updateWorldMatrix(true, false);
-    const world = this.cage.positions.slice();
+    const local = this.cage.positions;
+    if (this.#worldPositions?.length !== local.length) this.#worldPositions = new Float64Array(local.length);
+    const world = this.#worldPositions;
     const matrix = this.object.matrixWorld;
-    for (let i = 0; i < world.length; i += 3) this.#world.fromArray(world, i).applyMatrix4(matrix).toArray(world, i);
+    for (let i = 0; i < world.length; i += 3) this.#world.fromArray(local, i).applyMatrix4(matrix).toArray(world, i);
     return projectPoints(world, this.camera, rect.width, rect.height, this.#screen, this.#depths);
   }
+  #worldPositions = null;
 
   #pick(e) {
     const rect = this.domElement.getBoundingClientRect();
