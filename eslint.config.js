@@ -4,7 +4,7 @@ import js from '@eslint/js';
 import globals from 'globals';
 
 export default [
-  { ignores: ['build/', 'dist/', 'node_modules/', 'public/', 'tests/fuzz/corpus/'] },
+  { ignores: ['build/', 'dist/', 'node_modules/', 'public/', 'tests/fuzz/corpus/', 'wasm/bindings/node-shim.js'] },
   js.configs.recommended,
   {
     languageOptions: { ecmaVersion: 'latest', sourceType: 'module' },
@@ -17,6 +17,8 @@ export default [
   },
   // The library runs in Node, browsers and workers alike.
   { files: ['lib/**'], languageOptions: { globals: globals['shared-node-browser'] } },
+  // The three.js component runs in pages (DOM, pointer events).
+  { files: ['lib/three/**'], languageOptions: { globals: globals.browser } },
   // Node: the command line, scripts, benchmarks, tests, the Node example, config files.
   {
     files: ['bin/**', 'scripts/**', 'bench/**', 'tests/**', 'examples/node/**', '*.config.js', '*.config.mjs'],

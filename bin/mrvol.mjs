@@ -6,6 +6,7 @@ import { open, readFile } from 'node:fs/promises';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError } from '../lib/node.mjs';
+import { chooseGradientPath } from '../lib/api.mjs';
 import { Progress } from './progress.mjs';
 
 const VERSION = JSON.parse(await readFile(new URL('../package.json', import.meta.url), 'utf8')).version;
@@ -414,8 +415,7 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
     const editor = mr.createEditor({ level, ...scheme });
     editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
     // auto: the tensor when its estimate fits (memory and time), else the matrix-free gradient.
-    const wantTensor = values.theta || gradientPath === 'tensor' ||
-      (gradientPath === 'auto' && detailLevels.length === 0 && mr.estimateTheta({ level, ...scheme }).fits);
+    const wantTensor = values.theta || chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path === 'tensor';
     if (wantTensor && values['no-preserve'] === undefined) {
       if (values.theta) {
         try {

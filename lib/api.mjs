@@ -10,7 +10,21 @@ export class MrvolError extends Error {
   }
 }
 
-const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
+/** The default scheme and its Loop weights alpha, beta (the paper's); part of a theta file's key. */
+export const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
+
+/**
+ * The gradient path an editor uses: 'tensor' when asked for, or under 'auto' when theta^e's
+ * estimate fits (memory and time) and no details are free; 'matrix-free' otherwise. One rule for
+ * the CLI and the web editor. Returns { path, estimate (null unless consulted) }.
+ */
+export function chooseGradientPath(mr, { level = 0, path = 'auto', detailLevels = [], ...scheme } = {}) {
+  if (path === 'tensor' || path === 'matrix-free') return { path, estimate: null };
+  if (path !== 'auto') throw new MrvolError(`gradient path must be auto, tensor or matrix-free, got '${path}'`);
+  if (detailLevels.length > 0) return { path: 'matrix-free', estimate: null };
+  const estimate = mr.estimateTheta({ level, ...scheme });
+  return { path: estimate.fits ? 'tensor' : 'matrix-free', estimate };
+}
 
 function schemeArgs(options = {}) {
   const scheme = options.scheme ?? DEFAULT_SCHEME.scheme;
@@ -267,6 +281,22 @@ export function wrapModule(module) {
         : levelArg(options.steps, 'steps');
       return call((r) => r[name](coefficients, level, steps, ...scheme), this.#live());
     }
+    /**
+     * The level-l approximation of `positions` (paper Figure 1): analysis at level l, the details
+     * of the vertices born after level l set to zero, synthesis. Same vertices and faces.
+     */
+    approximation(positions, options = {}) {
+      if (!(positions instanceof Float64Array)) throw new MrvolError('positions must be a Float64Array');
+      const level = levelArg(options.level);
+      if (level < 0 || level > this.levels) throw new MrvolError(`level ${level} is outside 0..${this.levels}`);
+      const transform = { ...options, level };
+      const coefficients = this.analyze(positions, transform);
+      this.#depths ??= this.depths();
+      for (let i = 0; i < this.#depths.length; i++)
+        if (this.#depths[i] > level) coefficients.fill(0, 3 * i, 3 * i + 3);
+      return this.synthesize(coefficients, transform);
+    }
+    #depths = null;
     /** Caller's vertex index of each hierarchy index (the order of theta entries: by depth). */
     hierarchyOrder() { return call((r) => r.hierarchyOrder(), this.#live()); }
     /** max |synthesis(analysis(x)) - x| over the current positions. */

@@ -9,6 +9,7 @@ import createMrvolModule from '../build/wasm/mrvol-web.mjs';
 import { wrapModule, MrvolError } from './api.mjs';
 
 export { MrvolError, wrapModule };
+export { DEFAULT_SCHEME, chooseGradientPath } from './api.mjs';
 
 const WASM_FILE = 'mrvol-web.wasm';
 const defaultWasmUrl = () => new URL('../build/wasm/mrvol-web.wasm', import.meta.url).href;

@@ -321,6 +321,12 @@ export interface MultiresMesh {
    * level-l vertices; all of them give the covector of (c^(l-1), d^(l-1)).
    */
   transposeSteps(covector: Float64Array, options: LiftingStepsOptions): Float64Array;
+  /**
+   * The level-l approximation of `positions` (paper Figure 1): analysis at level l (options.level,
+   * 0..levels), the details of the vertices born after level l set to zero, synthesis. Same
+   * vertices and faces; level = levels gives the positions back.
+   */
+  approximation(positions: Float64Array, options?: TransformOptions): Float64Array;
   /** Caller's vertex index of each hierarchy index (hierarchy order: by depth, as theta entries). */
   hierarchyOrder(): Uint32Array;
   /** Connectivity fingerprint (16 hex digits): what a volume tensor depends on besides scheme and level. */
@@ -365,6 +371,18 @@ export interface Mrvol {
  * lib/browser.mjs).
  */
 export function wrapModule(module: object): Mrvol;
+
+/** The default scheme and its Loop weights (the paper's); exported by lib/api.mjs. */
+export const DEFAULT_SCHEME: Readonly<{ scheme: 'loop'; alpha: number; beta: number }>;
+
+/**
+ * The gradient path an editor uses (the rule of the CLI and the web editor): 'tensor' or
+ * 'matrix-free' when asked for; under 'auto' (default) the tensor when theta^e's estimate fits and
+ * no detail levels are free, else matrix-free. `estimate` is null unless it was consulted.
+ * Exported by lib/api.mjs.
+ */
+export function chooseGradientPath(mr: MultiresMesh, options?: { level?: number; path?: 'auto' | 'tensor' | 'matrix-free';
+  detailLevels?: number[] } & SchemeOptions): { path: 'tensor' | 'matrix-free'; estimate: ThetaEstimate | null };
 
 /**
  * Where createMrvol() finds the WebAssembly module, for hosts that move or serve it themselves.

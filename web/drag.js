@@ -1,16 +1,15 @@
 // Pointer handling for the cage handles: picks in screen space (the nearest projected handle
 // within a few pixels), drags on the plane through the grabbed handle facing the camera, and emits.
-// It decides nothing else: the app says which handles a pick moves and what a drag does.
+// It decides nothing else: the app says which handles a pick moves and what a drag does. The drag
+// geometry is mrvol/three's (lib/three/pointer.mjs), as in the component.
 import { THREE } from './viewer.js';
+import { DragPlane } from '../lib/three/pointer.mjs';
 
 const PICK_RADIUS_PX = 8;
 const CLICK_SLOP_PX = 4;
 
 // Scratch objects: pointer handlers do not allocate.
 const ray = new THREE.Ray();
-const plane = new THREE.Plane();
-const hit = new THREE.Vector3();
-const normal = new THREE.Vector3();
 const point = new THREE.Vector3();
 
 /**
@@ -82,14 +81,10 @@ export class CageDragger {
     }
     const handles = this.handlers.pick(index, e.shiftKey);
     if (!handles || handles.length === 0) return;
-    this.viewer.viewDirection(normal);
     point.fromArray(this.viewer.cagePositions, 3 * index);
-    plane.setFromNormalAndCoplanarPoint(normal, point);
-    if (!this.viewer.rayAt(x, y, ray).intersectPlane(plane, hit)) return;
-    this.drag = {
-      pointerId: e.pointerId, handles, started: false, cancelled: false,
-      plane: plane.clone(), origin: hit.clone(),
-    };
+    const plane = new DragPlane();
+    if (!plane.start(this.viewer.camera, this.viewer.rayAt(x, y, ray), point)) return;
+    this.drag = { pointerId: e.pointerId, handles, started: false, cancelled: false, plane };
     this.viewer.canvas.setPointerCapture?.(e.pointerId);
     this.container.classList.add('dragging');
   }
@@ -130,12 +125,13 @@ export class CageDragger {
     e.stopPropagation();
     if (drag.cancelled) return;
     const [x, y] = this.#local(e);
-    if (!this.viewer.rayAt(x, y, ray).intersectPlane(drag.plane, hit)) return;
+    const delta = drag.plane.delta(this.viewer.rayAt(x, y, ray));
+    if (!delta) return;
     if (!drag.started) {
       drag.started = true;
       this.handlers.dragStart(drag.handles);
     }
-    this.handlers.drag([hit.x - drag.origin.x, hit.y - drag.origin.y, hit.z - drag.origin.z], e.timeStamp);
+    this.handlers.drag(delta, e.timeStamp);
   }
 
   #pointerUp(e, cancelled = false) {

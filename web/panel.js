@@ -1,11 +1,15 @@
 // The control panel (lil-gui). It edits a settings object and calls the app's actions; every
 // control carries a data-testid so that tests drive the real UI.
 import GUI from 'lil-gui';
+import { FREE_SET_MODES, MAX_PARTS } from '../lib/three/session.mjs';
 
+export { MAX_PARTS };
 const SCHEMES = ['loop', 'butterfly', 'linear'];
-const FREE_SETS = { 'cage minus held': 'minus-held', 'all cage': 'all', 'painted region': 'painted', parts: 'parts' };
-const TOOLS = { 'drag handles': 'drag', 'paint free set': 'paint', 'assign to part': 'assign' };
-export const MAX_PARTS = 8;
+// The session's free-set modes (lib/three/session.mjs) under their names in the panel.
+const FREE_SET_NAMES = { 'minus-held': 'cage minus held', all: 'all cage', painted: 'painted region', parts: 'parts' };
+const FREE_SETS = Object.fromEntries(FREE_SET_MODES.map((mode) => [FREE_SET_NAMES[mode], mode]));
+/** Pointer tools: drag handles, paint the free set, assign handles to parts. */
+export const TOOLS = { 'drag handles': 'drag', 'paint free set': 'paint', 'assign to part': 'assign' };
 const TOLERANCES = { '1e-4': 1e-4, '1e-5': 1e-5, '1e-6': 1e-6, '1e-7': 1e-7, '1e-8': 1e-8 };
 
 function tag(controller, id) {

@@ -66,3 +66,19 @@ export function clearSession() {
     localStorage.removeItem(KEY);
   } catch { /* storage off */ }
 }
+
+/**
+ * The model of the stored session, for other views (the teaching views): { kind, name, text (an
+ * opened file's, else null), positions (the edited fine positions, or null) }, or null. They need
+ * not know how the session is stored.
+ */
+export function storedModel() {
+  const session = loadSession();
+  if (!session) return null;
+  let positions = null;
+  try {
+    positions = session.positions ? decodeFloat64(session.positions) : null;
+  } catch { /* a damaged session: the file's own positions */ }
+  const { kind, name, text } = session.model;
+  return { kind, name, text: typeof text === 'string' ? text : null, positions };
+}

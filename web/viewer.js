@@ -1,36 +1,18 @@
 // The three.js view: the fine mesh (flat or smooth shading), the level-e cage over it (edges and
 // handle points), orbit/pan/zoom, rendering on demand. It draws what it is given and projects
-// handles to the screen; it knows nothing of the core.
+// handles to the screen; it knows nothing of the core. The cage and the picking are mrvol/three's
+// (lib/three): the same objects and pointer geometry as the component.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
+import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
 
 const MESH_COLOR = 0xc9b8a0;
-const CAGE_COLOR = 0x1f6feb;
-const HANDLE_COLOR = new THREE.Color(0x1f6feb);
+const HANDLE_COLOR = new THREE.Color(CAGE_COLOR);
 const SELECTED_COLOR = new THREE.Color(0xf0a020);
 const HOVER_COLOR = new THREE.Color(0x3fb950);
 const APPROX_COLOR = 0x2da44e;
 const DETAIL_COLOR = 0xcf222e;
-
-// Scratch objects: pointer handlers and projections do not allocate.
-const scratch = new THREE.Vector3();
-
-function discTexture() {
-  const size = 64;
-  const canvas = document.createElement('canvas');
-  canvas.width = canvas.height = size;
-  const g = canvas.getContext('2d');
-  g.beginPath();
-  g.arc(size / 2, size / 2, size / 2 - 4, 0, 2 * Math.PI);
-  g.fillStyle = '#ffffff';
-  g.fill();
-  g.lineWidth = 6;
-  g.strokeStyle = '#202020';
-  g.stroke();
-  const texture = new THREE.CanvasTexture(canvas);
-  texture.colorSpace = THREE.SRGBColorSpace;
-  return texture;
-}
 
 export class Viewer {
   /** @param {HTMLElement} container the element the canvas fills */
@@ -60,15 +42,9 @@ export class Viewer {
       polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
     });
     this.mesh = null;
-    this.cageVisible = new THREE.LineBasicMaterial({ color: CAGE_COLOR });
-    this.cageHidden = new THREE.LineBasicMaterial({ color: CAGE_COLOR, transparent: true, opacity: 0.22, depthTest: false });
-    this.cageLines = null;
-    this.cageLinesHidden = null;
-    this.handleMaterial = new THREE.PointsMaterial({
-      size: 13, sizeAttenuation: false, vertexColors: true, map: discTexture(), alphaTest: 0.5,
-      depthTest: false, transparent: false,
-    });
-    this.handles = null;
+    // One set of cage materials for every cage shown (their shaders compile once, in precompile()).
+    this.cageMaterials = CageObject.materials({ color: CAGE_COLOR });
+    this.cage = null;
     // Optional layers: a second, semi-transparent mesh (an approximation of the fine one, same
     // faces) and line segments (one per vertex, from the approximation to the fine position).
     this.approxMaterial = new THREE.MeshStandardMaterial({
@@ -84,8 +60,6 @@ export class Viewer {
     this.cageGroup = new THREE.Group();
     this.scene.add(this.cageGroup);
 
-    this.cageCount = 0;
-    this.cagePositions = null; // Float64Array, 3 per handle
     this.selection = new Set();
     this.hover = -1;
     this.flat = true;
@@ -108,9 +82,9 @@ export class Viewer {
     geometry.setIndex([0, 1, 2]);
     const placeholders = [
       new THREE.Mesh(geometry, this.meshMaterial),
-      new THREE.LineSegments(geometry, this.cageVisible),
-      new THREE.LineSegments(geometry, this.cageHidden),
-      new THREE.Points(geometry, this.handleMaterial),
+      new THREE.LineSegments(geometry, this.cageMaterials.lines),
+      new THREE.LineSegments(geometry, this.cageMaterials.hidden),
+      new THREE.Points(geometry, this.cageMaterials.handles),
     ];
     this.scene.add(...placeholders);
     try {
@@ -177,27 +151,17 @@ export class Viewer {
   frameAll() {
     let sphere = null;
     if (this.mesh) sphere = this.mesh.geometry.boundingSphere.clone();
-    if (this.cageLines) {
-      this.cageLines.geometry.computeBoundingSphere();
-      const cage = this.cageLines.geometry.boundingSphere;
+    if (this.cage) {
+      this.cage.lines.geometry.computeBoundingSphere();
+      const cage = this.cage.lines.geometry.boundingSphere;
       sphere = sphere ? sphere.union(cage) : cage.clone();
     }
     if (sphere) this.frame(sphere);
   }
 
-  /** Points the camera at a bounding sphere. */
+  /** Points the camera at a bounding sphere (room left for the panels). */
   frame(sphere) {
-    const r = Math.max(sphere.radius, 1e-6);
-    const vertical = THREE.MathUtils.degToRad(this.camera.fov / 2);
-    const horizontal = Math.atan(Math.tan(vertical) * this.camera.aspect);
-    const distance = r / Math.sin(Math.min(vertical, horizontal)) * 1.3; // room for the panels
-    const direction = new THREE.Vector3(0.45, 0.35, 1).normalize();
-    this.controls.target.copy(sphere.center);
-    this.camera.position.copy(sphere.center).addScaledVector(direction, distance);
-    this.camera.near = distance / 100;
-    this.camera.far = distance * 100;
-    this.camera.updateProjectionMatrix();
-    this.controls.update();
+    frameSphere(this.camera, { center: sphere.center.toArray(), radius: sphere.radius }, { controls: this.controls, margin: 1.3 });
   }
 
   /** New fine positions, same connectivity. */
@@ -271,37 +235,24 @@ export class Viewer {
 
   /** Replaces the cage: positions (3 per handle) and edges (pairs of handle indices). */
   setCage(positions, edges) {
-    for (const object of [this.cageLines, this.cageLinesHidden, this.handles]) {
-      if (!object) continue;
-      this.cageGroup.remove(object);
-      object.geometry.dispose();
+    if (this.cage) {
+      this.cageGroup.remove(this.cage);
+      this.cage.dispose();
     }
-    this.cageCount = positions.length / 3;
-    this.cagePositions = Float64Array.from(positions);
-    const lineGeometry = new THREE.BufferGeometry();
-    lineGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
-    lineGeometry.setIndex(new THREE.BufferAttribute(new Uint32Array(edges), 1));
-    this.cageLines = new THREE.LineSegments(lineGeometry, this.cageVisible);
-    this.cageLinesHidden = new THREE.LineSegments(lineGeometry, this.cageHidden);
-    this.cageLinesHidden.renderOrder = 1;
-    const pointGeometry = new THREE.BufferGeometry();
-    pointGeometry.setAttribute('position', lineGeometry.getAttribute('position'));
-    pointGeometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * this.cageCount), 3));
-    this.handles = new THREE.Points(pointGeometry, this.handleMaterial);
-    this.handles.renderOrder = 2;
-    for (const object of [this.cageLines, this.cageLinesHidden, this.handles]) object.frustumCulled = false;
-    this.cageGroup.add(this.cageLines, this.cageLinesHidden, this.handles);
+    this.cage = new CageObject(positions, edges, { materials: this.cageMaterials });
+    this.cageGroup.add(this.cage);
     this.selection = new Set();
     this.marks = new Map();
     this.hover = -1;
     this.updateColors();
   }
 
+  get cageCount() { return this.cage?.count ?? 0; }
+  /** Handle positions (Float64Array, 3 per handle) as drawn. */
+  get cagePositions() { return this.cage?.positions ?? null; }
+
   updateCage(positions) {
-    this.cagePositions.set(positions);
-    const attribute = this.cageLines.geometry.getAttribute('position');
-    attribute.array.set(positions);
-    attribute.needsUpdate = true;
+    this.cage.setPositions(positions);
     this.requestRender();
   }
 
@@ -323,13 +274,9 @@ export class Viewer {
   }
 
   updateColors() {
-    if (!this.handles) return;
-    const colors = this.handles.geometry.getAttribute('color');
-    for (let i = 0; i < this.cageCount; i++) {
-      const c = this.selection.has(i) ? SELECTED_COLOR : i === this.hover ? HOVER_COLOR : this.marks.get(i) ?? HANDLE_COLOR;
-      colors.setXYZ(i, c.r, c.g, c.b);
-    }
-    colors.needsUpdate = true;
+    if (!this.cage) return;
+    this.cage.setHandleColors((i) => (this.selection.has(i) ? SELECTED_COLOR : i === this.hover ? HOVER_COLOR
+      : this.marks.get(i) ?? HANDLE_COLOR));
     this.requestRender();
   }
 
@@ -338,45 +285,20 @@ export class Viewer {
    * and the depth of each (NDC z) in `depths` when given.
    */
   projectHandles(out = new Float64Array(2 * this.cageCount), depths = null) {
-    const w = this.canvas.clientWidth, h = this.canvas.clientHeight;
-    this.camera.updateMatrixWorld();
-    for (let i = 0; i < this.cageCount; i++) {
-      scratch.fromArray(this.cagePositions, 3 * i).project(this.camera);
-      out[2 * i] = (scratch.x + 1) / 2 * w;
-      out[2 * i + 1] = (1 - scratch.y) / 2 * h;
-      if (depths) depths[i] = scratch.z;
-    }
-    return out;
+    return projectPoints(this.cagePositions ?? [], this.camera, this.canvas.clientWidth, this.canvas.clientHeight, out, depths);
   }
 
   /** The handle nearest to a canvas point (CSS pixels) within `radius` pixels, or -1. */
   pickHandle(x, y, radius = 8) {
     if (!this.cageGroup.visible || this.cageCount === 0) return -1;
-    const screen = this.projectHandles(undefined, this.pickDepths ??= new Float64Array(this.cageCount));
-    let best = -1, bestD = Infinity, bestZ = Infinity;
-    for (let i = 0; i < this.cageCount; i++) {
-      const z = this.pickDepths[i];
-      if (z < -1 || z > 1) continue; // behind the camera or clipped
-      const dx = screen[2 * i] - x, dy = screen[2 * i + 1] - y;
-      const d = dx * dx + dy * dy;
-      if (d > radius * radius) continue;
-      // nearest on screen; between handles about as near, the one in front
-      if (best < 0 || d < bestD - 1 || (Math.abs(d - bestD) <= 1 && z < bestZ)) {
-        best = i;
-        bestD = d;
-        bestZ = z;
-      }
-    }
-    return best;
+    if (this.pickDepths?.length !== this.cageCount) this.pickDepths = new Float64Array(this.cageCount);
+    const screen = this.projectHandles(undefined, this.pickDepths);
+    return nearestOnScreen(screen, this.pickDepths, x, y, radius);
   }
 
   /** Ray through a canvas point (CSS pixels). */
   rayAt(x, y, ray = new THREE.Ray()) {
-    const ndcX = x / this.canvas.clientWidth * 2 - 1, ndcY = 1 - y / this.canvas.clientHeight * 2;
-    this.camera.updateMatrixWorld();
-    ray.origin.setFromMatrixPosition(this.camera.matrixWorld);
-    ray.direction.set(ndcX, ndcY, 0.5).unproject(this.camera).sub(ray.origin).normalize();
-    return ray;
+    return rayThrough(this.camera, x, y, this.canvas.clientWidth, this.canvas.clientHeight, ray);
   }
 
   /** Camera's view direction (unit, world). */

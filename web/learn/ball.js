@@ -3,7 +3,7 @@
 // floor, the ball is squashed vertically by a spring. The same cage targets drive two editors: left
 // without preservation (the volume drops at every impact), right with it (section 4: the minimal
 // correction restores the volume; the details ride along).
-import { explain, fetchModel, control, select } from './stage.js';
+import { explain, fetchSample, control, select } from './stage.js';
 import { twinEditors, runDemo } from './demo-common.js';
 
 export async function mount({ mrvol, layout, el, stale }) {
@@ -17,14 +17,14 @@ export async function mount({ mrvol, layout, el, stale }) {
       'incompressible ball would (lower row). The details (spikes) are kept by the multiresolution representation.',
     'The chart plots both volumes over time, divided by the reference volume.',
   ]);
-  const text = await fetchModel('spiky-ball');
+  const text = await fetchSample('spiky-ball');
   if (stale()) return null;
   const mr = mrvol.openMesh(mrvol.readObj(text));
   const rest = mr.positions();
   let bottom = Infinity;
   for (let i = 1; i < rest.length; i += 3) bottom = Math.min(bottom, rest[i]);
   const R = -bottom; // from the centre down to the lowest point of the fine mesh
-  const twins = twinEditors({ mr, level: 0, scheme: 'loop', layout, floorY: 0 });
+  const twins = twinEditors({ mrvol, mr, level: 0, scheme: 'loop', layout, floorY: 0 });
   const restCage = twins.kept.cagePositions();
   let lowest = Infinity;
   for (let i = 1; i < restCage.length; i += 3) lowest = Math.min(lowest, restCage[i]);

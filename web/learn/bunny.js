@@ -4,7 +4,7 @@
 // constraint: the pulled ears grow the free mesh, the preserved one keeps its volume and its
 // proportions. The Stanford bunny when public/models has one, otherwise the blob sample.
 import { sampleModels } from 'virtual:mrvol-models';
-import { explain, fetchModel, control, select, bounds } from './stage.js';
+import { THREE, explain, fetchSample, control, select, bounds } from './stage.js';
 import { twinEditors, runDemo } from './demo-common.js';
 
 /**
@@ -48,7 +48,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       'the held ones, section 4.1) absorbs the minimal correction (6), so the body shrinks a little as the ears grow.',
     'Choose the level e of the control mesh: the coarser, the larger the pulled region.',
   ]);
-  const text = await fetchModel(name);
+  const text = await fetchSample(name);
   if (stale()) return null;
   const mesh = mrvol.readObj(text);
   const mr = mrvol.openMesh(mesh);
@@ -64,12 +64,12 @@ export async function mount({ mrvol, layout, el, stale }) {
     layout.readouts.replaceChildren();
     layout.bottom.replaceChildren();
     const level = Number(levelSelect.value);
-    twins = twinEditors({ mr, level, scheme: 'loop', layout });
+    twins = twinEditors({ mrvol, mr, level, scheme: 'loop', layout });
     restCage = twins.kept.cagePositions();
     ({ ears, centroid } = pickEars(restCage, isBunny));
     // Seen across the plane of the two ears: both stick out of the silhouette.
     const [u, v] = ears.map((e) => [0, 1, 2].map((k) => restCage[3 * e + k] - centroid[k]));
-    let view = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let view = new THREE.Vector3().crossVectors(new THREE.Vector3(...u), new THREE.Vector3(...v)).toArray();
     if (Math.hypot(...view) < 1e-9) view = [0.45, 0.35, 1];
     twins.stage.frame(b.center, (isBunny ? 1.2 : 1.5) * b.radius, view);
     target = new Float64Array(restCage.length);

@@ -1,19 +1,22 @@
-// Shared by the demos: two editors on one mesh, one without and one with volume preservation,
-// driven by the same cage targets; side-by-side drawing, volume chart and readouts.
-import { Stage, THREE, surface, wire, edgesOf, Chart, readoutTable } from './stage.js';
+// Shared by the demos: two editing sessions (lib/three/session.mjs, as in the editor) on one mesh,
+// one without and one with volume preservation, driven by the same cage targets; side-by-side
+// drawing, volume chart and readouts.
+import { EditingSession } from '../../lib/three/session.mjs';
+import { Stage, THREE, surface, wire, Chart, readoutTable } from './stage.js';
 
 /**
- * Two editors on `mr` at `level`: panels 'volume free' and 'volume preserved', their fine meshes
- * and cages drawn, a chart of V / V_ref over time. drive(target, held) deforms both.
+ * Two sessions on `mr` (the caller's; mrvol its API object) at `level`: panels 'volume free' and 'volume preserved',
+ * their fine meshes and cages drawn, a chart of V / V_ref over time. drive(target, held) deforms both.
  */
-export function twinEditors({ mr, level = 0, scheme, layout, floorY = null, schemeOptions = {} }) {
-  const options = { level, scheme, ...schemeOptions };
-  const free = mr.createEditor(options);
-  const kept = mr.createEditor(options);
-  const faces = mr.faces();
-  const cageVertices = free.cageVertices();
-  const cageIndex = new Map(Array.from(cageVertices, (v, i) => [v, i]));
-  const cageEdges = edgesOf(mr.levelFaces(level), cageIndex);
+export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floorY = null, schemeOptions = {} }) {
+  const options = { level, scheme, ...schemeOptions, tolerance: 1e-5 };
+  const free = new EditingSession(mrvol, { ...options, preserve: false });
+  const kept = new EditingSession(mrvol, { ...options, preserve: true });
+  free.open(mr, { name: 'free' });
+  kept.open(mr, { name: 'preserved' });
+  const faces = free.model.faces;
+  const cageVertices = free.cageVertices;
+  const cageEdges = free.cageEdges();
   const stage = new Stage(layout.stage, ['volume free', 'volume preserved']);
   const parts = [free, kept].map((editor, p) => {
     const scene = stage.panels[p].scene;
@@ -39,17 +42,15 @@ export function twinEditors({ mr, level = 0, scheme, layout, floorY = null, sche
   set('demo-reference', reference.toPrecision(8), reference);
   const stats = { steps: 0, maxError: 0, minRatio: 1, maxRatio: 1, lastReport: null, failures: 0 };
 
+  kept.addEventListener('error', ({ detail }) => {
+    stats.failures++;
+    layout.status.textContent = `A step was refused: ${detail.error.message}`;
+  });
+
   function drive(target, held) {
-    const zeros = new Uint8Array(free.cageSize);
-    free.deformCage(target, zeros, { preserve: false });
-    let report;
-    try {
-      report = kept.deformCage(target, held, { preserve: true });
-    } catch (e) {
-      stats.failures++;
-      layout.status.textContent = `A step was refused: ${e.message}`;
-      return;
-    }
+    free.setCage(target, new Uint8Array(free.cageSize));
+    const report = kept.setCage(target, held);
+    if (!report) return;
     stats.steps++;
     stats.lastReport = report;
     for (const part of parts) {
@@ -78,8 +79,8 @@ export function twinEditors({ mr, level = 0, scheme, layout, floorY = null, sche
     }),
     dispose() {
       stage.dispose();
-      free.delete();
-      kept.delete();
+      free.dispose();
+      kept.dispose();
     },
   };
 }

@@ -3,7 +3,7 @@
 // (coarse coefficients c^l on levelFaces(l)), and the details d^l as arrows or as a colour map of
 // their size; the three schemes side by side. Analysis and synthesis come from the core.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, surface, wire, arrows, edgesOf, bounds, ramp, fetchModel, editorModel, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, surface, wire, arrows, edgesOf, bounds, ramp, fetchSample, editorModel, explain, control, select, button, readoutTable } from './stage.js';
 
 const SCHEMES = ['loop', 'butterfly', 'linear'];
 const MODELS = ['spiky-ball', 'blob', 'torus'];
@@ -61,10 +61,8 @@ export async function mount({ mrvol, layout, el, stale }) {
     const coefficients = mr.analyze(positions, { level: 0, scheme }); // c^0 and every detail d^0..d^{n-1}
     const levels = [];
     for (let l = 0; l <= n; l++) {
-      // Details of level >= l are those of the vertices born after level l.
-      const a = coefficients.slice();
-      for (let i = 0; i < depths.length; i++) if (depths[i] > l) a[3 * i] = a[3 * i + 1] = a[3 * i + 2] = 0;
-      const approx = mr.synthesize(a, { level: 0, scheme });
+      // The details of the vertices born after level l set to zero (the core's approximation).
+      const approx = mr.approximation(positions, { level: l, scheme });
       const coarse = mr.analyze(positions, { level: l, scheme }); // c^l on the vertices of depth <= l
       levels.push({ approx, coarse, volume: mrvol.volume({ positions: approx, faces }) });
     }
@@ -78,9 +76,8 @@ export async function mount({ mrvol, layout, el, stale }) {
 
   async function openModel(choice) {
     const name = choice === EDITOR ? editor.name : choice;
-    const text = choice === EDITOR ? editor.text : await fetchModel(name);
+    const text = choice === EDITOR ? editor.text : await fetchSample(name);
     if (stale()) return;
-    if (text === null) throw new Error(`no sample model '${name}'`);
     const mesh = mrvol.readObj(text);
     if (choice === EDITOR && editor.positions?.length === mesh.positions.length) mesh.positions = editor.positions;
     const mr = mrvol.openMesh(mesh);

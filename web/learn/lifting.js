@@ -8,7 +8,7 @@
 // reverse order (paper Figure 5, section 3.2: each mask applied outwards, mr.transposeSteps), as
 // the volume tensors of coarser levels are computed.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, THREE, surface, wire, edgesOf, bounds, fetchModel, openEditorModel, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, edgesOf, bounds, fetchSample, openEditorModel, explain, control, select, button, readoutTable } from './stage.js';
 
 const WRITTEN = new THREE.Color(0xe36209), READ = new THREE.Color(0x1f6feb), PICKED = new THREE.Color(0x1a7f37);
 const IDLE = new THREE.Color(0x6e7781), REACHED = new THREE.Color(0xb392f0);
@@ -54,7 +54,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   }
   if (!mr) {
     name = sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0];
-    const text = await fetchModel(name);
+    const text = await fetchSample(name);
     if (stale()) return null;
     mesh = mrvol.readObj(text);
     mr = mrvol.openMesh(mesh);

@@ -78,7 +78,7 @@ export async function mount({ mrvol, layout, el }) {
   ]);
   const mr = mrvol.subdivide(tubeBase(), { levels: LEVELS, scheme: 'loop' });
   mr.setPositions(ridged(mr.positions()));
-  const twins = twinEditors({ mr, level: 0, scheme: 'loop', layout });
+  const twins = twinEditors({ mrvol, mr, level: 0, scheme: 'loop', layout });
   twins.stage.frame([0, 0.6, 0], 3.2, [0.15, 0.9, 1]);
   const restCage = twins.kept.cagePositions();
   const cageWeights = [];

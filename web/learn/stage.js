@@ -1,11 +1,16 @@
 // Drawing for the teaching views: one WebGL canvas split into side-by-side panels (scissor), one
-// camera shared by all panels (OrbitControls), meshes, wire cages, arrows; and a 2D volume chart.
-// It draws arrays it is given; every number comes from the core through the API.
+// camera shared by all panels (OrbitControls); the meshes, cages, arrows are mrvol/three's
+// (lib/three/objects.mjs, as in the editor); and a 2D volume chart. It draws arrays it is given;
+// every number comes from the core through the API.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { loadSession, decodeFloat64 } from '../session.js';
+import { SurfaceMesh, CageObject, frameSphere } from '../../lib/three/objects.mjs';
+import { storedModel } from '../session.js';
+import { fetchSample } from '../models.js';
 
 export { THREE };
+export { arrows, bounds, edgesOf } from '../../lib/three/objects.mjs';
+export { fetchSample };
 
 export class Stage {
   /** @param {HTMLElement} container @param {string[]} labels one panel per label */
@@ -108,16 +113,7 @@ export class Stage {
 
   /** Camera on a bounding sphere (center [x,y,z], radius), seen from `direction`. */
   frame(center, radius, direction = [0.45, 0.35, 1]) {
-    const vertical = THREE.MathUtils.degToRad(this.camera.fov / 2);
-    const horizontal = Math.atan(Math.tan(vertical) * this.camera.aspect);
-    const distance = radius / Math.sin(Math.min(vertical, horizontal)) * 1.15;
-    const d = new THREE.Vector3(...direction).normalize();
-    this.controls.target.set(...center);
-    this.camera.position.set(...center).addScaledVector(d, distance);
-    this.camera.near = distance / 100;
-    this.camera.far = distance * 100;
-    this.camera.updateProjectionMatrix();
-    this.controls.update();
+    frameSphere(this.camera, { center, radius }, { controls: this.controls, direction, margin: 1.15 });
     this.requestRender();
   }
 
@@ -133,114 +129,18 @@ export class Stage {
   }
 }
 
-/** Bounding sphere of flat positions: { center, radius }. */
-export function bounds(positions) {
-  const box = new THREE.Box3();
-  const p = new THREE.Vector3();
-  for (let i = 0; i < positions.length; i += 3) box.expandByPoint(p.fromArray(positions, i));
-  const center = box.getCenter(new THREE.Vector3());
-  let r2 = 0;
-  for (let i = 0; i < positions.length; i += 3) r2 = Math.max(r2, center.distanceToSquared(p.fromArray(positions, i)));
-  return { center: center.toArray(), radius: Math.max(Math.sqrt(r2), 1e-6) };
-}
-
-/** A shaded surface; colors (3 per vertex, 0..1) optional. update() takes new positions. */
-export function surface(positions, faces, { color = 0xc9b8a0, colors = null, flat = true, opacity = 1 } = {}) {
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
-  geometry.setIndex(new THREE.BufferAttribute(new Uint32Array(faces), 1));
-  if (colors) geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(colors), 3));
-  const material = new THREE.MeshStandardMaterial({
-    color: colors ? 0xffffff : color, vertexColors: !!colors, roughness: 0.65, flatShading: flat, side: THREE.DoubleSide,
-    polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1, transparent: opacity < 1, opacity,
-  });
-  const mesh = new THREE.Mesh(geometry, material);
-  mesh.update = (p) => {
-    geometry.getAttribute('position').array.set(p);
-    geometry.getAttribute('position').needsUpdate = true;
-    if (!flat) geometry.computeVertexNormals();
-    geometry.computeBoundingSphere();
-  };
-  mesh.setColors = (c) => {
-    if (!geometry.getAttribute('color')) {
-      geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(c), 3));
-      material.vertexColors = true;
-      material.color.set(0xffffff);
-      material.needsUpdate = true;
-    } else {
-      geometry.getAttribute('color').array.set(c);
-      geometry.getAttribute('color').needsUpdate = true;
-    }
-  };
-  mesh.clearColors = () => {
-    if (!geometry.getAttribute('color')) return;
-    geometry.deleteAttribute('color');
-    material.vertexColors = false;
-    material.color.set(color);
-    material.needsUpdate = true;
-  };
-  if (!flat) geometry.computeVertexNormals();
+/** A shaded surface (SurfaceMesh); update(positions) takes new positions. */
+export function surface(positions, faces, options = {}) {
+  const mesh = new SurfaceMesh(positions, faces, options);
+  mesh.update = (p) => mesh.setPositions(p);
   return mesh;
 }
 
-/** The unique edges of triangles (pairs of indices into the positions given to wire()). */
-export function edgesOf(faces, index = null) {
-  const seen = new Set();
-  const out = [];
-  for (let f = 0; f < faces.length; f += 3)
-    for (let k = 0; k < 3; k++) {
-      let a = faces[f + k], b = faces[f + (k + 1) % 3];
-      if (index) { a = index.get(a); b = index.get(b); }
-      const key = a < b ? `${a},${b}` : `${b},${a}`;
-      if (seen.has(key)) continue;
-      seen.add(key);
-      out.push(a, b);
-    }
-  return out;
-}
-
-/** Line segments between points (positions) along index pairs, with handle dots. */
+/** A wire cage (CageObject) between points along index pairs, with dots; update(positions). */
 export function wire(positions, edges, { color = 0x1f6feb, points = true, opacity = 1 } = {}) {
-  const group = new THREE.Group();
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
-  geometry.setIndex(edges);
-  const lines = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color, transparent: opacity < 1, opacity }));
-  const hidden = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color, transparent: true, opacity: 0.2 * opacity, depthTest: false }));
-  group.add(lines, hidden);
-  if (points) group.add(new THREE.Points(geometry, new THREE.PointsMaterial({ color, size: 7, sizeAttenuation: false, depthTest: false })));
-  for (const o of group.children) o.frustumCulled = false;
-  group.update = (p) => {
-    geometry.getAttribute('position').array.set(p);
-    geometry.getAttribute('position').needsUpdate = true;
-  };
-  return group;
-}
-
-/** Arrows as line segments from points `from` along vectors `vectors` (same length, flat) scaled by `scale`. */
-export function arrows(from, vectors, { color = 0xd1242f, scale = 1 } = {}) {
-  const count = from.length / 3;
-  const p = new Float32Array(count * 6 * 3);
-  const a = new THREE.Vector3(), v = new THREE.Vector3(), side = new THREE.Vector3(), up = new THREE.Vector3();
-  let n = 0;
-  for (let i = 0; i < count; i++) {
-    a.fromArray(from, 3 * i);
-    v.fromArray(vectors, 3 * i).multiplyScalar(scale);
-    const length = v.length();
-    if (length < 1e-12) continue;
-    const tip = a.clone().add(v);
-    side.crossVectors(v, Math.abs(v.y) < 0.9 * length ? up.set(0, 1, 0) : up.set(1, 0, 0)).setLength(0.12 * length);
-    const back = tip.clone().addScaledVector(v, -0.25);
-    for (const [s, t] of [[a, tip], [tip, back.clone().add(side)], [tip, back.clone().sub(side)]]) {
-      s.toArray(p, 3 * n++);
-      t.toArray(p, 3 * n++);
-    }
-  }
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(p.slice(0, 3 * n), 3));
-  const lines = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color }));
-  lines.frustumCulled = false;
-  return lines;
+  const cage = new CageObject(positions, edges, { color, handles: points, handleSize: 7, opacity });
+  cage.update = (p) => cage.setPositions(p);
+  return cage;
 }
 
 /** Viridis-like ramp, t in 0..1 -> [r, g, b]. */
@@ -321,29 +221,17 @@ export class Chart {
   }
 }
 
-/** Fetches a sample model's OBJ text; null if there is none of that name. */
-export async function fetchModel(name) {
-  const response = await fetch(`${import.meta.env.BASE_URL}models/${encodeURIComponent(name)}.obj`);
-  if (!response.ok) return null;
-  return response.text();
-}
-
 /**
- * The editor's model as its stored session left it (web/session.js): { name, text, positions },
- * positions being the edited fine positions when they were kept (else null); null without a
- * session or when an opened file was too big to keep.
+ * The editor's model as its stored session left it: { name, text, positions }, positions being
+ * the edited fine positions when they were kept (else null); null without a stored session or when
+ * an opened file was too big to keep.
  */
 export async function editorModel() {
-  const session = loadSession();
-  if (!session) return null;
-  const { kind, name, text } = session.model;
-  const source = kind === 'file' ? text ?? null : await fetchModel(name);
-  if (typeof source !== 'string') return null;
-  let positions = null;
-  try {
-    positions = session.positions ? decodeFloat64(session.positions) : null;
-  } catch { /* a damaged session: the file's own positions */ }
-  return { name, text: source, positions };
+  const stored = storedModel();
+  if (!stored) return null;
+  const text = stored.kind === 'file' ? stored.text : await fetchSample(stored.name).catch(() => null);
+  if (typeof text !== 'string') return null;
+  return { name: stored.name, text, positions: stored.positions };
 }
 
 /**

@@ -1,0 +1,194 @@
+// Types of mrvol/three (lib/three/index.mjs): volume-preserving cage editing as a three.js component.
+import * as THREE from 'three';
+import type { Mrvol, Mesh, MultiresMesh, VolumeEditor, Theta, EditReport, ThetaEstimate } from '../index.js';
+
+export interface VolumeEditControlsOptions {
+  /** Cage level e (0..levels of the mesh), default 0. */
+  level?: number;
+  /** Wavelet scheme: 'loop' (default), 'butterfly', 'linear'. */
+  scheme?: 'loop' | 'butterfly' | 'linear';
+  /** Keep the volume on every move (default true). */
+  preserve?: boolean;
+  /** Relative volume error the correction stops at (default 1e-6). */
+  tolerance?: number;
+  /**
+   * Gradients: 'matrix-free' (default), 'auto' (compute theta^e now, synchronously, when its
+   * estimate fits), or a Theta of this mesh, scheme and level (the component owns it then: dispose() deletes it).
+   */
+  theta?: 'matrix-free' | 'auto' | Theta;
+  /** How near (CSS pixels) the pointer must press to a handle to grab it (default 10). */
+  pickRadius?: number;
+  surfaceColor?: THREE.ColorRepresentation;
+  cageColor?: THREE.ColorRepresentation;
+  /** Handle dot size in CSS pixels (default 13). */
+  handleSize?: number;
+  /** Flat shading (default true). */
+  flat?: boolean;
+}
+
+export interface VolumeEditControlsEventMap {
+  /** A handle was grabbed and moved for the first time. */
+  dragstart: { handle: number };
+  /** One drag step: the core's report of it (volumes, iterations, path). */
+  drag: { handle: number; report: EditReport };
+  /** The drag ended (cancelled: the cage went back). */
+  dragend: { handle?: number; cancelled: boolean };
+  /** Something to draw changed (render on it); report: the drag step's, else null. */
+  change: { report: EditReport | null; reason: 'drag' | 'dragend' | 'undo' | 'redo' | 'cancel' | 'hover' | 'level' };
+  /** An edit was refused and undone (e.g. a fixed boundary vertex). */
+  error: { message: string; error: Error };
+}
+
+/**
+ * The editor for any scene: `object` (fine surface, cage edges, handles) goes into the host's
+ * scene; the pointer drags handles on the camera-facing plane; the volume is restored on each move.
+ * Renders nothing: render on `change`. dispose() frees its WASM memory and listeners.
+ */
+export class VolumeEditControls extends THREE.EventDispatcher<VolumeEditControlsEventMap> {
+  constructor(mrvol: Mrvol, camera: THREE.Camera, element: HTMLElement | { domElement: HTMLElement },
+    mesh: Mesh | MultiresMesh, options?: VolumeEditControlsOptions);
+  readonly object: THREE.Group;
+  readonly surface: SurfaceMesh;
+  readonly cage: CageObject;
+  readonly session: EditingSession;
+  readonly camera: THREE.Camera;
+  readonly domElement: HTMLElement;
+  /** false: the pointer is ignored (a host's own tool is active). */
+  enabled: boolean;
+  pickRadius: number;
+  preserve: boolean;
+  readonly level: number;
+  readonly dragging: boolean;
+  readonly handleCount: number;
+  readonly lastReport: EditReport | null;
+  volume(): number;
+  referenceVolume(): number;
+  positions(): Float64Array;
+  cagePositions(): Float64Array;
+  /** Another cage level; the shape and the reference volume stay, the history is cleared. */
+  setLevel(level: number): void;
+  undo(): boolean;
+  redo(): boolean;
+  /** Abandons the drag going on; true if there was one. */
+  cancel(): boolean;
+  /** [x0, y0, x1, y1, ...]: handles on the element, CSS pixels from its top left. */
+  handleScreenPositions(): number[];
+  dispose(): void;
+}
+
+/** The free-set modes of an EditingSession. */
+export const FREE_SET_MODES: readonly ['minus-held', 'all', 'painted', 'parts'];
+export const MAX_PARTS: 8;
+
+export interface FreeSet {
+  mode: 'minus-held' | 'all' | 'painted' | 'parts';
+  /** Caller's cage vertices free for the correction (mode 'painted'). */
+  painted: number[];
+  /** MAX_PARTS lists of caller's cage vertices; each non-empty one keeps its volume (mode 'parts'). */
+  parts: number[][];
+}
+
+/**
+ * The DOM-free editing session (no three.js either) the component and the web editor are built
+ * on: model, editor, undo history, free set and parts, the tensor in use. Events (CustomEvent
+ * detail): model, editor ({ level, scheme }), step ({ report, ms }), change ({ reason }), theta
+ * ({ source, path }), dragend, error ({ message, error }).
+ */
+export class EditingSession extends EventTarget {
+  constructor(mrvol: Mrvol, options?: { level?: number; scheme?: string; alpha?: number; beta?: number;
+    preserve?: boolean; tolerance?: number; historyLimit?: number });
+  readonly mrvol: Mrvol;
+  model: { name: string; mr: MultiresMesh; info: ReturnType<MultiresMesh['info']>; fingerprint: string;
+    faces: Uint32Array; depths: Uint32Array } | null;
+  editor: VolumeEditor | null;
+  level: number;
+  scheme: string;
+  alpha: number;
+  beta: number;
+  preserve: boolean;
+  tolerance: number;
+  readonly cageSize: number;
+  readonly cageVertices: Uint32Array | null;
+  readonly cageIndex: Map<number, number> | null;
+  readonly freeSet: FreeSet;
+  readonly parts: number[];
+  readonly partReferences: number[] | null;
+  readonly thetaSource: string | null;
+  readonly lastReport: EditReport | null;
+  readonly lastStepMs: number | null;
+  readonly dragging: boolean;
+  readonly history: { readonly size: { undo: number; redo: number }; readonly canUndo: boolean; readonly canRedo: boolean };
+  readonly schemeOptions: { scheme: string; alpha: number; beta: number };
+  /** Opens a mesh (owned) or a MultiresMesh (the caller's unless own); throws MrvolError, keeping the current model. */
+  open(source: Mesh | MultiresMesh, options?: { name?: string; restore?: { positions?: Float64Array | null; reference?: number } | null;
+    own?: boolean }): NonNullable<EditingSession['model']>;
+  setLevel(level: number): void;
+  setScheme(scheme: string): void;
+  cageEdges(): Uint32Array;
+  setFreeSet(freeSet: Partial<FreeSet>, options?: { quiet?: boolean }): void;
+  partVolumes(): number[] | null;
+  beginDrag(handles: number[]): void;
+  /** One step: the handles at their start + delta, volume restored; null when refused (error event). */
+  dragBy(delta: [number, number, number] | number[]): EditReport | null;
+  endDrag(): void;
+  cancelDrag(): void;
+  /** The whole cage to `target` (cage order), `held` flags staying put; one step, null when refused. */
+  setCage(target: Float64Array, held: ArrayLike<number>): EditReport | null;
+  moveHandles(handles: number[], delta: number[]): EditReport | null;
+  undo(): boolean;
+  redo(): boolean;
+  setReferenceVolume(volume?: number): void;
+  volume(): number | null;
+  referenceVolume(): number | null;
+  positions(): Float64Array;
+  cagePositions(): Float64Array;
+  approximation(level: number, positions?: Float64Array): Float64Array;
+  gradientChoice(): { path: 'tensor' | 'matrix-free'; estimate: ThetaEstimate | null };
+  storedTheta(): { theta: Theta; source: string } | null;
+  /** The session owns an accepted theta until the model changes. */
+  useTheta(theta: Theta, source?: string): { ok: true } | { ok: false; reason: string };
+  forgetTheta(): void;
+  computeTheta(): { ok: true } | { ok: false; reason: string };
+  dispose(): void;
+}
+
+/** A shaded surface whose positions change (same vertices). */
+export class SurfaceMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshStandardMaterial> {
+  constructor(positions: ArrayLike<number>, faces: ArrayLike<number>, options?: { color?: THREE.ColorRepresentation;
+    colors?: ArrayLike<number> | null; flat?: boolean; opacity?: number; material?: THREE.MeshStandardMaterial | null });
+  static material(options?: { color?: THREE.ColorRepresentation; vertexColors?: boolean; flat?: boolean; opacity?: number }): THREE.MeshStandardMaterial;
+  setPositions(positions: ArrayLike<number>): void;
+  setColors(colors: ArrayLike<number>): void;
+  clearColors(): void;
+  dispose(): void;
+}
+
+export interface CageMaterials { lines: THREE.LineBasicMaterial; hidden: THREE.LineBasicMaterial; handles: THREE.PointsMaterial | null }
+
+/** A cage: edges seen and through the surface, a coloured dot per handle. */
+export class CageObject extends THREE.Group {
+  constructor(positions: ArrayLike<number>, edges: ArrayLike<number>, options?: { color?: THREE.ColorRepresentation;
+    handles?: boolean; handleSize?: number; opacity?: number; materials?: CageMaterials | null });
+  static materials(options?: { color?: THREE.ColorRepresentation; handleSize?: number; opacity?: number; points?: boolean }): CageMaterials;
+  readonly count: number;
+  readonly positions: Float64Array;
+  readonly baseColor: THREE.Color;
+  setPositions(positions: ArrayLike<number>): void;
+  setHandleColors(colorOf: (handle: number) => THREE.Color): void;
+  dispose(): void;
+}
+
+export function edgesOf(faces: ArrayLike<number>, index?: Map<number, number> | null): Uint32Array;
+export function arrows(from: ArrayLike<number>, vectors: ArrayLike<number>, options?: { color?: THREE.ColorRepresentation; scale?: number }): THREE.LineSegments;
+export function bounds(positions: ArrayLike<number>): { center: [number, number, number]; radius: number };
+export function frameSphere(camera: THREE.PerspectiveCamera, sphere: { center: number[]; radius: number },
+  options?: { controls?: { target: THREE.Vector3; update(): unknown } | null; direction?: number[]; margin?: number }): void;
+
+export function projectPoints(positions: ArrayLike<number>, camera: THREE.Camera, width: number, height: number,
+  out?: Float64Array, depths?: Float64Array | null): Float64Array;
+export function nearestOnScreen(screen: ArrayLike<number>, depths: ArrayLike<number>, x: number, y: number, radius: number): number;
+export function rayThrough(camera: THREE.Camera, x: number, y: number, width: number, height: number, ray?: THREE.Ray): THREE.Ray;
+export class DragPlane {
+  start(camera: THREE.Camera, ray: THREE.Ray, point: THREE.Vector3): boolean;
+  delta(ray: THREE.Ray): [number, number, number] | null;
+}

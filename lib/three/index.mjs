@@ -1,0 +1,290 @@
+// mrvol/three: volume-preserving cage editing as a three.js component for any scene.
+//
+//   const editor = new VolumeEditControls(mrvol, camera, renderer.domElement, mesh, { level: 0 });
+//   scene.add(editor.object);
+//   editor.addEventListener('change', () => renderer.render(scene, camera));
+//
+// It builds an Object3D (the fine surface, the level-e cage's edges and handles), drags handles
+// with the pointer (mouse, pen, touch) on the plane facing the camera, restores the volume on every
+// move (the mrvol editor), keeps undo/redo, and emits events as three.js controls do. It decides
+// nothing else (no keys, no selection, no DOM of its own) and renders nothing: the host renders on
+// `change`. dispose() frees the WASM memory it allocated and removes its listeners.
+import * as THREE from 'three';
+import { EditingSession } from './session.mjs';
+import { SurfaceMesh, CageObject, CAGE_COLOR } from './objects.mjs';
+import { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
+
+export { EditingSession, FREE_SET_MODES, MAX_PARTS } from './session.mjs';
+export { SurfaceMesh, CageObject, arrows, bounds, frameSphere, edgesOf } from './objects.mjs';
+export { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
+
+const HOVER_COLOR = new THREE.Color(0x3fb950);
+const ACTIVE_COLOR = new THREE.Color(0xf0a020);
+
+export class VolumeEditControls extends THREE.EventDispatcher {
+  /**
+   * @param {object} mrvol the API object (createMrvol)
+   * @param {THREE.Camera} camera the camera the scene is rendered with
+   * @param {HTMLElement | { domElement: HTMLElement }} element the element the pointer acts on (or a renderer)
+   * @param {{ positions: Float64Array, faces: Uint32Array } | object} mesh a mesh, or a MultiresMesh (stays the caller's)
+   * @param {object} [options] { level = 0, scheme = 'loop', preserve = true, tolerance = 1e-6,
+   *   theta: 'matrix-free' (default) | 'auto' (compute theta^e now when it fits) | a Theta,
+   *   pickRadius = 10 (CSS px), surfaceColor, cageColor, handleSize = 13, flat = true }
+   */
+  constructor(mrvol, camera, element, mesh, options = {}) {
+    super();
+    const { level = 0, scheme, preserve = true, tolerance = 1e-6, theta = 'matrix-free', pickRadius = 10,
+      surfaceColor, cageColor = CAGE_COLOR, handleSize = 13, flat = true } = options;
+    this.camera = camera;
+    this.domElement = element?.domElement ?? element;
+    if (!this.domElement?.addEventListener) throw new TypeError('VolumeEditControls needs a DOM element or a renderer');
+    this.enabled = true;
+    this.pickRadius = pickRadius;
+    this.session = new EditingSession(mrvol, { level, scheme, preserve, tolerance });
+    this.session.open(mesh, { name: 'mesh' });
+    this.object = new THREE.Group();
+    this.object.name = 'mrvol';
+    this.surface = new SurfaceMesh(this.session.positions(), this.session.model.faces, { color: surfaceColor, flat });
+    this.object.add(this.surface);
+    this.#cageStyle = { color: cageColor, handleSize };
+    this.cage = null;
+    this.#buildCage();
+    if (theta === 'auto') {
+      if (this.session.gradientChoice().path === 'tensor') this.session.computeTheta();
+    } else if (theta && theta !== 'matrix-free') {
+      const used = this.session.useTheta(theta, 'given');
+      if (!used.ok) {
+        this.surface.dispose();
+        this.cage.dispose();
+        this.session.dispose();
+        throw new mrvol.MrvolError(`this theta does not fit the mesh: ${used.reason}`);
+      }
+    }
+    this.session.addEventListener('error', this.#onError);
+    this.#listen(true);
+  }
+
+  #cageStyle;
+  #drag = null;    // { pointerId, handle, plane, origin (world), started }
+  #hover = -1;
+  #screen = null;
+  #depths = null;
+  #ray = new THREE.Ray();
+  #world = new THREE.Vector3();
+  #local = new THREE.Vector3();
+  #originLocal = new THREE.Vector3();
+
+  get preserve() { return this.session.preserve; }
+  set preserve(value) { this.session.preserve = Boolean(value); }
+  get level() { return this.session.level; }
+  get dragging() { return this.#drag?.started ?? false; }
+  /** Handle (cage vertex) count. */
+  get handleCount() { return this.session.cageSize; }
+
+  volume() { return this.session.volume(); }
+  referenceVolume() { return this.session.referenceVolume(); }
+  /** Fine positions (caller's vertex order) and cage positions (cage order), copies. */
+  positions() { return this.session.positions(); }
+  cagePositions() { return this.session.cagePositions(); }
+  /** The core's report of the last drag step, or null. */
+  get lastReport() { return this.session.lastReport; }
+
+  /** Another cage level (the shape and the reference volume stay). */
+  setLevel(level) {
+    this.session.setLevel(level);
+    this.#buildCage();
+    this.#changed(null, 'level');
+  }
+
+  undo() {
+    if (!this.session.undo()) return false;
+    this.#sync();
+    this.#changed(null, 'undo');
+    return true;
+  }
+
+  redo() {
+    if (!this.session.redo()) return false;
+    this.#sync();
+    this.#changed(null, 'redo');
+    return true;
+  }
+
+  /** Abandons a drag going on (the cage goes back); true if there was one. */
+  cancel() {
+    const drag = this.#drag;
+    if (!drag) return false;
+    this.#drag = null;
+    this.domElement.releasePointerCapture?.(drag.pointerId);
+    if (!drag.started) return false;
+    this.session.cancelDrag();
+    this.#sync();
+    this.#colorHandles();
+    this.dispatchEvent({ type: 'dragend', cancelled: true });
+    this.#changed(null, 'cancel');
+    return true;
+  }
+
+  /** Screen positions of the handles ([x0, y0, ...], CSS pixels of the element). */
+  handleScreenPositions() {
+    const rect = this.domElement.getBoundingClientRect();
+    return Array.from(this.#project(rect));
+  }
+
+  dispose() {
+    this.cancel();
+    this.#listen(false);
+    this.session.removeEventListener('error', this.#onError);
+    this.object.removeFromParent();
+    this.surface.dispose();
+    this.cage?.dispose();
+    this.session.dispose();
+  }
+
+  // ---- drawing ----------------------------------------------------------------------------------------
+
+  #buildCage() {
+    if (this.cage) {
+      this.object.remove(this.cage);
+      this.cage.dispose();
+    }
+    this.cage = new CageObject(this.session.cagePositions(), this.session.cageEdges(), this.#cageStyle);
+    this.object.add(this.cage);
+    this.#hover = -1;
+    this.#screen = new Float64Array(2 * this.session.cageSize);
+    this.#depths = new Float64Array(this.session.cageSize);
+  }
+
+  #sync() {
+    this.surface.setPositions(this.session.positions());
+    this.cage.setPositions(this.session.cagePositions());
+  }
+
+  #colorHandles() {
+    const active = this.#drag?.started ? this.#drag.handle : -1;
+    this.cage.setHandleColors((i) => (i === active ? ACTIVE_COLOR : i === this.#hover ? HOVER_COLOR : this.cage.baseColor));
+  }
+
+  #changed(report, reason) {
+    this.dispatchEvent({ type: 'change', report, reason });
+  }
+
+  #onError = (e) => {
+    this.dispatchEvent({ type: 'error', message: e.detail.message, error: e.detail.error });
+  };
+
+  // ---- pointer ----------------------------------------------------------------------------------------
+
+  #project(rect) {
+    // Handles in world coordinates (the object may be moved, turned, scaled), into a kept buffer:
+    // pointer moves do not allocate.
+    this.object.updateWorldMatrix(true, false);
+    const local = this.cage.positions;
+    if (this.#worldPositions?.length !== local.length) this.#worldPositions = new Float64Array(local.length);
+    const world = this.#worldPositions;
+    const matrix = this.object.matrixWorld;
+    for (let i = 0; i < world.length; i += 3) this.#world.fromArray(local, i).applyMatrix4(matrix).toArray(world, i);
+    return projectPoints(world, this.camera, rect.width, rect.height, this.#screen, this.#depths);
+  }
+  #worldPositions = null;
+
+  #pick(e) {
+    const rect = this.domElement.getBoundingClientRect();
+    const x = e.clientX - rect.left, y = e.clientY - rect.top;
+    if (!this.object.visible || !this.cage.visible) return { index: -1, x, y, rect };
+    this.#project(rect);
+    return { index: nearestOnScreen(this.#screen, this.#depths, x, y, this.pickRadius), x, y, rect };
+  }
+
+  #listen(on) {
+    const method = on ? 'addEventListener' : 'removeEventListener';
+    // Capture: runs before OrbitControls' listeners on the same element, which a press on a handle stops.
+    this.domElement[method]('pointerdown', this.#onPointerDown, { capture: true });
+    this.domElement[method]('pointermove', this.#onPointerMove, { capture: true });
+    this.domElement[method]('pointerup', this.#onPointerUp, { capture: true });
+    this.domElement[method]('pointercancel', this.#onPointerCancel, { capture: true });
+    if (on) {
+      this.#touchAction = this.domElement.style.touchAction;
+      this.domElement.style.touchAction = 'none';  // touch drags are ours, not the page's scroll
+    } else {
+      this.domElement.style.touchAction = this.#touchAction ?? '';
+    }
+  }
+  #touchAction = null;
+
+  #onPointerDown = (e) => {
+    if (!this.enabled || this.#drag || (e.pointerType === 'mouse' && e.button !== 0)) return;
+    const { index, x, y, rect } = this.#pick(e);
+    if (index < 0) return;
+    e.stopImmediatePropagation();
+    e.preventDefault();
+    this.object.updateWorldMatrix(true, false);
+    const point = new THREE.Vector3().fromArray(this.cage.positions, 3 * index).applyMatrix4(this.object.matrixWorld);
+    const plane = new DragPlane();
+    if (!plane.start(this.camera, rayThrough(this.camera, x, y, rect.width, rect.height, this.#ray), point)) return;
+    this.#drag = { pointerId: e.pointerId, handle: index, plane, origin: point, started: false };
+    this.domElement.setPointerCapture?.(e.pointerId);
+  };
+
+  #onPointerMove = (e) => {
+    const drag = this.#drag;
+    if (!drag) {
+      if (!this.enabled || e.buttons !== 0) return;
+      const { index } = this.#pick(e);
+      if (index !== this.#hover) {
+        this.#hover = index;
+        this.#colorHandles();
+        this.#changed(null, 'hover');
+      }
+      return;
+    }
+    if (e.pointerId !== drag.pointerId) return;
+    e.stopImmediatePropagation();
+    const rect = this.domElement.getBoundingClientRect();
+    const ray = rayThrough(this.camera, e.clientX - rect.left, e.clientY - rect.top, rect.width, rect.height, this.#ray);
+    const delta = drag.plane.delta(ray);
+    if (!delta) return;
+    if (!drag.started) {
+      drag.started = true;
+      this.session.beginDrag([drag.handle]);
+      this.#colorHandles();
+      this.dispatchEvent({ type: 'dragstart', handle: drag.handle });
+    }
+    // The world displacement in the object's own coordinates (it may be moved, turned, scaled).
+    this.#originLocal.copy(drag.origin);
+    this.object.worldToLocal(this.#originLocal);
+    this.#local.copy(drag.origin).add(this.#world.fromArray(delta));
+    this.object.worldToLocal(this.#local).sub(this.#originLocal);
+    const report = this.session.dragBy(this.#local.toArray());
+    if (!report) {
+      // Refused (an `error` event said why): the session put the cage back.
+      this.#drag = null;
+      this.domElement.releasePointerCapture?.(e.pointerId);
+      this.#sync();
+      this.#colorHandles();
+      this.dispatchEvent({ type: 'dragend', cancelled: true });
+      this.#changed(null, 'cancel');
+      return;
+    }
+    this.#sync();
+    this.dispatchEvent({ type: 'drag', handle: drag.handle, report });
+    this.#changed(report, 'drag');
+  };
+
+  #onPointerUp = (e) => {
+    const drag = this.#drag;
+    if (!drag || e.pointerId !== drag.pointerId) return;
+    e.stopImmediatePropagation();
+    this.#drag = null;
+    this.domElement.releasePointerCapture?.(e.pointerId);
+    if (!drag.started) return;
+    this.session.endDrag();
+    this.#colorHandles();
+    this.dispatchEvent({ type: 'dragend', handle: drag.handle, cancelled: false });
+    this.#changed(this.session.lastReport, 'dragend');
+  };
+
+  #onPointerCancel = (e) => {
+    if (this.#drag && e.pointerId === this.#drag.pointerId) this.cancel();
+  };
+}

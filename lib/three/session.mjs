@@ -1,0 +1,406 @@
+// The editing session: one model, its volume-preserving editor at a level and scheme, undo history,
+// free set and parts, the volume tensor in use. No DOM and no three.js (it runs under Node): views
+// subscribe to its events and draw; the web app, the teaching views and the three.js component
+// (lib/three/index.mjs) are built on it.
+//
+// Events (CustomEvent, `detail` as said):
+//   model   a model was opened (the cage, faces, everything changed)
+//   editor  the editor was rebuilt (level or scheme changed: a new cage)
+//   step    one drag step: { report, ms } (the core's report: volumes, iterations, path)
+//   change  the shape or the editing state changed: { reason } ('step', 'undo', 'redo', 'cancel',
+//           'free-set', 'reference', 'editor', 'model')
+//   theta   the gradient path or the tensor in use changed: { source, path }
+//   dragend a drag ended (its undo step recorded when the cage moved)
+//   error   an edit was refused and undone: { message, error }
+import { DEFAULT_SCHEME, chooseGradientPath } from '../api.mjs';
+import { History } from './history.mjs';
+import { edgesOf } from './edges.mjs';
+
+/**
+ * Free-set modes: the cage minus the held handles, all the cage, a painted region (a list of cage
+ * vertices), or parts (cage minus held, each part keeping its own volume).
+ */
+export const FREE_SET_MODES = Object.freeze(['minus-held', 'all', 'painted', 'parts']);
+export const MAX_PARTS = 8;
+
+const emptyParts = () => Array.from({ length: MAX_PARTS }, () => []);
+
+export class EditingSession extends EventTarget {
+  /** The model: { name, mr, info, fingerprint, faces, depths }, or null. */
+  model = null;
+  /** The mrvol VolumeEditor, or null. */
+  editor = null;
+  cageSize = 0;
+  /** Caller's vertex of each cage vertex (cage order), and its inverse (a Map). */
+  cageVertices = null;
+  cageIndex = null;
+  history;
+  /** { mode, painted: caller's cage vertices, parts: MAX_PARTS lists of them }; replaced, never mutated. */
+  freeSet = { mode: 'minus-held', painted: [], parts: emptyParts() };
+  /** Part numbers (1..MAX_PARTS) of the editor's parts, and their reference volumes. */
+  parts = [];
+  partReferences = null;
+  /** Where the tensor in use came from ('computed', 'cache', ...), or null (matrix-free). */
+  thetaSource = null;
+  lastReport = null;
+  lastStepMs = null;
+  #mrvol;
+  #ownsMesh = false;
+  #drag = null;
+  #heldAll = null;
+  #thetas = new Map(); // `${scheme}/${level}` -> { theta, source }, this model's
+
+  /**
+   * @param {object} mrvol the API object (createMrvol)
+   * @param {object} [options] { level, scheme, alpha, beta, preserve, tolerance, historyLimit }
+   */
+  constructor(mrvol, { level = 0, scheme = DEFAULT_SCHEME.scheme, alpha = DEFAULT_SCHEME.alpha, beta = DEFAULT_SCHEME.beta,
+    preserve = true, tolerance = 1e-6, historyLimit = 200 } = {}) {
+    super();
+    this.#mrvol = mrvol;
+    this.level = level;
+    this.scheme = scheme;
+    this.alpha = alpha;
+    this.beta = beta;
+    this.preserve = preserve;
+    this.tolerance = tolerance;
+    this.history = new History(historyLimit);
+  }
+
+  get mrvol() { return this.#mrvol; }
+  get dragging() { return this.#drag !== null; }
+  /** { scheme, alpha, beta }: what the analysis and theta depend on besides the mesh and level. */
+  get schemeOptions() { return { scheme: this.scheme, alpha: this.alpha, beta: this.beta }; }
+
+  #emit(type, detail = {}) {
+    this.dispatchEvent(new CustomEvent(type, { detail }));
+  }
+
+  /**
+   * Opens a model and makes it current (the previous one is freed). `source` is a mesh
+   * ({ positions, faces }, opened here and owned by the session) or a MultiresMesh the caller opened
+   * (the caller keeps it unless `own`: the session then deletes it with the model). Throws
+   * MrvolError when it does not open; the current model stays then.
+   * options: { name, restore: { positions, reference } (a stored shape of this mesh), own }
+   */
+  open(source, { name = 'mesh', restore = null, own = false } = {}) {
+    const opened = typeof source?.createEditor !== 'function';
+    const mr = opened ? this.#mrvol.openMesh(source) : source;
+    let model;
+    try {
+      const info = mr.info();
+      model = { name, mr, info, fingerprint: mr.fingerprint(), faces: mr.faces(), depths: mr.depths() };
+    } catch (e) {
+      if (opened) mr.delete();
+      throw e;
+    }
+    this.#closeModel();
+    this.model = model;
+    this.#ownsMesh = opened || own;
+    this.level = Math.max(0, Math.min(this.level, model.info.levels));
+    let reference = null;
+    if (restore?.positions?.length === 3 * model.info.vertices) {
+      mr.setPositions(restore.positions);
+      if (Number.isFinite(restore.reference)) reference = restore.reference;
+    }
+    // model first (views replace the mesh), then the new cage.
+    this.#buildEditor(reference, { announce: false });
+    this.#emit('model', { model });
+    this.#announceEditor();
+    this.#emit('change', { reason: 'model' });
+    return model;
+  }
+
+  #closeModel() {
+    this.cancelDrag();
+    for (const { theta } of this.#thetas.values()) theta.delete();
+    this.#thetas.clear();
+    this.editor?.delete();
+    this.editor = null;
+    if (this.model && this.#ownsMesh) this.model.mr.delete();
+    this.model = null;
+    this.thetaSource = null;
+  }
+
+  /** Level e of the cage; the editor is rebuilt from the current shape, reference volume kept. */
+  setLevel(level) {
+    if (!Number.isInteger(level)) throw new this.#mrvol.MrvolError(`level must be an integer, got ${level}`);
+    if (this.model && (level < 0 || level > this.model.info.levels))
+      throw new this.#mrvol.MrvolError(`level ${level} is outside 0..${this.model.info.levels}`);
+    this.level = level;
+    if (this.editor) this.#buildEditor();
+  }
+
+  /** The wavelet scheme (loop, butterfly, linear); the editor is rebuilt as for setLevel. */
+  setScheme(scheme) {
+    this.scheme = scheme;
+    if (this.editor) this.#buildEditor();
+  }
+
+  /** Rebuilds the editor at the current level and scheme from the current shape (keeps the reference). */
+  #buildEditor(reference = null, { announce = true } = {}) {
+    const { mr } = this.model;
+    this.cancelDrag();
+    if (this.editor) {
+      mr.setPositions(this.editor.positions());
+      reference ??= this.editor.referenceVolume();
+      this.editor.delete();
+      this.editor = null;
+    }
+    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions });
+    if (reference !== null) editor.setReferenceVolume(reference);
+    this.editor = editor;
+    this.cageSize = editor.cageSize;
+    this.cageVertices = editor.cageVertices();
+    this.cageIndex = new Map(Array.from(this.cageVertices, (v, i) => [v, i]));
+    this.#heldAll = new Uint8Array(editor.cageSize).fill(1);
+    this.history.clear();
+    this.lastReport = null;
+    this.lastStepMs = null;
+    this.thetaSource = null;
+    const stored = this.#thetas.get(this.#thetaSlot());
+    if (stored && this.#tryTheta(stored.theta)) this.thetaSource = stored.source;
+    this.setFreeSet(this.freeSet, { quiet: true });
+    if (!announce) return;
+    this.#announceEditor();
+    this.#emit('change', { reason: 'editor' });
+  }
+
+  #announceEditor() {
+    this.#emit('editor', { level: this.level, scheme: this.scheme });
+    this.#emit('theta', { source: this.thetaSource, path: this.editor.path() });
+  }
+
+  /** The level-e cage's edges, pairs of cage indices. */
+  cageEdges() {
+    return edgesOf(this.model.mr.levelFaces(this.level), this.cageIndex);
+  }
+
+  // ---- free set and parts -------------------------------------------------------------------------
+
+  /**
+   * The free set: { mode (FREE_SET_MODES), painted, parts } (caller's cage vertices; vertices not in
+   * this cage are dropped, a vertex is in one part at most). Parts keep their volumes from now on.
+   * An unknown mode falls back to 'minus-held'.
+   */
+  setFreeSet({ mode = this.freeSet.mode, painted = this.freeSet.painted, parts = this.freeSet.parts } = {}, { quiet = false } = {}) {
+    const inCage = (v) => Number.isInteger(v) && this.cageIndex?.has(v);
+    const seen = new Set();
+    this.freeSet = {
+      mode: FREE_SET_MODES.includes(mode) ? mode : 'minus-held',
+      painted: Array.isArray(painted) ? [...new Set(painted.filter(inCage))] : [],
+      parts: Array.from({ length: MAX_PARTS }, (_, p) => {
+        const list = Array.isArray(parts?.[p]) ? parts[p] : [];
+        return list.filter((v) => inCage(v) && !seen.has(v) && seen.add(v));
+      }),
+    };
+    const editor = this.editor;
+    if (!editor) return;
+    const { mode: m, painted: region } = this.freeSet;
+    const active = m === 'parts'
+      ? this.freeSet.parts.map((vertices, p) => ({ number: p + 1, vertices })).filter((part) => part.vertices.length > 0) : [];
+    try {
+      editor.setFreeSet({ cage: m === 'painted' ? region : m === 'all' ? 'all' : 'minus-held' });
+      editor.setParts(active.map((part) => part.vertices));
+      this.parts = active.map((part) => part.number);
+      this.partReferences = active.length ? Array.from(editor.partVolumes()) : null;
+    } catch (error) {
+      this.parts = [];
+      this.partReferences = null;
+      this.#emit('error', { message: `The free set could not be set: ${error.message}`, error });
+    }
+    if (!quiet) this.#emit('change', { reason: 'free-set' });
+  }
+
+  /** Part volumes now (the editor's order, as `parts`), or null without parts. */
+  partVolumes() {
+    return this.editor && this.parts.length ? Array.from(this.editor.partVolumes()) : null;
+  }
+
+  // ---- editing --------------------------------------------------------------------------------------
+
+  /** Starts a drag of these handles (cage indices); they are held where the drag puts them. */
+  beginDrag(handles) {
+    if (!this.editor) return;
+    this.cancelDrag();
+    const held = new Uint8Array(this.cageSize);
+    for (const h of handles) {
+      if (!Number.isInteger(h) || h < 0 || h >= this.cageSize)
+        throw new this.#mrvol.MrvolError(`handle ${h} is not a cage index (0..${this.cageSize - 1})`);
+      held[h] = 1;
+    }
+    this.#drag = { handles: [...handles], held, before: this.editor.cagePositions() };
+  }
+
+  /**
+   * One drag step: the dragged handles at their start plus `delta` ([dx, dy, dz]), the volume
+   * restored (when preserving). Returns the core's report; null when the edit was refused (the
+   * drag is cancelled, the cage goes back, an `error` event says why).
+   */
+  dragBy(delta) {
+    const drag = this.#drag;
+    if (!drag) return null;
+    const started = globalThis.performance.now();
+    const target = this.editor.cagePositions();
+    for (const h of drag.handles)
+      for (let k = 0; k < 3; k++) target[3 * h + k] = drag.before[3 * h + k] + delta[k];
+    const report = this.#step(target, drag.held, started);
+    // Refused (e.g. a boundary vertex of an open mesh, which stays fixed): the cage goes back.
+    if (!report) this.cancelDrag();
+    return report;
+  }
+
+  /**
+   * Moves the whole cage to `target` (Float64Array, 3 per handle, cage order), the `held` handles
+   * (flags, cage order) staying where it puts them, the volume restored when preserving: one step
+   * (animations drive the cage this way). The report, or null when refused (an `error` event).
+   */
+  setCage(target, held) {
+    if (this.#drag) this.cancelDrag();
+    return this.#step(target, held, globalThis.performance.now());
+  }
+
+  #step(target, held, started) {
+    let report;
+    try {
+      report = this.editor.deformCage(target, held, { tolerance: this.tolerance, preserve: this.preserve });
+    } catch (error) {
+      this.#emit('error', { message: `This edit is not possible: ${error.message}`, error });
+      return null;
+    }
+    this.lastReport = report;
+    this.lastStepMs = globalThis.performance.now() - started;
+    this.#emit('step', { report, ms: this.lastStepMs });
+    this.#emit('change', { reason: 'step' });
+    return report;
+  }
+
+  /** Ends the drag: one undo step when the cage moved. */
+  endDrag() {
+    const drag = this.#drag;
+    this.#drag = null;
+    if (!drag) return;
+    const after = this.editor.cagePositions();
+    if (after.some((v, i) => v !== drag.before[i])) this.history.push(drag.before, after);
+    this.#emit('dragend', {});
+  }
+
+  /** Abandons the drag: the cage goes back to where it started. */
+  cancelDrag() {
+    const drag = this.#drag;
+    this.#drag = null;
+    if (drag) this.#restoreCage(drag.before, 'cancel');
+  }
+
+  /** A whole drag at once: handles moved by delta (one undo step). Returns the report or null. */
+  moveHandles(handles, delta) {
+    this.beginDrag(handles);
+    const report = this.dragBy(delta);
+    this.endDrag();
+    return report;
+  }
+
+  undo() {
+    if (this.#drag || !this.editor) return false;
+    const step = this.history.undo();
+    if (step) this.#restoreCage(step.before, 'undo');
+    return Boolean(step);
+  }
+
+  redo() {
+    if (this.#drag || !this.editor) return false;
+    const step = this.history.redo();
+    if (step) this.#restoreCage(step.after, 'redo');
+    return Boolean(step);
+  }
+
+  /** Puts the cage where a snapshot had it (details unchanged: the shape comes back). */
+  #restoreCage(cage, reason) {
+    this.editor.deformCage(cage, this.#heldAll, { preserve: false });
+    this.lastReport = null;
+    this.#emit('change', { reason });
+  }
+
+  /** The reference volume (default: the volume now); parts take theirs now too. */
+  setReferenceVolume(volume = this.editor.volume()) {
+    this.editor.setReferenceVolume(volume);
+    if (this.parts.length) this.setFreeSet(this.freeSet, { quiet: true });
+    this.#emit('change', { reason: 'reference' });
+  }
+
+  volume() { return this.editor?.volume() ?? null; }
+  referenceVolume() { return this.editor?.referenceVolume() ?? null; }
+  /** Fine positions (caller's order) and cage positions (cage order), copies. */
+  positions() { return this.editor.positions(); }
+  cagePositions() { return this.editor.cagePositions(); }
+  /** The level-l approximation of the current shape, or of `positions` (MultiresMesh.approximation). */
+  approximation(level, positions = this.editor.positions()) {
+    return this.model.mr.approximation(positions, { level, ...this.schemeOptions });
+  }
+
+  // ---- the volume tensor ----------------------------------------------------------------------------
+
+  #thetaSlot() { return `${this.scheme}/${this.alpha}/${this.beta}/${this.level}`; }
+
+  #tryTheta(theta) {
+    try {
+      this.editor.useTheta(theta);
+      return true;
+    } catch {
+      return false;
+    }
+  }
+
+  /**
+   * The gradient path the rule picks for the current level (chooseGradientPath): 'tensor' when
+   * theta^e fits, else 'matrix-free'; { path, estimate }.
+   */
+  gradientChoice() {
+    return chooseGradientPath(this.model.mr, { level: this.level, ...this.schemeOptions });
+  }
+
+  /** The tensor kept for the current level and scheme, or null. */
+  storedTheta() { return this.#thetas.get(this.#thetaSlot()) ?? null; }
+
+  /**
+   * Hands theta^e to the editor (the session owns it from now on, until the model changes).
+   * Returns { ok, reason }; a refused tensor is not kept (the caller deletes it).
+   */
+  useTheta(theta, source = 'computed') {
+    try {
+      this.editor.useTheta(theta);
+    } catch (error) {
+      return { ok: false, reason: error.message };
+    }
+    const slot = this.#thetaSlot();
+    const old = this.#thetas.get(slot);
+    if (old && old.theta !== theta) old.theta.delete();
+    this.#thetas.set(slot, { theta, source });
+    this.thetaSource = source;
+    this.#emit('theta', { source, path: this.editor.path() });
+    return { ok: true };
+  }
+
+  /** Drops the tensor of the current level and scheme; the editor runs matrix-free. */
+  forgetTheta() {
+    const slot = this.#thetaSlot();
+    this.editor?.useMatrixFree();
+    this.#thetas.get(slot)?.theta.delete();
+    this.#thetas.delete(slot);
+    this.thetaSource = null;
+    this.#emit('theta', { source: null, path: 'matrix-free' });
+  }
+
+  /** Computes theta^e here (synchronously) and uses it. */
+  computeTheta() {
+    const theta = this.model.mr.computeTheta({ level: this.level, ...this.schemeOptions });
+    const used = this.useTheta(theta, 'computed');
+    if (!used.ok) theta.delete();
+    return used;
+  }
+
+  /** Frees the editor, the tensors and (when the session opened it) the mesh. */
+  dispose() {
+    this.#closeModel();
+  }
+}

@@ -1,0 +1,172 @@
+// examples/web/minimal.html (the mrvol/three component in a scene of its own) in headless
+// Chromium: a real mouse drag and a real touch drag of handles keep the volume, undo gives the cage
+// back, a press off the handles orbits instead, dispose() frees it.
+import { after, before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { launchBrowser, settle, root, RESULTS_DIR } from './harness.mjs';
+
+/** vite's dev server on examples/web/vite.config.mjs, on a free port with a private cache. */
+async function startExampleServer() {
+  const { createServer } = await import('vite');
+  const scratch = mkdtempSync(join(tmpdir(), 'mrvol-example-'));
+  const server = await createServer({
+    configFile: join(root, 'examples/web/vite.config.mjs'),
+    logLevel: 'warn',
+    clearScreen: false,
+    cacheDir: join(scratch, 'vite-cache'),
+    server: { port: 0, strictPort: false, watch: null, hmr: false },
+  });
+  await server.listen();
+  const { address, port } = server.httpServer.address();
+  return {
+    url: `http://${address}:${port}/`,
+    async close() {
+      await server.close().catch(() => {});
+      rmSync(scratch, { recursive: true, force: true });
+    },
+  };
+}
+
+let server, browser, page;
+
+const state = () => page.evaluate(() => {
+  const editor = window.minimalEditor;
+  const label = document.querySelector('[data-testid="volume"]');
+  return {
+    volume: editor.volume(), reference: editor.referenceVolume(), cage: Array.from(editor.cagePositions()),
+    shown: Number(label.dataset.value), report: editor.lastReport,
+  };
+});
+
+/** A handle well inside the canvas, in page coordinates, with the handle index. */
+async function handleOnScreen(index = null) {
+  return page.evaluate((wanted) => {
+    const editor = window.minimalEditor;
+    const rect = editor.domElement.getBoundingClientRect();
+    const screen = editor.handleScreenPositions();
+    const inside = (i) => screen[2 * i] > 100 && screen[2 * i] < rect.width - 100 && screen[2 * i + 1] > 100 && screen[2 * i + 1] < rect.height - 100;
+    const i = wanted ?? [...Array(screen.length / 2).keys()].find(inside);
+    return { index: i, x: rect.left + screen[2 * i], y: rect.top + screen[2 * i + 1] };
+  }, index);
+}
+
+describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
+  before(async () => {
+    server = await startExampleServer();
+    browser = await launchBrowser(server.url, { viewport: { width: 900, height: 700 } });
+    page = await browser.newPage();
+    await page.goto(`${server.url}minimal.html`);
+    await page.waitForFunction(() => window.minimalEditor !== undefined, null, { timeout: 60_000 });
+  });
+  after(async () => {
+    await browser?.close();
+    await server?.close();
+  });
+
+  test('a mouse drag of a handle moves it and keeps the volume', async () => {
+    const start = await state();
+    const handle = await handleOnScreen();
+    assert.ok(handle.index >= 0, 'a handle inside the canvas');
+    await page.mouse.move(handle.x, handle.y);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) await page.mouse.move(handle.x + 6 * i, handle.y - 4 * i);
+    await page.mouse.up();
+    await settle(page);
+    const end = await state();
+    const moved = Math.hypot(...[0, 1, 2].map((k) => end.cage[3 * handle.index + k] - start.cage[3 * handle.index + k]));
+    assert.ok(moved > 0.05, `the handle moved (${moved})`);
+    assert.ok(end.report && end.report.converged, 'the last step converged');
+    assert.equal(end.reference, start.reference);
+    assert.ok(Math.abs(end.volume - end.reference) / end.reference < 1e-5, `volume ${end.volume} vs ${end.reference}`);
+    assert.equal(end.shown, end.volume, 'the page shows the volume on change');
+    await page.screenshot({ path: join(RESULTS_DIR, 'example-minimal-drag.png') });
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('undo gives the cage back; a press off the handles orbits the camera, not the cage', async () => {
+    await page.keyboard.press('Control+z');
+    const start = await state();
+    const fresh = await page.evaluate(() => window.minimalEditor.session.history.size);
+    assert.deepEqual(fresh, { undo: 0, redo: 1 });
+    const camera = () => page.evaluate(() => window.minimalEditor.camera.position.toArray());
+    const before = await camera();
+    await page.mouse.move(820, 640);
+    await page.mouse.down();
+    await page.mouse.move(700, 600, { steps: 5 });
+    await page.mouse.up();
+    await settle(page);
+    assert.notDeepEqual(await camera(), before, 'the camera orbited');
+    assert.deepEqual((await state()).cage, start.cage, 'the cage stayed');
+  });
+
+  test('a touch drag moves a handle with the volume kept', async () => {
+    const start = await state();
+    const handle = await handleOnScreen();
+    const cdp = await page.context().newCDPSession(page);
+    const touch = (type, x, y) => cdp.send('Input.dispatchTouchEvent', {
+      type, touchPoints: type === 'touchEnd' ? [] : [{ x, y, id: 1, radiusX: 2, radiusY: 2, force: 1 }],
+    });
+    await touch('touchStart', handle.x, handle.y);
+    for (let i = 1; i <= 8; i++) await touch('touchMove', handle.x - 5 * i, handle.y + 5 * i);
+    await touch('touchEnd');
+    await settle(page);
+    const end = await state();
+    const moved = Math.hypot(...[0, 1, 2].map((k) => end.cage[3 * handle.index + k] - start.cage[3 * handle.index + k]));
+    assert.ok(moved > 0.05, `the handle moved under the finger (${moved})`);
+    assert.ok(Math.abs(end.volume - end.reference) / end.reference < 1e-5);
+    await cdp.detach();
+  });
+
+  test("theta: 'auto' edits through the tensor; a tensor of another level is refused, nothing left behind", async () => {
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const { mrvol, model } = editor.session;
+      const Controls = editor.constructor;
+      const second = new Controls(mrvol, editor.camera, editor.domElement, model.mr, { theta: 'auto', level: 0 });
+      const path = second.session.editor.path();
+      const handles = second.handleCount;
+      second.dispose();
+      const foreign = model.mr.computeTheta({ level: 1 });
+      let message = null;
+      try {
+        new Controls(mrvol, editor.camera, editor.domElement, model.mr, { theta: foreign, level: 0 });
+      } catch (e) {
+        message = `${e.name}: ${e.message}`;
+      }
+      foreign.delete();
+      return { path, handles, message, firstStillWorks: Number.isFinite(editor.volume()) };
+    });
+    assert.equal(result.path, 'tensor');
+    assert.equal(result.handles, 12);
+    assert.match(result.message, /^MrvolError: this theta does not fit the mesh: /);
+    assert.ok(result.firstStillWorks, 'the page\'s editor (owner of the mesh) is untouched');
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('dispose() removes the object and its listeners', async () => {
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const parent = editor.object.parent;
+      editor.dispose();
+      let threw = false;
+      try {
+        editor.volume();
+      } catch {
+        threw = true;
+      }
+      return { removed: parent.children.indexOf(editor.object) < 0, threw, volume: threw ? null : editor.volume() };
+    });
+    assert.ok(result.removed, 'the object left the scene');
+    // The session's editor is gone: volume() reads null (nothing left in WASM memory to read).
+    assert.equal(result.volume, null);
+    const handle = { x: 450, y: 350 };
+    await page.mouse.move(handle.x, handle.y);
+    await page.mouse.down();
+    await page.mouse.move(handle.x + 30, handle.y);
+    await page.mouse.up();
+    assert.deepEqual(page.problems, [], 'no listener left acting on a freed editor');
+  });
+});

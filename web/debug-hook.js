@@ -1,0 +1,68 @@
+// window.mrvolDebug: a read-only hook for the browser tests and the web benchmark. Every function
+// reads the app's state (the editing session, the view, the settings); none changes it.
+
+/** Installs window.mrvolDebug over the app object of web/main.js. */
+export function installDebugHook(app) {
+  const editor = () => app.session?.editor ?? null;
+  const hook = {
+    /** Handle (cage) index -> [x, y] in CSS pixels of the page's viewport (what page.mouse uses). */
+    cageScreenPositions() {
+      if (!editor()) return [];
+      const rect = app.viewer.canvas.getBoundingClientRect();
+      const screen = app.viewer.projectHandles();
+      const out = [];
+      for (let i = 0; i < app.session.cageSize; i++) out.push([rect.left + screen[2 * i], rect.top + screen[2 * i + 1]]);
+      return out;
+    },
+    volume: () => editor()?.volume() ?? null,
+    referenceVolume: () => editor()?.referenceVolume() ?? null,
+    thetaSource: () => app.theta?.source ?? null,
+    thetaKey: () => app.theta?.key ?? null,
+    modelName: () => app.model?.name ?? null,
+    cageSize: () => app.session?.cageSize ?? 0,
+    gradientPath: () => editor()?.path() ?? null,
+    historySize: () => app.session?.history.size ?? { undo: 0, redo: 0 },
+    /** The core's report of the last drag step (volumes, iterations, path), or null. */
+    lastReport: () => {
+      const report = app.session?.lastReport;
+      return report ? { ...report, partVolumes: undefined, partReferences: undefined } : null;
+    },
+    /** Cage positions (world), 3 per handle, cage order. */
+    cagePositions: () => (editor() ? Array.from(editor().cagePositions()) : []),
+    selection: () => [...app.selection],
+    settings: () => ({ ...app.settings }),
+    ready: () => app.ready,
+    thetaReady: () => app.ready && app.theta?.source != null && editor()?.path() === 'tensor',
+    /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
+    stats: () => ({
+      ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders],
+      layers: [...app.stats.layers],
+    }),
+    /** The layers: shown or not, what the viewer draws (counts), the level l, updates and their cost. */
+    layers: () => {
+      const drawn = app.viewer.overlayInfo();
+      const layers = app.layers;
+      return {
+        approx: { shown: app.settings.showApprox, ...drawn.approx },
+        details: { shown: app.settings.showDetails, ...drawn.details },
+        level: layers?.level ?? null, updates: layers?.updates ?? 0, lastMs: layers?.lastMs ?? null,
+        deferred: Boolean(layers?.deferred),
+      };
+    },
+    /** The free set: mode, pointer tool, painted handles and parts' handles (cage indices, sorted). */
+    freeSet: () => {
+      const cageIndex = app.session?.cageIndex;
+      const toCage = (list) => list.map((v) => cageIndex?.get(v)).filter((i) => i !== undefined).sort((a, b) => a - b);
+      return {
+        mode: app.settings.freeSet, tool: app.settings.tool,
+        painted: toCage(app.settings.painted), parts: app.settings.parts.map(toCage),
+      };
+    },
+    /** Localized preservation: part numbers, their volumes now and their references; null without parts. */
+    partVolumes: () => {
+      const volumes = app.session?.partVolumes();
+      return volumes ? { parts: [...app.session.parts], volumes, references: [...app.session.partReferences] } : null;
+    },
+  };
+  Object.defineProperty(window, 'mrvolDebug', { value: Object.freeze(hook), writable: false, configurable: false });
+}

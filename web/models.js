@@ -1,0 +1,50 @@
+// The sample models (public/models/NAME.obj), fetched by the editor and the teaching views alike.
+
+export function modelUrl(name) {
+  return `${import.meta.env.BASE_URL}models/${encodeURIComponent(name)}.obj`;
+}
+
+/** A sample model's OBJ text; rejects with a message naming the model when there is none. */
+export async function fetchSample(name) {
+  if (!/^[\w.-]+$/.test(name)) throw new Error(`'${name}' is not a model name`);
+  const response = await fetch(modelUrl(name));
+  if (!response.ok) throw new Error(`there is no sample model '${name}' (HTTP ${response.status})`);
+  return response.text();
+}
+
+// Without 1-to-4 splits every vertex is a handle: fine for a small base mesh, not for a big one.
+const MAX_FLAT_VERTICES = 64;
+
+/**
+ * The OBJ text of a model source: { text } as is, a prefetched sample ({ prefetch: Promise of the
+ * text or an Error }), a sample by name, or a File ({ file }).
+ */
+export async function sourceText(source) {
+  const prefetched = source.prefetch ? await source.prefetch : undefined;
+  if (prefetched instanceof Error) throw prefetched;
+  return source.text ?? prefetched ?? (source.kind === 'sample' ? await fetchSample(source.name) : await source.file.text());
+}
+
+/**
+ * Reads an OBJ and opens it for editing: the MultiresMesh (the caller's) and its info. Otherwise
+ * throws the reason, with `offer`: 'remesh' (it opened but is not semi-regular), 'repair' (it reads
+ * but is not a closed 2-manifold, a raw scan), or null (nothing would help).
+ */
+export function openObj(mrvol, text) {
+  let mr = null, info, read = false;
+  try {
+    const mesh = mrvol.readObj(text);
+    read = true;
+    mr = mrvol.openMesh(mesh);
+    info = mr.info();
+    if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
+      throw new mrvol.MrvolError(
+        `this mesh is not semi-regular: no 1-to-4 subdivision levels were found in its ${info.vertices} vertices, ` +
+        'so it has no coarse cage to edit (mrvol edits meshes made by repeated 1-to-4 splits of a base mesh)');
+    return { mr, info };
+  } catch (e) {
+    e.offer = mr !== null && info?.levels === 0 ? 'remesh' : read && mr === null ? 'repair' : null;
+    mr?.delete();
+    throw e;
+  }
+}

@@ -1,0 +1,66 @@
+// The offer to remesh an OBJ that opened but cannot be edited: not semi-regular (remeshing), or
+// not a closed 2-manifold (repair first). Runs lib/remesh.mjs in a worker; the result goes to
+// `open` as a new model, and the notice says what was done.
+const $ = (id) => document.getElementById(id);
+
+let worker = null;
+
+export function hideRemeshOffer() {
+  $('remesh-offer').hidden = true;
+}
+
+/**
+ * source: { name, text }; repair: start with the repair stage checked. open({ name, kind, text })
+ * resolves true when the result opened; notice(text) shows the outcome.
+ */
+export function offerRemesh(source, { repair = false, open, notice }) {
+  $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
+  $('remesh-repair').checked = repair;
+  $('remesh-smooth').disabled = !repair;
+  $('remesh-repair').onchange = () => { $('remesh-smooth').disabled = !$('remesh-repair').checked; };
+  $('remesh-offer').hidden = false;
+  $('remesh-progress').hidden = true;
+  $('remesh-stage').textContent = '';
+  $('remesh-go').disabled = false;
+  $('remesh-go').onclick = () => {
+    const levels = Number($('remesh-levels').value), base = Number($('remesh-base').value);
+    const repairing = $('remesh-repair').checked, smooth = Number($('remesh-smooth').value);
+    worker?.terminate();
+    const running = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
+    worker = running;
+    $('remesh-go').disabled = true;
+    $('remesh-progress').hidden = false;  // indeterminate: the stage text says where it is
+    const started = performance.now();
+    const finish = (stage) => {
+      running.terminate();
+      if (worker === running) worker = null;
+      $('remesh-progress').hidden = true;
+      $('remesh-go').disabled = false;
+      $('remesh-stage').textContent = stage;
+    };
+    running.onmessage = async ({ data }) => {
+      if (data.type === 'stage') {
+        $('remesh-stage').textContent = data.stage;
+        return;
+      }
+      if (data.type === 'error') return finish(`remeshing failed: ${data.message}`);
+      finish('');
+      const r = data.report;
+      const ok = await open({ name: `${source.name.replace(/\.obj$/i, '')}-remeshed`, kind: 'file', text: data.text });
+      const fixes = r.repair
+        ? `Repaired (${r.repair.finFaces + r.repair.duplicateFaces + r.repair.nonManifoldFaces + r.repair.foldedFaces} faces ` +
+          `dropped, ${r.repair.droppedComponents} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
+        : 'Remeshed';
+      if (ok)
+        notice(`${fixes} in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
+          `${r.vertices} vertices, Hausdorff ${(100 * r.hausdorff).toFixed(2)}% of the diagonal, ` +
+          `${r.flippedTriangles} flipped triangles, volume change ${(100 * r.volumeChange).toFixed(2)}%`);
+    };
+    running.onerror = (e) => {
+      e.preventDefault?.();
+      finish(`remeshing failed: ${e.message || 'the worker could not start'}`);
+    };
+    running.postMessage({ text: source.text, levels, baseFaces: base > 0 ? base : undefined,
+      repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined });
+  };
+}

@@ -1,0 +1,202 @@
+// Where the editor's volume tensor comes from: the session's memory (tensors of this model, per
+// level and scheme), the IndexedDB cache, or the worker. Until it arrives the editor runs
+// matrix-free; the rule of when a tensor is worth it is the API's (chooseGradientPath).
+import { thetaKey } from './theta-cache.js';
+import { thetaName, showTheta, showProgress, notice, showCacheStatus } from './readouts.js';
+
+export class ThetaSource {
+  /** The cache (ThetaCache) once open; `prefetch`: { key, bytes: Promise } read ahead at start-up. */
+  cache = null;
+  prefetch = null;
+  key = null;
+  source = null;
+  pending = false;
+  status = '';
+  #generation = 0;
+
+  /**
+   * @param {import('../lib/three/session.mjs').EditingSession} session
+   * @param {{ jobs: import('./theta-jobs.js').ThetaJobs, stats: object, showCache: (entries, note?) => void }} deps
+   */
+  constructor(session, { jobs, stats, showCache }) {
+    this.session = session;
+    this.jobs = jobs;
+    this.stats = stats;
+    this.showCache = showCache;
+  }
+
+  currentKey() {
+    const { model, level, scheme, alpha, beta } = this.session;
+    return thetaKey({ fingerprint: model.fingerprint, scheme, alpha, beta, level });
+  }
+
+  cancel() {
+    this.#generation++;
+    this.jobs.cancel();
+    showProgress(null);
+  }
+
+  /** The cancel button: stops the worker's job (the editor stays matrix-free). */
+  cancelJob() {
+    const generation = this.#generation;
+    this.jobs.cancel();
+    if (generation === this.#generation) showProgress(null);
+  }
+
+  /** source: 'computed' | 'cache' | null; pending: null source while theta is on its way (else 'none'). */
+  #setState(source, status, pending = true) {
+    this.source = source;
+    this.pending = source === null && pending;
+    this.status = status;
+    showTheta(this);
+  }
+
+  #arrived(source, theta, started) {
+    const info = theta.info();
+    this.#setState(source, `${thetaName(info.level)}: ${(info.nnzStored / 1e6).toFixed(2)}M entries, ` +
+      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ${Math.round(performance.now() - started)} ms`);
+    this.stats.thetaReadyAt ??= performance.now();
+  }
+
+  /**
+   * Puts theta^e of the current model, scheme and level into the editor: from the session's
+   * memory, from the cache or from the worker. A cache lookup at start-up takes a few hundred ms, so
+   * when the cache probably has nothing (no session said so) the worker starts at once beside the
+   * lookup, and a hit cancels it.
+   */
+  async request() {
+    this.cancel();
+    const generation = this.#generation;
+    const stale = () => generation !== this.#generation;
+    const session = this.session;
+    const key = this.currentKey();
+    this.key = key;
+    const started = performance.now();
+
+    const choice = session.gradientChoice();
+    if (choice.path !== 'tensor') {
+      const { estimate } = choice;
+      this.#setState(null, `not computed: ${thetaName(session.level)} would need about ` +
+        `${Math.round(estimate.bytes / 2 ** 20)} MB and ${(estimate.milliseconds / 1000).toFixed(0)} s; editing runs matrix-free`, false);
+      return;
+    }
+    const stored = session.storedTheta();
+    if (stored && session.editor.path() === 'tensor') {
+      this.#arrived(stored.source, stored.theta, started);
+      return;
+    }
+    this.#setState(null, this.cache?.available ? 'looking in the cache…' : '');
+
+    let job = null;
+    if (this.cache?.available) {
+      const prefetched = this.prefetch?.key === key ? this.prefetch.bytes : null;
+      this.prefetch = null;
+      if (!prefetched) job = this.#startJob(generation);
+      const lookup = performance.now();
+      const bytes = (await prefetched) ?? (await this.cache.get(key));
+      this.stats.cacheLookupMs ??= performance.now() - lookup;
+      if (stale()) return;
+      if (bytes) {
+        let theta = null, problem;
+        try {
+          const read = performance.now();
+          theta = session.mrvol.readTheta(bytes);
+          const use = performance.now();
+          const used = session.useTheta(theta, 'cache');
+          this.stats.cacheLoad = { get: read - lookup, readTheta: use - read, useTheta: performance.now() - use };
+          if (!used.ok) problem = used.reason;
+        } catch (e) {
+          problem = e.message;
+        }
+        if (!problem) {
+          if (job) this.jobs.cancel();
+          showProgress(null);
+          this.#arrived('cache', theta, started);
+          return;
+        }
+        theta?.delete();
+        notice(`The cached θ was unusable (${problem}): it was deleted and is being recomputed.`);
+        await this.cache.delete(key);
+        this.refreshCacheList();
+        if (stale()) return;
+      }
+    }
+    this.#finishJob(generation, key, started, job ?? this.#startJob(generation));
+  }
+
+  /** Posts the theta job to the worker. Resolves to { result } or { error }; never rejects. */
+  #startJob(generation) {
+    const stale = () => generation !== this.#generation;
+    const session = this.session;
+    const { level, scheme, alpha, beta } = session;
+    this.#setState(null, 'computing in a worker (editing runs matrix-free meanwhile)');
+    showProgress(0, `Computing ${thetaName(level)} (${scheme})`);
+    const posted = performance.now();
+    return this.jobs.compute({
+      meshKey: session.model.fingerprint,
+      positions: session.model.mr.positions(),
+      faces: session.model.faces,
+      level, scheme, alpha, beta,
+    }, (fraction) => {
+      if (!stale()) showProgress(fraction, `Computing ${thetaName(level)} (${scheme}) ${Math.round(fraction * 100)}%`);
+    }).then((result) => ({ result, posted }), (error) => ({ error }));
+  }
+
+  async #finishJob(generation, key, started, job) {
+    const stale = () => generation !== this.#generation;
+    const { result, posted, error } = await job;
+    if (stale()) return;
+    showProgress(null);
+    if (error) {
+      if (error.cancelled) this.#setState(null, 'cancelled: editing runs matrix-free', false);
+      else this.#setState(null, `failed: ${error.message}; editing runs matrix-free`, false);
+      return;
+    }
+    const received = performance.now();
+    let theta;
+    try {
+      theta = this.session.mrvol.readTheta(result.bytes);
+    } catch (e) {
+      this.#setState(null, `the worker's θ was unreadable (${e.message}); editing runs matrix-free`, false);
+      return;
+    }
+    const used = this.session.useTheta(theta, 'computed');
+    if (!used.ok) {
+      theta.delete();
+      this.#setState(null, `θ was refused (${used.reason}); editing runs matrix-free`, false);
+      return;
+    }
+    this.stats.thetaMs = result.ms;
+    this.stats.thetaJob = { roundTrip: received - posted, ...result.timings, readAndUse: performance.now() - received };
+    this.#arrived('computed', theta, started);
+    if (this.cache?.available) {
+      const stored = await this.cache.put(key, result.bytes, { model: this.session.model?.name });
+      if (!stored.ok) {
+        notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
+        showCacheStatus(`IndexedDB (the last write failed: ${stored.reason})`);
+      }
+      this.refreshCacheList();
+    }
+  }
+
+  /** Forgets the tensor of the current level (memory and cache) and computes it again. */
+  async recompute() {
+    const key = this.currentKey();
+    this.session.forgetTheta();
+    await this.cache?.delete(key);
+    return this.request();
+  }
+
+  async refreshCacheList() {
+    if (!this.cache?.available) {
+      this.showCache([], `IndexedDB unavailable (${this.cache?.reason ?? 'not opened'}): no cache`);
+      return;
+    }
+    this.showCache(await this.cache.list());
+  }
+
+  async clearCache() {
+    await this.cache?.clear();
+    this.refreshCacheList();
+  }
+}
