@@ -3,8 +3,10 @@
 // positions. Recomputed after every drag step while that is cheap, else once the drag ends.
 import { showLayers } from './readouts.js';
 
-// The layers follow every drag step while one update costs less than this.
+// The layers follow every drag step while an update costs less than this (the median of the last
+// few: one slow update, a pause of the page, does not stop them for the rest of the drag).
 const LAYER_BUDGET_MS = 4;
+const RECENT = 5;
 
 export class Layers {
   level = null;
@@ -12,6 +14,7 @@ export class Layers {
   lastMs = null;
   deferred = false;
   #dirty = false;
+  #recent = [];
 
   /** settings: { showApprox, approxLevel, showDetails } (read at each update). */
   constructor(session, viewer, settings, onMeasured = () => {}) {
@@ -41,6 +44,8 @@ export class Layers {
     this.level = l;
     this.updates++;
     this.lastMs = ms;
+    this.#recent.push(ms);
+    if (this.#recent.length > RECENT) this.#recent.shift();
     this.onMeasured(ms);
     this.#show();
   }
@@ -48,7 +53,8 @@ export class Layers {
   /** After a drag step: now while cheap, else marked for the end of the drag. */
   afterStep() {
     if (!this.shown) return;
-    this.deferred = this.lastMs !== null && this.lastMs > LAYER_BUDGET_MS;
+    const sorted = [...this.#recent].sort((a, b) => a - b);
+    this.deferred = sorted.length > 0 && sorted[Math.floor(sorted.length / 2)] > LAYER_BUDGET_MS;
     if (this.deferred) this.#dirty = true;
     else this.update();
   }

@@ -37,7 +37,7 @@ function percentile(values, q) {
   return sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
 }
 
-describe('web editor: layers, painted free set, parts', { timeout: 40_000 }, () => {
+describe('web editor: layers, painted free set, parts', { timeout: 120_000 }, () => {
   before(async () => ({ browser, page } = await openApp()));
   after(() => browser?.close());
 
