@@ -20,7 +20,8 @@ commands:
   edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]
        [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]
        [--theta FILE.theta] -o OUT.obj [--json]
-                                              moves level-e cage vertices, keeping the volume
+                                              moves level-e cage vertices, keeping the volume;
+                                              OUT.obj is MESH.obj with the new positions (other lines kept)
   remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]] -o OUT.obj [--json]
                                               semi-regular remeshing of any closed manifold mesh
 
@@ -114,14 +115,6 @@ function readBytes(path) {
   }
 }
 
-function readText(path) {
-  try {
-    return readFileSync(path, 'utf8');
-  } catch (e) {
-    throw new MrvolError(`cannot read ${path}: ${e.code === 'ENOENT' ? 'no such file' : e.message}`);
-  }
-}
-
 function writeText(path, text) {
   try {
     writeFileSync(path, text);
@@ -133,15 +126,14 @@ function writeText(path, text) {
 // Reads an OBJ file; errors name the file.
 function loadMesh(mrvol, path) {
   try {
-    return mrvol.readObj(readText(path));
+    return mrvol.readObj(readBytes(path));  // bytes straight into the WASM heap
   } catch (e) {
     if (e instanceof MrvolError && !e.message.startsWith('cannot read')) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
   }
 }
 
-function openMultires(mrvol, path) {
-  const mesh = loadMesh(mrvol, path);
+function openMultires(mrvol, path, mesh = loadMesh(mrvol, path)) {
   try {
     return mrvol.openMesh(mesh);
   } catch (e) {
@@ -227,16 +219,21 @@ function describeTensor(r) {
 
 const COMMANDS = {
   info(mrvol, values, positionals) {
-    const mr = openMultires(mrvol, onePath(positionals, 'MESH.obj'));
+    const path = onePath(positionals, 'MESH.obj');
+    const mesh = loadMesh(mrvol, path);
+    const mr = openMultires(mrvol, path, mesh);
     const i = mr.info();
     mr.delete();
     const result = {
       vertices: i.vertices, faces: i.faces, levels: i.levels, baseVertices: i.baseVertices,
       baseVertexIndices: Array.from(i.baseVertexIndices), closed: i.closed, boundaryEdges: i.boundaryEdges,
-      genus: i.genus, volume: i.volume,
+      genus: i.genus, volume: i.volume, semiRegular: i.levels > 0, polygons: mesh.polygons,
+      polygonTriangles: mesh.polygonTriangles,
     };
     print(values, result, (r) => [
       `vertices       ${r.vertices}`, `faces          ${r.faces}`, `levels         ${r.levels}`,
+      `semi-regular   ${r.semiRegular ? 'yes' : 'no (no 1-to-4 splits found: mrvol remesh makes a semi-regular mesh)'}`,
+      ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
       `genus          ${r.genus}`, `volume         ${r.volume}`].join('\n'));
   },
@@ -329,7 +326,7 @@ COMMANDS.edit = (mrvol, values, positionals) => {
     const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
     const stepMs = performance.now() - started;
     if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
-    writeText(values.output, mrvolWriteEdited(mrvol, mr, editor));
+    writeText(values.output, mrvol.writeObjLike(readBytes(path), editor.positions()));
     const result = {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
@@ -346,10 +343,6 @@ COMMANDS.edit = (mrvol, values, positionals) => {
     mr.delete();
   }
 };
-
-function mrvolWriteEdited(mrvol, mr, editor) {
-  return mrvol.writeObj({ positions: editor.positions(), faces: mr.faces() });
-}
 
 COMMANDS.remesh = async (mrvol, values, positionals) => {
   const input = onePath(positionals, 'IN.obj');

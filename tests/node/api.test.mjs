@@ -378,8 +378,9 @@ describe('errors', () => {
     throwsMrvol(() => mr.analyze(x, { scheme: 3 }), 'scheme must be a string (loop, butterfly or linear)');
     throwsMrvol(() => mr.analyze(x, { alpha: NaN }), 'alpha and beta must be finite numbers');
     throwsMrvol(() => mr.analyze(x, { beta: '1' }), 'alpha and beta must be finite numbers');
-    throwsMrvol(() => mrvol.readObj(42), 'readObj expects the OBJ file as a string');
-    throwsMrvol(() => mrvol.readObj(new Uint8Array(3)), 'readObj expects the OBJ file as a string');
+    throwsMrvol(() => mrvol.readObj(42), 'readObj expects the OBJ file as a Uint8Array or a string');
+    throwsMrvol(() => mrvol.readObj([118, 32, 48]), 'readObj expects the OBJ file as a Uint8Array or a string');
+    throwsMrvol(() => mrvol.readObj(new Uint8Array(3)), 'line 1: binary data (byte 0 at column 1)');
     const ico = icosahedron();
     for (const fn of [mrvol.writeObj, mrvol.validate, mrvol.volume, mrvol.openMesh, mrvol.subdivide]) {
       throwsMrvol(() => fn(null), 'expected a mesh { positions, faces }');
