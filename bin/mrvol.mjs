@@ -38,7 +38,7 @@ const COMMAND_HELP = {
     usage: 'edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]\n' +
            '     [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]\n' +
            '     [--theta FILE.theta] -o OUT.obj [--json]',
-    summary: 'moves level-e cage vertices, keeping the volume',
+    summary: 'moves level-e cage vertices, keeping the volume; OUT.obj is MESH.obj with the new positions (other lines kept)',
     options: ['scheme', 'alpha', 'level', 'move', 'free', 'free-details', 'no-preserve', 'tolerance', 'path', 'theta',
               'output', 'json'],
   },
@@ -193,8 +193,8 @@ function progress(label) {
 
 const READ_CHUNK = 4 << 20;
 
-// Reads a text file in chunks, with a progress bar when that takes long (a big scan).
-async function readText(path) {
+// Reads a file's bytes in chunks, with a progress bar when that takes long (a big scan).
+async function readFileWithProgress(path) {
   let file;
   const bar = progress(`reading ${path}`);
   try {
@@ -207,7 +207,7 @@ async function readText(path) {
       at += bytesRead;
       bar.update(at / size);
     }
-    return buffer.toString('utf8');
+    return buffer;
   } catch (e) {
     throw new MrvolError(`cannot read ${path}: ${e.code === 'ENOENT' ? 'no such file' : e.message}`);
   } finally {
@@ -226,17 +226,17 @@ function writeText(path, text) {
 
 // Reads an OBJ file; errors name the file.
 async function loadMesh(mrvol, path) {
-  const text = await readText(path);
+  const bytes = await readFileWithProgress(path);
   try {
-    return mrvol.readObj(text);
+    return mrvol.readObj(bytes);  // bytes straight into the WASM heap
   } catch (e) {
     if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
   }
 }
 
-async function openMultires(mrvol, path) {
-  const mesh = await loadMesh(mrvol, path);
+async function openMultires(mrvol, path, mesh = null) {
+  mesh ??= await loadMesh(mrvol, path);
   try {
     return mrvol.openMesh(mesh);
   } catch (e) {
@@ -332,16 +332,21 @@ function describeTensor(r) {
 
 const COMMANDS = {
   async info(mrvol, values, positionals) {
-    const mr = await openMultires(mrvol, onePath(positionals, 'MESH.obj'));
+    const path = onePath(positionals, 'MESH.obj');
+    const mesh = await loadMesh(mrvol, path);
+    const mr = await openMultires(mrvol, path, mesh);
     const i = mr.info();
     mr.delete();
     const result = {
       vertices: i.vertices, faces: i.faces, levels: i.levels, baseVertices: i.baseVertices,
       baseVertexIndices: Array.from(i.baseVertexIndices), closed: i.closed, boundaryEdges: i.boundaryEdges,
-      genus: i.genus, volume: i.volume,
+      genus: i.genus, volume: i.volume, semiRegular: i.levels > 0, polygons: mesh.polygons,
+      polygonTriangles: mesh.polygonTriangles,
     };
     print(values, result, (r) => [
       `vertices       ${r.vertices}`, `faces          ${r.faces}`, `levels         ${r.levels}`,
+      `semi-regular   ${r.semiRegular ? 'yes' : 'no (no 1-to-4 splits found: mrvol remesh makes a semi-regular mesh)'}`,
+      ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
       `genus          ${r.genus}`, `volume         ${r.volume}`].join('\n'));
   },
@@ -433,7 +438,7 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
     const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
     const stepMs = performance.now() - started;
     if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
-    writeText(values.output, mrvolWriteEdited(mrvol, mr, editor));
+    writeText(values.output, mrvol.writeObjLike(readBytes(path), editor.positions()));
     const result = {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
@@ -450,10 +455,6 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
     mr.delete();
   }
 };
-
-function mrvolWriteEdited(mrvol, mr, editor) {
-  return mrvol.writeObj({ positions: editor.positions(), faces: mr.faces() });
-}
 
 COMMANDS.remesh = async (mrvol, values, positionals) => {
   const input = onePath(positionals, 'IN.obj');

@@ -63,6 +63,13 @@ function linesOf(mesh) {
   return l.vertex.length * 3 === mesh.positions.length && l.face.length * 3 === mesh.faces.length ? l : undefined;
 }
 
+// OBJ input as bytes: a Uint8Array as it is, a string encoded as UTF-8 (one fast native copy).
+function objBytes(input, what) {
+  if (input instanceof Uint8Array) return input;
+  if (typeof input === 'string') return new TextEncoder().encode(input);
+  throw new MrvolError(`${what} expects the OBJ file as a Uint8Array or a string`);
+}
+
 /**
  * Wraps an instantiated emscripten module.
  * @param {object} module the result of createMrvolModule()
@@ -356,13 +363,26 @@ export function wrapModule(module) {
     },
     MrvolError,
     /**
-     * Parses OBJ text into { positions: Float64Array, faces: Uint32Array } (0-based), with
+     * Parses an OBJ file (a Uint8Array of its bytes, e.g. a Node Buffer, or a string) into
+     * { positions: Float64Array, faces: Uint32Array } (0-based, polygons triangulated), with
      * lines: { vertex, face } (Uint32Array: the OBJ line of each), which validate, volume and
-     * openMesh use to name the line of a vertex or face in their errors.
+     * openMesh use to name the line of a vertex or face in their errors; polygons (how many faces
+     * had more than 3 corners) and polygonTriangles; and when the file has them texCoords (2 per vt),
+     * normals (3 per vn), colors (3 per vertex), cornerTexCoords / cornerNormals (per triangle
+     * corner, 0xffffffff where none).
      */
-    readObj(text) {
-      if (typeof text !== 'string') throw new MrvolError('readObj expects the OBJ file as a string');
-      return call(module._readObj, text);
+    readObj(input) {
+      return call(module._readObj, objBytes(input, 'readObj'));
+    },
+    /**
+     * The original OBJ file (Uint8Array or string, as given to readObj) with its vertex positions
+     * replaced (Float64Array, 3 per vertex, the same count): every other line and byte kept
+     * (vt, vn, faces, groups, materials, comments, colours). Returns the same type as `original`.
+     */
+    writeObjLike(original, positions) {
+      if (!(positions instanceof Float64Array)) throw new MrvolError('positions must be a Float64Array');
+      const bytes = call(module._writeObjLike, objBytes(original, 'writeObjLike'), positions);
+      return typeof original === 'string' ? new TextDecoder().decode(bytes) : bytes;
     },
     writeObj(mesh) {
       checkMesh(mesh);

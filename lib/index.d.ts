@@ -16,6 +16,23 @@ export interface Mesh {
   lines?: { vertex: Uint32Array; face: Uint32Array };
 }
 
+/** What readObj returns: the mesh and what else the OBJ file carried. */
+export interface ObjMesh extends Mesh {
+  lines: { vertex: Uint32Array; face: Uint32Array };
+  /** Faces with more than 3 corners (triangulated: a fan if convex, else ear clipping), and their triangles. */
+  polygons: number;
+  polygonTriangles: number;
+  /** 2 per `vt` line, when there are any. */
+  texCoords?: Float64Array;
+  /** 3 per `vn` line, when there are any. */
+  normals?: Float64Array;
+  /** 3 per vertex (r g b), when every `v` line has them. */
+  colors?: Float64Array;
+  /** Per triangle corner, the vt / vn index (0xffffffff: none), when faces refer to them. */
+  cornerTexCoords?: Uint32Array;
+  cornerNormals?: Uint32Array;
+}
+
 /** The wavelet scheme's name. */
 export type SchemeName = 'loop' | 'butterfly' | 'linear';
 
@@ -349,10 +366,18 @@ export interface MultiresMesh {
 /** The API object: what wrapModule() and createMrvol() return. */
 export interface Mrvol {
   MrvolError: typeof MrvolError;
-  /** Parses OBJ text (triangles only) into a mesh with 0-based indices and the line of each vertex and face. */
-  readObj(text: string): Mesh;
+  /**
+   * Parses an OBJ file (its bytes, e.g. a Node Buffer, or its text) into a mesh with 0-based
+   * indices, polygons triangulated, and the line of each vertex and face.
+   */
+  readObj(input: Uint8Array | string): ObjMesh;
   /** OBJ text: `v` lines (17 significant digits) then `f` lines, vertex order kept. */
   writeObj(mesh: Mesh): string;
+  /**
+   * The original OBJ file with its vertex positions replaced (same vertex count): every other line
+   * and byte is kept. Returns a Uint8Array for a Uint8Array, a string for a string.
+   */
+  writeObjLike<T extends Uint8Array | string>(original: T, positions: Float64Array): T extends string ? string : Uint8Array;
   /** Checks manifoldness and orientation; throws MrvolError saying where the mesh is wrong. */
   validate(mesh: Mesh): Topology;
   /** Signed enclosed volume of a valid mesh. */

@@ -11,9 +11,9 @@ import { fileURLToPath } from 'node:url';
 
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 
-// Debian packages: the toolchain (emscripten, Eigen, acorn for emcc's optimizer), the native test
+// Debian packages: the toolchain (emscripten, Eigen, fast_float, acorn for emcc's optimizer), the native test
 // build (cmake, ninja, g++, GoogleTest), clang for the fuzzers, chromium for the browser tests.
-const CORE_PACKAGES = ['cmake', 'ninja-build', 'g++', 'libgtest-dev', 'libeigen3-dev', 'emscripten', 'node-acorn'];
+const CORE_PACKAGES = ['cmake', 'ninja-build', 'g++', 'libgtest-dev', 'libeigen3-dev', 'libfast-float-dev', 'emscripten', 'node-acorn'];
 const BROWSER_PACKAGES = ['chromium'];
 const FUZZ_PACKAGES = ['clang', 'libclang-rt-14-dev'];
 

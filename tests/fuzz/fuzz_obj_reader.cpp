@@ -1,6 +1,6 @@
 // libFuzzer target: arbitrary bytes through the whole input path of the core.
 //
-//   bytes -> readObj -> validateMesh (differential: reference_mesh.h) -> MultiresMesh (hierarchy detection) -> Loop analysis and
+//   bytes -> readObj (with lines and extras; writeObjLike gives the bytes back) -> validateMesh (differential: reference_mesh.h) -> MultiresMesh (hierarchy detection) -> Loop analysis and
 //   synthesis at every level (then Butterfly and linear), plus writeObj -> readObj (text round
 //   trip) and the mesh volume.
 //
@@ -74,7 +74,21 @@ void checkHierarchyShape(const mrvol::MultiresMesh& mesh) {
 }
 
 void run(std::string_view text) {
-  mrvol::TriangleMesh mesh = mrvol::readObj(text);
+  mrvol::SourceLines lines;
+  mrvol::ObjExtras extras;
+  mrvol::TriangleMesh mesh = mrvol::readObj(text, &lines, &extras);
+  check(lines.vertex.size() == mesh.vertexCount() && lines.face.size() == mesh.faceCount());
+  // Attributes are consistent with what was read: one per triangle corner, pointing into the file's.
+  constexpr uint32_t kNoIndex = mrvol::ObjExtras::kNoIndex;
+  check(extras.cornerTexCoords.empty() || extras.cornerTexCoords.size() == mesh.faces.size());
+  check(extras.cornerNormals.empty() || extras.cornerNormals.size() == mesh.faces.size());
+  for (uint32_t t : extras.cornerTexCoords) check(t == kNoIndex || t < extras.texCoords.size() / 2);
+  for (uint32_t n : extras.cornerNormals) check(n == kNoIndex || n < extras.normals.size() / 3);
+  check(extras.colors.empty() || extras.colors.size() == mesh.positions.size());
+  check(extras.polygonTriangles <= mesh.faceCount());
+  // With its own positions, writeObjLike gives the file back byte for byte (every coordinate
+  // reads back as the value it holds, so none is respelled).
+  check(mrvol::writeObjLike(text, mesh.positions.data(), mesh.vertexCount()) == text);
   // What readObj returns is well formed even when it is no valid mesh.
   check(mesh.positions.size() % 3 == 0 && mesh.faces.size() % 3 == 0 && !mesh.faces.empty());
   for (uint32_t i : mesh.faces) check(i < mesh.vertexCount());

@@ -129,14 +129,7 @@ TEST(ReadObj, NumberFormats) {
   EXPECT_EQ(m.positions[5], 1.0);
 }
 
-TEST(ReadObj, PolygonsAreRefusedWithTheirLine) {
-  try {
-    readObj(std::string(kSquareObj) + "f 1 2 3 4\n");
-    FAIL() << "a quad was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("line 5"), std::string::npos) << e.what();
-  }
-}
+// Polygons, attributes and their hostile variants: test_obj.cpp.
 
 // ---- writing and the round trip -----------------------------------------------------------------
 

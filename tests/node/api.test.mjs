@@ -83,7 +83,7 @@ describe('OBJ text', () => {
   });
 
   test('readObj errors carry the line', () => {
-    throwsMrvol(() => mrvol.readObj('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n'), /^line 4: face has 4 vertices/);
+    throwsMrvol(() => mrvol.readObj('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 1\n'), /^line 4: polygon with 4 vertices uses vertex 1 more than once/);
     throwsMrvol(() => mrvol.readObj('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n'),
       'line 4: face refers to vertex 9 but the file has 3 vertices');
     throwsMrvol(() => mrvol.readObj(''), 'empty input: no vertices and no faces');
@@ -379,8 +379,9 @@ describe('errors', () => {
     throwsMrvol(() => mr.analyze(x, { scheme: 3 }), 'scheme must be a string (loop, butterfly or linear)');
     throwsMrvol(() => mr.analyze(x, { alpha: NaN }), 'alpha and beta must be finite numbers');
     throwsMrvol(() => mr.analyze(x, { beta: '1' }), 'alpha and beta must be finite numbers');
-    throwsMrvol(() => mrvol.readObj(42), 'readObj expects the OBJ file as a string');
-    throwsMrvol(() => mrvol.readObj(new Uint8Array(3)), 'readObj expects the OBJ file as a string');
+    throwsMrvol(() => mrvol.readObj(42), 'readObj expects the OBJ file as a Uint8Array or a string');
+    throwsMrvol(() => mrvol.readObj([118, 32, 48]), 'readObj expects the OBJ file as a Uint8Array or a string');
+    throwsMrvol(() => mrvol.readObj(new Uint8Array(3)), 'line 1: binary data (byte 0 at column 1): this is not an OBJ text file');
     const ico = icosahedron();
     for (const fn of [mrvol.writeObj, mrvol.validate, mrvol.volume, mrvol.openMesh, mrvol.subdivide]) {
       throwsMrvol(() => fn(null), 'expected a mesh { positions, faces }');

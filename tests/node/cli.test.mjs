@@ -36,7 +36,10 @@ describe('info', () => {
     writeFileSync(file('shuffled.obj'), mrvol.writeObj(mesh));
     const r = json(mrvolCli('info', file('shuffled.obj'), '--json'));
     assert.deepEqual(Object.keys(r).sort(),
-      ['baseVertexIndices', 'baseVertices', 'boundaryEdges', 'closed', 'faces', 'genus', 'levels', 'vertices', 'volume']);
+      ['baseVertexIndices', 'baseVertices', 'boundaryEdges', 'closed', 'faces', 'genus', 'levels', 'polygonTriangles',
+       'polygons', 'semiRegular', 'vertices', 'volume']);
+    assert.equal(r.semiRegular, true);
+    assert.equal(r.polygons, 0);
     assert.equal(r.vertices, 642);
     assert.equal(r.faces, 1280);
     assert.equal(r.levels, 3);
@@ -164,8 +167,8 @@ describe('errors', () => {
   });
 
   test('invalid OBJ or mesh: exit 1, one line naming the file', () => {
-    writeFileSync(file('quad.obj'), 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n');
-    failsWith(mrvolCli('info', file('quad.obj')), /quad\.obj: line 5: face has 4 vertices/);
+    writeFileSync(file('quad.obj'), 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 1\n');
+    failsWith(mrvolCli('info', file('quad.obj')), /quad\.obj: line 5: polygon with 4 vertices uses vertex 1 more than once/);
     writeFileSync(file('flip.obj'), 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 4 3\nf 2 3 4\n');
     failsWith(mrvolCli('info', file('flip.obj'), '--json'), /flip\.obj: inconsistent orientation/);
     failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '13', '-o', file('big.obj')), /levels must be between 0 and 12/);

@@ -97,15 +97,46 @@ SchemeOptions toScheme(const std::string& name, double alpha, double beta) {
   return o;
 }
 
-val js_readObj(const std::string& text) {
+// OBJ bytes (a Uint8Array) go into the heap once, as they are: no JS string, no UTF-8 conversion.
+std::string bytesToHeap(const val& bytes, const char* what) {
+  if (!bytes.instanceof(val::global("Uint8Array"))) throw Error(std::string(what) + " must be a Uint8Array");
+  const double length = bytes["length"].as<double>();
+  if (length > 2e9)
+    throw Error("the file is too large to open: " + std::to_string(size_t(length)) +
+                " bytes (mrvol reads OBJ files of up to 2 GB in WebAssembly)");
+  std::string text(size_t(length), '\0');
+  val(emscripten::typed_memory_view(text.size(), reinterpret_cast<uint8_t*>(text.data()))).call<void>("set", bytes);
+  return text;
+}
+
+val js_readObj(val bytes) {
   return guarded([&] {
     SourceLines lines;
-    val out = meshToJs(mrvol::readObj(std::string_view(text), &lines));
+    ObjExtras extras;
+    TriangleMesh mesh = mrvol::readObj(bytesToHeap(bytes, "the OBJ file"), &lines, &extras);
+    val out = meshToJs(mesh);
+    mesh = TriangleMesh();
     val l = val::object();
     l.set("vertex", toTyped(lines.vertex));
     l.set("face", toTyped(lines.face));
     out.set("lines", l);
+    out.set("polygons", double(extras.polygons));
+    out.set("polygonTriangles", double(extras.polygonTriangles));
+    if (!extras.texCoords.empty()) out.set("texCoords", toTyped(extras.texCoords));
+    if (!extras.normals.empty()) out.set("normals", toTyped(extras.normals));
+    if (!extras.colors.empty()) out.set("colors", toTyped(extras.colors));
+    if (!extras.cornerTexCoords.empty()) out.set("cornerTexCoords", toTyped(extras.cornerTexCoords));
+    if (!extras.cornerNormals.empty()) out.set("cornerNormals", toTyped(extras.cornerNormals));
     return out;
+  });
+}
+// The original OBJ bytes with the v lines' coordinates replaced: a Uint8Array.
+val js_writeObjLike(val original, val positions) {
+  return guarded([&] {
+    const std::vector<double> x = toVector<double>(positions, "positions");
+    if (x.size() % 3 != 0) throw Error("positions must hold 3 numbers per vertex");
+    const std::string out = mrvol::writeObjLike(bytesToHeap(original, "the original OBJ file"), x.data(), x.size() / 3);
+    return val(emscripten::typed_memory_view(out.size(), reinterpret_cast<const uint8_t*>(out.data()))).call<val>("slice");
   });
 }
 val js_writeObj(val positions, val faces) {
@@ -414,6 +445,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   function("_takeError", &takeError);
   function("_readObj", &js_readObj);
   function("_writeObj", &js_writeObj);
+  function("_writeObjLike", &js_writeObjLike);
   function("_validate", &js_validate);
   function("_volume", &js_volume);
   function("_openMesh", &js_openMesh, allow_raw_pointers());

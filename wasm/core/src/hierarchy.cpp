@@ -49,6 +49,17 @@ void finish(Hierarchy& h) {
     }
   }
   h.boundary.assign(n, 0);
+  // Splits keep a closed base closed: then no fine vertex is on the boundary, and the fine corner
+  // lists (the largest) need not be built again.
+  if (h.levels >= 1) {
+    const auto& base = h.faces[0];
+    VertexCorners baseCorners(base.data(), base.size() / 3, h.vertexCount[0]);
+    bool closed = true;
+    for (uint32_t u = 0; u < h.vertexCount[0] && closed; ++u)
+      for (uint32_t c = baseCorners.begin(u); c < baseCorners.end(u) && closed; ++c)
+        closed = baseCorners.opposite(baseCorners.next[c], u) != kNone;
+    if (closed) return;
+  }
   const auto& fine = h.fineFaces();
   VertexCorners corners(fine.data(), fine.size() / 3, n);
   for (uint32_t u = 0; u < n; ++u)
@@ -261,11 +272,11 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, Quadris
 
 }  // namespace
 
-Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels) {
-  validateMesh(fine);
+Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels, bool validated) {
+  if (!validated) validateMesh(fine);
   const uint32_t nv = uint32_t(fine.vertexCount());
   // Top-down: level meshes in the caller's vertex indices; depth of each vertex.
-  std::vector<std::vector<uint32_t>> levelFaces{fine.faces};
+  std::vector<std::vector<uint32_t>> levelFaces{{}};  // [0]: the fine faces, read from `fine`
   std::vector<int> bornAt(nv, -1);  // levels found from the top: 0 = born at the finest level
   std::vector<uint32_t> endsInput(2 * size_t(nv), kNone);
   std::vector<uint32_t> alive(nv);  // vertices of the current level, as caller indices
@@ -273,12 +284,16 @@ Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels) {
   int found = 0;
   while (found < maxLevels) {
     // Compact the current level's vertices.
-    std::vector<uint32_t> local(nv, kNone);
-    for (uint32_t i = 0; i < alive.size(); ++i) local[alive[i]] = i;
-    std::vector<uint32_t> faces(levelFaces.back().size());
-    for (size_t i = 0; i < faces.size(); ++i) faces[i] = local[levelFaces.back()[i]];
+    // The finest level is the caller's arrays as they are (no copy: they are the largest).
+    std::vector<uint32_t> faces;
+    if (found > 0) {
+      std::vector<uint32_t> local(nv, kNone);
+      for (uint32_t i = 0; i < alive.size(); ++i) local[alive[i]] = i;
+      faces.resize(levelFaces.back().size());
+      for (size_t i = 0; i < faces.size(); ++i) faces[i] = local[levelFaces.back()[i]];
+    }
     Quadrisection q;
-    if (!tryDetect(faces, uint32_t(alive.size()), q)) break;
+    if (!tryDetect(found > 0 ? faces : fine.faces, uint32_t(alive.size()), q)) break;
     std::vector<uint32_t> nextAlive;
     for (uint32_t i = 0; i < alive.size(); ++i) {
       if (q.role[i] == kEven) { nextAlive.push_back(alive[i]); continue; }
@@ -305,7 +320,7 @@ Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels) {
     h.vertexCount.push_back(uint32_t(h.inputIndex.size()));
   }
   for (int l = 0; l <= found; ++l) {
-    auto faces = levelFaces[found - l];
+    std::vector<uint32_t> faces = l == found ? fine.faces : std::move(levelFaces[found - l]);
     for (auto& v : faces) v = h.hierarchyIndex[v];
     h.faces.push_back(std::move(faces));
   }

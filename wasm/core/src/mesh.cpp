@@ -19,168 +19,8 @@ namespace {
 
 // Coordinates beyond this would overflow the volume's triple products (|x|^3 must stay finite).
 constexpr double kMaxCoordinate = 1e100;
-constexpr size_t kMaxIndex = 0xfffffff0u;
-
-std::string at(size_t line) { return "line " + std::to_string(line) + ": "; }
-
-std::string shorten(std::string_view token) {
-  std::string s(token.substr(0, 40));
-  for (char& c : s)
-    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
-  if (token.size() > 40) s += "...";
-  return "'" + s + "'";
-}
-
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-// Splits one line into whitespace-separated tokens (views into the line).
-void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
-  tokens.clear();
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && isSpace(line[i])) ++i;
-    size_t j = i;
-    while (j < line.size() && !isSpace(line[j])) ++j;
-    if (j > i) tokens.push_back(line.substr(i, j - i));
-    i = j;
-  }
-}
-
-double parseCoordinate(std::string_view token, size_t line) {
-  char buffer[64];
-  if (token.size() >= sizeof buffer)
-    throw Error(at(line) + "coordinate " + shorten(token) + " is too long (" + std::to_string(token.size()) +
-                " characters; mrvol reads at most " + std::to_string(sizeof buffer - 1) + ")");
-  std::copy(token.begin(), token.end(), buffer);
-  buffer[token.size()] = '\0';
-  char* end = nullptr;
-  errno = 0;
-  double value = std::strtod(buffer, &end);
-  if (end != buffer + token.size() || token.empty())
-    throw Error(at(line) + "coordinate " + shorten(token) + " is not a number");
-  if (std::isnan(value) || (std::isinf(value) && errno != ERANGE))
-    throw Error(at(line) + "coordinate " + shorten(token) + " is not finite");
-  if (std::fabs(value) > kMaxCoordinate)  // also a finite literal that overflows a double (ERANGE)
-    throw Error(at(line) + "coordinate " + shorten(token) +
-                " is too large (mrvol accepts |x| <= 1e100 so that volumes stay finite)");
-  return value;
-}
-
-// OBJ index: 1-based, or negative relative to the vertices read so far. Returns 0-based.
-int64_t parseIndex(std::string_view token, size_t line, size_t verticesSoFar) {
-  std::string_view digits = token.substr(0, token.find('/'));
-  if (digits.empty()) throw Error(at(line) + "face vertex " + shorten(token) + " has no vertex index");
-  bool negative = digits[0] == '-';
-  size_t start = (digits[0] == '-' || digits[0] == '+') ? 1 : 0;
-  if (start == digits.size()) throw Error(at(line) + "face index " + shorten(token) + " is not an integer");
-  int64_t value = 0;
-  for (size_t i = start; i < digits.size(); ++i) {
-    char c = digits[i];
-    if (c < '0' || c > '9') throw Error(at(line) + "face index " + shorten(token) + " is not an integer");
-    value = value * 10 + (c - '0');
-    if (value > int64_t(kMaxIndex))
-      throw Error(at(line) + "face index " + shorten(digits) + " is out of range");
-  }
-  if (value == 0) throw Error(at(line) + "face index 0 is not valid (OBJ indices start at 1)");
-  if (negative) {
-    if (size_t(value) > verticesSoFar)
-      throw Error(at(line) + "relative face index " + shorten(digits) + " reaches before the first vertex (" +
-                  std::to_string(verticesSoFar) + " vertices so far)");
-    return int64_t(verticesSoFar) - value;
-  }
-  return value - 1;
-}
 
 }  // namespace
-
-TriangleMesh readObj(std::string_view text, SourceLines* lines) {
-  TriangleMesh mesh;
-  std::vector<uint32_t> vertexLines;
-  std::vector<uint32_t> faceLines;
-  std::vector<int64_t> pending;  // 0-based indices, range-checked once all vertices are known
-  std::vector<std::string_view> tokens;
-  size_t line = 0;
-  size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a UTF-8 byte order mark is no statement
-  while (pos < text.size()) {
-    size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    std::string_view content = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    ++line;
-    size_t carriageReturn = std::string_view::npos;
-    for (size_t i = 0; i < content.size(); ++i) {
-      unsigned char c = static_cast<unsigned char>(content[i]);
-      if (c == 0 || (c < 32 && !isSpace(char(c))))
-        throw Error(at(line) + "binary data (byte " + std::to_string(int(c)) + " at column " + std::to_string(i + 1) +
-                    "): this is not an OBJ text file");
-      if (c == '\r') {
-        if (carriageReturn == std::string_view::npos) carriageReturn = i;
-      } else if (carriageReturn != std::string_view::npos && !isSpace(char(c))) {
-        throw Error(at(line) + "carriage return inside the line (column " + std::to_string(carriageReturn + 1) +
-                    "): old Mac line endings (CR only) are not supported; convert the file to LF or CRLF");
-      }
-    }
-    size_t hash = content.find('#');
-    if (hash != std::string_view::npos) content = content.substr(0, hash);
-    tokenize(content, tokens);
-    if (tokens.empty()) continue;
-    std::string_view keyword = tokens[0];
-    if (keyword == "v") {
-      if (tokens.size() < 4)
-        throw Error(at(line) + "vertex needs 3 coordinates, found " + std::to_string(tokens.size() - 1));
-      if (tokens.size() > 5)  // x y z [w]; colours (x y z r g b) are accepted too
-        if (tokens.size() != 7)
-          throw Error(at(line) + "vertex has " + std::to_string(tokens.size() - 1) +
-                      " values, expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)");
-      for (int k = 1; k <= 3; ++k) mesh.positions.push_back(parseCoordinate(tokens[k], line));
-      if (lines) vertexLines.push_back(uint32_t(line));
-      for (size_t k = 4; k < tokens.size(); ++k) parseCoordinate(tokens[k], line);
-    } else if (keyword == "f") {
-      size_t corners = tokens.size() - 1;
-      if (corners < 3)
-        throw Error(at(line) + "face has " + std::to_string(corners) + " vertices, a triangle needs 3");
-      if (corners > 3)
-        throw Error(at(line) + "face has " + std::to_string(corners) +
-                    " vertices; mrvol reads triangle meshes only (triangulating a polygon would break "
-                    "the semi-regular structure)");
-      for (int k = 1; k <= 3; ++k) pending.push_back(parseIndex(tokens[k], line, mesh.vertexCount()));
-      faceLines.push_back(uint32_t(line));
-    } else if (keyword.size() > 16 || !std::all_of(keyword.begin(), keyword.end(), [](char c) {
-                 return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-               })) {
-      throw Error(at(line) + "unknown statement " + shorten(keyword) + ": this does not look like an OBJ file");
-    }
-    // Other OBJ statements (vn, vt, o, g, s, usemtl, mtllib, l, p ...) carry nothing mrvol uses.
-  }
-  if (mesh.positions.empty() && pending.empty()) throw Error("empty input: no vertices and no faces");
-  if (pending.empty()) throw Error("no faces: the file has " + std::to_string(mesh.vertexCount()) + " vertices but no 'f' lines");
-  mesh.faces.resize(pending.size());
-  for (size_t i = 0; i < pending.size(); ++i) {
-    if (pending[i] >= int64_t(mesh.vertexCount()))
-      throw Error(at(faceLines[i / 3]) + "face refers to vertex " + std::to_string(pending[i] + 1) +
-                  " but the file has " + std::to_string(mesh.vertexCount()) + " vertices");
-    mesh.faces[i] = uint32_t(pending[i]);
-  }
-  if (lines) lines->vertex = std::move(vertexLines), lines->face = std::move(faceLines);
-  return mesh;
-}
-
-std::string writeObj(const TriangleMesh& mesh) {
-  std::string out;
-  out.reserve(mesh.positions.size() * 24 + mesh.faces.size() * 8);
-  char buffer[128];
-  for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-    int n = std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n", mesh.positions[3 * v],
-                          mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
-    out.append(buffer, size_t(n));
-  }
-  for (size_t f = 0; f < mesh.faceCount(); ++f) {
-    int n = std::snprintf(buffer, sizeof buffer, "f %u %u %u\n", mesh.faces[3 * f] + 1, mesh.faces[3 * f + 1] + 1,
-                          mesh.faces[3 * f + 2] + 1);
-    out.append(buffer, size_t(n));
-  }
-  return out;
-}
 
 namespace {
 
@@ -209,6 +49,87 @@ struct UnionFind {
   void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
 };
 
+// Stable counting sort of `items` by key(item) in [0, range): one radix pass. `scratch` and `count`
+// are reused between passes so that sorting allocates nothing per pass.
+template <class Key>
+void countingSortBy(std::vector<uint32_t>& items, std::vector<uint32_t>& scratch, std::vector<uint32_t>& count,
+                    size_t range, Key key) {
+  count.assign(range + 1, 0);
+  for (uint32_t item : items) ++count[key(item) + 1];
+  for (size_t k = 0; k < range; ++k) count[k + 1] += count[k];
+  scratch.resize(items.size());
+  for (uint32_t item : items) scratch[count[key(item)]++] = item;
+  items.swap(scratch);
+}
+
+// The ordered edge checks: duplicate faces, then edges in (min, max) order, each in at most two
+// faces traversed in opposite directions. Throws the message for the first problem; called only
+// when the fast checks found one, so that messages name the same faces whatever the path.
+[[noreturn]] void refuseEdges(const TriangleMesh& mesh, const Names& name) {
+  auto faceName = [&](size_t f) { return name.face(f); };
+  const size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
+  const uint32_t* faces = mesh.faces.data();
+  // Linear time and flat arrays throughout: radix sorts (counting sorts by vertex index) instead of
+  // comparison sorts or hash maps, so that millions of faces validate in well under a second.
+  std::vector<uint32_t> order, scratch, count;
+  // Duplicate faces: same three vertices, in either orientation. Faces sorted by their sorted
+  // triple (a < b < c), face index last: the first equal neighbours are the ones reported.
+  {
+    auto sortedCorner = [&](uint32_t f, int rank) {
+      uint32_t a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
+      if (a > b) std::swap(a, b);
+      if (b > c) std::swap(b, c);
+      if (a > b) std::swap(a, b);
+      return rank == 0 ? a : rank == 1 ? b : c;
+    };
+    order.resize(nf);
+    std::iota(order.begin(), order.end(), 0u);
+    for (int rank = 2; rank >= 0; --rank)
+      countingSortBy(order, scratch, count, nv, [&](uint32_t f) { return sortedCorner(f, rank); });
+    for (size_t i = 1; i < nf; ++i) {
+      const uint32_t f = order[i - 1], g = order[i];
+      if (sortedCorner(f, 0) == sortedCorner(g, 0) && sortedCorner(f, 1) == sortedCorner(g, 1) &&
+          sortedCorner(f, 2) == sortedCorner(g, 2))
+        throw Error(faceName(f) + " and " + faceName(g) + " are duplicates (" +
+                    name.vertices({sortedCorner(f, 0), sortedCorner(f, 1), sortedCorner(f, 2)}) + ")");
+    }
+  }
+  // Half-edges h = 3 f + k (from faces[h] to the next corner), sorted by their undirected key
+  // (min, max): each edge in at most two faces, and two faces sharing one must traverse it in
+  // opposite directions (else the orientation is inconsistent).
+  auto from = [&](uint32_t h) { return faces[h]; };
+  auto to = [&](uint32_t h) { return faces[h % 3 == 2 ? h - 2 : h + 1]; };
+  auto lo = [&](uint32_t h) { return std::min(from(h), to(h)); };
+  auto hi = [&](uint32_t h) { return std::max(from(h), to(h)); };
+  auto forward = [&](uint32_t h) { return from(h) < to(h); };
+  order.resize(3 * nf);
+  std::iota(order.begin(), order.end(), 0u);
+  countingSortBy(order, scratch, count, nv, hi);
+  countingSortBy(order, scratch, count, nv, lo);
+  std::vector<uint32_t>().swap(scratch);
+  std::vector<uint32_t>().swap(count);
+  for (size_t i = 0; i < order.size();) {
+    const uint32_t u = lo(order[i]), v = hi(order[i]);
+    size_t j = i + 1;
+    while (j < order.size() && lo(order[j]) == u && hi(order[j]) == v) ++j;
+    if (j - i > 2 || (j - i == 2 && forward(order[i]) == forward(order[i + 1]))) {
+      // Messages list the faces backward ones first, then by face index (within one direction
+      // the half-edges are already in face order).
+      std::stable_partition(order.begin() + ptrdiff_t(i), order.begin() + ptrdiff_t(j),
+                            [&](uint32_t h) { return !forward(h); });
+      const std::string edge = "edge between " + name.vertices({u, v});
+      auto face = [&](size_t r) { return faceName(order[i + r] / 3); };
+      if (j - i > 2)
+        throw Error("non-manifold " + edge + ": shared by " + std::to_string(j - i) + " faces (" + face(0) + ", " +
+                    face(1) + ", " + face(2) + (j - i > 3 ? ", ..." : "") + ")");
+      throw Error("inconsistent orientation at " + edge + ": " + face(0) + " and " + face(1) +
+                  " traverse it in the same direction");
+    }
+    i = j;
+  }
+  throw Error("the mesh is not an oriented 2-manifold");  // unreachable: the fast checks agree
+}
+
 }  // namespace
 
 MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
@@ -219,14 +140,16 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
   if (mesh.faces.size() % 3 != 0) throw Error("faces must hold 3 vertex indices per triangle");
   if (nv == 0) throw Error("the mesh has no vertices");
   if (nf == 0) throw Error("the mesh has no faces");
+  checkMeshSize(nv, nf);
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     double x = mesh.positions[i];
     if (!std::isfinite(x)) throw Error(name.vertex(i / 3) + " has a non-finite coordinate");
     if (std::fabs(x) > kMaxCoordinate)
       throw Error(name.vertex(i / 3) + " has a coordinate beyond 1e100");
   }
+  const uint32_t* faces = mesh.faces.data();
   for (size_t f = 0; f < nf; ++f) {
-    const uint32_t* t = &mesh.faces[3 * f];
+    const uint32_t* t = &faces[3 * f];
     for (int k = 0; k < 3; ++k)
       if (t[k] >= nv)
         throw Error(faceName(f) + " refers to vertex " + std::to_string(t[k]) + " but there are " +
@@ -235,75 +158,47 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
       throw Error(faceName(f) + " is degenerate: it uses " + name.vertex(t[0] == t[1] || t[0] == t[2] ? t[0] : t[1]) +
                   " twice");
   }
-  // Duplicate faces: same three vertices, in either orientation.
-  {
-    std::vector<std::array<uint32_t, 4>> keys(nf);
-    for (size_t f = 0; f < nf; ++f) {
-      std::array<uint32_t, 3> t{mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]};
-      std::sort(t.begin(), t.end());
-      keys[f] = {t[0], t[1], t[2], uint32_t(f)};
-    }
-    std::sort(keys.begin(), keys.end());
-    for (size_t i = 1; i < nf; ++i)
-      if (keys[i][0] == keys[i - 1][0] && keys[i][1] == keys[i - 1][1] && keys[i][2] == keys[i - 1][2])
-        throw Error(faceName(keys[i - 1][3]) + " and " + faceName(keys[i][3]) + " are duplicates (" +
-                    name.vertices({keys[i][0], keys[i][1], keys[i][2]}) + ")");
-  }
-  // Edges, sorted by their undirected key: each in at most two faces, and two faces sharing one
-  // must traverse it in opposite directions (else the orientation is inconsistent).
-  std::vector<std::array<uint32_t, 4>> halfEdges(3 * nf);  // min, max, forward?, face
-  for (size_t f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      uint32_t u = mesh.faces[3 * f + k], v = mesh.faces[3 * f + (k + 1) % 3];
-      halfEdges[3 * f + k] = {std::min(u, v), std::max(u, v), uint32_t(u < v), uint32_t(f)};
-    }
-  std::sort(halfEdges.begin(), halfEdges.end());
+  // The fast path: every check from the per-vertex corner lists (VertexCorners, built by a
+  // counting sort), O(1) per corner at ordinary vertices and O(log valence) at hubs. Only when it
+  // finds a problem does refuseEdges() sort the edges to name the same one the ordered checks name.
+  const VertexCorners corners(faces, nf, nv);
   size_t edges = 0;
   std::vector<std::pair<uint32_t, uint32_t>> boundary;
-  for (size_t i = 0; i < halfEdges.size();) {
-    size_t j = i;
-    while (j < halfEdges.size() && halfEdges[j][0] == halfEdges[i][0] && halfEdges[j][1] == halfEdges[i][1]) ++j;
-    const std::string edge = "edge between " + name.vertices({halfEdges[i][0], halfEdges[i][1]});
-    if (j - i > 2)
-      throw Error("non-manifold " + edge + ": shared by " + std::to_string(j - i) + " faces (" +
-                  faceName(halfEdges[i][3]) + ", " + faceName(halfEdges[i + 1][3]) + ", " +
-                  faceName(halfEdges[i + 2][3]) + (j - i > 3 ? ", ..." : "") + ")");
-    if (j - i == 2 && halfEdges[i][2] == halfEdges[i + 1][2])
-      throw Error("inconsistent orientation at " + edge + ": " + faceName(halfEdges[i][3]) + " and " +
-                  faceName(halfEdges[i + 1][3]) + " traverse it in the same direction");
-    ++edges;
-    if (j - i == 1) boundary.emplace_back(halfEdges[i][0], halfEdges[i][1]);
-    i = j;
+  bool edgesValid = true;
+  for (uint32_t u = 0; u < nv && edgesValid; ++u) {
+    const uint32_t begin = corners.begin(u), end = corners.end(u);
+    for (uint32_t c = begin; c < end && edgesValid; ++c) {
+      const uint32_t v = corners.next[c];
+      // Each directed edge once (twice: duplicate faces, a non-manifold edge or a flipped face).
+      if (corners.cornerTo(u, v) != c) edgesValid = false;
+      // A face (u, v, w) and its reverse (u, w, v): duplicates that pair every edge.
+      if (corners.opposite(u, corners.prev[c]) == v) edgesValid = false;
+      if (corners.cornerTo(v, u) == kNone) boundary.emplace_back(std::min(u, v), std::max(u, v)), ++edges;
+      else edges += u < v;
+    }
   }
-  VertexCorners corners(mesh.faces.data(), nf, nv);
-  // Vertices: the faces around each must form one fan (no bow-tie). With manifold edges, every
-  // link vertex is at most once a `next` and once a `prev`; a fan is a path or a cycle.
-  std::vector<std::pair<uint32_t, uint32_t>> link;  // (next, prev), sorted by next
+  if (!edgesValid) refuseEdges(mesh, name);
+
+  // Vertices: the faces around each must form one fan (no bow-tie). With manifold edges, each
+  // neighbour v is at most once a corner's next and once a corner's prev, so the corners form
+  // paths and cycles: one fan is one path (a boundary vertex) or one cycle (an interior vertex).
+  // A path starts at a next v with no face (v, u, .). Queries cost O(1) at ordinary vertices and
+  // O(log valence) at hubs (VertexCorners keeps their corners sorted).
   for (uint32_t u = 0; u < nv; ++u) {
-    if (corners.count(u) == 0) throw Error(name.vertex(u) + " is not used by any face");
-    link.clear();
-    for (uint32_t c = corners.begin(u); c < corners.end(u); ++c) link.emplace_back(corners.next[c], corners.prev[c]);
-    std::sort(link.begin(), link.end());
-    auto follow = [&](uint32_t v) -> uint32_t {
-      auto it = std::lower_bound(link.begin(), link.end(), std::make_pair(v, 0u));
-      return it != link.end() && it->first == v ? it->second : kNone;
-    };
-    std::vector<uint32_t> prevs;
-    prevs.reserve(link.size());
-    for (auto& e : link) prevs.push_back(e.second);
-    std::sort(prevs.begin(), prevs.end());
-    uint32_t start = link[0].first, pathStarts = 0;
-    for (auto& e : link)
-      if (!std::binary_search(prevs.begin(), prevs.end(), e.first)) ++pathStarts, start = e.first;
-    size_t walked = 0;
-    for (uint32_t v = start; walked <= link.size();) {
-      uint32_t w = follow(v);
+    const uint32_t k = corners.count(u);
+    if (k == 0) throw Error(name.vertex(u) + " is not used by any face");
+    uint32_t start = corners.next[corners.begin(u)], pathStarts = 0;
+    for (uint32_t c = corners.begin(u); c < corners.end(u) && pathStarts < 2; ++c)
+      if (corners.cornerTo(corners.next[c], u) == kNone) ++pathStarts, start = corners.next[c];
+    uint32_t walked = 0;
+    for (uint32_t v = start; walked <= k;) {
+      const uint32_t w = corners.opposite(u, v);
       if (w == kNone) break;
       ++walked;
       if (w == start) break;
       v = w;
     }
-    if (pathStarts > 1 || walked != link.size())
+    if (pathStarts > 1 || walked != k)
       throw Error("non-manifold " + name.vertex(u) + ": its faces form more than one fan");
   }
   MeshTopology topo;
@@ -312,8 +207,8 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
   topo.closed = boundary.empty();
   UnionFind components(nv);
   for (size_t f = 0; f < nf; ++f) {
-    components.unite(mesh.faces[3 * f], mesh.faces[3 * f + 1]);
-    components.unite(mesh.faces[3 * f], mesh.faces[3 * f + 2]);
+    components.unite(faces[3 * f], faces[3 * f + 1]);
+    components.unite(faces[3 * f], faces[3 * f + 2]);
   }
   for (uint32_t v = 0; v < nv; ++v) topo.components += components.find(v) == v;
   // Boundary loops: manifold boundary vertices have two boundary edges each, so loops are cycles.
@@ -330,20 +225,12 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
 Vec3 volumeReferencePoint(const TriangleMesh& mesh) {
   const size_t nv = mesh.vertexCount();
   if (nv == 0) return {};
-  // Boundary vertices: endpoints of edges traversed once.
-  std::vector<uint64_t> keys;
-  keys.reserve(mesh.faces.size());
-  for (size_t f = 0; f < mesh.faceCount(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      uint64_t u = mesh.faces[3 * f + k], v = mesh.faces[3 * f + (k + 1) % 3];
-      keys.push_back(std::min(u, v) << 32 | std::max(u, v));
-    }
-  std::sort(keys.begin(), keys.end());
+  // Boundary vertices: endpoints of an edge u -> v with no face v -> u (linear: corner lists).
+  const VertexCorners corners(mesh.faces.data(), mesh.faceCount(), nv);
   std::vector<char> onBoundary(nv, 0);
-  for (size_t i = 0; i < keys.size(); ++i) {
-    bool single = (i == 0 || keys[i - 1] != keys[i]) && (i + 1 == keys.size() || keys[i + 1] != keys[i]);
-    if (single) onBoundary[keys[i] >> 32] = onBoundary[keys[i] & 0xffffffffu] = 1;
-  }
+  for (uint32_t u = 0; u < nv; ++u)
+    for (uint32_t c = corners.begin(u); c < corners.end(u); ++c)
+      if (corners.cornerTo(corners.next[c], u) == kNone) onBoundary[u] = onBoundary[corners.next[c]] = 1;
   Vec3 sum;
   size_t count = 0;
   for (size_t u = 0; u < nv; ++u)

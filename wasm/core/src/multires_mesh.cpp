@@ -10,7 +10,7 @@ namespace mrvol {
 MultiresMesh::MultiresMesh(TriangleMesh mesh, int maxLevels, const SourceLines* lines) : mesh_(std::move(mesh)) {
   if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
   topology_ = validateMesh(mesh_, lines);
-  hierarchy_ = Hierarchy::detect(mesh_, maxLevels);
+  hierarchy_ = Hierarchy::detect(mesh_, maxLevels, /*validated=*/true);
 }
 
 MultiresMesh MultiresMesh::subdivide(const TriangleMesh& base, int levels, const SchemeOptions& scheme) {

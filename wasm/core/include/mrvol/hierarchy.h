@@ -33,8 +33,9 @@ struct Hierarchy {
 
   // Recovers the hierarchy of a mesh whose connectivity is 1-to-4 splits of a base mesh, whatever
   // its vertex order (quadrisection detection). Finds as many levels as there are, at most
-  // maxLevels. A mesh that is no split at all gives a hierarchy with 0 levels. Validates the mesh.
-  static Hierarchy detect(const TriangleMesh& fine, int maxLevels = 16);
+  // maxLevels. A mesh that is no split at all gives a hierarchy with 0 levels. Validates the mesh
+  // unless the caller already has (`validated`: validateMesh passed on these very arrays).
+  static Hierarchy detect(const TriangleMesh& fine, int maxLevels = 16, bool validated = false);
 
   // Reorders per-vertex 3-vectors between the caller's order and the hierarchy's.
   void toHierarchyOrder(const double* input, double* out) const;

@@ -24,16 +24,46 @@ struct SourceLines {
   std::vector<uint32_t> vertex, face;
 };
 
-// Reads OBJ text: `v x y z [w]` and `f` lines (`f a`, `f a/b`, `f a//c`, `f a/b/c`, negative
-// indices, `#` comments); other statements (vn, vt, o, g, s, usemtl, mtllib, l ...) are skipped.
-// Faces must be triangles: a polygon is refused with its line number, because triangulating it
-// would break the semi-regular structure the rest of mrvol relies on.
-// Throws Error("line L: ...") for malformed numbers, bad indices, NaN/Inf, empty input.
-// With `lines`, also records the line of every vertex and face.
-TriangleMesh readObj(std::string_view text, SourceLines* lines = nullptr);
+// What an OBJ file carried besides the triangles (readObj fills it when asked).
+//   polygons:          faces with more than 3 corners, triangulated (fan if convex, else ear clipping)
+//   polygonTriangles:  the triangles they gave
+//   texCoords:         2 per `vt` line (u v; a third value w is dropped), in file order
+//   normals:           3 per `vn` line
+//   colors:            3 per vertex (r g b) when every `v` line has them, else empty
+//   cornerTexCoords,
+//   cornerNormals:     per triangle corner (3 * #F), the 0-based vt / vn index or kNoIndex; empty
+//                      when no face refers to any vt / vn, or one refers outside the file's
+//                      (such references are dropped, not refused)
+struct ObjExtras {
+  static constexpr uint32_t kNoIndex = 0xffffffffu;
+  size_t polygons = 0, polygonTriangles = 0;
+  std::vector<double> texCoords, normals, colors;
+  std::vector<uint32_t> cornerTexCoords, cornerNormals;
+};
+
+// Reads OBJ text (bytes; UTF-8 or ASCII): `v x y z [w]` and `v x y z r g b`, `vt`, `vn`, and `f`
+// lines in every form (`f a`, `f a/b`, `f a//c`, `f a/b/c`, negative indices relative to the
+// elements read so far), polygons of any size (triangulated where they stand in face order; each
+// triangle keeps the polygon's line), `#` comments, CRLF, a UTF-8 byte order mark; other
+// statements (o, g, s, usemtl, mtllib, l, p ...) are skipped.
+// Throws Error("line L: ...") for malformed numbers, bad indices, NaN/Inf, empty input, and before
+// allocating anything large, for a file too big to open (checkObjSize).
+// With `lines`, also records the line of every vertex and face; with `extras`, what else it had.
+TriangleMesh readObj(std::string_view text, SourceLines* lines = nullptr, ObjExtras* extras = nullptr);
+
+// The largest mesh mrvol opens: what opening it needs (positions, faces, validation, hierarchy
+// detection, the caller's copies) must fit the 4 GB a WebAssembly module can address.
+// Throws Error naming the counts and the estimate when `vertices` / `triangles` exceed it.
+void checkMeshSize(size_t vertices, size_t triangles, size_t inputBytes = 0);
 
 // Writes `v` then `f` lines, vertex order kept, coordinates with 17 significant digits.
 std::string writeObj(const TriangleMesh& mesh);
+
+// Writes `original` (the OBJ text readObj read) with its vertex positions replaced by `positions`
+// (3 per vertex, same count): every other line (vt, vn, f, groups, materials, comments) and every
+// other byte of the v lines (w, colours, spacing, line endings) is kept; a coordinate whose value
+// is unchanged keeps its original spelling. For edits that keep the connectivity.
+std::string writeObjLike(std::string_view original, const double* positions, size_t vertexCount);
 
 // Facts about a valid mesh.
 struct MeshTopology {
