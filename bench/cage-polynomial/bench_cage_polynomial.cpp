@@ -3,7 +3,7 @@
 // (computeVolumeTensor + VolumeEditor::useTensor) where that fits. One JSON object per line.
 //
 //   mrvol_bench_cage_polynomial [--levels 5-8] [--cage-levels 0,3] [--scheme loop]
-//                               [--theta-max-mb 1500] [--model public/models/spiky-ball.obj]
+//                               [--theta-max-mb 1500] [--model public/models/spiky-ball.obj] [--markdown]
 //
 // Meshes: spiky-ball.obj (icosahedron base, n = 3, Loop details) is carried onto
 // Hierarchy::subdivide(its base, n) for n = 5..8 (N = 10242 .. 655362) and subdivided further by
@@ -13,7 +13,7 @@
 // scheme only) and build (one synthesis of the details, one pass over the regions) in ms (wall
 // clock and this thread's CPU time: the machine may be shared), the
 // number of terms, the builder's tables and the polynomial in MB, the process's peak RSS, and the
-// cost of one evaluate + gradient, one alongDirection and one correction step on the polynomial
+// CPU cost of one evaluate + gradient, one alongDirection and one correction step on the polynomial
 // (what VolumeEditor::solveGlobal does per iteration on its tensor path: evaluate with gradient,
 // the direction on the free set, alongDirection, Newton on the cubic, the move) in microseconds.
 #include <sys/resource.h>
@@ -57,16 +57,25 @@ double peakRssMb() {
   return u.ru_maxrss / 1024.0;
 }
 
-// Median of f() in microseconds over enough repetitions to fill ~200 ms (at least 20).
+// Median CPU time of f() in microseconds: batches of calls that take at least ~100 us each (the
+// clock's resolution and overhead stay out), at least 21 batches and ~200 ms in all.
 template <class F>
 double medianMicroseconds(F&& f) {
+  int perBatch = 1;
+  for (;;) {
+    const double start = cpuMs();
+    for (int i = 0; i < perBatch; ++i) f();
+    if ((cpuMs() - start) * 1000 >= 100 || perBatch >= (1 << 20)) break;
+    perBatch *= 2;
+  }
   std::vector<double> times;
   double spent = 0;
-  while (times.size() < 20 || (spent < 200 && times.size() < 100000)) {
-    auto start = Clock::now();
-    f();
-    times.push_back(msSince(start) * 1000);
-    spent += times.back() / 1000;
+  while (times.size() < 21 || (spent < 200 && times.size() < 1001)) {
+    const double start = cpuMs();
+    for (int i = 0; i < perBatch; ++i) f();
+    const double ms = cpuMs() - start;
+    times.push_back(ms * 1000 / perBatch);
+    spent += ms;
   }
   std::sort(times.begin(), times.end());
   return times[times.size() / 2];
@@ -78,11 +87,12 @@ struct Options {
   std::string scheme = "loop";
   double thetaMaxMb = 1500;
   std::string model = std::string(MRVOL_SOURCE_DIR) + "/public/models/spiky-ball.obj";
+  bool markdown = false;  // also a Markdown table (on stderr) at the end
 };
 
 [[noreturn]] void usage(const std::string& message) {
   std::fprintf(stderr, "mrvol_bench_cage_polynomial: %s\nusage: mrvol_bench_cage_polynomial [--levels 5-8] "
-               "[--cage-levels 0,3] [--scheme loop] [--theta-max-mb 1500] [--model FILE]\n", message.c_str());
+               "[--cage-levels 0,3] [--scheme loop] [--theta-max-mb 1500] [--model FILE] [--markdown]\n", message.c_str());
   std::exit(2);
 }
 
@@ -110,6 +120,8 @@ Options parse(int argc, char** argv) {
       o.thetaMaxMb = std::atof(value().c_str());
     } else if (a == "--model") {
       o.model = value();
+    } else if (a == "--markdown") {
+      o.markdown = true;
     } else {
       usage("unknown argument " + a);
     }
@@ -192,6 +204,8 @@ int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
   mrvol::SchemeOptions scheme;
   scheme.kind = mrvol::parseSchemeName(o.scheme);
+  std::vector<std::string> table;
+  char row[1024];
   for (int levels = o.minLevel; levels <= o.maxLevel; ++levels) {
     auto start = Clock::now();
     const Mesh m = spikyBall(o.model, levels);
@@ -242,6 +256,11 @@ int main(int argc, char** argv) {
                   builder.basisEntries(), setupMs, setupCpuMs, buildMs, buildCpuMs, poly.tripleT.size(), poly.pairI.size(),
                   builder.bytes() / double(1 << 20), polynomialMb(poly), peakRssMb(), evalUs, alongUs, stepUs, error, meshMs);
       std::fflush(stdout);
+      std::snprintf(row, sizeof row, "| %zu | %d | %u | %zu | %.0f / %.0f | %.1f / %.1f | %zu | %zu | %.1f | %.2f | %.0f | %.2f | %.2f | %.2f | %.0e |",
+                    m.h.fineVertexCount(), e, cageSize, builder.maxRegionCage(), setupCpuMs, setupMs, buildCpuMs, buildMs,
+                    poly.tripleT.size(), poly.pairI.size(), builder.bytes() / double(1 << 20), polynomialMb(poly), peakRssMb(),
+                    evalUs, alongUs, stepUs, error);
+      table.push_back(row);
 
       // The theta route, where its estimate fits the memory given.
       const mrvol::TensorEstimate estimate = mrvol::estimateCageTensor(wt, e);
@@ -250,6 +269,7 @@ int main(int argc, char** argv) {
         std::printf("{\"bench\":\"theta-route\",\"scheme\":\"%s\",\"N\":%zu,\"e\":%d,\"skipped\":true,\"estimateMb\":%.0f}\n",
                     o.scheme.c_str(), m.h.fineVertexCount(), e, estimateMb);
         std::fflush(stdout);
+        table.back() += " estimate " + std::to_string(int(estimateMb)) + " MB: not run |";
         continue;
       }
       cpu = cpuMs();
@@ -266,7 +286,17 @@ int main(int argc, char** argv) {
                   o.scheme.c_str(), m.h.fineVertexCount(), e, thetaCpuMs, contractCpuMs, theta.bytes() / double(1 << 20),
                   theta.storedCount(), peakRssMb(), std::fabs(thetaValue - poly.evaluate(cage.data(), nullptr)) / std::fabs(volume));
       std::fflush(stdout);
+      std::snprintf(row, sizeof row, " %.0f ms, %.0f MB, peak RSS %.0f MB |", thetaCpuMs + contractCpuMs,
+                    theta.bytes() / double(1 << 20), peakRssMb());
+      table.back() += row;
     }
+  }
+  if (o.markdown) {
+    std::fprintf(stderr, "| N | e | cage | max s | set-up ms (CPU / wall) | build ms (CPU / wall) | triples | pairs | "
+                         "builder MB | polynomial MB | peak RSS MB | evaluate + gradient us | alongDirection us | "
+                         "correction step us | volume error | theta route (CPU, tensor, peak RSS) |\n"
+                         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+    for (const auto& r : table) std::fprintf(stderr, "%s\n", r.c_str());
   }
   return 0;
 }

@@ -244,6 +244,19 @@ TEST(CagePolynomialBuilder, RegionsCoverTheMeshOnce) {
   }
 }
 
+TEST(CagePolynomialBuilder, RefusesMoreTermsThanAllowed) {
+  Hierarchy h = Hierarchy::subdivide(fixtures::icosahedron(), 3);
+  WaveletTransform wt(h, SchemeOptions{});
+  EXPECT_NO_THROW(CagePolynomialBuilder(wt, 1, 80 * 220));  // 80 level-1 faces, at most 12 cage vertices each
+  try {
+    CagePolynomialBuilder builder(wt, 1, 1000);
+    FAIL() << "accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("level-1 cage polynomial would touch more than 1000 cage triples"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(CagePolynomialBuilder, RefusesALevelOutOfRange) {
   Hierarchy h = Hierarchy::subdivide(fixtures::tetrahedron(), 2);
   WaveletTransform wt(h, SchemeOptions{});

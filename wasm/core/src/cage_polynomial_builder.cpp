@@ -128,7 +128,7 @@ struct PairKey {
 
 }  // namespace
 
-CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level)
+CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms)
     : transform_(&transform), level_(level) {
   const Hierarchy& h = transform.hierarchy();
   if (level < 0 || level > h.levels)
@@ -230,6 +230,10 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     if (!carried.empty()) runStart_.push_back(uint32_t(triangleB_.size()));
 
     // The terms it touches: every triple and pair of its cage vertices.
+    const uint64_t triples = uint64_t(s) * (s - 1) * (s - 2) / 6;
+    if (tripleKeys.size() + triples > maxTerms)
+      throw Error("the level-" + std::to_string(level) + " cage polynomial would touch more than " + std::to_string(maxTerms) +
+                  " cage triples (" + std::to_string(cageSize_) + " cage vertices): use the matrix-free path at this level");
     const uint32_t* g = &cage_[cageBegin];
     uint64_t position = regionTriple_.back();
     for (size_t i = 0; i < s; ++i)

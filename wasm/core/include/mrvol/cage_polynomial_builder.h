@@ -23,7 +23,9 @@ class CagePolynomialBuilder {
  public:
   // Precomputes what depends on connectivity and scheme only: the cage basis functions at the
   // fine level, the grouping of the fine triangles by level-e face, and the polynomial's terms.
-  CagePolynomialBuilder(const WaveletTransform& transform, int level);
+  // Throws Error when the faces would touch more than maxTerms cage triples in all (a fine cage:
+  // about 220 per level-e face for Loop; such a polynomial is no faster than the matrix-free path).
+  CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms = 8'000'000);
 
   // coefficients: 3 N level-e coefficients in hierarchy order; only the details are read. The
   // polynomial's variables are the cage coefficients minus any point o (VolumeEditor's origin),
