@@ -224,6 +224,35 @@ TEST(CagePolynomialBuilder, MatchesTheEditorsTensorPath) {
   }
 }
 
+TEST(CageBasis, RowsAreTheZeroDetailSynthesisOfTheCage) {
+  // The stencil table applied to random cage coefficients equals synthesizeZeroDetails of them, and
+  // its weights sum to one at every fine vertex (a translation moves the mesh rigidly).
+  for (const auto& c : cases())
+    for (const auto& options : fixtures::allSchemes()) {
+      WaveletTransform wt(c.h, options);
+      for (int e = 0; e <= c.h.levels; ++e) {
+        SCOPED_TRACE(c.name + " " + fixtures::label(options) + " e=" + std::to_string(e));
+        const CageBasis basis = cageBasis(wt, e);
+        const size_t n = c.h.fineVertexCount();
+        ASSERT_EQ(basis.offset.size(), n + 1);
+        std::vector<double> x = fixtures::randomVector(3 * n, 9);
+        std::vector<double> expected = x;
+        wt.synthesizeZeroDetails(expected.data(), e);
+        for (size_t v = 0; v < n; ++v) {
+          double p[3] = {0, 0, 0}, sum = 0;
+          for (uint64_t k = basis.offset[v]; k < basis.offset[v + 1]; ++k) {
+            ASSERT_LT(basis.index[k], c.h.vertexCount[e]);
+            if (k > basis.offset[v]) ASSERT_LT(basis.index[k - 1], basis.index[k]);
+            for (int d = 0; d < 3; ++d) p[d] += basis.value[k] * x[3 * size_t(basis.index[k]) + d];
+            sum += basis.value[k];
+          }
+          EXPECT_NEAR(sum, 1.0, 1e-13) << "vertex " << v;
+          for (int d = 0; d < 3; ++d) ASSERT_NEAR(p[d], expected[3 * v + d], 1e-13) << "vertex " << v;
+        }
+      }
+    }
+}
+
 TEST(CagePolynomialBuilder, RegionsCoverTheMeshOnce) {
   // Level-e faces as regions: one per face; each region's cage vertices include its corners.
   for (const auto& fx : fixtures::baseFixtures()) {

@@ -10,23 +10,16 @@
 
 namespace mrvol {
 
-namespace {
-
-// Sparse per-vertex vectors over the cage vertices (CSR): the cage basis functions read by rows.
-struct SparseRows {
-  std::vector<uint64_t> offset{0};
-  std::vector<uint32_t> index;
-  std::vector<double> value;
-};
-
-// B_c(v) for every vertex v of the fine level and cage vertex c: a unit at each cage vertex
-// carried through the zero-detail synthesis steps on sparse rows. A lift rewrites the rows of its
-// targets (targets and sources are disjoint), merged through a dense accumulator over the cage;
-// the steps that read only zero details are skipped, as in synthesizeZeroDetails.
-SparseRows fineBasis(const WaveletTransform& transform, int level) {
+// A unit at each cage vertex carried through the zero-detail synthesis steps on sparse rows. A
+// lift rewrites the rows of its targets (targets and sources are disjoint), merged through a dense
+// accumulator over the cage; the steps that read only zero details are skipped, as in
+// synthesizeZeroDetails.
+CageBasis cageBasis(const WaveletTransform& transform, int level) {
   const Hierarchy& h = transform.hierarchy();
+  if (level < 0 || level > h.levels)
+    throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(h.levels));
   const uint32_t cage = h.vertexCount[level];
-  SparseRows rows;
+  CageBasis rows;
   rows.index.resize(cage);
   std::iota(rows.index.begin(), rows.index.end(), 0u);
   rows.value.assign(cage, 1.0);
@@ -35,7 +28,7 @@ SparseRows fineBasis(const WaveletTransform& transform, int level) {
   std::vector<double> acc(cage, 0.0);
   std::vector<uint8_t> touched(cage, 0);
   std::vector<uint32_t> list;
-  SparseRows next;
+  CageBasis next;
   for (int l = level + 1; l <= h.levels; ++l) {
     rows.offset.resize(size_t(h.vertexCount[l]) + 1, rows.offset.back());  // the new vertices: zero rows
     for (const LiftingStep& step : transform.synthesisSteps(l)) {
@@ -50,6 +43,8 @@ SparseRows fineBasis(const WaveletTransform& transform, int level) {
       next.offset.reserve(size_t(vertices) + 1);
       next.index.clear();
       next.value.clear();
+      next.index.reserve(2 * rows.index.size());  // a level's first lift about doubles the entries
+      next.value.reserve(2 * rows.index.size());
       size_t r = 0;  // targets are ascending
       for (uint32_t v = 0; v < vertices; ++v) {
         const uint64_t begin = rows.offset[v], end = rows.offset[v + 1];
@@ -81,6 +76,8 @@ SparseRows fineBasis(const WaveletTransform& transform, int level) {
   }
   return rows;
 }
+
+namespace {
 
 // The level-e face holding each fine triangle: a level-l triangle lies in the level-(l-1) face
 // whose corners are its older corners and the ends of its corners born at level l.
@@ -136,7 +133,7 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
   cageSize_ = h.vertexCount[level];
   const size_t n = h.fineVertexCount();
   const auto& faces = h.fineFaces();
-  const SparseRows basis = fineBasis(transform, level);
+  const CageBasis basis = cageBasis(transform, level);
   basisEntries_ = basis.index.size();
 
   // Fine triangles by region (counting sort).

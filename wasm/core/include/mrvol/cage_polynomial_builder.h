@@ -19,6 +19,16 @@
 
 namespace mrvol {
 
+// The level-e cage basis functions at the fine level by rows, a stencil table: fine vertex v
+// (hierarchy order) has the weights value[p] of cage vertices index[p] (ascending) for p in
+// [offset[v], offset[v + 1]); the zero-detail synthesis of cage coefficients x is sum_p value[p] x_index[p].
+struct CageBasis {
+  std::vector<uint64_t> offset{0};
+  std::vector<uint32_t> index;
+  std::vector<double> value;
+};
+CageBasis cageBasis(const WaveletTransform& transform, int level);
+
 class CagePolynomialBuilder {
  public:
   // Precomputes what depends on connectivity and scheme only: the cage basis functions at the
