@@ -219,6 +219,7 @@ int main(int argc, char** argv) {
       std::vector<double> x = m.positions;
       wt.analyze(x.data(), e);
       const uint32_t cageSize = m.h.vertexCount[e];
+      const double rssBeforeMb = peakRssMb();  // mesh, hierarchy, transform: before the builder
       start = Clock::now();
       double cpu = cpuMs();
       const mrvol::CagePolynomialBuilder builder(wt, e);
@@ -249,12 +250,12 @@ int main(int argc, char** argv) {
       std::printf("{\"bench\":\"cage-polynomial\",\"scheme\":\"%s\",\"N\":%zu,\"levels\":%d,\"e\":%d,\"cage\":%u,"
                   "\"regions\":%zu,\"maxRegionCage\":%zu,\"basisEntries\":%zu,\"setupMs\":%.3f,\"setupCpuMs\":%.3f,"
                   "\"buildMs\":%.3f,\"buildCpuMs\":%.3f,"
-                  "\"triples\":%zu,\"pairs\":%zu,\"builderMb\":%.2f,\"polynomialMb\":%.3f,\"peakRssMb\":%.1f,"
+                  "\"triples\":%zu,\"pairs\":%zu,\"builderMb\":%.2f,\"polynomialMb\":%.3f,\"peakRssBeforeMb\":%.1f,\"peakRssMb\":%.1f,"
                   "\"evaluateGradientUs\":%.3f,\"alongDirectionUs\":%.3f,\"correctionStepUs\":%.3f,"
                   "\"relativeVolumeError\":%.2e,\"meshMs\":%.1f}\n",
                   o.scheme.c_str(), m.h.fineVertexCount(), levels, e, cageSize, builder.regionCount(), builder.maxRegionCage(),
                   builder.basisEntries(), setupMs, setupCpuMs, buildMs, buildCpuMs, poly.tripleT.size(), poly.pairI.size(),
-                  builder.bytes() / double(1 << 20), polynomialMb(poly), peakRssMb(), evalUs, alongUs, stepUs, error, meshMs);
+                  builder.bytes() / double(1 << 20), polynomialMb(poly), rssBeforeMb, peakRssMb(), evalUs, alongUs, stepUs, error, meshMs);
       std::fflush(stdout);
       std::snprintf(row, sizeof row, "| %zu | %d | %u | %zu | %.0f / %.0f | %.1f / %.1f | %zu | %zu | %.1f | %.2f | %.0f | %.2f | %.2f | %.2f | %.0e |",
                     m.h.fineVertexCount(), e, cageSize, builder.maxRegionCage(), setupCpuMs, setupMs, buildCpuMs, buildMs,
