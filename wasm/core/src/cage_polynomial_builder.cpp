@@ -150,7 +150,6 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
   const int64_t side = int64_t(1) << (h.levels - level);  // lattice steps along a level-e edge
   std::vector<uint32_t> localOf(n, kNone), slotOf(cageSize_, kNone);
   std::vector<int64_t> coordX, coordY;
-  std::vector<uint32_t> local, carrier;
   std::vector<TripleKey> tripleKeys;
   std::vector<PairKey> pairKeys;
   regionCage_.assign(1, 0), regionVertex_.assign(1, 0), regionWeight_.assign(1, 0), regionRun_.assign(1, 0);
