@@ -15,7 +15,9 @@
 // number of terms, the builder's tables and the polynomial in MB, the process's peak RSS, and the
 // CPU cost of one evaluate + gradient, one alongDirection and one correction step on the polynomial
 // (what VolumeEditor::solveGlobal does per iteration on its tensor path: evaluate with gradient,
-// the direction on the free set, alongDirection, Newton on the cubic, the move) in microseconds.
+// the direction on the free set, alongDirection, Newton on the cubic, the move) in microseconds;
+// and the fine positions after such a step (all of the cage moved) by a zero-detail synthesis and
+// by the stencil table of cageBasis.
 #include <sys/resource.h>
 #include <time.h>
 
@@ -247,15 +249,37 @@ int main(int argc, char** argv) {
         sink = sink + correctionStep(poly, stepCage, volume * (++flip % 2 ? 1.001 : 1.0), g, q);
       });
 
+      // Fine positions after a step (every free cage vertex moves): a zero-detail synthesis of the
+      // cage plus the details' synthesis D, against the stencil table (cageBasis rows) times the cage.
+      std::vector<double> positions(x.size());
+      const double synthesisUs = medianMicroseconds([&] {
+        std::copy(cage.begin(), cage.end(), positions.begin());
+        wt.synthesizeZeroDetails(positions.data(), e);
+        sink = sink + positions[3];
+      });
+      const mrvol::CageBasis basis = mrvol::cageBasis(wt, e);
+      const double stencilUs = medianMicroseconds([&] {
+        const size_t n = m.h.fineVertexCount();
+        for (size_t v = 0; v < n; ++v) {
+          double p0 = 0, p1 = 0, p2 = 0;
+          for (uint64_t k = basis.offset[v]; k < basis.offset[v + 1]; ++k) {
+            const double w = basis.value[k], *c = &cage[3 * size_t(basis.index[k])];
+            p0 += w * c[0], p1 += w * c[1], p2 += w * c[2];
+          }
+          positions[3 * v] = p0, positions[3 * v + 1] = p1, positions[3 * v + 2] = p2;
+        }
+        sink = sink + positions[3];
+      });
+
       std::printf("{\"bench\":\"cage-polynomial\",\"scheme\":\"%s\",\"N\":%zu,\"levels\":%d,\"e\":%d,\"cage\":%u,"
                   "\"regions\":%zu,\"maxRegionCage\":%zu,\"basisEntries\":%zu,\"setupMs\":%.3f,\"setupCpuMs\":%.3f,"
                   "\"buildMs\":%.3f,\"buildCpuMs\":%.3f,"
                   "\"triples\":%zu,\"pairs\":%zu,\"builderMb\":%.2f,\"polynomialMb\":%.3f,\"peakRssBeforeMb\":%.1f,\"peakRssMb\":%.1f,"
                   "\"evaluateGradientUs\":%.3f,\"alongDirectionUs\":%.3f,\"correctionStepUs\":%.3f,"
-                  "\"relativeVolumeError\":%.2e,\"meshMs\":%.1f}\n",
+                  "\"relativeVolumeError\":%.2e,\"meshMs\":%.1f,\"positionsBySynthesisUs\":%.0f,\"positionsByStencilUs\":%.0f}\n",
                   o.scheme.c_str(), m.h.fineVertexCount(), levels, e, cageSize, builder.regionCount(), builder.maxRegionCage(),
                   builder.basisEntries(), setupMs, setupCpuMs, buildMs, buildCpuMs, poly.tripleT.size(), poly.pairI.size(),
-                  builder.bytes() / double(1 << 20), polynomialMb(poly), rssBeforeMb, peakRssMb(), evalUs, alongUs, stepUs, error, meshMs);
+                  builder.bytes() / double(1 << 20), polynomialMb(poly), rssBeforeMb, peakRssMb(), evalUs, alongUs, stepUs, error, meshMs, synthesisUs, stencilUs);
       std::fflush(stdout);
       std::snprintf(row, sizeof row, "| %zu | %d | %u | %zu | %.0f / %.0f | %.1f / %.1f | %zu | %zu | %.1f | %.2f | %.0f | %.2f | %.2f | %.2f | %.0e |",
                     m.h.fineVertexCount(), e, cageSize, builder.maxRegionCage(), setupCpuMs, setupMs, buildCpuMs, buildMs,
