@@ -91,12 +91,15 @@ std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
     for (int l = h.levels; l > level; --l) {
       uint32_t up[6];
       int n = 0;
+      auto add = [&](uint32_t x) {
+        for (int k = 0; k < n; ++k)
+          if (up[k] == x) return;
+        up[n++] = x;
+      };
       for (uint32_t x : v) {
-        if (x < h.vertexCount[l - 1]) up[n++] = x;
-        else up[n++] = h.ends[2 * size_t(x)], up[n++] = h.ends[2 * size_t(x) + 1];
+        if (x < h.vertexCount[l - 1]) add(x);
+        else add(h.ends[2 * size_t(x)]), add(h.ends[2 * size_t(x) + 1]);
       }
-      std::sort(up, up + n);
-      n = int(std::unique(up, up + n) - up);
       if (n != 3) throw Error("fine triangle " + std::to_string(t) + " has no parent face at level " + std::to_string(l - 1));
       v[0] = up[0], v[1] = up[1], v[2] = up[2];
     }
