@@ -1,0 +1,366 @@
+#include "mrvol/cage_polynomial_builder.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+#include "mrvol/corners.h"
+#include "mrvol/error.h"
+#include "mrvol/hierarchy.h"
+
+namespace mrvol {
+
+// A unit at each cage vertex carried through the zero-detail synthesis steps on sparse rows. A
+// lift rewrites the rows of its targets (targets and sources are disjoint), merged through a dense
+// accumulator over the cage; the steps that read only zero details are skipped, as in
+// synthesizeZeroDetails.
+CageBasis cageBasis(const WaveletTransform& transform, int level) {
+  const Hierarchy& h = transform.hierarchy();
+  if (level < 0 || level > h.levels)
+    throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(h.levels));
+  const uint32_t cage = h.vertexCount[level];
+  CageBasis rows;
+  rows.index.resize(cage);
+  std::iota(rows.index.begin(), rows.index.end(), 0u);
+  rows.value.assign(cage, 1.0);
+  rows.offset.resize(size_t(cage) + 1);
+  std::iota(rows.offset.begin(), rows.offset.end(), uint64_t(0));
+  std::vector<double> acc(cage, 0.0);
+  std::vector<uint8_t> touched(cage, 0);
+  std::vector<uint32_t> list;
+  CageBasis next;
+  for (int l = level + 1; l <= h.levels; ++l) {
+    rows.offset.resize(size_t(h.vertexCount[l]) + 1, rows.offset.back());  // the new vertices: zero rows
+    for (const LiftingStep& step : transform.synthesisSteps(l)) {
+      if (step.readsOnlyDetails) continue;
+      if (step.scaling) {
+        for (size_t r = 0; r < step.targets.size(); ++r)
+          for (uint64_t p = rows.offset[step.targets[r]]; p < rows.offset[step.targets[r] + 1]; ++p) rows.value[p] *= step.weights[r];
+        continue;
+      }
+      const uint32_t vertices = h.vertexCount[l];
+      next.offset.assign(1, 0);
+      next.offset.reserve(size_t(vertices) + 1);
+      next.index.clear();
+      next.value.clear();
+      next.index.reserve(2 * rows.index.size());  // a level's first lift about doubles the entries
+      next.value.reserve(2 * rows.index.size());
+      size_t r = 0;  // targets are ascending
+      for (uint32_t v = 0; v < vertices; ++v) {
+        const uint64_t begin = rows.offset[v], end = rows.offset[v + 1];
+        if (r < step.targets.size() && step.targets[r] == v) {
+          auto add = [&](uint32_t from, double w) {
+            for (uint64_t p = rows.offset[from]; p < rows.offset[from + 1]; ++p) {
+              const uint32_t c = rows.index[p];
+              if (!touched[c]) touched[c] = 1, list.push_back(c);
+              acc[c] += w * rows.value[p];
+            }
+          };
+          add(v, 1.0);
+          for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) add(step.sources[k], step.weights[k]);
+          std::sort(list.begin(), list.end());
+          for (uint32_t c : list) {
+            if (acc[c] != 0.0) next.index.push_back(c), next.value.push_back(acc[c]);
+            acc[c] = 0.0, touched[c] = 0;
+          }
+          list.clear();
+          ++r;
+        } else {
+          next.index.insert(next.index.end(), rows.index.begin() + begin, rows.index.begin() + end);
+          next.value.insert(next.value.end(), rows.value.begin() + begin, rows.value.begin() + end);
+        }
+        next.offset.push_back(next.index.size());
+      }
+      std::swap(rows, next);
+    }
+  }
+  return rows;
+}
+
+namespace {
+
+// The level-e face holding each fine triangle: a level-l triangle lies in the level-(l-1) face
+// whose corners are its older corners and the ends of its corners born at level l.
+std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
+  const auto& coarse = h.faces[level];
+  VertexCorners corners(coarse.data(), coarse.size() / 3, h.vertexCount[level]);
+  const auto& fine = h.fineFaces();
+  std::vector<uint32_t> region(fine.size() / 3);
+  for (size_t t = 0; t < region.size(); ++t) {
+    uint32_t v[3] = {fine[3 * t], fine[3 * t + 1], fine[3 * t + 2]};
+    for (int l = h.levels; l > level; --l) {
+      uint32_t up[6];
+      int n = 0;
+      auto add = [&](uint32_t x) {
+        for (int k = 0; k < n; ++k)
+          if (up[k] == x) return;
+        up[n++] = x;
+      };
+      for (uint32_t x : v) {
+        if (x < h.vertexCount[l - 1]) add(x);
+        else add(h.ends[2 * size_t(x)]), add(h.ends[2 * size_t(x) + 1]);
+      }
+      if (n != 3) throw Error("fine triangle " + std::to_string(t) + " has no parent face at level " + std::to_string(l - 1));
+      v[0] = up[0], v[1] = up[1], v[2] = up[2];
+    }
+    std::sort(v, v + 3);
+    uint32_t face = kNone;
+    for (uint32_t c = corners.begin(v[0]); c < corners.end(v[0]) && face == kNone; ++c)
+      if ((corners.next[c] == v[1] && corners.prev[c] == v[2]) || (corners.next[c] == v[2] && corners.prev[c] == v[1]))
+        face = corners.face[c];
+    if (face == kNone) throw Error("fine triangle " + std::to_string(t) + " lies in no level-" + std::to_string(level) + " face");
+    region[t] = face;
+  }
+  return region;
+}
+
+// Index of the pair (i, j), i < j, among the pairs of [0, S) in lexicographic order.
+inline size_t pairIndex(size_t i, size_t j, size_t S) { return i * (2 * S - i - 1) / 2 + (j - i - 1); }
+
+struct TripleKey {
+  uint32_t i, j, k;
+  uint64_t position;  // where its slot goes in tripleSlot_
+};
+struct PairKey {
+  uint32_t i, j;
+  uint64_t position;
+};
+
+}  // namespace
+
+CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms)
+    : transform_(&transform), level_(level) {
+  const Hierarchy& h = transform.hierarchy();
+  if (level < 0 || level > h.levels)
+    throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(h.levels));
+  cageSize_ = h.vertexCount[level];
+  const size_t n = h.fineVertexCount();
+  const auto& faces = h.fineFaces();
+  const CageBasis basis = cageBasis(transform, level);
+  basisEntries_ = basis.index.size();
+
+  // Fine triangles by region (counting sort).
+  const std::vector<uint32_t> regionOf = regionOfTriangles(h, level);
+  const size_t regions = h.faces[level].size() / 3;
+  std::vector<uint32_t> triangleStart(regions + 1, 0), triangles(regionOf.size());
+  for (uint32_t r : regionOf) ++triangleStart[r + 1];
+  std::partial_sum(triangleStart.begin(), triangleStart.end(), triangleStart.begin());
+  {
+    std::vector<uint32_t> fill(triangleStart.begin(), triangleStart.end() - 1);
+    for (size_t t = 0; t < regionOf.size(); ++t) triangles[fill[regionOf[t]]++] = uint32_t(t);
+  }
+
+  const int64_t side = int64_t(1) << (h.levels - level);  // lattice steps along a level-e edge
+  std::vector<uint32_t> localOf(n, kNone), slotOf(cageSize_, kNone);
+  std::vector<int64_t> coordX, coordY;
+  std::vector<TripleKey> tripleKeys;
+  std::vector<PairKey> pairKeys;
+  regionCage_.assign(1, 0), regionVertex_.assign(1, 0), regionWeight_.assign(1, 0), regionRun_.assign(1, 0);
+  regionTriple_.assign(1, 0), regionPair_.assign(1, 0);
+  runStart_.assign(1, 0);
+  for (size_t r = 0; r < regions; ++r) {
+    // Its fine vertices, ascending: by depth, so that the ends of a vertex come before it.
+    const size_t vertexBegin = vertex_.size();
+    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = faces[3 * size_t(triangles[p]) + k];
+        if (localOf[v] == kNone) localOf[v] = 0, vertex_.push_back(v);
+      }
+    std::sort(vertex_.begin() + vertexBegin, vertex_.end());
+    const uint32_t count = uint32_t(vertex_.size() - vertexBegin);
+    for (uint32_t i = 0; i < count; ++i) localOf[vertex_[vertexBegin + i]] = i;
+
+    // Its influencing cage vertices, ascending (local order = cage order), and the dense weights.
+    const size_t cageBegin = cage_.size();
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t v = vertex_[vertexBegin + i];
+      for (uint64_t p = basis.offset[v]; p < basis.offset[v + 1]; ++p)
+        if (slotOf[basis.index[p]] == kNone) slotOf[basis.index[p]] = 0, cage_.push_back(basis.index[p]);
+    }
+    std::sort(cage_.begin() + cageBegin, cage_.end());
+    const size_t s = cage_.size() - cageBegin;
+    maxCage_ = std::max(maxCage_, s);
+    for (size_t i = 0; i < s; ++i) slotOf[cage_[cageBegin + i]] = uint32_t(i);
+    const size_t weightBegin = weight_.size();
+    weight_.resize(weightBegin + size_t(count) * s, 0.0);
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t v = vertex_[vertexBegin + i];
+      for (uint64_t p = basis.offset[v]; p < basis.offset[v + 1]; ++p)
+        weight_[weightBegin + size_t(i) * s + slotOf[basis.index[p]]] = basis.value[p];
+    }
+
+    // Lattice coordinates in the face (x, y >= 0, x + y <= side): its corners at (0, 0), (side, 0),
+    // (0, side), a vertex born later at the midpoint of its ends. Every fine triangle has one
+    // corner with x - y = 0 mod 3: that corner carries it.
+    coordX.assign(count, 0), coordY.assign(count, 0);
+    const uint32_t* corner = &h.faces[level][3 * r];
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t v = vertex_[vertexBegin + i];
+      if (v < cageSize_) {
+        const int k = v == corner[0] ? 0 : v == corner[1] ? 1 : v == corner[2] ? 2 : -1;
+        if (k < 0) throw Error("cage vertex " + std::to_string(v) + " lies inside level-" + std::to_string(level) + " face " + std::to_string(r));
+        coordX[i] = k == 1 ? side : 0, coordY[i] = k == 2 ? side : 0;
+      } else {
+        const uint32_t a = localOf[h.ends[2 * size_t(v)]], b = localOf[h.ends[2 * size_t(v) + 1]];
+        if (a == kNone || b == kNone || a >= i || b >= i)
+          throw Error("vertex " + std::to_string(v) + " has an end outside level-" + std::to_string(level) + " face " + std::to_string(r));
+        coordX[i] = (coordX[a] + coordX[b]) / 2, coordY[i] = (coordY[a] + coordY[b]) / 2;
+      }
+    }
+    struct Carried { uint32_t a, b, c; };
+    std::vector<Carried> carried;
+    carried.reserve(triangleStart[r + 1] - triangleStart[r]);
+    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p) {
+      uint32_t t[3];
+      for (int k = 0; k < 3; ++k) t[k] = localOf[faces[3 * size_t(triangles[p]) + k]];
+      int k = 0;
+      while (k < 3 && ((coordX[t[k]] - coordY[t[k]]) % 3 + 3) % 3 != 0) ++k;
+      if (k == 3) throw Error("fine triangle " + std::to_string(triangles[p]) + " is not a lattice triangle of its level-" + std::to_string(level) + " face");
+      carried.push_back({t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
+    }
+    std::sort(carried.begin(), carried.end(), [](const Carried& x, const Carried& y) { return x.a < y.a; });
+    for (size_t p = 0; p < carried.size(); ++p) {
+      if (p == 0 || carried[p].a != carried[p - 1].a) {
+        if (p > 0) runStart_.push_back(uint32_t(triangleB_.size()));
+        runVertex_.push_back(carried[p].a);
+      }
+      triangleB_.push_back(carried[p].b), triangleC_.push_back(carried[p].c);
+    }
+    if (!carried.empty()) runStart_.push_back(uint32_t(triangleB_.size()));
+
+    // The terms it touches: every triple and pair of its cage vertices.
+    const uint64_t triples = uint64_t(s) * (s - 1) * (s - 2) / 6;
+    if (tripleKeys.size() + triples > maxTerms)
+      throw Error("the level-" + std::to_string(level) + " cage polynomial would touch more than " + std::to_string(maxTerms) +
+                  " cage triples (" + std::to_string(cageSize_) + " cage vertices): use the matrix-free path at this level");
+    const uint32_t* g = &cage_[cageBegin];
+    uint64_t position = regionTriple_.back();
+    for (size_t i = 0; i < s; ++i)
+      for (size_t j = i + 1; j < s; ++j)
+        for (size_t k = j + 1; k < s; ++k) tripleKeys.push_back({g[i], g[j], g[k], position++});
+    regionTriple_.push_back(position);
+    position = regionPair_.back();
+    for (size_t i = 0; i < s; ++i)
+      for (size_t j = i + 1; j < s; ++j) pairKeys.push_back({g[i], g[j], position++});
+    regionPair_.push_back(position);
+
+    for (uint32_t i = 0; i < count; ++i) localOf[vertex_[vertexBegin + i]] = kNone;
+    for (size_t i = 0; i < s; ++i) slotOf[cage_[cageBegin + i]] = kNone;
+    regionCage_.push_back(uint32_t(cage_.size()));
+    regionVertex_.push_back(uint32_t(vertex_.size()));
+    regionWeight_.push_back(weight_.size());
+    regionRun_.push_back(uint32_t(runVertex_.size()));
+  }
+
+  // The polynomial's terms: the union over the regions, ascending; each region's slots into it.
+  std::sort(tripleKeys.begin(), tripleKeys.end(), [](const TripleKey& x, const TripleKey& y) {
+    return x.i != y.i ? x.i < y.i : x.j != y.j ? x.j < y.j : x.k < y.k;
+  });
+  tripleSlot_.resize(tripleKeys.size());
+  for (size_t p = 0; p < tripleKeys.size(); ++p) {
+    const TripleKey& t = tripleKeys[p];
+    if (p == 0 || t.i != tripleKeys[p - 1].i || t.j != tripleKeys[p - 1].j || t.k != tripleKeys[p - 1].k)
+      tripleI_.push_back(t.i), tripleJ_.push_back(t.j), tripleK_.push_back(t.k);
+    tripleSlot_[t.position] = uint32_t(tripleI_.size() - 1);
+  }
+  std::sort(pairKeys.begin(), pairKeys.end(), [](const PairKey& x, const PairKey& y) { return x.i != y.i ? x.i < y.i : x.j < y.j; });
+  pairSlot_.resize(pairKeys.size());
+  for (size_t p = 0; p < pairKeys.size(); ++p) {
+    const PairKey& t = pairKeys[p];
+    if (p == 0 || t.i != pairKeys[p - 1].i || t.j != pairKeys[p - 1].j) pairI_.push_back(t.i), pairJ_.push_back(t.j);
+    pairSlot_[t.position] = uint32_t(pairI_.size() - 1);
+  }
+}
+
+size_t CagePolynomialBuilder::bytes() const {
+  auto b = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  return b(regionCage_) + b(regionVertex_) + b(regionWeight_) + b(regionRun_) + b(regionTriple_) + b(regionPair_) +
+         b(cage_) + b(vertex_) + b(weight_) + b(runVertex_) + b(runStart_) + b(triangleB_) + b(triangleC_) +
+         b(tripleSlot_) + b(pairSlot_) + b(tripleI_) + b(tripleJ_) + b(tripleK_) + b(pairI_) + b(pairJ_);
+}
+
+CagePolynomial CagePolynomialBuilder::build(const double* coefficients) const {
+  const Hierarchy& h = transform_->hierarchy();
+  const size_t n3 = 3 * h.fineVertexCount(), cage3 = 3 * size_t(cageSize_);
+  // D: the details synthesized with a zero cage (the cage coefficients are not read).
+  std::vector<double> detail(coefficients, coefficients + n3);
+  std::fill(detail.begin(), detail.begin() + cage3, 0.0);
+  transform_->synthesize(detail.data(), level_);
+
+  std::vector<double> triple(tripleI_.size(), 0.0), pair(3 * pairI_.size(), 0.0), linear(cage3, 0.0);
+  double constant = 0;
+  std::vector<double> w, wedges, outer, minors;
+  for (size_t r = 0; r + 1 < regionCage_.size(); ++r) {
+    const size_t s = regionCage_[r + 1] - regionCage_[r], S = s + 3, P = S * (S - 1) / 2;
+    const uint32_t vertexBegin = regionVertex_[r], count = regionVertex_[r + 1] - vertexBegin;
+    // Rows w_v = (cage weights, D_v) of the region's vertices.
+    w.resize(size_t(count) * S);
+    const double* weights = &weight_[regionWeight_[r]];
+    for (uint32_t i = 0; i < count; ++i) {
+      std::copy(weights + size_t(i) * s, weights + size_t(i + 1) * s, &w[size_t(i) * S]);
+      std::copy(&detail[3 * size_t(vertex_[vertexBegin + i])], &detail[3 * size_t(vertex_[vertexBegin + i]) + 3], &w[size_t(i) * S + s]);
+    }
+    // outer = sum over the carrying vertices a of w_a (x) G_a, G_a = sum of w_b ^ w_c (packed i < j).
+    outer.assign(S * P, 0.0);
+    wedges.resize(P);
+    for (uint32_t run = regionRun_[r]; run < regionRun_[r + 1]; ++run) {
+      std::fill(wedges.begin(), wedges.end(), 0.0);
+      for (uint32_t t = runStart_[run]; t < runStart_[run + 1]; ++t) {
+        const double *wb = &w[size_t(triangleB_[t]) * S], *wc = &w[size_t(triangleC_[t]) * S];
+        double* g = wedges.data();
+        for (size_t i = 0; i + 1 < S; ++i) {
+          const double bi = wb[i], ci = wc[i];
+          const size_t len = S - i - 1;
+          if (bi != 0.0 || ci != 0.0)
+            for (size_t j = 0; j < len; ++j) g[j] += bi * wc[i + 1 + j] - ci * wb[i + 1 + j];
+          g += len;
+        }
+      }
+      const double* wa = &w[size_t(runVertex_[run]) * S];
+      for (size_t i = 0; i < S; ++i) {
+        const double a = wa[i];
+        if (a == 0.0) continue;
+        double* o = &outer[i * P];
+        for (size_t p = 0; p < P; ++p) o[p] += a * wedges[p];
+      }
+    }
+    // The 3 x 3 minors, alternated out of outer, to the terms: (i, j, k) all cage: a triple;
+    // (i, j, D_d): q_ij[d]; (i, D_d1, D_d2): a_i through det(x_i, e_d1, e_d2); (D, D, D): constant.
+    const uint32_t* g = &cage_[regionCage_[r]];
+    const uint32_t* tripleSlot = &tripleSlot_[regionTriple_[r]];
+    const uint32_t* pairSlot = &pairSlot_[regionPair_[r]];
+    auto minor = [&](size_t i, size_t j, size_t k) {
+      return (outer[i * P + pairIndex(j, k, S)] - outer[j * P + pairIndex(i, k, S)] + outer[k * P + pairIndex(i, j, S)]) / 6.0;
+    };
+    size_t t = 0, p = 0;
+    for (size_t i = 0; i < s; ++i) {
+      for (size_t j = i + 1; j < s; ++j) {
+        for (size_t k = j + 1; k < s; ++k) triple[tripleSlot[t++]] += minor(i, j, k);
+        double* q = &pair[3 * size_t(pairSlot[p++])];
+        for (int d = 0; d < 3; ++d) q[d] += minor(i, j, s + d);
+      }
+      double* a = &linear[3 * size_t(g[i])];
+      a[0] += minor(i, s + 1, s + 2), a[1] -= minor(i, s, s + 2), a[2] += minor(i, s, s + 1);
+    }
+    constant += minor(s, s + 1, s + 2);
+  }
+
+  CagePolynomial poly;
+  poly.cageSize = cageSize_;
+  poly.constant = constant;
+  poly.linear = std::move(linear);
+  // Terms whose coefficient is exactly zero (supports that never meet on a triangle) are dropped.
+  for (size_t p = 0; p < pairI_.size(); ++p)
+    if (pair[3 * p] != 0.0 || pair[3 * p + 1] != 0.0 || pair[3 * p + 2] != 0.0) {
+      poly.pairI.push_back(pairI_[p]), poly.pairJ.push_back(pairJ_[p]);
+      poly.pairQ.insert(poly.pairQ.end(), &pair[3 * p], &pair[3 * p] + 3);
+    }
+  for (size_t p = 0; p < tripleI_.size(); ++p)
+    if (triple[p] != 0.0) {
+      poly.tripleI.push_back(tripleI_[p]), poly.tripleJ.push_back(tripleJ_[p]), poly.tripleK.push_back(tripleK_[p]);
+      poly.tripleT.push_back(triple[p]);
+    }
+  return poly;
+}
+
+}  // namespace mrvol
