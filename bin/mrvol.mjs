@@ -13,9 +13,10 @@ commands:
                                               zero-detail synthesis (subdivision) of a base mesh
   roundtrip MESH.obj [--scheme S] [--level e] [--json]
                                               max error of synthesis(analysis(x)) - x
-  volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta] [--json]
-                                              mesh volume and the volume through theta^e
-  theta MESH.obj [--scheme S] [--level e] [--storage cage|full] -o FILE.theta [--json]
+  volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta]
+       [--surface mesh|limit] [--json]        mesh volume and the volume through theta^e
+                                              (limit: of the Loop limit surface, closed meshes)
+  theta MESH.obj [--scheme S] [--level e] [--storage cage|full] [--surface mesh|limit] -o FILE.theta [--json]
                                               computes theta^e and writes a theta file
   edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]
        [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]
@@ -68,6 +69,7 @@ const OPTIONS = {
   tolerance: { type: 'string' },
   path: { type: 'string' },
   theta: { type: 'string' },
+  surface: { type: 'string' },
   'base-faces': { type: 'string' },
   'keep-largest': { type: 'boolean' },
   repair: { type: 'boolean' },
@@ -167,6 +169,8 @@ function tensorReport(mrvol, values, positionals, { requireOutput }) {
   const level = integer(values.level, 'level', 0);
   const scheme = schemeOptions(values);
   const storage = storageOption(values);
+  const surface = values.surface ?? 'mesh';
+  if (surface !== 'mesh' && surface !== 'limit') throw new UsageError(`--surface must be mesh or limit, got '${surface}'`);
   if (requireOutput && !values.output) throw new UsageError('-o FILE.theta is required');
   if (values.theta && values.storage) throw new UsageError('--storage applies when computing, not with --theta');
   const mr = openMultires(mrvol, path);
@@ -180,8 +184,10 @@ function tensorReport(mrvol, values, positionals, { requireOutput }) {
       } catch (e) {
         throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
       }
+      if (theta.info().surface !== surface)
+        throw new MrvolError(`${values.theta}: the theta file holds the volume of the ${theta.info().surface} surface, not of the ${surface} surface (--surface)`);
     } else {
-      theta = mr.computeTheta({ level, storage, ...scheme });
+      theta = mr.computeTheta({ level, storage, surface, ...scheme });
     }
     let thetaVolume;
     try {
@@ -191,7 +197,7 @@ function tensorReport(mrvol, values, positionals, { requireOutput }) {
     }
     const info = theta.info();
     const result = {
-      volume: mr.info().volume, thetaVolume, scheme: scheme.scheme, level, storage: info.storage,
+      volume: mr.info({ surface }).volume, thetaVolume, surface: info.surface, scheme: scheme.scheme, level, storage: info.storage,
       nnzFull: info.nnzFull, nnzStored: info.nnzStored, bytes: info.bytes,
       precomputeMs: values.theta ? null : Math.round(theta.precomputeMs * 10) / 10,
       source: values.theta ? 'file' : 'computed',
@@ -219,7 +225,7 @@ function writeBytes(path, bytes) {
 
 function describeTensor(r) {
   return [`volume          ${r.volume}`, `theta volume    ${r.thetaVolume}`,
-          `theta           ${r.scheme} scheme, level ${r.level}, ${r.storage} storage (${r.source})`,
+          `theta           ${r.scheme} scheme, level ${r.level}, ${r.storage} storage${r.surface === 'limit' ? ', limit surface' : ''} (${r.source})`,
           `entries         ${r.nnzStored} stored, ${r.nnzFull ?? 'unknown (cage storage)'} non-zeros in the full tensor`,
           `memory          ${r.bytes} bytes` + (r.precomputeMs != null ? `, computed in ${r.precomputeMs} ms` : '')]
     .concat(r.output ? [`wrote           ${r.output} (${r.fileBytes} bytes)`] : []).join('\n');
