@@ -266,7 +266,7 @@ DenseForm regularPatch() {
       for (auto [x0, w0] : level0) {
         if (std::abs(w0) < 1e-14) continue;  // sums that cancel exactly in rationals, to round-off
         auto it = slot.find(x0);
-        if (it == slot.end()) throw Error("internal: regular limit point reads outside the 12-vertex net" + std::to_string(i) + "," + std::to_string(j) + " v" + std::to_string(x0) + " w" + std::to_string(w0) + " net " + std::to_string(net[0])+" "+ std::to_string(net[1])+" "+ std::to_string(net[2])+" "+ std::to_string(net[3])+" "+ std::to_string(net[4])+" "+ std::to_string(net[5])+" "+ std::to_string(net[6])+" "+ std::to_string(net[7])+" "+ std::to_string(net[8])+" "+ std::to_string(net[9])+" "+ std::to_string(net[10])+" "+ std::to_string(net[11]) + " x " + std::to_string(m.planar[x0][0])+ " " + std::to_string(m.planar[x0][1]));
+        if (it == slot.end()) throw Error("internal: regular limit point reads outside the 12-vertex net");
         values(point, it->second) += w0;
       }
       for (int k = 0; k < kPoints; ++k)
@@ -337,10 +337,11 @@ ExtraordinaryPatch extraordinaryPatch(int n, const DenseForm& regular) {
   const std::vector<uint32_t> net0 = limit_detail::patchNet(corners0, m.centre, m.p, m.q);
   const Subdivision s1 = loopSubdivide(m.faces, m.vertexCount(), std::vector<uint8_t>(m.vertexCount(), 0));
   const VertexCorners corners1(s1.faces.data(), s1.faces.size() / 3, s1.vertexCount);
-  // Children of f0: its three faces are faces 0..2 of sector 0 in coneModel order? Find f0's index.
-  size_t f0 = kNone;
+  // The children of f0 are faces 4 f0 .. 4 f0 + 3 of the subdivision.
+  size_t f0 = m.faces.size();
   for (size_t f = 0; f < m.faces.size(); f += 3)
     if (m.faces[f] == m.centre && m.faces[f + 1] == m.p && m.faces[f + 2] == m.q) f0 = f / 3;
+  if (f0 == m.faces.size()) throw Error("internal: limit-volume model has no face f0");
   const uint32_t* child = &s1.faces[12 * f0];
   const Matrix A = restrictRows(s1, limit_detail::patchNet(corners1, child[0], child[1], child[2]), net0);
   DenseForm Q(int(net0.size()));
