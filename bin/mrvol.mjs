@@ -25,14 +25,16 @@ const COMMAND_HELP = {
     options: ['scheme', 'alpha', 'level', 'json'],
   },
   volume: {
-    usage: 'volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta] [--json]',
-    summary: 'mesh volume and the volume through theta^e',
-    options: ['scheme', 'alpha', 'level', 'storage', 'theta', 'json'],
+    usage: 'volume MESH.obj [--scheme S] [--level e] [--storage cage|full] [--theta FILE.theta]\n' +
+           '     [--surface mesh|limit] [--json]',
+    summary: 'mesh volume and the volume through theta^e (limit: of the Loop limit surface)',
+    options: ['scheme', 'alpha', 'level', 'storage', 'theta', 'surface', 'json'],
   },
   theta: {
-    usage: 'theta MESH.obj [--scheme S] [--level e] [--storage cage|full] -o FILE.theta [--json]',
+    usage: 'theta MESH.obj [--scheme S] [--level e] [--storage cage|full] [--surface mesh|limit]\n' +
+           '     -o FILE.theta [--json]',
     summary: 'computes theta^e and writes a theta file',
-    options: ['scheme', 'alpha', 'level', 'storage', 'output', 'json'],
+    options: ['scheme', 'alpha', 'level', 'storage', 'surface', 'output', 'json'],
   },
   edit: {
     usage: 'edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]\n' +
@@ -59,6 +61,8 @@ const OPTION_HELP = {
   storage: '--storage cage|full              theta entries kept: rows of the level-e cage (default) or all;\n' +
            '                                 nnzFull (the full tensor\'s count) is known only with full',
   theta: '--theta FILE                     use a stored theta file instead of computing',
+  surface: '--surface mesh|limit             the volume of the fine mesh (default) or of its Loop limit\n' +
+           '                                 surface (closed meshes; docs/limit-volume.md)',
   move: '--move V:dx,dy,dz                moves cage vertex V (0-based, file order) by (dx, dy, dz); held',
   free: '--free cage|all|LIST             free set: cage minus the moved vertices (default), all cage\n' +
         '                                 vertices, or a comma-separated list of cage vertices',
@@ -138,6 +142,7 @@ const OPTIONS = {
   tolerance: { type: 'string' },
   path: { type: 'string' },
   theta: { type: 'string' },
+  surface: { type: 'string' },
   'base-faces': { type: 'string' },
   'keep-largest': { type: 'boolean' },
   repair: { type: 'boolean' },
@@ -272,6 +277,8 @@ async function tensorReport(mrvol, values, positionals, { requireOutput }) {
   const level = integer(values.level, 'level', 0);
   const scheme = schemeOptions(values);
   const storage = storageOption(values);
+  const surface = values.surface ?? 'mesh';
+  if (surface !== 'mesh' && surface !== 'limit') throw new UsageError(`--surface must be mesh or limit, got '${surface}'`);
   if (requireOutput && !values.output) throw new UsageError('-o FILE.theta is required');
   if (values.theta && values.storage) throw new UsageError('--storage applies when computing, not with --theta');
   const mr = await openMultires(mrvol, path);
@@ -285,8 +292,10 @@ async function tensorReport(mrvol, values, positionals, { requireOutput }) {
       } catch (e) {
         throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
       }
+      if (theta.info().surface !== surface)
+        throw new MrvolError(`${values.theta}: the theta file holds the volume of the ${theta.info().surface} surface, not of the ${surface} surface (--surface)`);
     } else {
-      theta = computeTheta(mr, { level, storage, ...scheme });
+      theta = computeTheta(mr, { level, storage, surface, ...scheme });
     }
     let thetaVolume;
     try {
@@ -296,7 +305,7 @@ async function tensorReport(mrvol, values, positionals, { requireOutput }) {
     }
     const info = theta.info();
     const result = {
-      volume: mr.info().volume, thetaVolume, scheme: scheme.scheme, level, storage: info.storage,
+      volume: mr.info({ surface }).volume, thetaVolume, surface: info.surface, scheme: scheme.scheme, level, storage: info.storage,
       nnzFull: info.nnzFull, nnzStored: info.nnzStored, bytes: info.bytes,
       precomputeMs: values.theta ? null : Math.round(theta.precomputeMs * 10) / 10,
       source: values.theta ? 'file' : 'computed',
@@ -324,7 +333,7 @@ function writeBytes(path, bytes) {
 
 function describeTensor(r) {
   return [`volume          ${r.volume}`, `theta volume    ${r.thetaVolume}`,
-          `theta           ${r.scheme} scheme, level ${r.level}, ${r.storage} storage (${r.source})`,
+          `theta           ${r.scheme} scheme, level ${r.level}, ${r.storage} storage${r.surface === 'limit' ? ', limit surface' : ''} (${r.source})`,
           `entries         ${r.nnzStored} stored, ${r.nnzFull ?? 'unknown (cage storage)'} non-zeros in the full tensor`,
           `memory          ${r.bytes} bytes` + (r.precomputeMs != null ? `, computed in ${r.precomputeMs} ms` : '')]
     .concat(r.output ? [`wrote           ${r.output} (${r.fileBytes} bytes)`] : []).join('\n');

@@ -43,6 +43,13 @@ function levelArg(level, name = 'level') {
   return l;
 }
 
+// Which surface's volume: the mesh's triangles, or the Loop limit surface of the mesh.
+function surfaceArg(surface) {
+  const s = surface ?? 'mesh';
+  if (s !== 'mesh' && s !== 'limit') throw new MrvolError(`surface must be 'mesh' or 'limit', got ${JSON.stringify(surface)}`);
+  return s;
+}
+
 // Lifting steps belong to a level l >= 1, which has no default.
 function stepLevelArg(level) {
   if (level === undefined) throw new MrvolError('level is required: level l (1..n) builds M^l from M^(l-1)');
@@ -224,8 +231,17 @@ export function wrapModule(module) {
       if (!this.#raw) throw new MrvolError('this MultiresMesh has been deleted');
       return this.#raw;
     }
-    /** Vertex/face counts, levels, base vertices, closedness, genus, volume. */
-    info() { return call((r) => r.info(), this.#live()); }
+    /**
+     * Vertex/face counts, levels, base vertices, closedness, genus, volume. surface: 'mesh'
+     * (default) or 'limit' (volume of the Loop limit surface; closed meshes only).
+     */
+    info(options = {}) {
+      const surface = surfaceArg(options.surface);
+      const info = call((r) => r.info(), this.#live());
+      if (surface === 'limit') info.volume = call((r) => r.limitVolume(), this.#live());
+      info.surface = surface;
+      return info;
+    }
     /** Current positions, caller's vertex order. */
     positions() { return call((r) => r.positions(), this.#live()); }
     faces() { return call((r) => r.faces(), this.#live()); }
@@ -326,6 +342,11 @@ export function wrapModule(module) {
      */
     computeTheta(options = {}) {
       const storage = options.storage ?? 'cage';
+      if (surfaceArg(options.surface) === 'limit') {  // theta^e of the Loop limit surface's volume
+        const started = globalThis.performance?.now() ?? Date.now();
+        const raw = call((r) => r.computeLimitTheta(levelArg(options.level), ...schemeArgs(options), storage), this.#live());
+        return new Theta(raw, (globalThis.performance?.now() ?? Date.now()) - started);
+      }
       const onProgress = options.onProgress ?? undefined;
       const started = globalThis.performance?.now() ?? Date.now();
       const raw = call((r) => r.computeTheta(levelArg(options.level), ...schemeArgs(options), storage, onProgress), this.#live());
@@ -334,7 +355,8 @@ export function wrapModule(module) {
     /** Volume of the current positions through theta (checks that theta matches mesh, scheme, level). */
     thetaVolume(theta, options = {}) {
       if (!(theta instanceof Theta)) throw new MrvolError('thetaVolume expects a Theta');
-      return call((r) => r.thetaVolume(theta.raw, levelArg(options.level), ...schemeArgs(options)), this.#live());
+      const method = theta.info().surface === 'limit' ? 'limitThetaVolume' : 'thetaVolume';
+      return call((r) => r[method](theta.raw, levelArg(options.level), ...schemeArgs(options)), this.#live());
     }
     /** Starts an editing session at level e from the current positions. */
     createEditor(options = {}) {
@@ -393,10 +415,11 @@ export function wrapModule(module) {
       checkMesh(mesh);
       return call(module._validate, mesh.positions, mesh.faces, linesOf(mesh));
     },
-    /** Signed enclosed volume of a valid mesh. */
-    volume(mesh) {
+    /** Signed enclosed volume of a valid mesh; surface 'limit': of its Loop limit surface (closed only). */
+    volume(mesh, options = {}) {
       checkMesh(mesh);
-      return call(module._volume, mesh.positions, mesh.faces, linesOf(mesh));
+      const fn = surfaceArg(options.surface) === 'limit' ? module._limitVolume : module._volume;
+      return call(fn, mesh.positions, mesh.faces, linesOf(mesh));
     },
     /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */
     openMesh(mesh, options = {}) {

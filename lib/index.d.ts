@@ -84,6 +84,19 @@ export interface MeshInfo {
   components: number;
   /** Signed enclosed volume (for an open mesh: of the cone to its boundary's centroid). */
   volume: number;
+  /** Whose volume `volume` is: the mesh's triangles, or its Loop limit surface. */
+  surface: VolumeSurface;
+}
+
+/**
+ * The surface whose volume is meant: the mesh itself ('mesh', the default), or the Loop limit
+ * surface of the fine mesh ('limit': what zero-detail Loop synthesis converges to; closed meshes
+ * only). docs/limit-volume.md has the method.
+ */
+export type VolumeSurface = 'mesh' | 'limit';
+
+export interface SurfaceOptions {
+  surface?: VolumeSurface;
 }
 
 /** How much of a volume tensor is kept: the rows of the level-e cage vertices, or every entry. */
@@ -92,7 +105,9 @@ export type ThetaStorage = 'cage' | 'full';
 export interface ThetaOptions extends TransformOptions {
   /** 'cage' (default) keeps what editing needs; 'full' keeps every entry. */
   storage?: ThetaStorage;
-  /** Called with the fraction done (0..1); returning false cancels the computation. */
+  /** 'limit': theta^e of the Loop limit surface's volume (editors take only 'mesh' tensors). */
+  surface?: VolumeSurface;
+  /** Called with the fraction done (0..1); returning false cancels the computation (surface 'mesh' only). */
   onProgress?: (fraction: number) => boolean | void;
 }
 
@@ -107,6 +122,8 @@ export interface ThetaInfo {
   /** The level e of its coefficients. */
   level: number;
   storage: ThetaStorage;
+  /** Whose volume the tensor holds. */
+  surface: VolumeSurface;
   /** Connectivity fingerprint (16 hex digits) of the mesh it belongs to. */
   fingerprint: string;
   vertices: number;
@@ -303,8 +320,8 @@ export interface MultiresMesh {
   /** The caller's indices of the level-0 vertices, ascending. */
   readonly baseVertexIndices: Uint32Array;
 
-  /** Vertex/face counts, levels, base vertices, closedness, genus, volume. */
-  info(): MeshInfo;
+  /** Vertex/face counts, levels, base vertices, closedness, genus, volume (of `surface`, default 'mesh'). */
+  info(options?: SurfaceOptions): MeshInfo;
   /** Current positions, caller's vertex order. */
   positions(): Float64Array;
   faces(): Uint32Array;
@@ -355,7 +372,7 @@ export interface MultiresMesh {
    */
   estimateTheta(options?: { level?: number } & SchemeOptions): ThetaEstimate;
   computeTheta(options?: ThetaOptions): Theta;
-  /** Volume of the current positions through theta (checks that theta matches mesh, scheme and level). */
+  /** Volume of the current positions through theta (checks that theta matches mesh, scheme and level; the surface is theta's own). */
   thetaVolume(theta: Theta, options?: TransformOptions): number;
   /** Starts an editing session at level e from the current positions (the editor copies them). */
   createEditor(options?: EditorOptions): VolumeEditor;
@@ -380,8 +397,8 @@ export interface Mrvol {
   writeObjLike<T extends Uint8Array | string>(original: T, positions: Float64Array): T extends string ? string : Uint8Array;
   /** Checks manifoldness and orientation; throws MrvolError saying where the mesh is wrong. */
   validate(mesh: Mesh): Topology;
-  /** Signed enclosed volume of a valid mesh. */
-  volume(mesh: Mesh): number;
+  /** Signed enclosed volume of a valid mesh; surface 'limit': of its Loop limit surface (closed meshes). */
+  volume(mesh: Mesh, options?: SurfaceOptions): number;
   /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */
   openMesh(mesh: Mesh, options?: OpenMeshOptions): MultiresMesh;
   /** n levels of zero-detail synthesis (subdivision) of a base mesh. */

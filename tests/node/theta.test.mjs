@@ -419,7 +419,7 @@ describe('theta files', () => {
 // ---- CLI: volume and theta -----------------------------------------------------------------------
 
 describe('CLI volume and theta', () => {
-  const VOLUME_KEYS = ['bytes', 'level', 'nnzFull', 'nnzStored', 'precomputeMs', 'scheme', 'source', 'storage', 'thetaVolume', 'volume'];
+  const VOLUME_KEYS = ['bytes', 'level', 'nnzFull', 'nnzStored', 'precomputeMs', 'scheme', 'source', 'storage', 'surface', 'thetaVolume', 'volume'];
   let ico2;  // the icosahedron subdivided twice (Loop)
 
   before(() => {

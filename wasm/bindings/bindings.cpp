@@ -12,6 +12,7 @@
 #include <string>
 
 #include "mrvol/error.h"
+#include "mrvol/limit_volume.h"
 #include "mrvol/multires_mesh.h"
 #include "mrvol/volume_editor.h"
 
@@ -272,6 +273,34 @@ val js_thetaVolume(const MultiresMesh& m, const Theta& t, int level, std::string
     return val(m.tensorVolume(t.tensor, o));
   });
 }
+// The Loop limit surface (limit_volume.h): its volume, and theta^e of it.
+val js_limitVolume(val positions, val faces, val lines) {
+  return guarded([&] {
+    TriangleMesh m = toMesh(positions, faces);
+    validateMesh(m, toLines(lines).get());
+    return val(limitVolume(m));
+  });
+}
+val js_meshLimitVolume(const MultiresMesh& m) { return guarded([&] { return val(m.limitVolume()); }); }
+Theta* js_computeLimitTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta,
+                            std::string storage) {
+  return guarded([&]() -> Theta* {
+    SchemeOptions o = toScheme(scheme, alpha, beta);
+    auto theta = std::make_unique<Theta>();
+    theta->tensor = m.computeLimitTensor(level, o, toStorage(storage));
+    theta->header = m.thetaHeader(theta->tensor, o);
+    theta->header.limitSurface = true;
+    return theta.release();
+  });
+}
+val js_limitThetaVolume(const MultiresMesh& m, const Theta& t, int level, std::string scheme, double alpha, double beta) {
+  return guarded([&] {
+    SchemeOptions o = toScheme(scheme, alpha, beta);
+    m.checkTheta(t.header, level, o, true);
+    return val(m.limitTensorVolume(t.tensor, o));
+  });
+}
+
 val js_estimateTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
   return guarded([&] {
     TensorEstimate e = m.estimateTensor(level, toScheme(scheme, alpha, beta));
@@ -331,6 +360,7 @@ val js_thetaInfo(const Theta& t) {
     out.set("levels", t.header.levels);
     out.set("level", t.tensor.level);
     out.set("storage", std::string(t.tensor.storage == TensorStorage::Full ? "full" : "cage"));
+    out.set("surface", std::string(t.header.limitSurface ? "limit" : "mesh"));
     out.set("fingerprint", std::string(hex));
     out.set("vertices", double(t.tensor.vertexCount));
     out.set("nnzFull", t.tensor.nnzFull ? val(double(t.tensor.nnzFull)) : val::null());
@@ -448,6 +478,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   function("_writeObjLike", &js_writeObjLike);
   function("_validate", &js_validate);
   function("_volume", &js_volume);
+  function("_limitVolume", &js_limitVolume);
   function("_openMesh", &js_openMesh, allow_raw_pointers());
   function("_subdivideBase", &js_subdivideBase, allow_raw_pointers());
   class_<MultiresMesh>("_MultiresMesh")
@@ -469,6 +500,9 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("hierarchyOrder", &js_hierarchyOrder)
       .function("computeTheta", &js_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &js_thetaVolume)
+      .function("limitVolume", &js_meshLimitVolume)
+      .function("computeLimitTheta", &js_computeLimitTheta, allow_raw_pointers())
+      .function("limitThetaVolume", &js_limitThetaVolume)
       .function("fingerprint", &js_fingerprint)
       .function("estimateTheta", &js_estimateTheta)
       .function("createEditor", &js_createEditor, allow_raw_pointers());

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "mrvol/error.h"
+#include "mrvol/limit_volume.h"
 
 namespace mrvol {
 
@@ -183,7 +184,7 @@ ThetaFileHeader MultiresMesh::thetaHeader(const VolumeTensor& tensor, const Sche
   return h;
 }
 
-void MultiresMesh::checkTheta(const ThetaFileHeader& h, int level, const SchemeOptions& scheme) const {
+void MultiresMesh::checkTheta(const ThetaFileHeader& h, int level, const SchemeOptions& scheme, bool limitSurface) const {
   if (h.fingerprint != fingerprint() || h.vertexCount != mesh_.vertexCount() || h.levels != hierarchy_.levels)
     throw Error("theta file does not match this mesh: it was computed for another connectivity (" +
                 std::to_string(h.vertexCount) + " vertices, " + std::to_string(h.levels) + " levels)");
@@ -195,9 +196,43 @@ void MultiresMesh::checkTheta(const ThetaFileHeader& h, int level, const SchemeO
                 ", beta = " + std::to_string(h.scheme.beta) + ", not the ones asked for");
   if (h.level != level)
     throw Error("theta file is for level " + std::to_string(h.level) + ", not level " + std::to_string(level));
+  if (h.limitSurface != limitSurface)
+    throw Error(std::string("theta file holds the volume of the ") + (h.limitSurface ? "limit surface" : "mesh") +
+                ", not of the " + (limitSurface ? "limit surface" : "mesh"));
 }
 
 double MultiresMesh::tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
+  return tensorVolumeOf(tensor, scheme, triangleForm(hierarchy_.fineFaces()));
+}
+
+const FineForm& MultiresMesh::limitForm() const {
+  if (!topology_.closed)
+    throw Error("the limit surface's volume needs a closed mesh: this one has " +
+                std::to_string(topology_.boundaryEdges) + " boundary edges");
+  if (!limitForm_) {
+    const auto& faces = hierarchy_.fineFaces();
+    limitForm_ = std::make_unique<FineForm>(limitVolumeForm(faces.data(), faces.size() / 3, hierarchy_.fineVertexCount()));
+  }
+  return *limitForm_;
+}
+
+double MultiresMesh::limitVolume() const {
+  std::vector<double> x(mesh_.positions.size());
+  hierarchy_.toHierarchyOrder(mesh_.positions.data(), x.data());
+  return limitForm().evaluate(x.data(), volumeReferencePoint(mesh_));
+}
+
+VolumeTensor MultiresMesh::computeLimitTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
+                                              const TensorProgress& progress) const {
+  checkLevel(level);
+  return computeVolumeTensor(transform(scheme), level, storage, limitForm(), progress);
+}
+
+double MultiresMesh::limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
+  return tensorVolumeOf(tensor, scheme, limitForm());
+}
+
+double MultiresMesh::tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine) const {
   const WaveletTransform& wt = transform(scheme);
   const Vec3 o = volumeReferencePoint(mesh_);
   const size_t n = mesh_.vertexCount();
@@ -209,8 +244,7 @@ double MultiresMesh::tensorVolume(const VolumeTensor& tensor, const SchemeOption
   if (tensor.storage == TensorStorage::Cage) {
     std::fill(x.begin(), x.begin() + 3 * size_t(hierarchy_.vertexCount[tensor.level]), 0.0);
     wt.synthesize(x.data(), tensor.level);
-    const auto& faces = hierarchy_.fineFaces();
-    volume += meshVolume(x.data(), faces.data(), faces.size() / 3, Vec3{});
+    volume += fine.evaluate(x.data());
   }
   return volume;
 }

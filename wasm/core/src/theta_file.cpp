@@ -71,7 +71,7 @@ std::string writeThetaFile(const VolumeTensor& t, const ThetaFileHeader& header)
   put<uint8_t>(out, uint8_t(header.scheme.kind));
   put<uint8_t>(out, uint8_t(t.storage));
   put<uint8_t>(out, indexBytes);
-  put<uint8_t>(out, 0);
+  put<uint8_t>(out, header.limitSurface ? 1 : 0);  // the surface: 0 the mesh, 1 its Loop limit
   put<uint32_t>(out, uint32_t(header.levels));
   put<uint32_t>(out, uint32_t(t.level));
   put<uint32_t>(out, t.vertexCount);
@@ -110,6 +110,9 @@ ThetaFileHeader readThetaHeader(const std::string& in) {
   const uint8_t kind = get<uint8_t>(in, 16), storage = get<uint8_t>(in, 17);
   if (kind > uint8_t(SchemeKind::Linear)) throw Error("theta file header is corrupt (scheme " + std::to_string(kind) + ")");
   if (storage > 1) throw Error("theta file header is corrupt (storage mode " + std::to_string(storage) + ")");
+  const uint8_t surface = get<uint8_t>(in, 19);
+  if (surface > 1) throw Error("theta file header is corrupt (surface " + std::to_string(surface) + ")");
+  h.limitSurface = surface == 1;
   h.scheme.kind = SchemeKind(kind);
   h.storage = TensorStorage(storage);
   h.levels = int(get<uint32_t>(in, 20));

@@ -179,7 +179,7 @@ namespace {
 
 // The recursion on sparse terms: theta^n from the triangles, then every transposed step of levels
 // n..e+1 expands each entry along the three axes; duplicates are merged by sorting.
-VolumeTensor sparseRecursion(const WaveletTransform& wt, int level, TensorStorage storage,
+VolumeTensor sparseRecursion(const WaveletTransform& wt, int level, TensorStorage storage, const FineForm& fine,
                              const TensorProgress& progress, uint64_t maxTerms) {
   const Hierarchy& h = wt.hierarchy();
   const int n = h.levels;
@@ -190,14 +190,14 @@ VolumeTensor sparseRecursion(const WaveletTransform& wt, int level, TensorStorag
   const KeyPacking kp(N);
   const int keyBits = 3 * kp.bits;
 
-  // theta^n: +-1/6 for every fine triangle, by the parity of its sorting.
+  // theta^n: the fine form's weights (+-1/6 for every fine triangle), by the parity of the sorting.
   std::vector<Term> active, delta, scratch, merged;
-  const auto& faces = h.fineFaces();
-  active.reserve(faces.size() / 3);
-  for (size_t f = 0; f < faces.size(); f += 3) {
-    uint32_t a = faces[f], b = faces[f + 1], c = faces[f + 2];
+  active.reserve(fine.size());
+  for (size_t f = 0; f < fine.size(); ++f) {
+    uint32_t a = fine.corners[3 * f], b = fine.corners[3 * f + 1], c = fine.corners[3 * f + 2];
+    if (a == b || b == c || a == c) continue;
     double s = sortWithSign(a, b, c);
-    active.push_back({kp.pack(a, b, c), s / 6.0});
+    active.push_back({kp.pack(a, b, c), s * fine.weights[f]});
   }
   radixSort(active, scratch, keyBits);
   sumDuplicates(active);
@@ -327,7 +327,7 @@ __attribute__((noinline)) void patchScale(double* dense, size_t m, size_t v, dou
 }
 
 // The patch of a cage vertex c: phi_c = R e_c (the fine values of c's basis function), the corners
-// of the triangles where it is non-zero, grown through the transposed steps by the sources of every
+// of the triangles (the fine form's triples) where it is non-zero, grown through the transposed steps by the sources of every
 // target it holds: all indices the 2-form theta(phi_c, ., .) can reach on its way to level e.
 struct PatchFinder {
   const WaveletTransform& wt;
@@ -339,9 +339,9 @@ struct PatchFinder {
   std::vector<uint8_t> inPatch;
   std::vector<uint32_t> patch;  // ascending
 
-  PatchFinder(const WaveletTransform& wt, int level)
+  PatchFinder(const WaveletTransform& wt, int level, const FineForm& fine)
       : wt(wt), level(level), n(uint32_t(wt.hierarchy().fineVertexCount())),
-        corners(wt.hierarchy().fineFaces().data(), wt.hierarchy().fineFaces().size() / 3, n), phi(n), inPatch(n) {
+        corners(fine.corners.data(), fine.size(), n), phi(n), inPatch(n) {
     for (int l = wt.hierarchy().levels; l > level; --l) {
       const auto& steps = wt.synthesisSteps(l);
       for (auto it = steps.rbegin(); it != steps.rend(); ++it) order.push_back(&*it);
@@ -376,14 +376,14 @@ struct PatchFinder {
 // transposed steps along the two remaining axes are row and column operations on a dense matrix
 // over the patch of indices it can reach. Returns false (nothing computed) when a patch would not
 // fit in maxDenseBytes: the caller falls back to the sparse recursion.
-bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgress& progress,
+bool cageRowsByPatches(const WaveletTransform& wt, int level, const FineForm& fine, const TensorProgress& progress,
                        size_t maxDenseBytes, VolumeTensor& out) {
   const Hierarchy& h = wt.hierarchy();
   const uint32_t N = uint32_t(h.fineVertexCount());
   const uint32_t cage = h.vertexCount[level];
-  PatchFinder patches(wt, level);
+  PatchFinder patches(wt, level, fine);
   const auto& order = patches.order;
-  const auto& faces = h.fineFaces();
+  const auto& faces = fine.corners;
 
   VolumeTensor t;
   t.vertexCount = N;
@@ -407,8 +407,9 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
     if (m * m * sizeof(double) > maxDenseBytes) return false;
     dense.assign(m * m, 0.0);
     rowLive.assign(m, 0);
-    // A^c at the fine level: theta^n(phi, u, v) = sum over triangles (a, b, d) of
-    // (phi_a [b, d] + phi_b [d, a] + phi_d [a, b]) / 6, with [x, y] the antisymmetric pair.
+    // A^c at the fine level: theta^n(phi, u, v) = sum over triples (a, b, d) of weight w
+    // w (phi_a [b, d] + phi_b [d, a] + phi_d [a, b]), with [x, y] the antisymmetric pair
+    // (w = 1/6 for the triangles).
     auto add = [&](uint32_t x, uint32_t y, double v) {
       const size_t lx = local[x], ly = local[y];
       dense[lx * m + ly] += v;
@@ -417,9 +418,10 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
     };
     for (size_t f = 0; f < faces.size(); f += 3) {
       const uint32_t a = faces[f], b = faces[f + 1], d = faces[f + 2];
-      if (phi[a] != 0.0) add(b, d, phi[a] / 6.0);
-      if (phi[b] != 0.0) add(d, a, phi[b] / 6.0);
-      if (phi[d] != 0.0) add(a, b, phi[d] / 6.0);
+      const double w = fine.weights[f / 3];
+      if (phi[a] != 0.0) add(b, d, phi[a] * w);
+      if (phi[b] != 0.0) add(d, a, phi[b] * w);
+      if (phi[d] != 0.0) add(a, b, phi[d] * w);
     }
     for (size_t s = 0; s < order.size(); ++s) {
       const LiftingStep& step = *order[s];
@@ -480,16 +482,45 @@ bool cageRowsByPatches(const WaveletTransform& wt, int level, const TensorProgre
 
 }  // namespace
 
+FineForm triangleForm(const std::vector<uint32_t>& faces) {
+  FineForm form;
+  form.corners = faces;
+  form.weights.assign(faces.size() / 3, 1.0 / 6.0);
+  return form;
+}
+
+double FineForm::evaluate(const double* x, Vec3 o) const {
+  double total = 0;
+  for (size_t t = 0; t < size(); ++t) {
+    const double* a = x + 3 * size_t(corners[3 * t]);
+    const double* b = x + 3 * size_t(corners[3 * t + 1]);
+    const double* c = x + 3 * size_t(corners[3 * t + 2]);
+    const double ax = a[0] - o.x, ay = a[1] - o.y, az = a[2] - o.z;
+    const double bx = b[0] - o.x, by = b[1] - o.y, bz = b[2] - o.z;
+    const double cx = c[0] - o.x, cy = c[1] - o.y, cz = c[2] - o.z;
+    total += weights[t] * (ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx));
+  }
+  return total;
+}
+
 VolumeTensor computeVolumeTensor(const WaveletTransform& wt, int level, TensorStorage storage,
+                                 const TensorProgress& progress, uint64_t maxTerms) {
+  return computeVolumeTensor(wt, level, storage, triangleForm(wt.hierarchy().fineFaces()), progress, maxTerms);
+}
+
+VolumeTensor computeVolumeTensor(const WaveletTransform& wt, int level, TensorStorage storage, const FineForm& fine,
                                  const TensorProgress& progress, uint64_t maxTerms) {
   const Hierarchy& h = wt.hierarchy();
   if (level < 0 || level > h.levels)
     throw Error("level " + std::to_string(level) + " is out of range 0.." + std::to_string(h.levels));
+  for (uint32_t v : fine.corners)
+    if (v >= h.fineVertexCount())
+      throw Error("fine form refers to vertex " + std::to_string(v) + " of " + std::to_string(h.fineVertexCount()));
   if (storage == TensorStorage::Cage) {
     VolumeTensor t;
-    if (cageRowsByPatches(wt, level, progress, size_t(1) << 30, t)) return t;
+    if (cageRowsByPatches(wt, level, fine, progress, size_t(1) << 30, t)) return t;
   }
-  return sparseRecursion(wt, level, storage, progress, maxTerms);
+  return sparseRecursion(wt, level, storage, fine, progress, maxTerms);
 }
 
 TensorEstimate estimateCageTensor(const WaveletTransform& wt, int level, int samples) {
@@ -498,7 +529,7 @@ TensorEstimate estimateCageTensor(const WaveletTransform& wt, int level, int sam
     throw Error("level " + std::to_string(level) + " is out of range 0.." + std::to_string(h.levels));
   TensorEstimate e;
   e.cageSize = h.vertexCount[level];
-  PatchFinder patches(wt, level);
+  PatchFinder patches(wt, level, triangleForm(h.fineFaces()));
   const uint32_t count = std::min<uint32_t>(e.cageSize, uint32_t(std::max(samples, 1)));
   double sumSquares = 0;
   for (uint32_t s = 0; s < count; ++s) {
@@ -519,6 +550,11 @@ TensorEstimate estimateCageTensor(const WaveletTransform& wt, int level, int sam
 }
 
 VolumeTensor computeVolumeTensorDirect(const WaveletTransform& wt, int level, TensorStorage storage) {
+  return computeVolumeTensorDirect(wt, level, storage, triangleForm(wt.hierarchy().fineFaces()));
+}
+
+VolumeTensor computeVolumeTensorDirect(const WaveletTransform& wt, int level, TensorStorage storage,
+                                       const FineForm& fine) {
   const Hierarchy& h = wt.hierarchy();
   const uint32_t N = uint32_t(h.fineVertexCount());
   if (N > 5000) throw Error("the direct construction is for small test meshes");
@@ -535,7 +571,7 @@ VolumeTensor computeVolumeTensorDirect(const WaveletTransform& wt, int level, Te
   }
   const KeyPacking kp(N);
   std::unordered_map<uint64_t, double> acc;
-  const auto& faces = h.fineFaces();
+  const auto& faces = fine.corners;
   for (size_t f = 0; f < faces.size(); f += 3)
     for (auto [p0, wa] : rows[faces[f]])
       for (auto [q0, wb] : rows[faces[f + 1]])
@@ -543,7 +579,7 @@ VolumeTensor computeVolumeTensorDirect(const WaveletTransform& wt, int level, Te
           uint32_t p = p0, q = q0, r = r0;
           if (p == q || q == r || p == r) continue;
           double s = sortWithSign(p, q, r);
-          acc[kp.pack(p, q, r)] += s * wa * wb * wc / 6.0;
+          acc[kp.pack(p, q, r)] += s * wa * wb * wc * fine.weights[f / 3];
         }
   std::vector<Term> terms;
   for (auto& [key, value] : acc)

@@ -80,23 +80,34 @@ class MultiresMesh {
   ThetaFileHeader thetaHeader(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
   uint64_t fingerprint() const;
   // Throws Error naming the first mismatch (mesh connectivity, scheme, level) of a theta file.
-  void checkTheta(const ThetaFileHeader& header, int level, const SchemeOptions& scheme) const;
+  void checkTheta(const ThetaFileHeader& header, int level, const SchemeOptions& scheme, bool limitSurface = false) const;
   // Volume of the current positions evaluated through the tensor (in the frame of
   // volumeReferencePoint). With Cage storage the detail-only entries, which were never formed,
   // contribute Theta(x with cage coefficients zeroed), computed by synthesis.
   double tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
+
+  // The same for the Loop limit surface of the fine mesh (limit_volume.h): its volume from the
+  // current positions, theta^e of the limit form, and the volume through such a tensor. Closed
+  // meshes only (throws Error otherwise).
+  double limitVolume() const;
+  VolumeTensor computeLimitTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
+                                  const TensorProgress& progress = {}) const;
+  double limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
 
  private:
   MultiresMesh() = default;
   void checkLevel(int level) const;
   const std::vector<LiftingStep>& stepsOfLevel(int level, const SchemeOptions& scheme) const;
   const std::vector<LiftingStep>& checkedSteps(int level, int steps, const SchemeOptions& scheme) const;
+  const FineForm& limitForm() const;  // in hierarchy numbering, built on first use
+  double tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine) const;
   template <class Apply>
   std::vector<double> inHierarchyOrder(const std::vector<double>& values, const char* what, int level, Apply&& apply) const;
   TriangleMesh mesh_;
   MeshTopology topology_;
   Hierarchy hierarchy_;
   mutable std::vector<std::unique_ptr<WaveletTransform>> transforms_;
+  mutable std::unique_ptr<FineForm> limitForm_;
 };
 
 }  // namespace mrvol

@@ -10,6 +10,19 @@
 
 namespace mrvol {
 
+// theta^n, the volume as a trilinear form of the fine positions: Theta = sum_t weights[t]
+// det(p_a, p_b, p_c) with (a, b, c) = corners[3t .. 3t+2] (hierarchy numbering when it enters the
+// tensor). The fine triangles with weight 1/6 are the mesh's own volume (triangleForm); the Loop
+// limit surface's volume is another such form (limit_volume.h).
+struct FineForm {
+  std::vector<uint32_t> corners;
+  std::vector<double> weights;
+  size_t size() const { return weights.size(); }
+  // sum_t w_t det(p_a - o, p_b - o, p_c - o); x: 3 per vertex.
+  double evaluate(const double* x, Vec3 origin = {}) const;
+};
+FineForm triangleForm(const std::vector<uint32_t>& faces);
+
 // Which entries are kept. Cage: only rows whose smallest index is a level-e coarse vertex (the
 // cage), which is all the gradient with respect to the cage needs; entries made of details only
 // fold into a constant that depends on the (fixed) details. Full: every entry, for teaching views.
@@ -64,6 +77,10 @@ struct TensorProgress {
 // along each axis. Throws Error when the work would exceed maxTerms terms in flight.
 VolumeTensor computeVolumeTensor(const WaveletTransform& transform, int level, TensorStorage storage,
                                  const TensorProgress& progress = {}, uint64_t maxTerms = 400'000'000);
+// The same transposed lifting started from any fine form instead of the fine triangles.
+VolumeTensor computeVolumeTensor(const WaveletTransform& transform, int level, TensorStorage storage,
+                                 const FineForm& fine, const TensorProgress& progress = {},
+                                 uint64_t maxTerms = 400'000'000);
 
 // What computing the cage rows of theta^e would take, from the patches of a few sampled cage
 // vertices (a synthesis each, no tensor work): the editor uses the tensor when this fits.
@@ -80,6 +97,8 @@ TensorEstimate estimateCageTensor(const WaveletTransform& transform, int level, 
 // with R the synthesis operator from level e (rows assembled by synthesis of unit vectors).
 // O(N^2) memory: for tests on small meshes only.
 VolumeTensor computeVolumeTensorDirect(const WaveletTransform& transform, int level, TensorStorage storage);
+VolumeTensor computeVolumeTensorDirect(const WaveletTransform& transform, int level, TensorStorage storage,
+                                       const FineForm& fine);
 
 // Theta files: a versioned binary header (magic, format version, scheme and parameters, n, e,
 // storage mode, connectivity fingerprint, counts), the arrays, then a checksum of all before it.
@@ -94,6 +113,7 @@ struct ThetaFileHeader {
   uint64_t fingerprint = 0;
   uint32_t vertexCount = 0;
   uint64_t nnzFull = 0, nnzStored = 0;
+  bool limitSurface = false;  // theta of the Loop limit surface's volume (limit_volume.h), not the mesh's
 };
 
 // A tensor with the header that identifies what it was computed for.
