@@ -53,7 +53,7 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
   const chartRow = document.createElement('div');
   chartRow.className = 'learn-charts';
   layout.bottom.append(chartRow);
-  const chart = new Chart(chartRow, { title: 'volume / reference volume over time' });
+  const chart = new Chart(chartRow, { title: dragCharts ? 'V / V_ref over time' : 'volume / reference volume over time' });
   chart.add('free', '#cf222e');
   chart.add('preserved', '#1a7f37');
   const set = readoutTable(layout.readouts, [
@@ -66,9 +66,9 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
   // During a drag: the correction's multiplier and the volumes, from the drag's start.
   let lambdaChart = null, dragVolumeChart = null;
   if (dragCharts) {
-    lambdaChart = new Chart(chartRow, { title: 'drag: multiplier λ', height: 150, maxPoints: 300, testid: 'drag-lambda-chart' });
+    lambdaChart = new Chart(chartRow, { title: 'drag: multiplier λ', height: 150, maxPoints: 300, testid: 'drag-lambda-chart', grow: true });
     lambdaChart.add('λ', '#8250df');
-    dragVolumeChart = new Chart(chartRow, { title: 'drag: V / V_ref', height: 150, maxPoints: 300, testid: 'drag-volume-chart' });
+    dragVolumeChart = new Chart(chartRow, { title: 'drag: V / V_ref', height: 150, maxPoints: 300, testid: 'drag-volume-chart', grow: true });
     dragVolumeChart.add('free', '#cf222e');
     dragVolumeChart.add('preserved', '#1a7f37');
   }

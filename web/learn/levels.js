@@ -259,8 +259,17 @@ export async function mount({ mrvol, layout, el, stale }) {
     return { vertex, depth: model.depths[vertex], psi, shape, colors, max, support, atVertex: psi[3 * vertex], nonZero: unit.filter((x) => x !== 0).length };
   }
 
+  /** The camera faces the wavelet's vertex. */
+  function faceWavelet() {
+    if (s.wavelet === null) return;
+    const p = loadScheme(s.scheme).levels[0].approx, c = model.bounds.center;
+    const direction = [0, 1, 2].map((k) => p[3 * s.wavelet + k] - c[k]);
+    if (Math.hypot(...direction) > 1e-9) stage.frame(c, model.bounds.radius, direction.map((d, k) => d + [0.25, 0.35, 0][k] * Math.hypot(...direction)));
+  }
+
   function toggleWavelet() {
     s.wavelet = s.wavelet === null ? firstWavelet() : null;
+    faceWavelet();
     waveletButton.classList.toggle('current', s.wavelet !== null);
     waveletButton.textContent = s.wavelet === null ? 'single wavelet' : 'all details';
     draw();
@@ -287,6 +296,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     button('next wavelet', 'levels-wavelet-next', () => {
       s.wavelet = firstWavelet(s.wavelet ?? -1);
       waveletButton.textContent = 'all details';
+      faceWavelet();
       draw();
     }));
   ghosts.addEventListener('change', () => { s.ghosts = ghosts.checked; draw(); });

@@ -262,7 +262,9 @@ export function niceTicks(lo, hi, count = 5) {
  * x = sample index. draw() redraws.
  */
 export class Chart {
-  constructor(container, { title = '', height = 150, maxPoints = 600, testid = 'volume-chart' } = {}) {
+  /** grow: x spans the samples so far (at least 20), not maxPoints: a short record (a drag) fills the width. */
+  constructor(container, { title = '', height = 150, maxPoints = 600, testid = 'volume-chart', grow = false } = {}) {
+    this.grow = grow;
     this.canvas = document.createElement('canvas');
     this.canvas.className = 'learn-chart';
     this.canvas.dataset.testid = testid;
@@ -306,7 +308,8 @@ export class Chart {
     const labels = axis.ticks.map((v) => axis.format(v));
     g.font = '11px system-ui, sans-serif';
     const left = 12 + Math.max(...labels.map((t) => g.measureText(t).width)), right = 10, top = 22, bottom = 8;
-    const X = (i) => left + (w - left - right) * i / Math.max(1, this.maxPoints - 1);
+    const span = this.grow ? Math.max(20, ...this.series.map((s) => s.values.length)) : this.maxPoints;
+    const X = (i) => left + (w - left - right) * i / Math.max(1, span - 1);
     const Y = (v) => top + (h - top - bottom) * (1 - (v - lo) / (hi - lo));
     g.strokeStyle = '#d6d9de';
     g.fillStyle = '#57606a';
@@ -318,6 +321,8 @@ export class Chart {
     g.textAlign = 'left';
     g.fillText(this.title, left, 14);
     let x = left + g.measureText(this.title).width + 16;
+    const legendWidth = this.series.reduce((sum, s) => sum + g.measureText(s.name).width + 40, 0);
+    if (x + legendWidth > w) x = w - right - legendWidth; // a narrow chart: the legend at the right, over the title's end
     for (const s of this.series) {
       g.strokeStyle = s.color;
       g.lineWidth = 2;
