@@ -66,11 +66,12 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
   // During a drag: the correction's multiplier and the volumes, from the drag's start.
   let lambdaChart = null, dragVolumeChart = null;
   if (dragCharts) {
-    lambdaChart = new Chart(chartRow, { title: 'drag: multiplier λ', height: 150, maxPoints: 300, testid: 'drag-lambda-chart', grow: true });
+    lambdaChart = new Chart(chartRow, { title: 'drag: multiplier λ', height: 150, maxPoints: 300, testid: 'drag-lambda-chart', grow: true, empty: 'drag a control vertex: λ is plotted here' });
     lambdaChart.add('λ', '#8250df');
-    dragVolumeChart = new Chart(chartRow, { title: 'drag: V / V_ref', height: 150, maxPoints: 300, testid: 'drag-volume-chart', grow: true });
+    dragVolumeChart = new Chart(chartRow, { title: 'drag: V / V_ref', height: 150, maxPoints: 300, testid: 'drag-volume-chart', grow: true, empty: 'and both volumes here' });
     dragVolumeChart.add('free', '#cf222e');
     dragVolumeChart.add('preserved', '#1a7f37');
+    requestAnimationFrame(() => { lambdaChart.draw(); dragVolumeChart.draw(); }); // once laid out
   }
   const hierarchyIndex = new Map(Array.from(mr.hierarchyOrder(), (v, h) => [v, h]));
   let lastTarget = kept.cagePositions(), lastHeld = new Uint8Array(kept.cageSize);

@@ -263,8 +263,9 @@ export function niceTicks(lo, hi, count = 5) {
  */
 export class Chart {
   /** grow: x spans the samples so far (at least 20), not maxPoints: a short record (a drag) fills the width. */
-  constructor(container, { title = '', height = 150, maxPoints = 600, testid = 'volume-chart', grow = false } = {}) {
+  constructor(container, { title = '', height = 150, maxPoints = 600, testid = 'volume-chart', grow = false, empty = '' } = {}) {
     this.grow = grow;
+    this.empty = empty; // said while there is nothing to plot
     this.canvas = document.createElement('canvas');
     this.canvas.className = 'learn-chart';
     this.canvas.dataset.testid = testid;
@@ -297,7 +298,13 @@ export class Chart {
     g.fillRect(0, 0, w, h);
     let lo = Infinity, hi = -Infinity;
     for (const s of this.series) for (const v of s.values) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-    if (!Number.isFinite(lo)) return;
+    if (!Number.isFinite(lo)) {
+      g.fillStyle = '#57606a';
+      g.font = '11px system-ui, sans-serif';
+      g.fillText(this.title, 12, 14);
+      g.fillText(this.empty, 12, h / 2);
+      return;
+    }
     const pad = Math.max((hi - lo) * 0.05, Math.abs(hi) * 1e-6, 1e-12);
     const axis = niceTicks(lo - pad, hi + pad, Math.max(3, Math.floor((h - 30) / 28)));
     this.ticks = axis.ticks;

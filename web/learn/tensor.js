@@ -63,6 +63,8 @@ export async function mount({ mrvol, layout, el }) {
   const hoverBox = el('div', { class: 'tensor-hover', testid: 'tensor-hover', text: 'Point at a picture: its entry’s vertices light up here.' });
   layout.stage.append(el('div', { class: 'tensor-layout' }, el('div', { class: 'tensor-mesh' }, meshView, hoverBox), grid));
   const meshStage = new Stage(meshView, ['']);
+  // A ring on the picture under the pointer, around the cell (i, j) read out.
+  const cursor = el('div', { class: 'tensor-cursor', testid: 'tensor-cursor' });
   let result = null;
   let shown = null; // { mr-free copy: positions, faces, order (hierarchy index -> vertex), lookup per level, groupStart, N, markers }
   let hover = null;
@@ -206,7 +208,10 @@ export async function mount({ mrvol, layout, el }) {
       const at = (e) => {
         const rect = canvas.getBoundingClientRect();
         const a = Math.floor((e.clientY - rect.top) / rect.height * N), b = Math.floor((e.clientX - rect.left) / rect.width * N);
-        if (a >= 0 && a < N && b >= 0 && b < N) hoverAt(l, g, a, b);
+        if (a < 0 || a >= N || b < 0 || b >= N) return;
+        canvas.parentElement.append(cursor);
+        Object.assign(cursor.style, { left: `${canvas.offsetLeft + (b + 0.5) * rect.width / N}px`, top: `${canvas.offsetTop + (a + 0.5) * rect.height / N}px` });
+        hoverAt(l, g, a, b);
       };
       canvas.addEventListener('pointermove', at);
       canvas.addEventListener('pointerdown', at);
