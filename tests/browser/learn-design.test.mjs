@@ -185,12 +185,15 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
       assert.equal(s.markerCount, 3, 'its three vertices light up');
     }
     assert.match(await page.textContent('[data-testid="tensor-hover"]'), /θ²\[\d+, \d+, \d+\] = -?0\.1667/);
-    // At level 0 the masks have spread the entries: one between coarse vertices that share no face.
-    const [x, y] = await act('cellCenter', 0, 0, 0, 1);
+    // At level 0 the masks have spread the entries: the coarse triangle of hierarchy vertices 0, 2 (and a third
+    // coarse one) is no longer +-1/6, and its vertices are the octahedron's.
+    const [x, y] = await act('cellCenter', 0, 0, 0, 2);
     await page.mouse.move(x, y);
     s = await state();
     assert.equal(s.hover.level, 0);
-    assert.ok(s.hover.value !== 0 && Math.abs(Math.abs(s.hover.value) - 1 / 6) > 1e-9, `a spread entry: ${s.hover.value}`);
+    assert.ok(s.hover.k < 6, 'k among the six coarse vertices');
+    assert.ok(Math.abs(s.hover.value) > 1e-3 && Math.abs(Math.abs(s.hover.value) - 1 / 6) > 1e-3, `a spread entry: ${s.hover.value}`);
+    assert.equal(await page.locator('.tensor-slabs figure [data-testid="tensor-cursor"]').count(), 1, 'a ring marks the cell');
     await shot('tensor');
     assert.deepEqual(page.problems, []);
   });
