@@ -77,7 +77,9 @@ export class Stage {
       const c = i % columns, r = Math.floor(i / columns);
       const x = Math.round(c * w / columns), y = Math.round(r * h / rows);
       const cell = { x, y, width: Math.round((c + 1) * w / columns) - x, height: Math.round((r + 1) * h / rows) - y };
-      Object.assign(panel.tag.style, { left: `${x}px`, top: `${y + 6}px`, width: `${cell.width}px` });
+      // The tag covers its cell: the label at its top, a rule between neighbouring panels.
+      Object.assign(panel.tag.style, { left: `${x}px`, top: `${y}px`, width: `${cell.width}px`, height: `${cell.height}px`,
+        borderLeft: x > 0 ? '1px solid #d6d9de' : 'none', borderTop: y > 0 ? '1px solid #d6d9de' : 'none' });
       return cell;
     });
     this.grid = { columns, rows };
@@ -314,7 +316,12 @@ export class Chart {
     hi = axis.ticks[axis.ticks.length - 1];
     const labels = axis.ticks.map((v) => axis.format(v));
     g.font = '11px system-ui, sans-serif';
-    const left = 12 + Math.max(...labels.map((t) => g.measureText(t).width)), right = 10, top = 22, bottom = 8;
+    const left = 12 + Math.max(...labels.map((t) => g.measureText(t).width)), right = 10, bottom = 8;
+    // The legend beside the title, or on a line of its own when the chart is narrow (phones).
+    const titleWidth = g.measureText(this.title).width;
+    const legendWidth = this.series.reduce((sum, s) => sum + g.measureText(s.name).width + 40, 0);
+    const ownLine = left + titleWidth + 16 + legendWidth > w;
+    const top = ownLine ? 36 : 22;
     const span = this.grow ? Math.max(20, ...this.series.map((s) => s.values.length)) : this.maxPoints;
     const X = (i) => left + (w - left - right) * i / Math.max(1, span - 1);
     const Y = (v) => top + (h - top - bottom) * (1 - (v - lo) / (hi - lo));
@@ -327,9 +334,8 @@ export class Chart {
     });
     g.textAlign = 'left';
     g.fillText(this.title, left, 14);
-    let x = left + g.measureText(this.title).width + 16;
-    const legendWidth = this.series.reduce((sum, s) => sum + g.measureText(s.name).width + 40, 0);
-    if (x + legendWidth > w) x = w - right - legendWidth; // a narrow chart: the legend at the right, over the title's end
+    let x = ownLine ? left : left + titleWidth + 16;
+    const legendY = ownLine ? 28 : 14;
     for (const s of this.series) {
       g.strokeStyle = s.color;
       g.lineWidth = 2;
@@ -337,9 +343,9 @@ export class Chart {
       s.values.forEach((v, i) => (i ? g.lineTo(X(i), Y(v)) : g.moveTo(X(i), Y(v))));
       g.stroke();
       g.fillStyle = s.color;
-      g.fillRect(x, 6, 14, 4);
+      g.fillRect(x, legendY - 8, 14, 4);
       g.fillStyle = '#1d2128';
-      g.fillText(s.name, x + 18, 14);
+      g.fillText(s.name, x + 18, legendY);
       x += g.measureText(s.name).width + 40;
     }
     g.lineWidth = 1;
