@@ -24,7 +24,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   let bottom = Infinity;
   for (let i = 1; i < rest.length; i += 3) bottom = Math.min(bottom, rest[i]);
   const R = -bottom; // from the centre down to the lowest point of the fine mesh
-  const twins = twinEditors({ mrvol, mr, level: 0, scheme: 'loop', layout, floorY: 0 });
+  const twins = twinEditors({ mrvol, mr, level: 0, scheme: 'loop', layout, floor: { y: 0, size: 2.6 * R } });
   const restCage = twins.kept.cagePositions();
   let lowest = Infinity;
   for (let i = 1; i < restCage.length; i += 3) lowest = Math.min(lowest, restCage[i]);
@@ -73,6 +73,15 @@ export async function mount({ mrvol, layout, el, stale }) {
     layout, el, mr, twins: () => twins, advance, restart, dt: 1 / 60,
     actions: {
       /** Runs until the free ball has lost `fraction` of its volume (at most 600 steps; tests, screenshots). */
+      /** Viewport x range of the floor's corners in each panel, and the panel's cell (tests: no floor reaches a panel edge). */
+      floorScreen() {
+        const half = 1.3 * R;
+        return twins.stage.cells.map((cell, p) => {
+          const xs = [[-half, -half], [-half, half], [half, -half], [half, half]].map(([x, z]) => twins.stage.screenOf([x, 0, z], p)[0]);
+          const left = twins.stage.renderer.domElement.getBoundingClientRect().left;
+          return { min: Math.min(...xs), max: Math.max(...xs), cellLeft: left + cell.x, cellRight: left + cell.x + cell.width };
+        });
+      },
       runUntilSquashed(fraction = 0.2, dt = 1 / 60) {
         for (let i = 0; i < 600 && twins.free.volume() > (1 - fraction) * twins.reference; i++) advance(dt);
         twins.stage.render();

@@ -5,7 +5,7 @@
 // proportions. The Stanford bunny when public/models has one, otherwise the blob sample.
 import { sampleModels } from 'virtual:mrvol-models';
 import { THREE, explain, fetchSample, control, select, bounds } from './stage.js';
-import { twinEditors, runDemo } from './demo-common.js';
+import { twinEditors, runDemo, cageDragging } from './demo-common.js';
 
 /**
  * Two "ears". upright (the bunny, y up): the highest cage vertex, then the highest one at least
@@ -47,6 +47,9 @@ export async function mount({ mrvol, layout, el, stale }) {
       'the volume grows with the ears. <b>Right</b>: the rest of the control mesh (the free set F: every cage vertex but ' +
       'the held ones, section 4.1) absorbs the minimal correction (6), so the body shrinks a little as the ears grow.',
     'Choose the level e of the control mesh: the coarser, the larger the pulled region.',
+    '<b>Drag</b> any control vertex yourself (the animation pauses): the small charts follow the drag, the ' +
+      'correction\'s multiplier λ (the preserved cage is the target plus λ times the volume gradient on the free ' +
+      'vertices, formula (6)) and both volumes. Pull outwards and λ turns negative: the body shrinks to pay for it.',
   ]);
   const text = await fetchSample(name);
   if (stale()) return null;
@@ -56,15 +59,17 @@ export async function mount({ mrvol, layout, el, stale }) {
   const levelSelect = control(layout.controls, 'level e', select([...Array(n + 1).keys()].map((l) => [String(l), String(l)]), String(isBunny ? 0 : Math.min(2, n)), 'bunny-level'));
   const amplitudeSelect = control(layout.controls, 'pull', select([['0.3', '30 %'], ['0.6', '60 %'], ['1', '100 %']], '1', 'bunny-pull'));
   const b = bounds(mesh.positions);
-  let twins = null, restCage, ears, centroid, target, held;
+  let twins = null, restCage, ears, centroid, target, held, dragging = null;
   const sim = { t: 0 };
 
   function build() {
+    dragging?.dispose();
     twins?.dispose();
     layout.readouts.replaceChildren();
     layout.bottom.replaceChildren();
     const level = Number(levelSelect.value);
-    twins = twinEditors({ mrvol, mr, level, scheme: 'loop', layout });
+    twins = twinEditors({ mrvol, mr, level, scheme: 'loop', layout, dragCharts: true });
+    dragging = cageDragging(twins, { onStart: () => demo?.controls.pause() });
     restCage = twins.kept.cagePositions();
     ({ ears, centroid } = pickEars(restCage, isBunny));
     // Seen across the plane of the two ears: both stick out of the silhouette.
@@ -91,10 +96,19 @@ export async function mount({ mrvol, layout, el, stale }) {
     sim.t += dt;
     apply();
   }
+  let demo = null;
   build();
-  const demo = runDemo({
+  demo = runDemo({
     layout, el, mr, twins: () => twins, advance, restart: () => { sim.t = 0; apply(); }, dt: 1 / 30,
-    debug: () => ({ ...twins.debug(), model: name, level: Number(levelSelect.value), ears: ears.map((e) => twins.cageVertices[e]), t: sim.t }),
+    debug: () => ({ ...twins.debug(), model: name, level: Number(levelSelect.value), ears: ears.map((e) => twins.cageVertices[e]), t: sim.t,
+      dragging: dragging.dragging(), playing: demo.controls.playing() }),
+    actions: {
+      /** Viewport pixels of cage vertex c (cage order) in panel p, for pointer tests. */
+      screenOfCage(c, p = 1) {
+        const cage = twins.parts[p].editor.cagePositions();
+        return twins.stage.screenOf([cage[3 * c], cage[3 * c + 1], cage[3 * c + 2]], p);
+      },
+    },
   });
   levelSelect.addEventListener('change', () => {
     build();

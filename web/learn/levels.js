@@ -3,7 +3,7 @@
 // (coarse coefficients c^l on levelFaces(l)), and the details d^l as arrows or as a colour map of
 // their size; the three schemes side by side. Analysis and synthesis come from the core.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, surface, wire, arrows, edgesOf, bounds, ramp, fetchSample, editorModel, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, arrows, edgesOf, bounds, ramp, diverging, colorbar, fetchSample, editorModel, explain, control, select, button, readoutTable } from './stage.js';
 
 const SCHEMES = ['loop', 'butterfly', 'linear'];
 const MODELS = ['spiky-ball', 'blob', 'torus'];
@@ -20,6 +20,9 @@ export async function mount({ mrvol, layout, el, stale }) {
       'the colour map shows the size of every detail that was zeroed.',
     'Editing at level e moves c<sup>e</sup> and keeps the details: the scale of the edit is the scale of the level. ' +
       'The Loop-based scheme (the paper\'s, with the update step U) smooths; Butterfly interpolates; linear is the baseline.',
+    '<b>Single wavelet</b>: every coefficient 0 but one detail of level l, set to 1; the synthesis of that vector is the ' +
+      'wavelet (basis function) of the vertex, drawn as a bump over the smooth level-0 surface and coloured by its value. ' +
+      'Compare its support and shape across schemes. The faint wires behind the blue one are the coarser meshes M<sup>0</sup> … M<sup>l−1</sup>.',
     'The model list starts with the editor\'s model as you left it (your edits included), then the samples.',
   ]);
   const models = [...MODELS.filter((m) => sampleModels.includes(m)), ...sampleModels.filter((m) => !MODELS.includes(m) && m !== 'icosahedron')];
@@ -41,6 +44,13 @@ export async function mount({ mrvol, layout, el, stale }) {
   slider.dataset.testid = 'levels-level';
   control(layout.controls, 'level l', slider);
   const detailSelect = control(layout.controls, 'details', select([['arrows', 'arrows'], ['colour', 'colour map of |d|'], ['none', 'none']], s.details, 'levels-details'));
+  const ghosts = document.createElement('input');
+  ghosts.type = 'checkbox';
+  ghosts.checked = true;
+  ghosts.dataset.testid = 'levels-ghosts';
+  control(layout.controls, 'coarser levels', ghosts);
+  s.ghosts = true;
+  s.wavelet = null; // the vertex whose detail is the single non-zero coefficient, or null
   const bank = el('div', { class: 'filterbank', testid: 'filterbank' });
   layout.controls.append(bank);
   const play = el('div', { class: 'learn-row' });
@@ -48,8 +58,9 @@ export async function mount({ mrvol, layout, el, stale }) {
   const set = readoutTable(layout.readouts, [
     ['model', 'levels-model-info'], ['level l', 'levels-current'], ['vertices of M^l', 'levels-cage-size'],
     ['details zeroed', 'levels-zeroed'], ['max |d^l|', 'levels-dmax'], ['volume (approx.)', 'levels-volume'],
-    ['volume (fine)', 'levels-volume-fine'],
+    ['volume (fine)', 'levels-volume-fine'], ['wavelet', 'levels-wavelet-info'],
   ]);
+  let legend = null;
 
   const stage = new Stage(layout.stage, [s.scheme]);
   let model = null; // { name, mr, faces, positions, depths, n, perScheme: Map(scheme -> { coefficients, approx: [], cage: [] }) }
@@ -89,6 +100,12 @@ export async function mount({ mrvol, layout, el, stale }) {
     model?.mr.delete();
     model = { name, mr, faces: mesh.faces, positions: mesh.positions, depths: mr.depths(), n, perScheme: new Map(), fineVolume: mr.info().volume };
     model.levelFaces = Array.from({ length: n + 1 }, (_, l) => mr.levelFaces(l));
+    model.cages = model.levelFaces.map((levelFaces, l) => {
+      const vertices = [];
+      for (let i = 0; i < model.depths.length; i++) if (model.depths[i] <= l) vertices.push(i);
+      return { vertices, edges: edgesOf(levelFaces, new Map(vertices.map((v, k) => [v, k]))) };
+    });
+    s.wavelet = null;
     s.level = Math.min(s.level, n);
     slider.max = n;
     const b = bounds(mesh.positions);
@@ -119,16 +136,25 @@ export async function mount({ mrvol, layout, el, stale }) {
     if (reframe) stage.frame(model.bounds.center, model.bounds.radius);
     const { depths, n, faces } = model;
     const l = s.level;
-    const cageVertices = [];
-    for (let i = 0; i < depths.length; i++) if (depths[i] <= l) cageVertices.push(i);
-    const cageIndex = new Map(cageVertices.map((v, k) => [v, k]));
-    const cageEdges = edgesOf(model.levelFaces[l], cageIndex);
+    const { vertices: cageVertices, edges: cageEdges } = model.cages[l];
+    const cageOf = (k, coarse) => {
+      const positions = new Float64Array(3 * model.cages[k].vertices.length);
+      model.cages[k].vertices.forEach((v, q) => positions.set(coarse.subarray(3 * v, 3 * v + 3), 3 * q));
+      return positions;
+    };
+    legend?.remove();
+    legend = null;
+    const wavelets = [];
     schemes.forEach((scheme, p) => {
       const data = loadScheme(scheme);
       const { approx, coarse } = data.levels[l];
       const scene = stage.panels[p].scene;
       let colors = null;
-      if (s.details === 'colour') {
+      if (s.wavelet !== null) {
+        const w = waveletOf(scheme, s.wavelet);
+        wavelets.push(w);
+        scene.add(surface(w.shape, faces, { colors: w.colors }));
+      } else if (s.details === 'colour') {
         colors = new Float32Array(approx.length);
         for (let i = 0; i < depths.length; i++) {
           const c = data.coefficients;
@@ -136,11 +162,13 @@ export async function mount({ mrvol, layout, el, stale }) {
           colors.set(ramp(Math.sqrt(size)), 3 * i);
         }
       }
-      scene.add(surface(approx, faces, { colors }));
-      const cage = new Float64Array(3 * cageVertices.length);
-      cageVertices.forEach((v, k) => cage.set(coarse.subarray(3 * v, 3 * v + 3), 3 * k));
-      scene.add(wire(cage, cageEdges, { points: cageVertices.length <= 700 }));
-      if (s.details === 'arrows' && l < n) {
+      if (s.wavelet === null) scene.add(surface(approx, faces, { colors }));
+      // The coarser meshes, fainter the coarser, behind the current one.
+      if (s.ghosts)
+        for (let k = 0; k < l; k++)
+          scene.add(wire(cageOf(k, data.levels[k].coarse), model.cages[k].edges, { color: 0x57606a, points: false, opacity: 0.18 + 0.3 * k / l }));
+      scene.add(wire(cageOf(l, coarse), cageEdges, { points: cageVertices.length <= 700 }));
+      if (s.details === 'arrows' && l < n && s.wavelet === null) {
         const from = [], vectors = [];
         for (let i = 0; i < depths.length; i++) if (depths[i] === l + 1) {
           from.push(approx[3 * i], approx[3 * i + 1], approx[3 * i + 2]);
@@ -154,6 +182,18 @@ export async function mount({ mrvol, layout, el, stale }) {
         scene.add(arrows(from, vectors, { scale }));
       }
     });
+    if (s.wavelet !== null) {
+      const w = wavelets[0];
+      legend = colorbar(layout.stage, { title: `wavelet ψ of d${sup(w.depth - 1)} at vertex ${w.vertex} (${schemes[0]})`, lo: (-w.max).toPrecision(2), hi: w.max.toPrecision(2), colors: (t) => diverging(2 * t - 1), testid: 'levels-colorbar' });
+      set('levels-wavelet-info', `vertex ${w.vertex} (d${sup(w.depth - 1)}): support ${w.support} of ${depths.length} vertices, max ${w.max.toPrecision(3)}`, w.vertex);
+    } else {
+      set('levels-wavelet-info', 'off (the button below shows one)');
+      if (s.details === 'colour') {
+        const d = loadScheme(schemes[0]).dmax;
+        legend = colorbar(layout.stage, { title: '|d| of the zeroed details (square-root scale)', lo: '0', hi: d.toPrecision(3), testid: 'levels-colorbar' });
+      }
+    }
+    model.wavelets = wavelets.map(({ vertex, depth, support, max, atVertex, nonZero }) => ({ vertex, depth, support, max, atVertex, nonZero }));
     const main = loadScheme(schemes[0]);
     let dmax = 0, zeroed = 0;
     for (let i = 0; i < depths.length; i++) {
@@ -164,7 +204,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     for (const b of bank.querySelectorAll('button')) b.classList.toggle('current', b.dataset.testid === `bank-${l}`);
     set('levels-current', `${l} of ${n}`, l);
     set('levels-cage-size', String(cageVertices.length), cageVertices.length);
-    set('levels-zeroed', `${zeroed} vertices (levels ${l}..${n - 1})`, zeroed);
+    set('levels-zeroed', l === n ? 'none: the finest level keeps every detail' : `${zeroed} vertices: d${sup(l)}${l < n - 1 ? ` … d${sup(n - 1)}` : ''}`, zeroed);
     set('levels-dmax', l < n ? dmax.toPrecision(4) + (s.details === 'arrows' && model.arrowScale > 1 ? ` (arrows ×${model.arrowScale.toFixed(1)})` : '') : '– (finest level)', dmax);
     set('levels-volume', schemes.map((x) => `${x} ${loadScheme(x).levels[l].volume.toFixed(6)}`).join('\n'), main.levels[l].volume);
     set('levels-volume-fine', model.fineVolume.toFixed(6), model.fineVolume);
@@ -173,6 +213,65 @@ export async function mount({ mrvol, layout, el, stale }) {
 
   function setLevel(l) {
     s.level = Math.max(0, Math.min(model.n, l));
+    if (s.wavelet !== null && model.depths[s.wavelet] !== waveletDepth()) s.wavelet = firstWavelet();
+    draw();
+  }
+
+  // The wavelet shown at level l is a detail of d^l (a vertex born at level l + 1); at the finest level, of d^(n-1).
+  const waveletDepth = () => Math.min(s.level + 1, model.n);
+  function firstWavelet(after = -1) {
+    const depth = waveletDepth(), N = model.depths.length;
+    for (let k = 1; k <= N; k++) {
+      const v = (after + k + N) % N;
+      if (model.depths[v] === depth) return v;
+    }
+    return null;
+  }
+
+  /**
+   * The single wavelet of `vertex` in `scheme`: the synthesis of a coefficient vector that is 0 but
+   * for a 1 in the x of that detail. Its x components are the basis function psi at every fine
+   * vertex, drawn as a bump along the normals of the smooth level-0 surface.
+   */
+  function waveletOf(scheme, vertex) {
+    const N = model.depths.length;
+    const unit = new Float64Array(3 * N);
+    unit[3 * vertex] = 1;
+    const psi = model.mr.synthesize(unit, { level: 0, scheme });
+    let max = 0, support = 0;
+    for (let i = 0; i < N; i++) {
+      max = Math.max(max, Math.abs(psi[3 * i]));
+      if (Math.abs(psi[3 * i]) > 1e-12) support++;
+    }
+    const base = loadScheme(scheme).levels[0].approx;
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(base), 3));
+    geometry.setIndex(new THREE.BufferAttribute(model.faces, 1));
+    geometry.computeVertexNormals();
+    const normals = geometry.getAttribute('normal').array;
+    geometry.dispose();
+    const shape = new Float64Array(3 * N), colors = new Float32Array(3 * N);
+    const lift = 0.3 * model.radius / (max || 1);
+    for (let i = 0; i < N; i++) {
+      for (let k = 0; k < 3; k++) shape[3 * i + k] = base[3 * i + k] + lift * psi[3 * i] * normals[3 * i + k];
+      colors.set(diverging(psi[3 * i] / (max || 1)), 3 * i);
+    }
+    return { vertex, depth: model.depths[vertex], psi, shape, colors, max, support, atVertex: psi[3 * vertex], nonZero: unit.filter((x) => x !== 0).length };
+  }
+
+  /** The camera faces the wavelet's vertex. */
+  function faceWavelet() {
+    if (s.wavelet === null) return;
+    const p = loadScheme(s.scheme).levels[0].approx, c = model.bounds.center;
+    const direction = [0, 1, 2].map((k) => p[3 * s.wavelet + k] - c[k]);
+    if (Math.hypot(...direction) > 1e-9) stage.frame(c, model.bounds.radius, direction.map((d, k) => d + [0.25, 0.35, 0][k] * Math.hypot(...direction)));
+  }
+
+  function toggleWavelet() {
+    s.wavelet = s.wavelet === null ? firstWavelet() : null;
+    faceWavelet();
+    waveletButton.classList.toggle('current', s.wavelet !== null);
+    waveletButton.textContent = s.wavelet === null ? 'single wavelet' : 'all details';
     draw();
   }
 
@@ -190,8 +289,17 @@ export async function mount({ mrvol, layout, el, stale }) {
     }, 900);
   }
 
+  play.classList.add('learn-buttons');
+  const waveletButton = button('single wavelet', 'levels-wavelet', toggleWavelet);
   play.append(button('▶ analysis (n → 0)', 'levels-play-analysis', () => playLevels('analysis')),
-    button('▶ synthesis (0 → n)', 'levels-play-synthesis', () => playLevels('synthesis')));
+    button('▶ synthesis (0 → n)', 'levels-play-synthesis', () => playLevels('synthesis')), waveletButton,
+    button('next wavelet', 'levels-wavelet-next', () => {
+      s.wavelet = firstWavelet(s.wavelet ?? -1);
+      waveletButton.textContent = 'all details';
+      faceWavelet();
+      draw();
+    }));
+  ghosts.addEventListener('change', () => { s.ghosts = ghosts.checked; draw(); });
   slider.addEventListener('input', () => setLevel(Number(slider.value)));
   schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; draw(); });
   compare.addEventListener('change', () => { s.compare = compare.checked; draw(); });
@@ -212,12 +320,13 @@ export async function mount({ mrvol, layout, el, stale }) {
       stage.dispose();
       model?.mr.delete();
     },
-    actions: { setLevel },
+    actions: { setLevel, wavelet: (vertex) => { s.wavelet = vertex; draw(); } },
     debug: () => ({
       model: model?.name, levels: model?.n, level: s.level, compare: s.compare, details: s.details,
       panels: stage.panels.map((p) => p.label), frames: stage.frames ?? 0,
       volumes: Object.fromEntries([...model.perScheme].map(([k, v]) => [k, v.levels.map((x) => x.volume)])),
-      fineVolume: model.fineVolume,
+      fineVolume: model.fineVolume, ghosts: s.ghosts ? s.level : 0, wavelets: model.wavelets,
+      grid: stage.grid, cells: stage.cells, zeroedText: layout.readouts.querySelector('[data-testid="levels-zeroed"]').textContent,
     }),
   };
 }

@@ -74,7 +74,11 @@ export async function mount({ mrvol, layout, el, stale }) {
   control(layout.controls, 'vertex', vertexInput);
   const pickRow = el('div', { class: 'learn-row' });
   const phaseRow = el('div', { class: 'learn-row' });
-  layout.controls.append(pickRow, phaseRow);
+  // What the point colours mean.
+  const legend = el('div', { class: 'learn-legend learn-points-legend', testid: 'lifting-legend' });
+  for (const [color, text] of [[PICKED, 'picked'], [WRITTEN, 'written'], [READ, 'read'], [REACHED, 'reached'], [IDLE, 'other']])
+    legend.append(el('span', {}, el('i', { style: `background:#${color.getHexString()};border-radius:50%` }), text));
+  layout.controls.append(pickRow, phaseRow, legend);
   const set = readoutTable(layout.readouts, [
     ['picked', 'lifting-picked'], ['phase', 'lifting-phase'], ['writes', 'lifting-written'], ['reads', 'lifting-read'],
     ['reached', 'lifting-touched'],

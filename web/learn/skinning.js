@@ -74,11 +74,13 @@ export async function mount({ mrvol, layout, el }) {
       'and collapses it where it twists. <b>Right</b>: the same target through the volume-preserving correction ' +
       '(section 4, formula (6), iterated to 1e-5): the control mesh swells a little everywhere instead; the ridges ' +
       '(details) ride along.',
-    'The chart plots both volumes over time, divided by the reference volume. The skeleton is the dark line.',
+    'The chart plots both volumes over time, divided by the reference volume. The skeleton is the dark line. Each ' +
+      'panel also shows the other tube, faint (red: free, green: preserved): where the faint one shows through, the ' +
+      'tubes differ.',
   ]);
   const mr = mrvol.subdivide(tubeBase(), { levels: LEVELS, scheme: 'loop' });
   mr.setPositions(ridged(mr.positions()));
-  const twins = twinEditors({ mrvol, mr, level: 0, scheme: 'loop', layout });
+  const twins = twinEditors({ mrvol, mr, level: 0, scheme: 'loop', layout, ghostOther: true });
   twins.stage.frame([0, 0.6, 0], 3.2, [0.15, 0.9, 1]);
   const restCage = twins.kept.cagePositions();
   const cageWeights = [];
@@ -128,6 +130,7 @@ export async function mount({ mrvol, layout, el }) {
   apply();
   return runDemo({
     layout, el, mr, twins: () => twins, advance, restart: () => { sim.t = 0; apply(); }, dt: 1 / 30,
-    debug: () => ({ ...twins.debug(), t: sim.t, vertices: mr.vertexCount, cageSize: twins.kept.cageSize }),
+    debug: () => ({ ...twins.debug(), t: sim.t, vertices: mr.vertexCount, cageSize: twins.kept.cageSize,
+      colors: twins.parts.map((p) => p.mesh.material.color.getHex()) }),
   }).view;
 }

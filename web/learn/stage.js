@@ -55,16 +55,47 @@ export class Stage {
       this.labelBox.append(tag);
       return { scene, label, tag, light };
     });
-    this.labelBox.style.gridTemplateColumns = `repeat(${labels.length}, 1fr)`;
+    this.layoutPanels();
     this.requestRender();
+  }
+
+  /**
+   * Panels in the grid of columns x rows that gives each the largest square (side by side on a
+   * wide stage, stacked on a tall one): cells [{ x, y, width, height }] in CSS pixels from the top left.
+   */
+  layoutPanels() {
+    const { clientWidth: w, clientHeight: h } = this.container;
+    const n = this.panels.length;
+    let best = null;
+    for (let columns = 1; columns <= n; columns++) {
+      const rows = Math.ceil(n / columns);
+      const side = Math.min(w / columns, h / rows);
+      if (!best || side > best.side + 0.5) best = { columns, rows, side };
+    }
+    const { columns, rows } = best;
+    this.cells = this.panels.map((panel, i) => {
+      const c = i % columns, r = Math.floor(i / columns);
+      const x = Math.round(c * w / columns), y = Math.round(r * h / rows);
+      const cell = { x, y, width: Math.round((c + 1) * w / columns) - x, height: Math.round((r + 1) * h / rows) - y };
+      // The tag covers its cell: the label at its top, a rule between neighbouring panels.
+      Object.assign(panel.tag.style, { left: `${x}px`, top: `${y}px`, width: `${cell.width}px`, height: `${cell.height}px`,
+        borderLeft: x > 0 ? '1px solid #d6d9de' : 'none', borderTop: y > 0 ? '1px solid #d6d9de' : 'none' });
+      return cell;
+    });
+    this.grid = { columns, rows };
+    if (this.cells.length && this.cells[0].height > 0) this.camera.aspect = this.cells[0].width / this.cells[0].height;
+    this.camera.updateProjectionMatrix();
   }
 
   resize() {
     const { clientWidth: w, clientHeight: h } = this.container;
     if (w === 0 || h === 0) return;
     this.renderer.setSize(w, h);
-    this.camera.aspect = w / this.panels.length / h;
-    this.camera.updateProjectionMatrix();
+    this.layoutPanels();
+    if (this.framed) { // the model fills the new panel shape, seen from where the camera is
+      const [center, radius] = this.framed;
+      this.frame(center, radius, this.camera.position.toArray().map((x, k) => x - center[k]));
+    }
     this.requestRender();
   }
 
@@ -78,14 +109,15 @@ export class Stage {
   }
 
   render() {
-    const w = this.container.clientWidth, h = this.container.clientHeight;
-    const n = this.panels.length;
+    const h = this.container.clientHeight;
     this.camera.updateMatrixWorld();
+    this.renderer.setScissor(0, 0, this.container.clientWidth, h);
+    this.renderer.clear();
     this.panels.forEach((panel, i) => {
-      const x = Math.round(i * w / n), width = Math.round((i + 1) * w / n) - x;
+      const { x, y, width, height } = this.cells[i];
       panel.light.position.copy(this.camera.position).add(new THREE.Vector3(1, 2, 0));
-      this.renderer.setViewport(x, 0, width, h);
-      this.renderer.setScissor(x, 0, width, h);
+      this.renderer.setViewport(x, h - y - height, width, height);
+      this.renderer.setScissor(x, h - y - height, width, height);
       this.renderer.render(panel.scene, this.camera);
     });
     this.frames = (this.frames ?? 0) + 1;
@@ -113,7 +145,8 @@ export class Stage {
 
   /** Camera on a bounding sphere (center [x,y,z], radius), seen from `direction`. */
   frame(center, radius, direction = [0.45, 0.35, 1]) {
-    frameSphere(this.camera, { center, radius }, { controls: this.controls, direction, margin: 1.15 });
+    this.framed = [center, radius, direction];
+    frameSphere(this.camera, { center, radius }, { controls: this.controls, direction, margin: 1.08 });
     this.requestRender();
   }
 
@@ -127,6 +160,58 @@ export class Stage {
     this.renderer.domElement.remove();
     this.labelBox.remove();
   }
+
+  /** The panel under a viewport point (CSS pixels), with the point in its normalized device coordinates, or null. */
+  panelAt(clientX, clientY) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const px = clientX - rect.left, py = clientY - rect.top;
+    const i = this.cells.findIndex((c) => px >= c.x && px < c.x + c.width && py >= c.y && py < c.y + c.height);
+    if (i < 0) return null;
+    const c = this.cells[i];
+    return { index: i, ndc: new THREE.Vector2((px - c.x) / c.width * 2 - 1, 1 - (py - c.y) / c.height * 2) };
+  }
+
+  /** Viewport CSS pixels of a world point seen in panel i. */
+  screenOf(point, i = 0) {
+    this.camera.updateMatrixWorld();
+    const p = new THREE.Vector3(...point).project(this.camera);
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const c = this.cells[i];
+    return [rect.left + c.x + (p.x + 1) / 2 * c.width, rect.top + c.y + (1 - p.y) / 2 * c.height];
+  }
+}
+
+/** A colour-map legend on the stage: the ramp, its end values and what it shows. update({ title, lo, hi }). */
+export function colorbar(container, { title, lo, hi, colors = ramp, testid = 'colorbar' }) {
+  const box = document.createElement('div');
+  box.className = 'learn-colorbar';
+  box.dataset.testid = testid;
+  const name = document.createElement('div');
+  const bar = document.createElement('div');
+  bar.className = 'bar';
+  const stops = Array.from({ length: 11 }, (_, i) => `rgb(${colors(i / 10).map((c) => Math.round(255 * c)).join(',')})`);
+  bar.style.background = `linear-gradient(to right, ${stops.join(',')})`;
+  const ends = document.createElement('div');
+  ends.className = 'ends';
+  const low = document.createElement('span'), high = document.createElement('span');
+  ends.append(low, high);
+  box.append(name, bar, ends);
+  container.append(box);
+  box.update = ({ title: t, lo: a, hi: b }) => {
+    name.textContent = t;
+    low.textContent = a;
+    high.textContent = b;
+  };
+  box.update({ title, lo, hi });
+  return box;
+}
+
+/** Blue - white - red, t in -1..1 -> [r, g, b] (signed values: basis functions). */
+export function diverging(t) {
+  const x = Math.min(1, Math.max(-1, t));
+  const end = x < 0 ? [0.129, 0.4, 0.674] : [0.698, 0.094, 0.168];
+  const a = Math.abs(x);
+  return [0.97 + (end[0] - 0.97) * a, 0.97 + (end[1] - 0.97) * a, 0.97 + (end[2] - 0.97) * a];
 }
 
 /** A shaded surface (SurfaceMesh); update(positions) takes new positions. */
@@ -152,14 +237,40 @@ export function ramp(t) {
 }
 
 /**
+ * Round axis ticks covering [lo, hi]: a step of 1, 2 or 5 x 10^k giving about `count` intervals,
+ * ticks at its multiples (the first at or below lo, the last at or above hi), and a label format
+ * with just the decimals the step needs.
+ */
+export function niceTicks(lo, hi, count = 5) {
+  if (!(hi > lo)) hi = lo + (Math.abs(lo) || 1) * 1e-6;
+  const raw = (hi - lo) / count;
+  const power = Math.floor(Math.log10(raw));
+  const base = 10 ** power;
+  const mantissa = [1, 2, 5, 10].find((m) => m * base >= raw * 0.999);
+  const step = mantissa * base;
+  const exponent = mantissa === 10 ? power + 1 : power;
+  const first = Math.floor(lo / step + 1e-9), last = Math.ceil(hi / step - 1e-9);
+  const decimals = Math.max(0, -exponent);
+  // Multiples of the step, rounded to its decimals (no 0.30000000000000004).
+  const ticks = [];
+  for (let t = first; t <= last; t++) ticks.push(Number((t * step).toFixed(decimals)));
+  const scientific = decimals > 6 || Math.abs(exponent) > 6;
+  const format = (v) => (scientific ? v.toExponential(Math.max(0, Math.round(Math.log10(Math.max(Math.abs(v), step) / step)))) : v.toFixed(decimals));
+  return { step, mantissa: mantissa === 10 ? 1 : mantissa, exponent, ticks, format };
+}
+
+/**
  * A line chart of series over time on a 2D canvas: series [{ name, color, values: number[] }],
  * x = sample index. draw() redraws.
  */
 export class Chart {
-  constructor(container, { title = '', height = 150, maxPoints = 600 } = {}) {
+  /** grow: x spans the samples so far (at least 20), not maxPoints: a short record (a drag) fills the width. */
+  constructor(container, { title = '', height = 150, maxPoints = 600, testid = 'volume-chart', grow = false, empty = '' } = {}) {
+    this.grow = grow;
+    this.empty = empty; // said while there is nothing to plot
     this.canvas = document.createElement('canvas');
     this.canvas.className = 'learn-chart';
-    this.canvas.dataset.testid = 'volume-chart';
+    this.canvas.dataset.testid = testid;
     this.canvas.height = height;
     container.append(this.canvas);
     this.title = title;
@@ -189,22 +300,42 @@ export class Chart {
     g.fillRect(0, 0, w, h);
     let lo = Infinity, hi = -Infinity;
     for (const s of this.series) for (const v of s.values) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-    if (!Number.isFinite(lo)) return;
-    const pad = Math.max((hi - lo) * 0.1, Math.abs(hi) * 1e-3, 1e-9);
-    lo -= pad; hi += pad;
-    const left = 70, right = 10, top = 22, bottom = 8;
-    const X = (i) => left + (w - left - right) * i / Math.max(1, this.maxPoints - 1);
+    if (!Number.isFinite(lo)) {
+      g.fillStyle = '#57606a';
+      g.font = '11px system-ui, sans-serif';
+      g.fillText(this.title, 12, 14);
+      g.fillText(this.empty, 12, h / 2);
+      return;
+    }
+    const pad = Math.max((hi - lo) * 0.05, Math.abs(hi) * 1e-6, 1e-12);
+    const axis = niceTicks(lo - pad, hi + pad, Math.max(3, Math.floor((h - 30) / 28)));
+    this.ticks = axis.ticks;
+    c.dataset.ticks = JSON.stringify(axis.ticks);
+    c.dataset.tickStep = String(axis.step);
+    lo = axis.ticks[0];
+    hi = axis.ticks[axis.ticks.length - 1];
+    const labels = axis.ticks.map((v) => axis.format(v));
+    g.font = '11px system-ui, sans-serif';
+    const left = 12 + Math.max(...labels.map((t) => g.measureText(t).width)), right = 10, bottom = 8;
+    // The legend beside the title, or on a line of its own when the chart is narrow (phones).
+    const titleWidth = g.measureText(this.title).width;
+    const legendWidth = this.series.reduce((sum, s) => sum + g.measureText(s.name).width + 40, 0);
+    const ownLine = left + titleWidth + 16 + legendWidth > w;
+    const top = ownLine ? 36 : 22;
+    const span = this.grow ? Math.max(20, ...this.series.map((s) => s.values.length)) : this.maxPoints;
+    const X = (i) => left + (w - left - right) * i / Math.max(1, span - 1);
     const Y = (v) => top + (h - top - bottom) * (1 - (v - lo) / (hi - lo));
     g.strokeStyle = '#d6d9de';
     g.fillStyle = '#57606a';
-    g.font = '11px system-ui, sans-serif';
-    for (let t = 0; t <= 4; t++) {
-      const v = lo + (hi - lo) * t / 4;
-      g.beginPath(); g.moveTo(left, Y(v)); g.lineTo(w - right, Y(v)); g.stroke();
-      g.fillText(v.toPrecision(5), 4, Y(v) + 4);
-    }
+    g.textAlign = 'right';
+    axis.ticks.forEach((v, t) => {
+      g.beginPath(); g.moveTo(left, Math.round(Y(v)) + 0.5); g.lineTo(w - right, Math.round(Y(v)) + 0.5); g.stroke();
+      g.fillText(labels[t], left - 6, Y(v) + 4);
+    });
+    g.textAlign = 'left';
     g.fillText(this.title, left, 14);
-    let x = left + g.measureText(this.title).width + 16;
+    let x = ownLine ? left : left + titleWidth + 16;
+    const legendY = ownLine ? 28 : 14;
     for (const s of this.series) {
       g.strokeStyle = s.color;
       g.lineWidth = 2;
@@ -212,9 +343,9 @@ export class Chart {
       s.values.forEach((v, i) => (i ? g.lineTo(X(i), Y(v)) : g.moveTo(X(i), Y(v))));
       g.stroke();
       g.fillStyle = s.color;
-      g.fillRect(x, 6, 14, 4);
+      g.fillRect(x, legendY - 8, 14, 4);
       g.fillStyle = '#1d2128';
-      g.fillText(s.name, x + 18, 14);
+      g.fillText(s.name, x + 18, legendY);
       x += g.measureText(s.name).width + 40;
     }
     g.lineWidth = 1;

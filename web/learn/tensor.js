@@ -3,7 +3,9 @@
 // stored entries from theta.entries(). Indices are in hierarchy order, grouped by depth
 // (mr.hierarchyOrder() maps them to vertices); an entry's colour says how many of its three
 // indices are coarse at level l.
-import { explain, control, select, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, edgesOf, bounds, explain, control, select, readoutTable } from './stage.js';
+
+const HIGHLIGHT = [0xe36209, 0x1f6feb, 0x8250df]; // i, j, k
 
 const CLASS_COLORS = ['#2da44e', '#d4a72c', '#54aeff', '#0b3d91']; // 0, 1, 2, 3 coarse indices
 const CLASS_NAMES = ['no coarse index (details only)', '1 coarse', '2 coarse', '3 coarse'];
@@ -25,13 +27,16 @@ export async function mount({ mrvol, layout, el }) {
       'filters (S<sup>l</sup>)<sup>T</sup>, (C<sup>l</sup>)<sup>T</sup> along each of the three axes (section 3.1, Figure 4). ' +
       'Those transposed filters are the lifting masks applied <i>outwards</i>, in reverse order (section 3.2, Figure 5): ' +
       'watch them phase by phase in <a href="#learn/lifting" data-testid="tensor-outwards-link">the lifting view</a>, direction “transposed”.',
-    'Each row of pictures is one live tensor θ<sup>l</sup> of the mesh below, computed by the core with every entry kept. ' +
+    'Each row of pictures is one live tensor θ<sup>l</sup> of the small mesh beside them, computed by the core with every entry kept. ' +
       'Indices are sorted by depth (the level where a vertex is born; grey lines separate the groups). One picture per group of ' +
       'the third index k shows which (i, j) have a non-zero θ<sub>ijk</sub> (all orderings), coloured by how many of ' +
       'i, j, k are <b>coarse</b> (depth ≤ l) — the rest are details.',
     'From θ<sup>n</sup> to θ<sup>e</sup> the tensor fills in (section 3.2). It is alternating, so only i &lt; j &lt; k is ' +
       'stored; and when only coarse vertices move (the free set F of section 4), the green entries (no coarse index) ' +
       'are a constant and need not be stored at all.',
+    '<b>Point at a picture</b> (or touch it): the entry under the pointer, θ<sub>ijk</sub> with the largest |value| among ' +
+      'the k of that picture, is read out and its three vertices light up on the mesh (i orange, j blue, k purple). ' +
+      'At the fine level every entry is a triangle of the mesh, ±1/6; coarser, the masks spread each one over a patch.',
   ]);
   const meshes = {
     'octahedron, n = 2': () => mrvol.subdivide(OCTAHEDRON, { levels: 2 }),
@@ -54,12 +59,93 @@ export async function mount({ mrvol, layout, el }) {
   const tableBox = el('div', { testid: 'tensor-blocks' });
   layout.readouts.append(tableBox);
   const grid = el('div', { class: 'tensor-grid', testid: 'tensor-grid' });
-  layout.stage.append(grid);
+  const meshView = el('div', { class: 'tensor-mesh-view', testid: 'tensor-mesh' });
+  const hoverBox = el('div', { class: 'tensor-hover', testid: 'tensor-hover', text: 'Point at a picture: its entry’s vertices light up here.' });
+  layout.stage.append(el('div', { class: 'tensor-layout' }, el('div', { class: 'tensor-mesh' }, meshView, hoverBox), grid));
+  const meshStage = new Stage(meshView, ['']);
+  // A ring on the picture under the pointer, around the cell (i, j) read out.
+  const cursor = el('div', { class: 'tensor-cursor', testid: 'tensor-cursor' });
   let result = null;
+  let shown = null; // { mr-free copy: positions, faces, order (hierarchy index -> vertex), lookup per level, groupStart, N, markers }
+  let hover = null;
+
+  /** The small mesh: surface, edges, and three markers for the hovered entry's vertices. */
+  function showMesh(positions, faces) {
+    const scene = meshStage.panels[0].scene;
+    scene.traverse((o) => o.geometry?.dispose());
+    scene.children.filter((o) => !o.isLight).forEach((o) => scene.remove(o));
+    scene.add(surface(positions, faces, { color: 0xe8e2d8 }));
+    scene.add(wire(positions, edgesOf(faces), { color: 0x8c959f, points: false }));
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(9), 3));
+    const colors = new Float32Array(9);
+    HIGHLIGHT.forEach((c, m) => new THREE.Color(c).toArray(colors, 3 * m));
+    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    geometry.setDrawRange(0, 0);
+    const markers = new THREE.Points(geometry, new THREE.PointsMaterial({ size: 16, sizeAttenuation: false, vertexColors: true, depthTest: false }));
+    markers.renderOrder = 3;
+    markers.frustumCulled = false;
+    scene.add(markers);
+    const b = bounds(positions);
+    meshStage.frame(b.center, b.radius);
+    return markers;
+  }
+
+  const SIGN = (a, b, c) => { // sign of the permutation sorting (a, b, c), all distinct
+    let s = 1;
+    if (a > b) s = -s;
+    if (a > c) s = -s;
+    if (b > c) s = -s;
+    return s;
+  };
+
+  /** The entry under (a, b) in the picture of level l and k-group g: the k of that group with the largest |theta_abk|. */
+  function entryAt(l, g, a, b) {
+    const { lookup, groupStart, N } = shown;
+    const values = lookup.get(l);
+    let best = null, count = 0;
+    if (a === b) return { best, count };
+    for (let k = groupStart[g]; k < groupStart[g + 1]; k++) {
+      if (k === a || k === b) continue;
+      const [x, y, z] = [a, b, k].sort((p, q) => p - q);
+      const stored = values.get((x * N + y) * N + z);
+      if (!stored) continue;
+      count++;
+      const value = SIGN(a, b, k) * stored;
+      if (!best || Math.abs(value) > Math.abs(best.value)) best = { i: a, j: b, k, value };
+    }
+    return { best, count };
+  }
+
+  function hoverAt(l, g, a, b) {
+    const { best, count } = entryAt(l, g, a, b);
+    const { order, positions } = shown;
+    const attribute = shown.markers.geometry.getAttribute('position');
+    if (!best) {
+      hover = { level: l, group: g, i: a, j: b, k: null, value: 0, vertices: [] };
+      shown.markers.geometry.setDrawRange(0, 0);
+      hoverBox.textContent = `θ${sup(l)}: no non-zero entry at i = ${a}, j = ${b} for k in this picture`;
+    } else {
+      const vertices = [best.i, best.j, best.k].map((h) => order[h]);
+      vertices.forEach((v, m) => attribute.setXYZ(m, positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
+      attribute.needsUpdate = true;
+      shown.markers.geometry.setDrawRange(0, 3);
+      hover = { level: l, group: g, ...best, vertices, others: count - 1 };
+      hoverBox.replaceChildren(
+        el('div', { text: `θ${sup(l)}[${best.i}, ${best.j}, ${best.k}] = ${best.value.toPrecision(4)}` }),
+        el('div', { text: `vertices ${vertices.join(', ')}${count > 1 ? ` · ${count - 1} more k here` : ''}` }));
+    }
+    hoverBox.dataset.value = hover.value;
+    meshStage.requestRender();
+  }
 
   async function build() {
     const mr = await meshes[s.mesh]();
     try {
+      const order = mr.hierarchyOrder();
+      const positions = mr.positions(), faces = mr.faces();
+      shown = { order, positions, faces, lookup: new Map(), N: order.length, markers: showMesh(positions, faces) };
+      hover = null;
       const n = mr.levels;
       const depths = mr.depths();
       const depthOf = Uint8Array.from(mr.hierarchyOrder(), (v) => depths[v]); // hierarchy order: by depth
@@ -67,6 +153,7 @@ export async function mount({ mrvol, layout, el }) {
       const groupStart = [];
       for (let g = 0; g <= n; g++) groupStart.push(depthOf.indexOf(g));
       groupStart.push(N);
+      shown.groupStart = groupStart;
       grid.replaceChildren();
       tableBox.replaceChildren();
       const started = performance.now();
@@ -76,6 +163,10 @@ export async function mount({ mrvol, layout, el }) {
         const info = theta.info();
         const entries = theta.entries();
         theta.delete();
+        const values = new Map();
+        for (let t = 0; t < entries.values.length; t++)
+          if (entries.values[t] !== 0) values.set((entries.i[t] * N + entries.j[t]) * N + entries.k[t], entries.values[t]);
+        shown.lookup.set(l, values);
         levels.push(draw(l, entries, info, depthOf, groupStart, n));
       }
       result = { n, N, levels, ms: performance.now() - started };
@@ -114,6 +205,16 @@ export async function mount({ mrvol, layout, el }) {
       const canvas = document.createElement('canvas');
       canvas.width = canvas.height = N * scale;
       canvas.dataset.testid = `tensor-slab-${l}-${g}`;
+      const at = (e) => {
+        const rect = canvas.getBoundingClientRect();
+        const a = Math.floor((e.clientY - rect.top) / rect.height * N), b = Math.floor((e.clientX - rect.left) / rect.width * N);
+        if (a < 0 || a >= N || b < 0 || b >= N) return;
+        canvas.parentElement.append(cursor);
+        Object.assign(cursor.style, { left: `${canvas.offsetLeft + (b + 0.5) * rect.width / N}px`, top: `${canvas.offsetTop + (a + 0.5) * rect.height / N}px` });
+        hoverAt(l, g, a, b);
+      };
+      canvas.addEventListener('pointermove', at);
+      canvas.addEventListener('pointerdown', at);
       const ctx = canvas.getContext('2d');
       ctx.fillStyle = '#ffffff';
       ctx.fillRect(0, 0, N * scale, N * scale);
@@ -161,8 +262,21 @@ export async function mount({ mrvol, layout, el }) {
   orderings.addEventListener('change', () => { s.allOrderings = orderings.checked; build(); });
   await build();
   return {
-    dispose() {},
-    debug: () => (result ? { ...result, mesh: s.mesh, scheme: s.scheme, allOrderings: s.allOrderings } : null),
+    dispose() { meshStage.dispose(); },
+    actions: {
+      /** Viewport pixels of the centre of cell (i, j) (hierarchy indices) in the picture of level l, k-group g. */
+      cellCenter(l, g, i, j) {
+        const rect = document.querySelector(`[data-testid="tensor-slab-${l}-${g}"]`).getBoundingClientRect();
+        return [rect.left + (j + 0.5) / shown.N * rect.width, rect.top + (i + 0.5) / shown.N * rect.height];
+      },
+      /** A cell (i, j) of that picture with a non-zero entry, or null. */
+      nonZeroCell(l, g) {
+        for (let i = 0; i < shown.N; i++) for (let j = 0; j < shown.N; j++) if (entryAt(l, g, i, j).best) return [i, j];
+        return null;
+      },
+    },
+    debug: () => (result ? { ...result, mesh: s.mesh, scheme: s.scheme, allOrderings: s.allOrderings, hover,
+      meshFrames: meshStage.frames ?? 0, faces: Array.from(shown.faces), markerCount: shown.markers.geometry.drawRange.count } : null),
   };
 }
 
