@@ -25,7 +25,7 @@ export default [
     languageOptions: { globals: globals.node },
   },
   // The web app: page modules and module workers.
-  { files: ['web/**', 'examples/vite/**'], languageOptions: { globals: globals.browser } },
+  { files: ['web/**', 'examples/web/**'], languageOptions: { globals: globals.browser } },
   { files: ['web/**/*worker*.js'], languageOptions: { globals: { ...globals.browser, ...globals.worker } } },
   // Browser tests and the web benchmark hand functions to page.evaluate(): they run in the page.
   {
