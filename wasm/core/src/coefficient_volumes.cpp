@@ -21,26 +21,25 @@ void moveFree(const std::vector<uint32_t>& free, const double* direction, double
 }
 }  // namespace
 
-void CageVolumeConstraint::shiftCage() {
-  const Vec3 o = session_->origin;
-  cage_.assign(session_->x.begin(), session_->x.begin() + 3 * size_t(session_->cageSize));
-  for (size_t i = 0; i < cage_.size(); i += 3) cage_[i] -= o.x, cage_[i + 1] -= o.y, cage_[i + 2] -= o.z;
+void SessionCoefficients::shiftedCage(std::vector<double>& out) const {
+  out.assign(x.begin(), x.begin() + 3 * size_t(cageSize));
+  for (size_t i = 0; i < out.size(); i += 3) out[i] -= origin.x, out[i + 1] -= origin.y, out[i + 2] -= origin.z;
 }
 
 double CageVolumeConstraint::value() {
-  shiftCage();
+  session_->shiftedCage(cage_);
   return volume_->value(cage_.data(), nullptr);
 }
 
 void CageVolumeConstraint::evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) {
-  shiftCage();
+  session_->shiftedCage(cage_);
   gradient_.resize(cage_.size());
   values[0] = volume_->value(cage_.data(), gradient_.data());
   if (gradients) gather(free, gradient_.data(), gradients);
 }
 
 void CageVolumeConstraint::alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) {
-  shiftCage();
+  session_->shiftedCage(cage_);
   direction_.assign(cage_.size(), 0.0);
   scatter(free, direction, direction_.data());
   volume_->alongDirection(cage_.data(), direction_.data(), k, true);

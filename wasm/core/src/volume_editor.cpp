@@ -78,9 +78,8 @@ void VolumeEditor::useTensor(const VolumeTensor& tensor) {
   // Translation only moves the cage coefficients: the details contract as they are.
   CagePolynomial poly = contractCageRows(tensor, session_.x.data());
   // Entries made of details only fold into the constant.
-  std::vector<double> shifted(session_.x.begin(), session_.x.begin() + 3 * size_t(cageSize()));
-  for (size_t i = 0; i < shifted.size(); i += 3)
-    shifted[i] -= session_.origin.x, shifted[i + 1] -= session_.origin.y, shifted[i + 2] -= session_.origin.z;
+  std::vector<double> shifted;
+  session_.shiftedCage(shifted);
   poly.constant = volume() - poly.evaluate(shifted.data(), nullptr);
   polynomial_ = std::make_unique<CagePolynomialVolume>(std::move(poly));
   cageConstraint_ = std::make_unique<CageVolumeConstraint>(*polynomial_, session_);
@@ -318,9 +317,8 @@ double VolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const {
 
 double VolumeEditor::gradientTensor(std::vector<double>& gradient) const {
   if (!polynomial_) throw Error("no tensor is in use");
-  std::vector<double> cage = cagePositions();
-  for (size_t i = 0; i < cage.size(); i += 3)
-    cage[i] -= session_.origin.x, cage[i + 1] -= session_.origin.y, cage[i + 2] -= session_.origin.z;
+  std::vector<double> cage;
+  session_.shiftedCage(cage);
   gradient.assign(cage.size(), 0.0);
   return polynomial_->value(cage.data(), gradient.data());
 }

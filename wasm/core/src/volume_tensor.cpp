@@ -11,6 +11,7 @@
 
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
+#include "mrvol/vector3.h"
 
 namespace mrvol {
 
@@ -602,14 +603,6 @@ VolumeTensor computeVolumeTensorDirect(const WaveletTransform& wt, int level, Te
 
 // ---------------------------------------------------------------------------------------------
 // Evaluation: Theta = sum_{i<j<k} T_ijk p_i . (p_j x p_k); per pair (i, j), q = sum_k T_ijk p_k.
-
-namespace {
-inline void cross(const double* a, const double* b, double* out) {
-  out[0] = a[1] * b[2] - a[2] * b[1];
-  out[1] = a[2] * b[0] - a[0] * b[2];
-  out[2] = a[0] * b[1] - a[1] * b[0];
-}
-}  // namespace
 
 VolumeTensor::Entries VolumeTensor::entries() const {
   Entries out;

@@ -22,6 +22,8 @@ struct SessionCoefficients {
   FinePositions fine;
   Vec3 origin;
   uint32_t cageSize;
+  // The cage coefficients relative to the origin (what the cage polynomial takes).
+  void shiftedCage(std::vector<double>& out) const;
 };
 
 // One row: the cage polynomial of the cage coefficients relative to the origin.
@@ -39,7 +41,6 @@ class CageVolumeConstraint final : public VolumeConstraints {
   double value();
 
  private:
-  void shiftCage();  // cage_ = the cage coefficients relative to the origin
   const CagePolynomialVolume* volume_;
   SessionCoefficients* session_;
   std::vector<double> cage_, gradient_, direction_;

@@ -26,8 +26,9 @@ class VolumeFunction {
 };
 
 // The volume enclosed by fine triangles about a reference point, over positions of N + 1 vertices:
-// the N mesh vertices (relative to the point) and vertex N at it (zero), which closes boundary
-// loops as cones. One pass over the edges, each edge's b x c serving both its triangles.
+// the N mesh vertices (relative to the point) and vertex N at it, which closes boundary loops as
+// cones. Vertex N stays at zero (in x and in directions): the pass lists only the mesh's edges.
+// One pass over the edges, each edge's b x c serving both its triangles.
 class FineEdgeVolume final : public VolumeFunction {
  public:
   // A validated, consistently oriented manifold (closed or bounded) with `vertexCount` vertices.
