@@ -27,10 +27,11 @@ struct Rows final : VolumeConstraints {
     if (cubic && r == 0) v += at[0] * at[0] * at[0];
     return v;
   }
-  void evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) override {
+  void evaluate(double* values) override {
+    for (size_t r = 0; r < a.size(); ++r) values[r] = row(r, x);
+  }
+  void gradients(const std::vector<uint32_t>& free, double* gradients) override {
     for (size_t r = 0; r < a.size(); ++r) {
-      values[r] = row(r, x);
-      if (!gradients) continue;
       for (size_t i = 0; i < free.size(); ++i)
         for (int k = 0; k < 3; ++k) {
           const size_t c = 3 * free[i] + k;

@@ -31,11 +31,14 @@ double CageVolumeConstraint::value() {
   return volume_->value(cage_.data(), nullptr);
 }
 
-void CageVolumeConstraint::evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) {
+void CageVolumeConstraint::evaluate(double* values) {
   session_->shiftedCage(cage_);
   gradient_.resize(cage_.size());
   values[0] = volume_->value(cage_.data(), gradient_.data());
-  if (gradients) gather(free, gradient_.data(), gradients);
+}
+
+void CageVolumeConstraint::gradients(const std::vector<uint32_t>& free, double* gradients) {
+  gather(free, gradient_.data(), gradients);
 }
 
 void CageVolumeConstraint::alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) {
@@ -79,22 +82,25 @@ double FineVolumeConstraints::valueWithGradient() {
   return cachedValue_;
 }
 
-void FineVolumeConstraints::evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) {
+void FineVolumeConstraints::evaluate(double* values) {
   const std::vector<double>& p = session_->fine.of(session_->x);
+  values[0] = valueWithGradient();
+  rowGradients_.resize(rows_.size() - 1);
+  for (size_t r = 1; r < rows_.size(); ++r) {
+    rowGradients_[r - 1].resize(p.size());
+    values[r] = rows_[r]->value(p.data(), rowGradients_[r - 1].data());
+  }
+}
+
+void FineVolumeConstraints::gradients(const std::vector<uint32_t>& free, double* gradients) {
   const size_t m3 = 3 * free.size();
   for (size_t r = 0; r < rows_.size(); ++r) {
-    if (r == 0 && gradients) values[0] = valueWithGradient();
-    else if (r == 0) values[0] = value();
-    else {
-      gradient_.resize(p.size());
-      values[r] = rows_[r]->value(p.data(), gradients ? gradient_.data() : nullptr);
-    }
-    if (!gradients) continue;
     // The fine gradient to the coefficients' (coarse part only unless details are free); it is
     // used up by the adjoint.
-    transform_->synthesisAdjoint(gradient_.data(), level_, 3, detailsFree_);
+    std::vector<double>& g = r == 0 ? gradient_ : rowGradients_[r - 1];
+    transform_->synthesisAdjoint(g.data(), level_, 3, detailsFree_);
     if (r == 0) gradientCached_ = false;
-    gather(free, gradient_.data(), gradients + r * m3);
+    gather(free, g.data(), gradients + r * m3);
   }
 }
 

@@ -29,7 +29,7 @@ void VolumeSolver::solve(const EditOptions& o, EditReport& report) {
   auto relativeError = [&](size_t r) { return std::fabs(values_[r] - c.reference(r)) / std::max(std::fabs(c.reference(r)), 1e-300); };
   bool cubicValue = false;  // values_[0] holds the exact volume after the last step (its cubic); no gradients
   for (int it = 0;; ++it) {
-    if (!cubicValue || relativeError(0) >= o.tolerance) c.evaluate(free_, values_.data(), gradients_.data());
+    if (!cubicValue || relativeError(0) >= o.tolerance) c.evaluate(values_.data());
     cubicValue = false;
     double worst = 0;
     for (size_t r = 0; r < k; ++r) worst = std::max(worst, relativeError(r));
@@ -46,6 +46,7 @@ void VolumeSolver::solve(const EditOptions& o, EditReport& report) {
       report.message = "the free set is empty: nothing can absorb the volume change";
       return;
     }
+    c.gradients(free_, gradients_.data());  // values_ are evaluate()d: a cubic's value within tolerance returned above
     // delta = J^T (J J^T)^-1 r: the minimal-norm solution of the k linearized constraints. With one
     // row, delta = r / |g|^2 g: the direction g and the step r / |g|^2.
     double step = 1, slope = 0;  // slope: the derivative of row 0 along the direction

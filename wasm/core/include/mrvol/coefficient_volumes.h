@@ -34,7 +34,8 @@ class CageVolumeConstraint final : public VolumeConstraints {
   double referenceVolume = 0;
   size_t rowCount() const override { return 1; }
   double reference(size_t) const override { return referenceVolume; }
-  void evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) override;
+  void evaluate(double* values) override;
+  void gradients(const std::vector<uint32_t>& free, double* gradients) override;
   void alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) override;
   void step(const std::vector<uint32_t>& free, const double* direction, double s, const double* cubicValue) override;
   // The polynomial at the current cage.
@@ -57,7 +58,10 @@ class FineVolumeConstraints final : public VolumeConstraints {
   std::vector<double> references;
   size_t rowCount() const override { return rows_.size(); }
   double reference(size_t row) const override { return references[row]; }
-  void evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) override;
+  // Each row's value and fine gradient in one pass (row 0's from the cache when it holds them).
+  void evaluate(double* values) override;
+  // The fine gradients of evaluate() carried to the coefficients by the adjoint of synthesis.
+  void gradients(const std::vector<uint32_t>& free, double* gradients) override;
   void alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) override;
   void step(const std::vector<uint32_t>& free, const double* direction, double s, const double* cubicValue) override;
   // Row 0 at the current fine positions (cached); with the gradient also computed and kept for the
@@ -77,6 +81,7 @@ class FineVolumeConstraints final : public VolumeConstraints {
   double cachedValue_ = 0;
   bool gradientCached_ = false;
   std::vector<double> gradient_, direction_;  // 3 (N + 1): no allocation per step
+  std::vector<std::vector<double>> rowGradients_;  // fine gradients of rows 1.. (parts)
 };
 
 }  // namespace mrvol

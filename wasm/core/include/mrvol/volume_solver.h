@@ -47,9 +47,12 @@ class VolumeConstraints {
   virtual ~VolumeConstraints() = default;
   virtual size_t rowCount() const = 0;
   virtual double reference(size_t row) const = 0;
-  // The value of every row at the current coefficients and, with `gradients` (rowCount rows of
-  // 3 free.size(), row after row), their gradients with respect to the free coefficients.
-  virtual void evaluate(const std::vector<uint32_t>& free, double* values, double* gradients) = 0;
+  // The value of every row at the current coefficients.
+  virtual void evaluate(double* values) = 0;
+  // After evaluate(), at the same coefficients: the rows' gradients with respect to the free
+  // coefficients (rowCount rows of 3 free.size(), row after row). Asked for only when the values
+  // are not within tolerance.
+  virtual void gradients(const std::vector<uint32_t>& free, double* gradients) = 0;
   // The cubic of row 0 along `direction` from the current coefficients; k[0] (its value) and k[1]
   // (its derivative along the direction) come in known.
   virtual void alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) = 0;
