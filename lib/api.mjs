@@ -32,7 +32,7 @@ function schemeArgs(options = {}) {
   const beta = options.beta ?? DEFAULT_SCHEME.beta;
   if (typeof scheme !== 'string') throw new MrvolError('scheme must be a string (loop, butterfly or linear)');
   if (!Number.isFinite(alpha) || !Number.isFinite(beta)) throw new MrvolError('alpha and beta must be finite numbers');
-  return [scheme, alpha, beta];
+  return { scheme, alpha, beta };
 }
 
 function levelArg(level, name = 'level') {
@@ -157,7 +157,7 @@ export function wrapModule(module) {
     /** Uses theta^e (cage storage, this mesh, scheme and level) for the gradients. */
     useTheta(theta) {
       if (!(theta instanceof Theta)) throw new MrvolError('useTheta expects a Theta');
-      call((r) => r.useTheta(this.#mesh, theta.raw, ...this.#scheme), this.#live());
+      call((r) => r.useTheta(this.#mesh, theta.raw, this.#scheme), this.#live());
     }
     useMatrixFree() { call((r) => r.useMatrixFree(), this.#live()); }
     /**
@@ -217,12 +217,16 @@ export function wrapModule(module) {
     get deleted() { return !this.#raw; }
   }
 
+  // The raw mesh holds connectivity, hierarchy and transforms; the positions live here and are
+  // passed to the calls that need them.
   class MultiresMesh {
     #raw;
-    constructor(raw) {
+    #positions;
+    constructor(raw, positions) {
       this.#raw = raw;
+      this.#positions = positions;
       this.levels = raw.levels();
-      const info = call((r) => r.info(), raw);
+      const info = call((r) => r.info(positions), raw);
       this.vertexCount = info.vertices;
       this.faceCount = info.faces;
       this.baseVertexIndices = info.baseVertexIndices;
@@ -237,13 +241,16 @@ export function wrapModule(module) {
      */
     info(options = {}) {
       const surface = surfaceArg(options.surface);
-      const info = call((r) => r.info(), this.#live());
-      if (surface === 'limit') info.volume = call((r) => r.limitVolume(), this.#live());
+      const info = call((r) => r.info(this.#positions), this.#live());
+      if (surface === 'limit') info.volume = call((r) => r.limitVolume(this.#positions), this.#live());
       info.surface = surface;
       return info;
     }
     /** Current positions, caller's vertex order. */
-    positions() { return call((r) => r.positions(), this.#live()); }
+    positions() {
+      this.#live();
+      return this.#positions.slice();
+    }
     faces() { return call((r) => r.faces(), this.#live()); }
     /** Triangles of the level-l mesh (the level-l cage), caller's vertex indices. */
     levelFaces(level) { return call((r) => r.levelFaces(levelArg(level)), this.#live()); }
@@ -252,17 +259,18 @@ export function wrapModule(module) {
     toMesh() { return { positions: this.positions(), faces: this.faces() }; }
     setPositions(positions) {
       if (!(positions instanceof Float64Array)) throw new MrvolError('positions must be a Float64Array');
-      call((r, p) => r.setPositions(p), this.#live(), positions);
+      call((r) => r.checkPositions(positions), this.#live());
+      this.#positions = positions.slice();
     }
     /** Level-e coefficients (coarse for depth <= e, details beyond), caller's vertex order. */
     analyze(positions, options = {}) {
       if (!(positions instanceof Float64Array)) throw new MrvolError('positions must be a Float64Array');
-      return call((r) => r.analyze(positions, levelArg(options.level), ...schemeArgs(options)), this.#live());
+      return call((r) => r.analyze(positions, levelArg(options.level), schemeArgs(options)), this.#live());
     }
     /** Positions from level-e coefficients. */
     synthesize(coefficients, options = {}) {
       if (!(coefficients instanceof Float64Array)) throw new MrvolError('coefficients must be a Float64Array');
-      return call((r) => r.synthesize(coefficients, levelArg(options.level), ...schemeArgs(options)), this.#live());
+      return call((r) => r.synthesize(coefficients, levelArg(options.level), schemeArgs(options)), this.#live());
     }
     /**
      * The lifting steps of level l (1..n: the synthesis from M^(l-1) to M^l), in the order they
@@ -272,7 +280,7 @@ export function wrapModule(module) {
      * a scaling multiplies x[targets[r]] by weights[r].
      */
     liftingSteps(options = {}) {
-      return call((r) => r.liftingSteps(stepLevelArg(options.level), ...schemeArgs(options)), this.#live());
+      return call((r) => r.liftingSteps(stepLevelArg(options.level), schemeArgs(options)), this.#live());
     }
     /**
      * The first `steps` lifting steps of level l (all by default) on level-(l-1) coefficients
@@ -300,9 +308,9 @@ export function wrapModule(module) {
       if (!(coefficients instanceof Float64Array)) throw new MrvolError(`${what} must be a Float64Array`);
       const level = stepLevelArg(options.level), scheme = schemeArgs(options);
       const steps = options.steps === undefined
-        ? call((r) => r.liftingStepCount(level, ...scheme), this.#live())
+        ? call((r) => r.liftingStepCount(level, scheme), this.#live())
         : levelArg(options.steps, 'steps');
-      return call((r) => r[name](coefficients, level, steps, ...scheme), this.#live());
+      return call((r) => r[name](coefficients, level, steps, scheme), this.#live());
     }
     /**
      * The level-l approximation of `positions` (paper Figure 1): analysis at level l, the details
@@ -324,7 +332,7 @@ export function wrapModule(module) {
     hierarchyOrder() { return call((r) => r.hierarchyOrder(), this.#live()); }
     /** max |synthesis(analysis(x)) - x| over the current positions. */
     roundtripError(options = {}) {
-      return call((r) => r.roundtripError(levelArg(options.level), ...schemeArgs(options)), this.#live());
+      return call((r) => r.roundtripError(this.#positions, levelArg(options.level), schemeArgs(options)), this.#live());
     }
     /** Connectivity fingerprint (hex): what theta depends on besides scheme and level. */
     fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
@@ -334,7 +342,7 @@ export function wrapModule(module) {
      * editors follow: the tensor when it fits, the matrix-free gradient otherwise.
      */
     estimateTheta(options = {}) {
-      return call((r) => r.estimateTheta(levelArg(options.level), ...schemeArgs(options)), this.#live());
+      return call((r) => r.estimateTheta(levelArg(options.level), schemeArgs(options)), this.#live());
     }
     /**
      * Computes theta^e. storage 'cage' keeps the rows of the level-e cage vertices (what editing
@@ -344,24 +352,24 @@ export function wrapModule(module) {
       const storage = options.storage ?? 'cage';
       if (surfaceArg(options.surface) === 'limit') {  // theta^e of the Loop limit surface's volume
         const started = globalThis.performance?.now() ?? Date.now();
-        const raw = call((r) => r.computeLimitTheta(levelArg(options.level), ...schemeArgs(options), storage), this.#live());
+        const raw = call((r) => r.computeLimitTheta(levelArg(options.level), schemeArgs(options), storage), this.#live());
         return new Theta(raw, (globalThis.performance?.now() ?? Date.now()) - started);
       }
       const onProgress = options.onProgress ?? undefined;
       const started = globalThis.performance?.now() ?? Date.now();
-      const raw = call((r) => r.computeTheta(levelArg(options.level), ...schemeArgs(options), storage, onProgress), this.#live());
+      const raw = call((r) => r.computeTheta(levelArg(options.level), schemeArgs(options), storage, onProgress), this.#live());
       return new Theta(raw, (globalThis.performance?.now() ?? Date.now()) - started);
     }
     /** Volume of the current positions through theta (checks that theta matches mesh, scheme, level). */
     thetaVolume(theta, options = {}) {
       if (!(theta instanceof Theta)) throw new MrvolError('thetaVolume expects a Theta');
       const method = theta.info().surface === 'limit' ? 'limitThetaVolume' : 'thetaVolume';
-      return call((r) => r[method](theta.raw, levelArg(options.level), ...schemeArgs(options)), this.#live());
+      return call((r) => r[method](theta.raw, levelArg(options.level), schemeArgs(options), this.#positions), this.#live());
     }
     /** Starts an editing session at level e from the current positions. */
     createEditor(options = {}) {
       const scheme = schemeArgs(options);
-      const raw = call((r) => r.createEditor(levelArg(options.level), ...scheme), this.#live());
+      const raw = call((r) => r.createEditor(levelArg(options.level), scheme, this.#positions), this.#live());
       const editor = new VolumeEditor(raw, this.#live(), scheme);
       this.#editors.add(editor);
       if (options.theta) editor.useTheta(options.theta);
@@ -425,13 +433,20 @@ export function wrapModule(module) {
     openMesh(mesh, options = {}) {
       checkMesh(mesh);
       const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
-      return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels, linesOf(mesh)));
+      return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels, linesOf(mesh)), mesh.positions.slice());
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {
       checkMesh(base);
       const levels = levelArg(options.levels ?? 1, 'levels');
-      return new MultiresMesh(call(module._subdivideBase, base.positions, base.faces, levels, ...schemeArgs(options)));
+      const scheme = schemeArgs(options);
+      const raw = call(module._subdivideBase, base.positions, base.faces, levels);
+      try {
+        return new MultiresMesh(raw, call((r) => r.subdivisionPositions(base.positions, scheme), raw));
+      } catch (e) {
+        raw.delete();
+        throw e;
+      }
     },
   };
 }

@@ -40,10 +40,9 @@ double maxAbs(const std::vector<double>& v) {
 // steps invert exactly in exact arithmetic, so the error is rounding only: relative to the
 // coordinate magnitude, amplified by at most 1/K(3) = 10 per analysis level (the N step), which
 // 1e-9 leaves room for up to 16 levels of typical meshes. The absolute floor covers subnormals.
-void checkRoundtrip(const mrvol::MultiresMesh& mesh, mrvol::SchemeKind kind) {
+void checkRoundtrip(const mrvol::MultiresMesh& mesh, const std::vector<double>& x, mrvol::SchemeKind kind) {
   mrvol::SchemeOptions scheme;  // default Loop alpha and beta
   scheme.kind = kind;
-  const auto& x = mesh.mesh().positions;
   const double scale = maxAbs(x);
   const double tolerance = 1e-9 * scale + 1e-300;
   for (int level = 0; level <= mesh.levels(); ++level) {
@@ -55,16 +54,16 @@ void checkRoundtrip(const mrvol::MultiresMesh& mesh, mrvol::SchemeKind kind) {
     for (size_t i = 0; i < x.size(); ++i) err = std::fmax(err, std::fabs(back[i] - x[i]));
     check(err <= tolerance);
   }
-  check(mesh.roundtripError(0, scheme) <= tolerance);
+  check(mesh.roundtripError(x, 0, scheme) <= tolerance);
 }
 
 void checkHierarchyShape(const mrvol::MultiresMesh& mesh) {
   const mrvol::Hierarchy& h = mesh.hierarchy();
-  const size_t nv = mesh.mesh().vertexCount();
+  const size_t nv = mesh.vertexCount();
   check(h.levels >= 0 && h.levels <= 16);
   check(h.vertexCount.size() == size_t(h.levels) + 1 && h.faces.size() == size_t(h.levels) + 1);
   check(h.fineVertexCount() == nv);
-  check(h.fineFaces().size() == mesh.mesh().faces.size());
+  check(h.fineFaces().size() == mesh.faces().size());
   check(h.inputIndex.size() == nv && h.hierarchyIndex.size() == nv);
   for (size_t v = 0; v < nv; ++v) check(h.inputIndex[h.hierarchyIndex[v]] == v);
   for (int l = 1; l <= h.levels; ++l) {
@@ -117,17 +116,17 @@ void run(std::string_view text) {
   if (topology.closed && topology.components == 1)
     check(long(mesh.vertexCount()) - long(topology.edges) + long(mesh.faceCount()) == 2 - 2 * topology.genus);
 
-  mrvol::MultiresMesh multires(std::move(mesh));
+  mrvol::MultiresMesh multires(mesh);
   checkHierarchyShape(multires);
-  mrvol::MeshInfo info = multires.info();
+  mrvol::MeshInfo info = multires.info(mesh.positions);
   check(std::isfinite(info.volume));  // |x| <= 1e100 keeps the triple products finite
   check(info.levels == multires.levels() && info.baseVertices == multires.hierarchy().vertexCount[0]);
   if (multires.levels() > 0) {
-    checkRoundtrip(multires, mrvol::SchemeKind::Loop);
+    checkRoundtrip(multires, mesh.positions, mrvol::SchemeKind::Loop);
     // The interpolating schemes have their own stencils on the same hierarchy (extraordinary and
     // boundary vertices, Butterfly's integral-based update weights): they must reconstruct too.
-    checkRoundtrip(multires, mrvol::SchemeKind::Butterfly);
-    checkRoundtrip(multires, mrvol::SchemeKind::Linear);
+    checkRoundtrip(multires, mesh.positions, mrvol::SchemeKind::Butterfly);
+    checkRoundtrip(multires, mesh.positions, mrvol::SchemeKind::Linear);
   }
 }
 

@@ -295,7 +295,7 @@ TEST(GoodInput, EveryVariantReadsLikeThePlainOctahedron) {
     try {
       MultiresMesh m(mesh);
       EXPECT_TRUE(m.topology().closed);
-      EXPECT_NEAR(m.info().volume, 4.0 / 3.0, 1e-15);
+      EXPECT_NEAR(m.info(mesh.positions).volume, 4.0 / 3.0, 1e-15);
     } catch (const Error& e) {
       ADD_FAILURE() << "MultiresMesh threw: " << e.what();
     }

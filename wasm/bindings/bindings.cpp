@@ -90,11 +90,17 @@ val topologyToJs(const MeshTopology& t) {
   return out;
 }
 
-SchemeOptions toScheme(const std::string& name, double alpha, double beta) {
+// The scheme options as JS gives them: { scheme: 'loop' | 'butterfly' | 'linear', alpha, beta }.
+struct JsScheme {
+  std::string scheme;
+  double alpha = 0, beta = 0;
+};
+
+SchemeOptions toScheme(const JsScheme& s) {
   SchemeOptions o;
-  o.kind = parseSchemeName(name);
-  o.alpha = alpha;
-  o.beta = beta;
+  o.kind = parseSchemeName(s.scheme);
+  o.alpha = s.alpha;
+  o.beta = s.beta;
   return o;
 }
 
@@ -157,15 +163,17 @@ val js_volume(val positions, val faces, val lines) {
 MultiresMesh* js_openMesh(val positions, val faces, int maxLevels, val lines) {
   return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels, toLines(lines).get()); });
 }
-MultiresMesh* js_subdivideBase(val positions, val faces, int levels, std::string scheme, double alpha, double beta) {
-  return guarded([&] {
-    return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels, toScheme(scheme, alpha, beta)));
-  });
+MultiresMesh* js_subdivideBase(val positions, val faces, int levels) {
+  return guarded([&] { return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels)); });
+}
+val js_subdivisionPositions(const MultiresMesh& m, val basePositions, JsScheme scheme) {
+  return guarded(
+      [&] { return toTyped(m.subdivisionPositions(toVector<double>(basePositions, "base positions"), toScheme(scheme))); });
 }
 
-val js_info(const MultiresMesh& m) {
+val js_info(const MultiresMesh& m, val positions) {
   return guarded([&] {
-    MeshInfo i = m.info();
+    MeshInfo i = m.info(toVector<double>(positions, "positions"));
     val out = val::object();
     out.set("vertices", double(i.vertices));
     out.set("faces", double(i.faces));
@@ -180,8 +188,7 @@ val js_info(const MultiresMesh& m) {
     return out;
   });
 }
-val js_positions(const MultiresMesh& m) { return guarded([&] { return toTyped(m.mesh().positions); }); }
-val js_faces(const MultiresMesh& m) { return guarded([&] { return toTyped(m.mesh().faces); }); }
+val js_faces(const MultiresMesh& m) { return guarded([&] { return toTyped(m.faces()); }); }
 val js_levelFaces(const MultiresMesh& m, int level) { return guarded([&] { return toTyped(m.levelFaces(level)); }); }
 val js_depths(const MultiresMesh& m) {
   return guarded([&] {
@@ -191,20 +198,20 @@ val js_depths(const MultiresMesh& m) {
     return toTyped(d);
   });
 }
-bool js_setPositions(MultiresMesh& m, val p) {
-  return guarded([&] { return m.setPositions(toVector<double>(p, "positions")), true; });
+bool js_checkPositions(const MultiresMesh& m, val p) {
+  return guarded([&] { return m.checkPositions(toVector<double>(p, "positions")), true; });
 }
-val js_analyze(const MultiresMesh& m, val p, int level, std::string scheme, double alpha, double beta) {
-  return guarded([&] { return toTyped(m.analyze(toVector<double>(p, "positions"), level, toScheme(scheme, alpha, beta))); });
+val js_analyze(const MultiresMesh& m, val p, int level, JsScheme scheme) {
+  return guarded([&] { return toTyped(m.analyze(toVector<double>(p, "positions"), level, toScheme(scheme))); });
 }
-val js_synthesize(const MultiresMesh& m, val c, int level, std::string scheme, double alpha, double beta) {
+val js_synthesize(const MultiresMesh& m, val c, int level, JsScheme scheme) {
   return guarded(
-      [&] { return toTyped(m.synthesize(toVector<double>(c, "coefficients"), level, toScheme(scheme, alpha, beta))); });
+      [&] { return toTyped(m.synthesize(toVector<double>(c, "coefficients"), level, toScheme(scheme))); });
 }
-val js_liftingSteps(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+val js_liftingSteps(const MultiresMesh& m, int level, JsScheme scheme) {
   return guarded([&] {
     val out = val::array();
-    for (const LiftingStep& step : m.liftingSteps(level, toScheme(scheme, alpha, beta))) {
+    for (const LiftingStep& step : m.liftingSteps(level, toScheme(scheme))) {
       val s = val::object();
       s.set("name", step.name);
       s.set("scaling", step.scaling);
@@ -218,27 +225,27 @@ val js_liftingSteps(const MultiresMesh& m, int level, std::string scheme, double
     return out;
   });
 }
-val js_liftingStepCount(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
-  return guarded([&] { return val(m.liftingStepCount(level, toScheme(scheme, alpha, beta))); });
+val js_liftingStepCount(const MultiresMesh& m, int level, JsScheme scheme) {
+  return guarded([&] { return val(m.liftingStepCount(level, toScheme(scheme))); });
 }
-val js_synthesizeSteps(const MultiresMesh& m, val c, int level, int steps, std::string scheme, double alpha, double beta) {
+val js_synthesizeSteps(const MultiresMesh& m, val c, int level, int steps, JsScheme scheme) {
   return guarded([&] {
-    return toTyped(m.synthesizeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme, alpha, beta)));
+    return toTyped(m.synthesizeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme)));
   });
 }
-val js_analyzeSteps(const MultiresMesh& m, val c, int level, int steps, std::string scheme, double alpha, double beta) {
+val js_analyzeSteps(const MultiresMesh& m, val c, int level, int steps, JsScheme scheme) {
   return guarded([&] {
-    return toTyped(m.analyzeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme, alpha, beta)));
+    return toTyped(m.analyzeSteps(toVector<double>(c, "coefficients"), level, steps, toScheme(scheme)));
   });
 }
-val js_transposeSteps(const MultiresMesh& m, val c, int level, int steps, std::string scheme, double alpha, double beta) {
+val js_transposeSteps(const MultiresMesh& m, val c, int level, int steps, JsScheme scheme) {
   return guarded([&] {
-    return toTyped(m.transposeSteps(toVector<double>(c, "covector"), level, steps, toScheme(scheme, alpha, beta)));
+    return toTyped(m.transposeSteps(toVector<double>(c, "covector"), level, steps, toScheme(scheme)));
   });
 }
 val js_hierarchyOrder(const MultiresMesh& m) { return guarded([&] { return toTyped(m.hierarchy().inputIndex); }); }
-val js_roundtripError(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
-  return guarded([&] { return val(m.roundtripError(level, toScheme(scheme, alpha, beta))); });
+val js_roundtripError(const MultiresMesh& m, val positions, int level, JsScheme scheme) {
+  return guarded([&] { return val(m.roundtripError(toVector<double>(positions, "positions"), level, toScheme(scheme))); });
 }
 
 TensorStorage toStorage(const std::string& name) {
@@ -247,10 +254,10 @@ TensorStorage toStorage(const std::string& name) {
   throw Error("unknown tensor storage '" + name + "' (expected cage or full)");
 }
 
-Theta* js_computeTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta,
+Theta* js_computeTheta(const MultiresMesh& m, int level, JsScheme scheme,
                        std::string storage, val onProgress) {
   return guarded([&]() -> Theta* {
-    SchemeOptions o = toScheme(scheme, alpha, beta);
+    SchemeOptions o = toScheme(scheme);
     TensorProgress progress;
     struct Ctx { val* fn; } ctx{&onProgress};
     if (onProgress.typeOf().as<std::string>() == "function") {
@@ -266,11 +273,11 @@ Theta* js_computeTheta(const MultiresMesh& m, int level, std::string scheme, dou
     return theta.release();
   });
 }
-val js_thetaVolume(const MultiresMesh& m, const Theta& t, int level, std::string scheme, double alpha, double beta) {
+val js_thetaVolume(const MultiresMesh& m, const Theta& t, int level, JsScheme scheme, val positions) {
   return guarded([&] {
-    SchemeOptions o = toScheme(scheme, alpha, beta);
+    SchemeOptions o = toScheme(scheme);
     m.checkTheta(t.header, level, o);
-    return val(m.tensorVolume(t.tensor, o));
+    return val(m.tensorVolume(t.tensor, o, toVector<double>(positions, "positions")));
   });
 }
 // The Loop limit surface (limit_volume.h): its volume, and theta^e of it.
@@ -281,11 +288,12 @@ val js_limitVolume(val positions, val faces, val lines) {
     return val(limitVolume(m));
   });
 }
-val js_meshLimitVolume(const MultiresMesh& m) { return guarded([&] { return val(m.limitVolume()); }); }
-Theta* js_computeLimitTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta,
-                            std::string storage) {
+val js_meshLimitVolume(const MultiresMesh& m, val positions) {
+  return guarded([&] { return val(m.limitVolume(toVector<double>(positions, "positions"))); });
+}
+Theta* js_computeLimitTheta(const MultiresMesh& m, int level, JsScheme scheme, std::string storage) {
   return guarded([&]() -> Theta* {
-    SchemeOptions o = toScheme(scheme, alpha, beta);
+    SchemeOptions o = toScheme(scheme);
     auto theta = std::make_unique<Theta>();
     theta->tensor = m.computeLimitTensor(level, o, toStorage(storage));
     theta->header = m.thetaHeader(theta->tensor, o);
@@ -293,17 +301,17 @@ Theta* js_computeLimitTheta(const MultiresMesh& m, int level, std::string scheme
     return theta.release();
   });
 }
-val js_limitThetaVolume(const MultiresMesh& m, const Theta& t, int level, std::string scheme, double alpha, double beta) {
+val js_limitThetaVolume(const MultiresMesh& m, const Theta& t, int level, JsScheme scheme, val positions) {
   return guarded([&] {
-    SchemeOptions o = toScheme(scheme, alpha, beta);
+    SchemeOptions o = toScheme(scheme);
     m.checkTheta(t.header, level, o, true);
-    return val(m.limitTensorVolume(t.tensor, o));
+    return val(m.limitTensorVolume(t.tensor, o, toVector<double>(positions, "positions")));
   });
 }
 
-val js_estimateTheta(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+val js_estimateTheta(const MultiresMesh& m, int level, JsScheme scheme) {
   return guarded([&] {
-    TensorEstimate e = m.estimateTensor(level, toScheme(scheme, alpha, beta));
+    TensorEstimate e = m.estimateTensor(level, toScheme(scheme));
     val out = val::object();
     out.set("cageSize", double(e.cageSize));
     out.set("maxPatch", double(e.maxPatch));
@@ -370,16 +378,16 @@ val js_thetaInfo(const Theta& t) {
   });
 }
 
-VolumeEditor* js_createEditor(const MultiresMesh& m, int level, std::string scheme, double alpha, double beta) {
+VolumeEditor* js_createEditor(const MultiresMesh& m, int level, JsScheme scheme, val positions) {
   return guarded([&]() -> VolumeEditor* {
-    const WaveletTransform& wt = m.transform(toScheme(scheme, alpha, beta));
-    return new VolumeEditor(m.hierarchy(), wt, level, m.mesh().positions.data());
+    const std::vector<double> p = toVector<double>(positions, "positions");
+    m.checkPositions(p);
+    return new VolumeEditor(m.hierarchy(), m.transform(toScheme(scheme)), level, p.data());
   });
 }
-bool js_editorUseTheta(VolumeEditor& e, const MultiresMesh& m, const Theta& t, std::string scheme, double alpha,
-                       double beta) {
+bool js_editorUseTheta(VolumeEditor& e, const MultiresMesh& m, const Theta& t, JsScheme scheme) {
   return guarded([&] {
-    m.checkTheta(t.header, e.level(), toScheme(scheme, alpha, beta));
+    m.checkTheta(t.header, e.level(), toScheme(scheme));
     e.useTensor(t.tensor);
     return true;
   });
@@ -429,7 +437,6 @@ EditOptions toEditOptions(const val& o) {
   if (!o["maxIterations"].isUndefined()) opts.maxIterations = o["maxIterations"].as<int>();
   if (!o["maxSubsteps"].isUndefined()) opts.maxSubsteps = o["maxSubsteps"].as<int>();
   if (!o["preserve"].isUndefined()) opts.preserve = o["preserve"].as<bool>();
-  if (!(opts.tolerance > 0) || !(opts.tolerance < 1)) throw Error("tolerance must be between 0 and 1");
   return opts;
 }
 
@@ -472,6 +479,10 @@ val js_editorGradient(const VolumeEditor& e, std::string path) {
 
 EMSCRIPTEN_BINDINGS(mrvol) {
   using namespace emscripten;
+  value_object<JsScheme>("_Scheme")
+      .field("scheme", &JsScheme::scheme)
+      .field("alpha", &JsScheme::alpha)
+      .field("beta", &JsScheme::beta);
   function("_takeError", &takeError);
   function("_readObj", &js_readObj);
   function("_writeObj", &js_writeObj);
@@ -484,11 +495,11 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   class_<MultiresMesh>("_MultiresMesh")
       .function("levels", &MultiresMesh::levels)
       .function("info", &js_info)
-      .function("positions", &js_positions)
       .function("faces", &js_faces)
       .function("depths", &js_depths)
       .function("levelFaces", &js_levelFaces)
-      .function("setPositions", &js_setPositions)
+      .function("checkPositions", &js_checkPositions)
+      .function("subdivisionPositions", &js_subdivisionPositions)
       .function("analyze", &js_analyze)
       .function("synthesize", &js_synthesize)
       .function("roundtripError", &js_roundtripError)

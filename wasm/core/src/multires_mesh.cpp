@@ -8,28 +8,48 @@
 
 namespace mrvol {
 
-MultiresMesh::MultiresMesh(TriangleMesh mesh, int maxLevels, const SourceLines* lines) : mesh_(std::move(mesh)) {
+MultiresMesh::MultiresMesh(const TriangleMesh& mesh, int maxLevels, const SourceLines* lines) : faces_(mesh.faces) {
   if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
-  topology_ = validateMesh(mesh_, lines);
-  hierarchy_ = Hierarchy::detect(mesh_, maxLevels, /*validated=*/true);
+  topology_ = validateMesh(mesh, lines);
+  hierarchy_ = Hierarchy::detect(mesh, maxLevels, /*validated=*/true);
 }
 
-MultiresMesh MultiresMesh::subdivide(const TriangleMesh& base, int levels, const SchemeOptions& scheme) {
+MultiresMesh MultiresMesh::subdivide(const TriangleMesh& base, int levels) {
   MultiresMesh m;
   validateMesh(base);
   m.hierarchy_ = Hierarchy::subdivide(base, levels);
-  m.mesh_.faces = m.hierarchy_.fineFaces();
-  m.mesh_.positions.assign(3 * m.hierarchy_.fineVertexCount(), 0.0);
-  std::copy(base.positions.begin(), base.positions.end(), m.mesh_.positions.begin());
-  m.transform(scheme).synthesize(m.mesh_.positions.data(), 0);
-  m.topology_ = validateMesh(m.mesh_);
+  m.faces_ = m.hierarchy_.fineFaces();
+  // The split of a valid mesh is valid; its topology (positions do not enter it).
+  m.topology_ = validateMesh(TriangleMesh{std::vector<double>(3 * m.hierarchy_.fineVertexCount(), 0.0), m.faces_});
   return m;
 }
 
-MeshInfo MultiresMesh::info() const {
+std::vector<double> MultiresMesh::subdivisionPositions(const std::vector<double>& basePositions,
+                                                       const SchemeOptions& scheme) const {
+  const size_t base3 = 3 * size_t(hierarchy_.vertexCount[0]);
+  if (basePositions.size() != base3)
+    throw Error("expected " + std::to_string(base3) + " base coordinates (3 per vertex), got " +
+                std::to_string(basePositions.size()));
+  // Subdivision numbers the vertices in hierarchy order: no reordering.
+  std::vector<double> x(3 * vertexCount(), 0.0);
+  std::copy(basePositions.begin(), basePositions.end(), x.begin());
+  transform(scheme).synthesize(x.data(), 0);
+  return x;
+}
+
+void MultiresMesh::checkPositions(const std::vector<double>& positions) const {
+  if (positions.size() != 3 * vertexCount())
+    throw Error("expected " + std::to_string(3 * vertexCount()) + " coordinates (3 per vertex), got " +
+                std::to_string(positions.size()));
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i])) throw Error("vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+}
+
+MeshInfo MultiresMesh::info(const std::vector<double>& positions) const {
+  checkPositions(positions);
   MeshInfo info;
-  info.vertices = mesh_.vertexCount();
-  info.faces = mesh_.faceCount();
+  info.vertices = vertexCount();
+  info.faces = faces_.size() / 3;
   info.levels = hierarchy_.levels;
   info.baseVertices = hierarchy_.vertexCount[0];
   info.baseVertexIndices.assign(hierarchy_.inputIndex.begin(), hierarchy_.inputIndex.begin() + info.baseVertices);
@@ -38,7 +58,7 @@ MeshInfo MultiresMesh::info() const {
   info.boundaryEdges = topology_.boundaryEdges;
   info.genus = topology_.genus;
   info.components = topology_.components;
-  info.volume = meshVolume(mesh_);
+  info.volume = meshVolume(TriangleMesh{positions, faces_});
   return info;
 }
 
@@ -47,15 +67,6 @@ std::vector<uint32_t> MultiresMesh::levelFaces(int level) const {
   std::vector<uint32_t> out = hierarchy_.faces[level];
   for (auto& v : out) v = hierarchy_.inputIndex[v];
   return out;
-}
-
-void MultiresMesh::setPositions(const std::vector<double>& positions) {
-  if (positions.size() != mesh_.positions.size())
-    throw Error("expected " + std::to_string(mesh_.positions.size()) + " coordinates (3 per vertex), got " +
-                std::to_string(positions.size()));
-  for (size_t i = 0; i < positions.size(); ++i)
-    if (!std::isfinite(positions[i])) throw Error("vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
-  mesh_.positions = positions;
 }
 
 const WaveletTransform& MultiresMesh::transform(const SchemeOptions& scheme) const {
@@ -77,8 +88,8 @@ template <class Apply>
 std::vector<double> MultiresMesh::inHierarchyOrder(const std::vector<double>& values, const char* what, int level,
                                                    Apply&& apply) const {
   checkLevel(level);
-  if (values.size() != mesh_.positions.size())
-    throw Error("expected " + std::to_string(mesh_.positions.size()) + " " + what + ", got " + std::to_string(values.size()));
+  if (values.size() != 3 * vertexCount())
+    throw Error("expected " + std::to_string(3 * vertexCount()) + " " + what + ", got " + std::to_string(values.size()));
   std::vector<double> x(values.size()), out(values.size());
   hierarchy_.toHierarchyOrder(values.data(), x.data());
   apply(x.data());
@@ -96,10 +107,11 @@ std::vector<double> MultiresMesh::synthesize(const std::vector<double>& coeffici
   return inHierarchyOrder(coefficients, "coefficients", level, [&](double* x) { transform(scheme).synthesize(x, level); });
 }
 
-double MultiresMesh::roundtripError(int level, const SchemeOptions& scheme) const {
-  auto back = synthesize(analyze(mesh_.positions, level, scheme), level, scheme);
+double MultiresMesh::roundtripError(const std::vector<double>& positions, int level, const SchemeOptions& scheme) const {
+  checkPositions(positions);
+  auto back = synthesize(analyze(positions, level, scheme), level, scheme);
   double err = 0;
-  for (size_t i = 0; i < back.size(); ++i) err = std::max(err, std::fabs(back[i] - mesh_.positions[i]));
+  for (size_t i = 0; i < back.size(); ++i) err = std::max(err, std::fabs(back[i] - positions[i]));
   return err;
 }
 
@@ -169,7 +181,7 @@ TensorEstimate MultiresMesh::estimateTensor(int level, const SchemeOptions& sche
   return estimateCageTensor(transform(scheme), level);
 }
 
-uint64_t MultiresMesh::fingerprint() const { return connectivityFingerprint(mesh_.faces, mesh_.vertexCount()); }
+uint64_t MultiresMesh::fingerprint() const { return connectivityFingerprint(faces_, vertexCount()); }
 
 ThetaFileHeader MultiresMesh::thetaHeader(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
   ThetaFileHeader h;
@@ -178,14 +190,14 @@ ThetaFileHeader MultiresMesh::thetaHeader(const VolumeTensor& tensor, const Sche
   h.level = tensor.level;
   h.storage = tensor.storage;
   h.fingerprint = fingerprint();
-  h.vertexCount = uint32_t(mesh_.vertexCount());
+  h.vertexCount = uint32_t(vertexCount());
   h.nnzFull = tensor.nnzFull;
   h.nnzStored = tensor.storedCount();
   return h;
 }
 
 void MultiresMesh::checkTheta(const ThetaFileHeader& h, int level, const SchemeOptions& scheme, bool limitSurface) const {
-  if (h.fingerprint != fingerprint() || h.vertexCount != mesh_.vertexCount() || h.levels != hierarchy_.levels)
+  if (h.fingerprint != fingerprint() || h.vertexCount != vertexCount() || h.levels != hierarchy_.levels)
     throw Error("theta file does not match this mesh: it was computed for another connectivity (" +
                 std::to_string(h.vertexCount) + " vertices, " + std::to_string(h.levels) + " levels)");
   if (h.scheme.kind != scheme.kind)
@@ -201,8 +213,9 @@ void MultiresMesh::checkTheta(const ThetaFileHeader& h, int level, const SchemeO
                 ", not of the " + (limitSurface ? "limit surface" : "mesh"));
 }
 
-double MultiresMesh::tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
-  return tensorVolumeOf(tensor, scheme, triangleForm(hierarchy_.fineFaces()));
+double MultiresMesh::tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme,
+                                  const std::vector<double>& positions) const {
+  return tensorVolumeOf(tensor, scheme, triangleForm(hierarchy_.fineFaces()), positions);
 }
 
 const FineForm& MultiresMesh::limitForm() const {
@@ -216,10 +229,12 @@ const FineForm& MultiresMesh::limitForm() const {
   return *limitForm_;
 }
 
-double MultiresMesh::limitVolume() const {
-  std::vector<double> x(mesh_.positions.size());
-  hierarchy_.toHierarchyOrder(mesh_.positions.data(), x.data());
-  return limitForm().evaluate(x.data(), volumeReferencePoint(mesh_));
+double MultiresMesh::limitVolume(const std::vector<double>& positions) const {
+  checkPositions(positions);
+  const FineForm& form = limitForm();
+  std::vector<double> x(positions.size());
+  hierarchy_.toHierarchyOrder(positions.data(), x.data());
+  return form.evaluate(x.data(), volumeReferencePoint(TriangleMesh{positions, faces_}));
 }
 
 VolumeTensor MultiresMesh::computeLimitTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
@@ -228,16 +243,19 @@ VolumeTensor MultiresMesh::computeLimitTensor(int level, const SchemeOptions& sc
   return computeVolumeTensor(transform(scheme), level, storage, limitForm(), progress);
 }
 
-double MultiresMesh::limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const {
-  return tensorVolumeOf(tensor, scheme, limitForm());
+double MultiresMesh::limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme,
+                                       const std::vector<double>& positions) const {
+  return tensorVolumeOf(tensor, scheme, limitForm(), positions);
 }
 
-double MultiresMesh::tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine) const {
+double MultiresMesh::tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine,
+                                    const std::vector<double>& positions) const {
+  checkPositions(positions);
   const WaveletTransform& wt = transform(scheme);
-  const Vec3 o = volumeReferencePoint(mesh_);
-  const size_t n = mesh_.vertexCount();
+  const Vec3 o = volumeReferencePoint(TriangleMesh{positions, faces_});
+  const size_t n = vertexCount();
   std::vector<double> x(3 * n);
-  hierarchy_.toHierarchyOrder(mesh_.positions.data(), x.data());
+  hierarchy_.toHierarchyOrder(positions.data(), x.data());
   for (size_t v = 0; v < n; ++v) x[3 * v] -= o.x, x[3 * v + 1] -= o.y, x[3 * v + 2] -= o.z;
   wt.analyze(x.data(), tensor.level);
   double volume = tensor.evaluate(x.data());

@@ -11,6 +11,7 @@
 
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
+#include "mrvol/vector3.h"
 
 namespace mrvol {
 
@@ -503,6 +504,48 @@ double FineForm::evaluate(const double* x, Vec3 o) const {
   return total;
 }
 
+namespace {
+// Where exact arithmetic cancels to zero, floating point leaves residues of round-off: on the
+// spiky ball (Loop, e = 0) they are at most 1e-15 of the largest entry, the true entries at least
+// 1e-11 of it. Entries below this fraction of the largest are dropped once the tensor is built.
+constexpr double kResidueFraction = 1e-13;
+
+void dropResidues(VolumeTensor& t) {
+  double largest = 0;
+  for (double v : t.values) largest = std::max(largest, std::fabs(v));
+  const double floor = kResidueFraction * largest;
+  const bool narrow = !t.k16.empty();
+  size_t kept = 0, pairs = 0;
+  uint32_t pairsBefore = 0;  // pairs of the rows before i, as stored on input
+  for (uint32_t i = 0; i < t.rowCount; ++i) {
+    const uint32_t rowPairs = t.rowStart[i + 1] - pairsBefore;
+    uint32_t keptPairs = 0;
+    for (uint32_t p = pairsBefore; p < pairsBefore + rowPairs; ++p) {
+      const size_t first = kept;
+      for (uint32_t e = t.pairStart[p]; e < t.pairStart[p + 1]; ++e) {
+        if (!(std::fabs(t.values[e]) >= floor)) continue;
+        t.values[kept] = t.values[e];
+        if (narrow) t.k16[kept] = t.k16[e];
+        else t.k32[kept] = t.k32[e];
+        ++kept;
+      }
+      if (kept == first) continue;
+      t.pairJ[pairs] = t.pairJ[p];
+      t.pairStart[pairs] = uint32_t(first);
+      ++pairs, ++keptPairs;
+    }
+    pairsBefore += rowPairs;
+    t.rowStart[i + 1] = t.rowStart[i] + keptPairs;
+  }
+  t.pairJ.resize(pairs);
+  t.pairStart.resize(pairs + 1);
+  t.pairStart[pairs] = uint32_t(kept);
+  t.values.resize(kept);
+  (narrow ? t.k16.resize(kept) : t.k32.resize(kept));
+  if (t.storage == TensorStorage::Full) t.nnzFull = 6 * uint64_t(kept);
+}
+}  // namespace
+
 VolumeTensor computeVolumeTensor(const WaveletTransform& wt, int level, TensorStorage storage,
                                  const TensorProgress& progress, uint64_t maxTerms) {
   return computeVolumeTensor(wt, level, storage, triangleForm(wt.hierarchy().fineFaces()), progress, maxTerms);
@@ -516,11 +559,11 @@ VolumeTensor computeVolumeTensor(const WaveletTransform& wt, int level, TensorSt
   for (uint32_t v : fine.corners)
     if (v >= h.fineVertexCount())
       throw Error("fine form refers to vertex " + std::to_string(v) + " of " + std::to_string(h.fineVertexCount()));
-  if (storage == TensorStorage::Cage) {
-    VolumeTensor t;
-    if (cageRowsByPatches(wt, level, fine, progress, size_t(1) << 30, t)) return t;
-  }
-  return sparseRecursion(wt, level, storage, fine, progress, maxTerms);
+  VolumeTensor t;
+  if (storage != TensorStorage::Cage || !cageRowsByPatches(wt, level, fine, progress, size_t(1) << 30, t))
+    t = sparseRecursion(wt, level, storage, fine, progress, maxTerms);
+  dropResidues(t);
+  return t;
 }
 
 TensorEstimate estimateCageTensor(const WaveletTransform& wt, int level, int samples) {
@@ -590,19 +633,12 @@ VolumeTensor computeVolumeTensorDirect(const WaveletTransform& wt, int level, Te
   t.level = level;
   t.storage = storage;
   t.nnzFull = 6 * terms.size();
+  dropResidues(t);
   return t;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Evaluation: Theta = sum_{i<j<k} T_ijk p_i . (p_j x p_k); per pair (i, j), q = sum_k T_ijk p_k.
-
-namespace {
-inline void cross(const double* a, const double* b, double* out) {
-  out[0] = a[1] * b[2] - a[2] * b[1];
-  out[1] = a[2] * b[0] - a[0] * b[2];
-  out[2] = a[0] * b[1] - a[1] * b[0];
-}
-}  // namespace
 
 VolumeTensor::Entries VolumeTensor::entries() const {
   Entries out;

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "mrvol/lifting.h"
-#include "mrvol/volume_editor.h"  // CagePolynomial
+#include "mrvol/cage_polynomial.h"
 
 namespace mrvol {
 

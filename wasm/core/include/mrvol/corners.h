@@ -36,9 +36,6 @@ struct VertexCorners {
   }
   // Corner of u whose next is v (the face u -> v), or kNone.
   uint32_t cornerTo(uint32_t u, uint32_t v) const;
-  bool isBoundaryEdge(uint32_t u, uint32_t v) const {
-    return opposite(u, v) == kNone || opposite(v, u) == kNone;
-  }
   // Neighbours of u in counter-clockwise order. For a boundary vertex the ring starts at the
   // boundary neighbour v for which u->v has a face and v->u does not, and is open.
   // Assumes a validated manifold.

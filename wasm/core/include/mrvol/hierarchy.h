@@ -42,6 +42,4 @@ struct Hierarchy {
   void toInputOrder(const double* hierarchyOrdered, double* out) const;
 };
 
-// Connectivity of zero-detail subdivision of `base` (Hierarchy::subdivide) as a mesh in hierarchy
-// order, positions unset.
 }  // namespace mrvol

@@ -1,6 +1,8 @@
-// A semi-regular mesh with its hierarchy and wavelet transforms: the object the bindings, the JS
-// API and the command line work with. Positions and coefficients cross it in the caller's vertex
-// order; inside, everything is in hierarchy order.
+// A semi-regular mesh's connectivity with its hierarchy and wavelet transforms: the object the
+// bindings, the JS API and the command line work with. It holds no positions (connectivity apart
+// from geometry, as geometry-central's SurfaceMesh): positions are passed to the calls that need
+// them. Positions and coefficients cross it in the caller's vertex order; inside, everything is in
+// hierarchy order.
 #pragma once
 #include <memory>
 #include <string>
@@ -27,30 +29,34 @@ struct MeshInfo {
 
 class MultiresMesh {
  public:
-  // Validates the mesh and detects its hierarchy (at most maxLevels levels). `lines` (from readObj)
-  // add the OBJ line of what validation messages name.
-  explicit MultiresMesh(TriangleMesh mesh, int maxLevels = 16, const SourceLines* lines = nullptr);
-  // n splits of a validated base mesh; zero-detail synthesis with `scheme` gives the positions.
-  static MultiresMesh subdivide(const TriangleMesh& base, int levels, const SchemeOptions& scheme);
+  // Validates the mesh and detects its hierarchy (at most maxLevels levels); keeps its faces.
+  // `lines` (from readObj) add the OBJ line of what validation messages name.
+  explicit MultiresMesh(const TriangleMesh& mesh, int maxLevels = 16, const SourceLines* lines = nullptr);
+  // n splits of a validated base mesh (its vertices keep their indices, the new ones follow).
+  static MultiresMesh subdivide(const TriangleMesh& base, int levels);
+  // Positions of the split mesh: zero-detail synthesis with `scheme` of the base positions.
+  std::vector<double> subdivisionPositions(const std::vector<double>& basePositions, const SchemeOptions& scheme) const;
 
   const Hierarchy& hierarchy() const { return hierarchy_; }
-  const TriangleMesh& mesh() const { return mesh_; }  // the caller's faces and current positions
+  const std::vector<uint32_t>& faces() const { return faces_; }  // the caller's faces
+  size_t vertexCount() const { return hierarchy_.fineVertexCount(); }
   const MeshTopology& topology() const { return topology_; }
   int levels() const { return hierarchy_.levels; }
-  MeshInfo info() const;
+  // Throws Error unless `positions` holds 3 finite coordinates per vertex.
+  void checkPositions(const std::vector<double>& positions) const;
+  MeshInfo info(const std::vector<double>& positions) const;
   // Triangles of the level-l mesh (0 <= l <= n) in the caller's vertex indices; l = n gives the
   // caller's faces as the hierarchy orders them.
   std::vector<uint32_t> levelFaces(int level) const;
 
-  void setPositions(const std::vector<double>& positions);  // caller's order
   // The transform for a scheme, built on first use and kept.
   const WaveletTransform& transform(const SchemeOptions& scheme) const;
 
   // Caller's order in and out: coefficients of level e (coarse c^e for depth <= e, details beyond).
   std::vector<double> analyze(const std::vector<double>& positions, int level, const SchemeOptions& scheme) const;
   std::vector<double> synthesize(const std::vector<double>& coefficients, int level, const SchemeOptions& scheme) const;
-  // max |synthesis(analysis(x)) - x| over the current positions.
-  double roundtripError(int level, const SchemeOptions& scheme) const;
+  // max |synthesis(analysis(x)) - x| over the positions.
+  double roundtripError(const std::vector<double>& positions, int level, const SchemeOptions& scheme) const;
 
   // One level's lifting phases (paper Figure 3), for teaching views. Level l (1 <= l <= n) is the
   // synthesis step from M^{l-1} to M^l: liftingSteps gives its steps in the order they apply ("U",
@@ -81,18 +87,19 @@ class MultiresMesh {
   uint64_t fingerprint() const;
   // Throws Error naming the first mismatch (mesh connectivity, scheme, level) of a theta file.
   void checkTheta(const ThetaFileHeader& header, int level, const SchemeOptions& scheme, bool limitSurface = false) const;
-  // Volume of the current positions evaluated through the tensor (in the frame of
-  // volumeReferencePoint). With Cage storage the detail-only entries, which were never formed,
-  // contribute Theta(x with cage coefficients zeroed), computed by synthesis.
-  double tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
+  // Volume of the positions evaluated through the tensor (in the frame of volumeReferencePoint).
+  // With Cage storage the detail-only entries, which were never formed, contribute Theta(x with
+  // cage coefficients zeroed), computed by synthesis.
+  double tensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme, const std::vector<double>& positions) const;
 
   // The same for the Loop limit surface of the fine mesh (limit_volume.h): its volume from the
-  // current positions, theta^e of the limit form, and the volume through such a tensor. Closed
-  // meshes only (throws Error otherwise).
-  double limitVolume() const;
+  // positions, theta^e of the limit form, and the volume through such a tensor. Closed meshes
+  // only (throws Error otherwise).
+  double limitVolume(const std::vector<double>& positions) const;
   VolumeTensor computeLimitTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
                                   const TensorProgress& progress = {}) const;
-  double limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme) const;
+  double limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme,
+                           const std::vector<double>& positions) const;
 
  private:
   MultiresMesh() = default;
@@ -100,10 +107,11 @@ class MultiresMesh {
   const std::vector<LiftingStep>& stepsOfLevel(int level, const SchemeOptions& scheme) const;
   const std::vector<LiftingStep>& checkedSteps(int level, int steps, const SchemeOptions& scheme) const;
   const FineForm& limitForm() const;  // in hierarchy numbering, built on first use
-  double tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine) const;
+  double tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine,
+                        const std::vector<double>& positions) const;
   template <class Apply>
   std::vector<double> inHierarchyOrder(const std::vector<double>& values, const char* what, int level, Apply&& apply) const;
-  TriangleMesh mesh_;
+  std::vector<uint32_t> faces_;
   MeshTopology topology_;
   Hierarchy hierarchy_;
   mutable std::vector<std::unique_ptr<WaveletTransform>> transforms_;

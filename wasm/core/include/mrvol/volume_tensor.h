@@ -46,7 +46,6 @@ class VolumeTensor {
 
   size_t storedCount() const { return values.size(); }
   size_t bytes() const;  // memory of the arrays above
-  bool narrowIndices() const { return !k16.empty() || k32.empty(); }
   uint32_t kIndex(size_t t) const { return k16.empty() ? k32[t] : k16[t]; }
 
   // The stored entries as coordinate lists, in storage order: i < j < k in hierarchy numbering

@@ -1,0 +1,125 @@
+// The volume functions (volume_function.h, cage_polynomial.h): each value against an independent
+// volume, each gradient against central finite differences, each cubic along a direction against
+// evaluations along the line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fixtures.h"
+#include "mrvol/cage_polynomial.h"
+#include "mrvol/error.h"
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+#include "mrvol/volume_function.h"
+#include "mrvol/volume_tensor.h"
+
+using namespace mrvol;
+
+namespace {
+
+// Checks the gradient (central differences on a few coordinates) and the cubic (against value()
+// along the line) of f at x. The last `fixed` doubles stay put (the fine functions' vertex N, the
+// reference point, is at zero by contract).
+void checkFunction(const VolumeFunction& f, const std::vector<double>& x, unsigned seed, const std::string& what,
+                   size_t fixed = 0) {
+  ASSERT_EQ(x.size(), f.size()) << what;
+  std::vector<double> gradient(f.size());
+  const double v = f.value(x.data(), gradient.data());
+  EXPECT_NEAR(v, f.value(x.data(), nullptr), 1e-14 * (1 + std::fabs(v))) << what << ": value with and without the gradient";
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<size_t> pick(0, f.size() - fixed - 1);
+  const double h = 1e-6;
+  for (int n = 0; n < 24; ++n) {
+    const size_t i = pick(rng);
+    auto plus = x, minus = x;
+    plus[i] += h, minus[i] -= h;
+    const double fd = (f.value(plus.data(), nullptr) - f.value(minus.data(), nullptr)) / (2 * h);
+    EXPECT_NEAR(gradient[i], fd, 1e-7 * (1 + std::fabs(fd))) << what << " coordinate " << i;
+  }
+  std::vector<double> d = fixtures::randomVector(f.size(), seed + 1, 0.3);
+  std::fill(d.end() - fixed, d.end(), 0.0);
+  double k[4], known[4];
+  f.alongDirection(x.data(), d.data(), k);
+  double slope = 0;
+  for (size_t i = 0; i < d.size(); ++i) slope += gradient[i] * d[i];
+  EXPECT_NEAR(k[0], v, 1e-12 * (1 + std::fabs(v))) << what;
+  EXPECT_NEAR(k[1], slope, 1e-10 * (1 + std::fabs(slope))) << what;
+  known[0] = v, known[1] = slope;
+  f.alongDirection(x.data(), d.data(), known, true);
+  for (int j = 2; j < 4; ++j) EXPECT_NEAR(known[j], k[j], 1e-12 * (1 + std::fabs(k[j]))) << what << " k" << j << " (low known)";
+  for (double s : {-1.3, -0.2, 0.5, 2.0}) {
+    auto at = x;
+    for (size_t i = 0; i < at.size(); ++i) at[i] += s * d[i];
+    const double expected = f.value(at.data(), nullptr);
+    EXPECT_NEAR(k[0] + s * (k[1] + s * (k[2] + s * k[3])), expected, 1e-11 * (1 + std::fabs(expected))) << what << " s=" << s;
+  }
+}
+
+}  // namespace
+
+TEST(VolumeFunction, FineEdgeVolumeIsTheMeshVolumeWithItsGradientAndCubic) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, 2);
+    const uint32_t n = uint32_t(h.fineVertexCount());
+    std::vector<double> x = fixtures::randomVector(3 * (size_t(n) + 1), 3, 1.0);
+    x[3 * n] = x[3 * n + 1] = x[3 * n + 2] = 0.0;  // vertex N: the reference point
+    FineEdgeVolume f(h.fineFaces(), n);
+    // Independent: the triangle sum (cones to the point on a mesh with boundary).
+    const auto& faces = h.fineFaces();
+    EXPECT_NEAR(f.value(x.data(), nullptr), meshVolume(x.data(), faces.data(), faces.size() / 3, Vec3{}),
+                1e-12 * (1 + std::fabs(f.value(x.data(), nullptr))))
+        << fx.name;
+    checkFunction(f, x, 5, fx.name, 3);
+  }
+}
+
+TEST(VolumeFunction, TriangleSetVolumeSumsItsTrianglesWithItsGradientAndCubic) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, 1);
+    const uint32_t n = uint32_t(h.fineVertexCount());
+    const auto& faces = h.fineFaces();
+    std::vector<double> x = fixtures::randomVector(3 * (size_t(n) + 1), 4, 1.0);
+    x[3 * n] = x[3 * n + 1] = x[3 * n + 2] = 0.0;
+    std::vector<uint8_t> flags(faces.size() / 3), rest(faces.size() / 3);
+    std::vector<uint32_t> chosen;
+    for (size_t t = 0; t < flags.size(); ++t) {
+      flags[t] = t % 3 != 1, rest[t] = !flags[t];
+      if (flags[t]) chosen.insert(chosen.end(), faces.begin() + 3 * t, faces.begin() + 3 * t + 3);
+    }
+    TriangleSetVolume part(faces, n, flags), other(faces, n, rest);
+    EXPECT_NEAR(part.value(x.data(), nullptr), meshVolume(x.data(), chosen.data(), chosen.size() / 3, Vec3{}), 1e-12)
+        << fx.name;
+    // The parts of a partition add up to the whole.
+    FineEdgeVolume whole(faces, n);
+    EXPECT_NEAR(part.value(x.data(), nullptr) + other.value(x.data(), nullptr), whole.value(x.data(), nullptr), 1e-12)
+        << fx.name;
+    checkFunction(part, x, 6, fx.name, 3);
+  }
+  Hierarchy h = Hierarchy::subdivide(fixtures::tetrahedron(), 1);
+  EXPECT_THROW(TriangleSetVolume(h.fineFaces(), uint32_t(h.fineVertexCount()), std::vector<uint8_t>(3)), Error);
+}
+
+TEST(VolumeFunction, CagePolynomialFromTheTensorIsTheVolumeOfTheCageWithItsGradientAndCubic) {
+  for (const auto& fx : fixtures::baseFixtures())
+    for (const auto& o : fixtures::allSchemes()) {
+      Hierarchy h = Hierarchy::subdivide(fx.base, 2);
+      WaveletTransform wt(h, o);
+      const VolumeTensor tensor = computeVolumeTensor(wt, 0, TensorStorage::Cage);
+      std::vector<double> x = fixtures::randomVector(3 * h.fineVertexCount(), 7, 1.0);
+      CagePolynomial poly = contractCageRows(tensor, x.data());
+      // The constant: the volume with a zero cage (detail-only entries), by synthesis.
+      const auto& faces = h.fineFaces();
+      std::vector<double> zeroCage = x;
+      std::fill(zeroCage.begin(), zeroCage.begin() + 3 * tensor.rowCount, 0.0);
+      wt.synthesize(zeroCage.data(), 0);
+      poly.constant = meshVolume(zeroCage.data(), faces.data(), faces.size() / 3, Vec3{});
+      CagePolynomialVolume f(poly);
+      const std::vector<double> cage(x.begin(), x.begin() + 3 * tensor.rowCount);
+      std::vector<double> fine = x;
+      wt.synthesize(fine.data(), 0);
+      const double volume = meshVolume(fine.data(), faces.data(), faces.size() / 3, Vec3{});
+      EXPECT_NEAR(f.value(cage.data(), nullptr), volume, 1e-10 * (1 + std::fabs(volume))) << fx.name << " " << fixtures::label(o);
+      checkFunction(f, cage, 8, fx.name + " " + fixtures::label(o));
+    }
+}

@@ -1,0 +1,50 @@
+// The volume as a cubic polynomial of the level-e cage coefficients, the details fixed: the tensor
+// path of the editor. Evaluating it costs nothing like a pass over the mesh.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "mrvol/volume_function.h"
+#include "mrvol/volume_tensor.h"
+
+namespace mrvol {
+
+// The volume as a cubic polynomial of the cage coefficients c (details fixed), contracted once from
+// the cage rows of theta^e:  Theta(c) = constant + sum_i a_i . c_i + sum_{i<j} c_i . (c_j x q_ij)
+// + sum_{i<j<k} T_ijk c_i . (c_j x c_k). Evaluating it costs nothing like a pass over the mesh.
+struct CagePolynomial {
+  uint32_t cageSize = 0;
+  double constant = 0;
+  std::vector<double> linear;                          // a_i, 3 per cage vertex
+  std::vector<uint32_t> pairI, pairJ;                  // cage pairs with a quadratic term
+  std::vector<double> pairQ;                           // q_ij, 3 per pair
+  std::vector<uint32_t> tripleI, tripleJ, tripleK;     // cage triples, in runs of one (i, j) (any order is
+                                                       // correct; runs share their cross products)
+  std::vector<double> tripleT;
+  double evaluate(const double* cage, double* gradient /* 3 * cageSize or null */) const;
+  // The cubic s -> Theta(cage + s direction): its coefficients k[0] + k[1] s + k[2] s^2 + k[3] s^3.
+  void alongDirection(const double* cage, const double* direction, double* k) const;
+};
+
+// Contracts the cage rows of theta^e (Cage storage) with the details of `coefficients` (level-e
+// coefficients, hierarchy order, 3 per vertex; the cage part is not read). The constant is left 0:
+// the detail-only entries were never formed, so the caller sets it from a known volume.
+CagePolynomial contractCageRows(const VolumeTensor& tensor, const double* coefficients);
+
+// The polynomial as a VolumeFunction of the cage coefficients (3 * cageSize doubles).
+class CagePolynomialVolume final : public VolumeFunction {
+ public:
+  explicit CagePolynomialVolume(CagePolynomial polynomial) : polynomial_(std::move(polynomial)) {}
+  const CagePolynomial& polynomial() const { return polynomial_; }
+  size_t size() const override { return 3 * size_t(polynomial_.cageSize); }
+  double value(const double* cage, double* gradient) const override { return polynomial_.evaluate(cage, gradient); }
+  // Always computes all four coefficients (the expansion gives k[0] and k[1] for free).
+  void alongDirection(const double* cage, const double* d, double* k, bool = false) const override {
+    polynomial_.alongDirection(cage, d, k);
+  }
+
+ private:
+  CagePolynomial polynomial_;
+};
+
+}  // namespace mrvol

@@ -1,0 +1,64 @@
+// A volume as a function of a flat array of 3-vectors x (fine positions or level-e coefficients):
+// its value, its gradient, and the cubic it is along a line. A volume is a cubic form of the
+// positions, so along x + s d it is exactly k0 + k1 s + k2 s^2 + k3 s^3: one expansion replaces
+// further linearized iterations of the solver.
+//
+// Implemented by the cage polynomial (cage_polynomial.h, over the cage coefficients) and, over the
+// fine positions, by the volume of all fine triangles (a pass over the edges) and the volume of a
+// part of them (a pass over its triangles).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace mrvol {
+
+class VolumeFunction {
+ public:
+  virtual ~VolumeFunction() = default;
+  // Doubles in x, the gradient and a direction (3 per vertex).
+  virtual size_t size() const = 0;
+  // The volume at x and, if `gradient` is not null, its gradient (size() doubles, overwritten).
+  virtual double value(const double* x, double* gradient) const = 0;
+  // The cubic s -> V(x + s d): k[0] + k[1] s + k[2] s^2 + k[3] s^3. With lowKnown the caller has
+  // already put V(x) in k[0] and grad V(x) . d in k[1] (an implementation may still recompute them).
+  virtual void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const = 0;
+};
+
+// The volume enclosed by fine triangles about a reference point, over positions of N + 1 vertices:
+// the N mesh vertices (relative to the point) and vertex N at it, which closes boundary loops as
+// cones. Vertex N stays at zero (in x and in directions): the pass lists only the mesh's edges.
+// One pass over the edges, each edge's b x c serving both its triangles.
+class FineEdgeVolume final : public VolumeFunction {
+ public:
+  // A validated, consistently oriented manifold (closed or bounded) with `vertexCount` vertices.
+  FineEdgeVolume(const std::vector<uint32_t>& faces, uint32_t vertexCount);
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+  void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const override;
+
+ private:
+  uint32_t vertexCount_;
+  // Every edge once, 4 indices each: its ends b, c and the vertices opposite it, a in the triangle
+  // (a, b, c) and d in (d, c, b), d = N on the boundary; sorted by the ends, so that the passes
+  // over it walk the vertex arrays nearly in order.
+  std::vector<uint32_t> edges_;
+};
+
+// The volume of some of the fine triangles (a part of the mesh), as cones to the reference point,
+// over the same N + 1 positions.
+class TriangleSetVolume final : public VolumeFunction {
+ public:
+  // `faces` (3 per triangle) must outlive this; `triangles` flags the triangles that count.
+  TriangleSetVolume(const std::vector<uint32_t>& faces, uint32_t vertexCount, std::vector<uint8_t> triangles);
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+  void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const override;
+
+ private:
+  const std::vector<uint32_t>* faces_;
+  uint32_t vertexCount_;
+  std::vector<uint8_t> triangles_;
+};
+
+}  // namespace mrvol

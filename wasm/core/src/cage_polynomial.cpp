@@ -1,0 +1,112 @@
+#include "mrvol/cage_polynomial.h"
+
+#include <algorithm>
+
+#include "mrvol/vector3.h"
+
+namespace mrvol {
+
+double CagePolynomial::evaluate(const double* c, double* g) const {
+  double v = constant;
+  if (g) std::fill(g, g + 3 * size_t(cageSize), 0.0);
+  for (uint32_t i = 0; i < cageSize; ++i) {
+    v += dot(&linear[3 * i], c + 3 * i);
+    if (g) axpy(1.0, &linear[3 * i], g + 3 * i);
+  }
+  double t[3];
+  for (size_t p = 0; p < pairI.size(); ++p) {
+    const double *ci = c + 3 * pairI[p], *cj = c + 3 * pairJ[p], *q = &pairQ[3 * p];
+    cross(cj, q, t);
+    v += dot(ci, t);
+    if (g) {
+      axpy(1.0, t, g + 3 * pairI[p]);
+      cross(q, ci, t);
+      axpy(1.0, t, g + 3 * pairJ[p]);
+    }
+  }
+  // Triples in runs of one (i, j): sum_k T_ijk c_i . (c_j x c_k) = c_i . (c_j x w), w = sum_k T_ijk c_k,
+  // and the gradient at k is T_ijk (c_i x c_j): per triple two vector updates, per run the crosses.
+  for (size_t p = 0; p < tripleT.size();) {
+    const uint32_t i = tripleI[p], j = tripleJ[p];
+    size_t end = p + 1;
+    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+    double w[3] = {0, 0, 0};
+    for (size_t q = p; q < end; ++q) axpy(tripleT[q], c + 3 * tripleK[q], w);
+    const double *ci = c + 3 * i, *cj = c + 3 * j;
+    cross(cj, w, t);
+    v += dot(ci, t);
+    if (g) {
+      axpy(1.0, t, g + 3 * i);
+      cross(w, ci, t);
+      axpy(1.0, t, g + 3 * j);
+      cross(ci, cj, t);
+      for (size_t q = p; q < end; ++q) axpy(tripleT[q], t, g + 3 * tripleK[q]);
+    }
+    p = end;
+  }
+  return v;
+}
+
+void CagePolynomial::alongDirection(const double* c, const double* g, double* k) const {
+  // Expands Theta(c + s g) term by term: (c_i + s g_i) . ((c_j + s g_j) x (c_k + s g_k)).
+  k[0] = constant, k[1] = k[2] = k[3] = 0;
+  for (uint32_t i = 0; i < cageSize; ++i) k[0] += dot(&linear[3 * i], c + 3 * i), k[1] += dot(&linear[3 * i], g + 3 * i);
+  double t[3];
+  for (size_t p = 0; p < pairI.size(); ++p) {
+    const double *ci = c + 3 * pairI[p], *cj = c + 3 * pairJ[p], *gi = g + 3 * pairI[p], *gj = g + 3 * pairJ[p], *q = &pairQ[3 * p];
+    cross(cj, q, t);
+    k[0] += dot(ci, t), k[1] += dot(gi, t);
+    cross(gj, q, t);
+    k[1] += dot(ci, t), k[2] += dot(gi, t);
+  }
+  // Triples by runs of one (i, j) as in evaluate: (c_i + s g_i) . ((c_j + s g_j) x (wc + s wg)).
+  for (size_t p = 0; p < tripleT.size();) {
+    const uint32_t i = tripleI[p], j = tripleJ[p];
+    size_t end = p + 1;
+    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+    double wc[3] = {0, 0, 0}, wg[3] = {0, 0, 0};
+    for (size_t q = p; q < end; ++q) axpy(tripleT[q], c + 3 * tripleK[q], wc), axpy(tripleT[q], g + 3 * tripleK[q], wg);
+    const double *ci = c + 3 * i, *cj = c + 3 * j, *gi = g + 3 * i, *gj = g + 3 * j;
+    cross(cj, wc, t);
+    k[0] += dot(ci, t), k[1] += dot(gi, t);
+    cross(gj, wc, t);
+    k[1] += dot(ci, t), k[2] += dot(gi, t);
+    cross(cj, wg, t);
+    k[1] += dot(ci, t), k[2] += dot(gi, t);
+    cross(gj, wg, t);
+    k[2] += dot(ci, t), k[3] += dot(gi, t);
+    p = end;
+  }
+}
+
+CagePolynomial contractCageRows(const VolumeTensor& tensor, const double* x) {
+  CagePolynomial poly;
+  const uint32_t cageSize = tensor.rowCount;
+  poly.cageSize = cageSize;
+  poly.linear.assign(3 * size_t(cageSize), 0.0);
+  for (uint32_t i = 0; i < tensor.rowCount; ++i)
+    for (uint32_t p = tensor.rowStart[i]; p < tensor.rowStart[i + 1]; ++p) {
+      const uint32_t j = tensor.pairJ[p];
+      double q[3] = {0, 0, 0};
+      for (uint32_t t = tensor.pairStart[p]; t < tensor.pairStart[p + 1]; ++t) {
+        const uint32_t k = tensor.kIndex(t);
+        if (k < cageSize) {
+          poly.tripleI.push_back(i), poly.tripleJ.push_back(j), poly.tripleK.push_back(k);
+          poly.tripleT.push_back(tensor.values[t]);
+        } else {  // k is a detail
+          axpy(tensor.values[t], x + 3 * size_t(k), q);
+        }
+      }
+      if (j >= cageSize) {  // a_i += p_j x q
+        double t[3];
+        cross(x + 3 * size_t(j), q, t);
+        axpy(1.0, t, &poly.linear[3 * i]);
+      } else if (q[0] != 0 || q[1] != 0 || q[2] != 0) {
+        poly.pairI.push_back(i), poly.pairJ.push_back(j);
+        poly.pairQ.insert(poly.pairQ.end(), q, q + 3);
+      }
+    }
+  return poly;
+}
+
+}  // namespace mrvol

@@ -1,0 +1,133 @@
+#include "mrvol/coefficient_volumes.h"
+
+#include <algorithm>
+
+#include "mrvol/vector3.h"
+
+namespace mrvol {
+
+namespace {
+// Scatters a vector over the free coefficients (3 each, free order) into a full one.
+void scatter(const std::vector<uint32_t>& free, const double* compact, double* full) {
+  for (size_t i = 0; i < free.size(); ++i)
+    for (int k = 0; k < 3; ++k) full[3 * size_t(free[i]) + k] = compact[3 * i + k];
+}
+void gather(const std::vector<uint32_t>& free, const double* full, double* compact) {
+  for (size_t i = 0; i < free.size(); ++i)
+    for (int k = 0; k < 3; ++k) compact[3 * i + k] = full[3 * size_t(free[i]) + k];
+}
+void moveFree(const std::vector<uint32_t>& free, const double* direction, double s, std::vector<double>& x) {
+  for (size_t i = 0; i < free.size(); ++i) axpy(s, direction + 3 * i, &x[3 * size_t(free[i])]);
+}
+}  // namespace
+
+void SessionCoefficients::shiftedCage(std::vector<double>& out) const {
+  out.assign(x.begin(), x.begin() + 3 * size_t(cageSize));
+  for (size_t i = 0; i < out.size(); i += 3) out[i] -= origin.x, out[i + 1] -= origin.y, out[i + 2] -= origin.z;
+}
+
+double CageVolumeConstraint::value() {
+  session_->shiftedCage(cage_);
+  return volume_->value(cage_.data(), nullptr);
+}
+
+void CageVolumeConstraint::evaluate(double* values) {
+  session_->shiftedCage(cage_);
+  gradient_.resize(cage_.size());
+  values[0] = volume_->value(cage_.data(), gradient_.data());
+}
+
+void CageVolumeConstraint::gradients(const std::vector<uint32_t>& free, double* gradients) {
+  gather(free, gradient_.data(), gradients);
+}
+
+void CageVolumeConstraint::alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) {
+  session_->shiftedCage(cage_);
+  direction_.assign(cage_.size(), 0.0);
+  scatter(free, direction, direction_.data());
+  volume_->alongDirection(cage_.data(), direction_.data(), k, true);
+}
+
+void CageVolumeConstraint::step(const std::vector<uint32_t>& free, const double* direction, double s, const double*) {
+  moveFree(free, direction, s, session_->x);
+  session_->fine.cageChanged();
+}
+
+void FineVolumeConstraints::setRows(std::vector<const VolumeFunction*> rows, std::vector<double> refs, bool detailsFree) {
+  rows_ = std::move(rows);
+  references = std::move(refs);
+  detailsFree_ = detailsFree;
+  cacheVersion_ = ~uint64_t(0);
+  gradientCached_ = false;
+}
+
+double FineVolumeConstraints::value() {
+  const std::vector<double>& p = session_->fine.of(session_->x);
+  if (cacheVersion_ != session_->fine.version()) {
+    cachedValue_ = rows_[0]->value(p.data(), nullptr);
+    cacheVersion_ = session_->fine.version();
+    gradientCached_ = false;
+  }
+  return cachedValue_;
+}
+
+double FineVolumeConstraints::valueWithGradient() {
+  const std::vector<double>& p = session_->fine.of(session_->x);
+  if (cacheVersion_ != session_->fine.version() || !gradientCached_) {
+    gradient_.resize(p.size());
+    cachedValue_ = rows_[0]->value(p.data(), gradient_.data());
+    cacheVersion_ = session_->fine.version();
+    gradientCached_ = true;
+  }
+  return cachedValue_;
+}
+
+void FineVolumeConstraints::evaluate(double* values) {
+  const std::vector<double>& p = session_->fine.of(session_->x);
+  values[0] = valueWithGradient();
+  rowGradients_.resize(rows_.size() - 1);
+  for (size_t r = 1; r < rows_.size(); ++r) {
+    rowGradients_[r - 1].resize(p.size());
+    values[r] = rows_[r]->value(p.data(), rowGradients_[r - 1].data());
+  }
+}
+
+void FineVolumeConstraints::gradients(const std::vector<uint32_t>& free, double* gradients) {
+  const size_t m3 = 3 * free.size();
+  for (size_t r = 0; r < rows_.size(); ++r) {
+    // The fine gradient to the coefficients' (coarse part only unless details are free); it is
+    // used up by the adjoint.
+    std::vector<double>& g = r == 0 ? gradient_ : rowGradients_[r - 1];
+    transform_->synthesisAdjoint(g.data(), level_, 3, detailsFree_);
+    if (r == 0) gradientCached_ = false;
+    gather(free, g.data(), gradients + r * m3);
+  }
+}
+
+void FineVolumeConstraints::alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) {
+  const std::vector<double>& p = session_->fine.of(session_->x);
+  // The direction's synthesis: zero-detail unless details are free; vertex N (the origin) stays 0.
+  const size_t n3 = session_->x.size(), cage3 = 3 * size_t(session_->cageSize);
+  if (direction_.size() != n3 + 3) direction_.assign(n3 + 3, 0.0);
+  std::fill(direction_.begin(), direction_.begin() + (detailsFree_ ? n3 : cage3), 0.0);  // zero-detail synthesis overwrites the rest
+  scatter(free, direction, direction_.data());
+  if (detailsFree_) transform_->synthesize(direction_.data(), level_);
+  else transform_->synthesizeZeroDetails(direction_.data(), level_);
+  rows_[0]->alongDirection(p.data(), direction_.data(), k, true);
+}
+
+void FineVolumeConstraints::step(const std::vector<uint32_t>& free, const double* direction, double s, const double* cubicValue) {
+  moveFree(free, direction, s, session_->x);
+  if (!cubicValue) {
+    if (detailsFree_) session_->fine.detailsChanged();
+    else session_->fine.cageChanged();
+    return;
+  }
+  // The fine positions follow along the direction's synthesis; the cubic gave the value there.
+  session_->fine.followDirection(session_->x, s, direction_);
+  cachedValue_ = *cubicValue;
+  cacheVersion_ = session_->fine.version();
+  gradientCached_ = false;
+}
+
+}  // namespace mrvol
