@@ -2,6 +2,7 @@
 // mrvol command line: the WASM core under Node. Errors: exit 1 and one line
 // `mrvol: error: ...`; bad usage: exit 2.
 import { readFileSync, writeFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
 import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError, remesh } from '../lib/node.mjs';
 
@@ -130,14 +131,37 @@ function writeText(path, text) {
   }
 }
 
-// Reads an OBJ file; errors name the file.
+// A .gltf's sidecar files (buffers with a relative URI), read beside it: [[uri, bytes]].
+function gltfResources(path, bytes) {
+  let doc;
+  try {
+    doc = JSON.parse(new TextDecoder().decode(bytes));
+  } catch {
+    return undefined;  // the core says what is wrong with the JSON
+  }
+  const uris = (Array.isArray(doc?.buffers) ? doc.buffers : []).map((b) => b?.uri)
+    .filter((uri) => typeof uri === 'string' && !uri.startsWith('data:'));
+  return uris.map((uri) => [uri, readBytes(join(dirname(path), decodeURIComponent(uri)))]);
+}
+
+// Reads a mesh file: OBJ as text (as always); STL, PLY, OFF, glTF, GLB by extension or content.
+// Errors name the file.
 function loadMesh(mrvol, path) {
   try {
-    return mrvol.readObj(readText(path));
+    if (/\.obj$/i.test(path)) return mrvol.readObj(readText(path));
+    const bytes = readBytes(path);
+    return mrvol.readMesh(bytes, { name: path, resources: /\.gltf$/i.test(path) ? gltfResources(path, bytes) : undefined });
   } catch (e) {
     if (e instanceof MrvolError && !e.message.startsWith('cannot read')) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
   }
+}
+
+// Writes a mesh in the format of the output file's extension: .glb, else OBJ.
+function writeMesh(mrvol, path, mesh) {
+  if (/\.glb$/i.test(path)) return writeBytes(path, mrvol.writeGlb(mesh));
+  if (/\.(stl|ply|off|gltf)$/i.test(path)) throw new UsageError(`cannot write ${path}: mrvol writes .obj and .glb`);
+  writeText(path, mrvol.writeObj(mesh));
 }
 
 function openMultires(mrvol, path) {
@@ -251,7 +275,7 @@ const COMMANDS = {
     const mesh = mr.toMesh();
     const info = mr.info();
     mr.delete();
-    writeText(values.output, mrvol.writeObj(mesh));
+    writeMesh(mrvol, values.output, mesh);
     const result = { vertices: info.vertices, faces: info.faces, levels, scheme: values.scheme ?? 'loop',
                      volume: info.volume, output: values.output };
     print(values, result, (r) => `wrote ${r.output}: ${r.vertices} vertices, ${r.faces} faces (${r.scheme}, ${r.levels} levels)`);
@@ -329,7 +353,7 @@ COMMANDS.edit = (mrvol, values, positionals) => {
     const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
     const stepMs = performance.now() - started;
     if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
-    writeText(values.output, mrvolWriteEdited(mrvol, mr, editor));
+    writeMesh(mrvol, values.output, { positions: editor.positions(), faces: mr.faces() });
     const result = {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
@@ -346,10 +370,6 @@ COMMANDS.edit = (mrvol, values, positionals) => {
     mr.delete();
   }
 };
-
-function mrvolWriteEdited(mrvol, mr, editor) {
-  return mrvol.writeObj({ positions: editor.positions(), faces: mr.faces() });
-}
 
 COMMANDS.remesh = async (mrvol, values, positionals) => {
   const input = onePath(positionals, 'IN.obj');
@@ -370,7 +390,7 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   } catch (e) {
     throw e instanceof MrvolError ? new MrvolError(`${input}: ${e.message}`) : e;
   }
-  writeText(values.output, mrvol.writeObj(r.mesh));
+  writeMesh(mrvol, values.output, r.mesh);
   const round = (x, d) => Math.round(x * 10 ** d) / 10 ** d;
   const result = {
     levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces, vertices: r.vertices, faces: r.faces,
