@@ -185,7 +185,7 @@ TEST(ReadFormats, GltfNodeTransformsAreApplied) {
 }
 
 TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
-  // A strip 0 1 2 3 over a unit square, written in a GLB by hand: triangles (0 1 2) and (2 1 3).
+  // A strip 0 1 2 3 over a unit square, written in a GLB by hand: triangles (0 1 2) and (1 3 2).
   nlohmann::json doc = {
       {"asset", {{"version", "2.0"}}},
       {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"mode", 5}}}}}}},
@@ -208,7 +208,7 @@ TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
   u32(uint32_t(bin.size())), u32(0x004E4942);
   glb += bin;
   ImportedMesh m = readGlb(glb);
-  EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 2, 2, 1, 3}));
+  EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));  // glTF: odd i gives (i, i + 2, i + 1)
   EXPECT_EQ(m.sourceFaces, 2u);
 }
 
