@@ -157,9 +157,10 @@ function loadMesh(mrvol, path) {
   }
 }
 
-// Writes a mesh in the format of the output file's extension: .glb, else OBJ.
-function writeMesh(mrvol, path, mesh) {
-  if (/\.glb$/i.test(path)) return writeBytes(path, mrvol.writeGlb(mesh));
+// Writes a mesh in the format of the output file's extension: .glb (keeping a glTF source's
+// data when given), else OBJ.
+function writeMesh(mrvol, path, mesh, source) {
+  if (/\.glb$/i.test(path)) return writeBytes(path, mrvol.writeGlb(mesh, { source }));
   if (/\.(stl|ply|off|gltf)$/i.test(path)) throw new UsageError(`cannot write ${path}: mrvol writes .obj and .glb`);
   writeText(path, mrvol.writeObj(mesh));
 }
@@ -167,7 +168,7 @@ function writeMesh(mrvol, path, mesh) {
 function openMultires(mrvol, path) {
   const mesh = loadMesh(mrvol, path);
   try {
-    return mrvol.openMesh(mesh);
+    return Object.assign(mrvol.openMesh(mesh), { source: mesh.source });
   } catch (e) {
     if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
@@ -353,7 +354,7 @@ COMMANDS.edit = (mrvol, values, positionals) => {
     const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
     const stepMs = performance.now() - started;
     if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
-    writeMesh(mrvol, values.output, { positions: editor.positions(), faces: mr.faces() });
+    writeMesh(mrvol, values.output, { positions: editor.positions(), faces: mr.faces() }, mr.source);
     const result = {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,

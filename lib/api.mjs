@@ -345,16 +345,26 @@ export function wrapModule(module) {
       const pairs = resources === undefined ? undefined
         : (resources instanceof Map ? [...resources] : Array.isArray(resources) ? resources : Object.entries(resources))
           .map(([uri, b]) => [String(uri), toBytes(b, 'readMesh resources')]);
-      return callIo(module._readMesh, data, String(name), String(format), pairs);
+      const mesh = callIo(module._readMesh, data, String(name), String(format), pairs);
+      // A glTF keeps what writeGlb needs to write it again with its other data: writeGlb(mesh, { source: mesh.source }).
+      if (mesh.format === 'gltf' || mesh.format === 'glb')
+        Object.defineProperty(mesh, 'source', { value: { bytes: data, format: mesh.format, resources: pairs }, enumerable: false });
+      return mesh;
     },
     /** The format ('obj', 'stl', 'ply', 'off', 'gltf', 'glb') of a file from its name and content. */
     detectFormat(bytes, name = '') {
       return callIo(module._detectFormat, toBytes(bytes, 'detectFormat'), String(name));
     },
-    /** A GLB file (Uint8Array) of the mesh: float32 positions, vertex normals, uint32 indices. */
-    writeGlb(mesh) {
+    /**
+     * A GLB file (Uint8Array) of the mesh: float32 positions, vertex normals, uint32 indices. With
+     * `source` (a glTF mesh's `source` from readMesh; the triangles unchanged), the source's data
+     * is kept: materials, textures, other attributes; POSITION replaced, NORMAL recomputed.
+     */
+    writeGlb(mesh, { source } = {}) {
       checkMesh(mesh);
-      return callIo(module._writeGlb, mesh.positions, mesh.faces);
+      if (source === undefined) return callIo(module._writeGlb, mesh.positions, mesh.faces);
+      return callIo(module._writeGlbKeeping, toBytes(source.bytes, 'writeGlb source'), '', String(source.format ?? ''),
+                    source.resources, mesh.positions, mesh.faces);
     },
     /** Reads a theta file (Uint8Array); throws MrvolError if truncated, corrupt or of a future version. */
     readTheta(bytes) {

@@ -360,6 +360,15 @@ export interface ImportedMesh extends Mesh {
   welded: number;
   /** Polygons of more than 3 corners split into triangle fans. */
   triangulated: number;
+  /** glTF and GLB only: the file, for writeGlb(mesh, { source }). */
+  source?: GltfSource;
+}
+
+/** What writeGlb needs to write a glTF again with its own data (ImportedMesh.source, not enumerable). */
+export interface GltfSource {
+  bytes: Uint8Array;
+  format: 'gltf' | 'glb';
+  resources?: Array<[string, Uint8Array]>;
 }
 
 export interface ReadMeshOptions {
@@ -387,8 +396,13 @@ export interface Mrvol {
   readMesh(bytes: Uint8Array | ArrayBuffer, options?: ReadMeshOptions): ImportedMesh;
   /** The format of a file from its name (extension) and content; throws when it is none mrvol reads. */
   detectFormat(bytes: Uint8Array | ArrayBuffer, name?: string): MeshFormat;
-  /** A GLB file: one triangle primitive, float32 POSITION (rounded from the doubles), vertex NORMAL, uint32 indices. */
-  writeGlb(mesh: Mesh): Uint8Array;
+  /**
+   * A GLB file: one triangle primitive, float32 POSITION (rounded from the doubles), vertex NORMAL,
+   * uint32 indices. With `source` (the `source` of a mesh readMesh read from glTF or GLB, triangles
+   * unchanged): the source's JSON and data kept (materials, textures, other attributes, node
+   * transforms), POSITION replaced, NORMAL recomputed where present.
+   */
+  writeGlb(mesh: Mesh, options?: { source?: GltfSource }): Uint8Array;
   /** Checks manifoldness and orientation; throws MrvolError saying where the mesh is wrong. */
   validate(mesh: Mesh): Topology;
   /** Signed enclosed volume of a valid mesh. */

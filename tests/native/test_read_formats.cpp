@@ -275,3 +275,56 @@ TEST(ReadFormats, HostileFilesFailWithTheirMessages) {
   }
   EXPECT_EQ(checked, files.size());
 }
+
+TEST(WriteGlbKeeping, KeepsTheSourceAndReplacesPositionsAndNormals) {
+  MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 2, SchemeOptions{});
+  const std::string source = writeGlb(mr.mesh());  // has NORMAL
+  ImportedMesh read = readGlb(source);
+  TriangleMesh edited = read.mesh;
+  for (size_t i = 0; i < edited.positions.size(); ++i) edited.positions[i] *= 1 + 0.01 * double(i % 7);
+  const std::string out = writeGlbKeeping(source, MeshFormat::Glb, {}, edited);
+  ImportedMesh back = readGlb(out);
+  EXPECT_EQ(back.mesh.faces, edited.faces);
+  for (size_t i = 0; i < edited.positions.size(); ++i) EXPECT_EQ(back.mesh.positions[i], double(float(edited.positions[i]))) << i;
+  // The normals are what writeGlb computes for the edited mesh (same area-weighted sums).
+  const std::string fresh = writeGlb(edited);
+  auto normalsOf = [](const std::string& glb) {
+    const uint32_t jsonLength = *reinterpret_cast<const uint32_t*>(glb.data() + 12);
+    auto doc = nlohmann::json::parse(glb.substr(20, jsonLength));
+    const auto& accessor = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"].get<size_t>()];
+    const auto& view = doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+    const size_t offset = 20 + jsonLength + 8 + view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0));
+    return glb.substr(offset, 12 * accessor["count"].get<size_t>());
+  };
+  EXPECT_EQ(normalsOf(out), normalsOf(fresh));
+  // Other triangles are refused.
+  TriangleMesh other = edited;
+  std::swap(other.faces[0], other.faces[1]);
+  EXPECT_THROW(writeGlbKeeping(source, MeshFormat::Glb, {}, other), Error);
+}
+
+TEST(WriteGlbKeeping, NodeFramesAndSharedAccessors) {
+  const std::string source = fixtures::readFile(kGood + "/octahedron-transforms.glb");
+  ImportedMesh read = readGlb(source);
+  // Unchanged positions go back through the inverse node transforms.
+  ImportedMesh same = readGlb(writeGlbKeeping(source, MeshFormat::Glb, {}, read.mesh));
+  ASSERT_EQ(same.mesh.faces, read.mesh.faces);
+  for (size_t i = 0; i < read.mesh.positions.size(); ++i) EXPECT_NEAR(same.mesh.positions[i], read.mesh.positions[i], 1e-5);
+  // Both nodes instance mesh 0: moving one copy alone cannot be written into the shared accessor.
+  TriangleMesh moved = read.mesh;
+  moved.positions[0] += 0.5;
+  try {
+    writeGlbKeeping(source, MeshFormat::Glb, {}, moved);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is shared by nodes the edit moves differently"), std::string::npos) << e.what();
+  }
+  // A .gltf with a sidecar buffer becomes one GLB with everything in its BIN chunk.
+  const std::string gltf = fixtures::readFile(kGood + "/octahedron-sidecar.gltf");
+  const std::string bin = fixtures::readFile(kGood + "/octahedron-sidecar.bin");
+  ImportedMesh sidecar = readGltf(gltf, {{"octahedron-sidecar.bin", bin}});
+  sidecar.mesh.positions[2] = 2;  // vertex 0 up
+  ImportedMesh glb = readGlb(writeGlbKeeping(gltf, MeshFormat::Gltf, {{"octahedron-sidecar.bin", bin}}, sidecar.mesh));
+  EXPECT_EQ(glb.mesh.positions, sidecar.mesh.positions);
+  EXPECT_EQ(glb.mesh.faces, sidecar.mesh.faces);
+}

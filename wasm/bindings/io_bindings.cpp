@@ -50,19 +50,24 @@ val toTyped(const std::vector<T>& v) {
   return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
 }
 
+// [[uri, Uint8Array], ...] (or undefined): the bytes copied into `storage`, viewed by the result.
+GltfResources resourcesOf(const val& resources, std::vector<std::string>& storage) {
+  GltfResources out;
+  if (resources.isUndefined() || resources.isNull()) return out;
+  const size_t n = resources["length"].as<size_t>();
+  storage.reserve(n);
+  for (size_t i = 0; i < n; ++i) storage.push_back(bytesOf(resources[i][1], "resource bytes"));
+  for (size_t i = 0; i < n; ++i) out.emplace_back(resources[i][0].as<std::string>(), storage[i]);
+  return out;
+}
+
 // bytes: Uint8Array; name: file name or ""; format: "" (detect) or a format name; resources:
 // [[uri, Uint8Array], ...] for a .gltf's sidecar files.
 val js_readMesh(val bytes, std::string name, std::string format, val resources) {
   return guardedIo([&] {
     const std::string data = bytesOf(bytes, "file bytes");
     std::vector<std::string> storage;
-    GltfResources extra;
-    if (!resources.isUndefined() && !resources.isNull()) {
-      const size_t n = resources["length"].as<size_t>();
-      storage.reserve(n);
-      for (size_t i = 0; i < n; ++i) storage.push_back(bytesOf(resources[i][1], "resource bytes"));
-      for (size_t i = 0; i < n; ++i) extra.emplace_back(resources[i][0].as<std::string>(), storage[i]);
-    }
+    const GltfResources extra = resourcesOf(resources, storage);
     ImportedMesh m = format.empty() ? readMeshFile(data, name, extra) : readMeshFile(data, parseFormatName(format), extra);
     val out = val::object();
     out.set("positions", toTyped(m.mesh.positions));
@@ -98,10 +103,26 @@ val js_writeGlb(val positions, val faces) {
   });
 }
 
+// The GLB of a glTF / GLB source with the edited mesh's positions (same triangles as read).
+val js_writeGlbKeeping(val source, std::string name, std::string format, val resources, val positions, val faces) {
+  return guardedIo([&] {
+    const std::string data = bytesOf(source, "source bytes");
+    std::vector<std::string> storage;
+    const GltfResources extra = resourcesOf(resources, storage);
+    TriangleMesh m;
+    m.positions = emscripten::convertJSArrayToNumberVector<double>(positions);
+    m.faces = emscripten::convertJSArrayToNumberVector<uint32_t>(faces);
+    const MeshFormat f = format.empty() ? detectFormat(data, name) : parseFormatName(format);
+    const std::string glb = writeGlbKeeping(data, f, extra, m);
+    return val(emscripten::typed_memory_view(glb.size(), reinterpret_cast<const uint8_t*>(glb.data()))).call<val>("slice");
+  });
+}
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(mrvol_io) {
   using namespace emscripten;
+  function("_writeGlbKeeping", &js_writeGlbKeeping);
   function("_takeIoError", &takeIoError);
   function("_readMesh", &js_readMesh);
   function("_detectFormat", &js_detectFormat);

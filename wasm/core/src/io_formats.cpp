@@ -199,7 +199,7 @@ ImportedMesh readMeshFile(std::string_view bytes, std::string_view name, const G
   return readMeshFile(bytes, detectFormat(bytes, name), resources);
 }
 
-size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource) {
+size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource) {
   const size_t n = mesh.vertexCount();
   // Sort (x, y, z, index): equal positions end up adjacent, the first source vertex first.
   struct Key {
@@ -240,6 +240,7 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
   mesh.positions.resize(3 * kept);
   for (uint32_t& i : mesh.faces) i = output[i];
   if (firstSource) *firstSource = std::move(first);
+  if (outputOfSource) *outputOfSource = std::move(output);
   return n - kept;
 }
 

@@ -13,16 +13,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gltf_document.h"
 #include "io_common.h"
 #include "mrvol/io_formats.h"
 
 namespace mrvol {
 
-namespace {
+namespace gltf {
 
 using io::count;
-using nlohmann::json;
-using Matrix = std::array<double, 16>;  // column-major, as glTF stores it
 
 constexpr Matrix kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
@@ -40,15 +39,6 @@ Matrix multiply(const Matrix& a, const Matrix& b) {
 double determinant3(const Matrix& m) {
   return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
 }
-
-// A readable glTF document: the JSON and the bytes of each buffer.
-struct Document {
-  json root;
-  std::vector<std::string_view> buffers;
-  std::vector<std::string> decoded;  // storage of base64 data: URIs
-  uint64_t totalBytes = 0;           // file and resources: bounds what the scene may expand to
-  const char* kind = "glTF";
-};
 
 [[noreturn]] void fail(const Document& d, const std::string& message) { throw Error(std::string(d.kind) + " " + message); }
 
@@ -375,18 +365,18 @@ const char* modeName(uint64_t mode) {
   }
 }
 
-ImportedMesh readDocument(Document& d) {
+SceneGeometry collectScene(const Document& d) {
   checkExtensions(d);
   const json* asset = member(d.root, "asset");
   if (!asset || !asset->is_object()) fail(d, "JSON has no 'asset' object: this is not a glTF file");
   const json* version = member(*asset, "version");
   if (!version || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0)
     fail(d, "asset version is not 2.x: mrvol reads glTF 2.0");
-  ImportedMesh out;
+  SceneGeometry out;
   TriangleMesh& m = out.mesh;
   const uint64_t maxTriangles = std::max<uint64_t>(d.totalBytes * 16, uint64_t(1) << 20);
   uint64_t sourceBase = 0;  // running index over the primitives' POSITION accessors
-  std::vector<uint32_t> sourceOfOutput;
+  std::vector<uint32_t>& sourceOfOutput = out.sourceOfVertex;
   for (const Instance& instance : sceneInstances(d)) {
     const json& mesh = entry(d, "meshes", instance.mesh);
     const json* primitives = member(mesh, "primitives");
@@ -464,16 +454,34 @@ ImportedMesh readDocument(Document& d) {
         else m.faces.insert(m.faces.end(), {a, b, c});
       }
       sourceBase += vertexCount;
+      PrimitiveUse use;
+      use.mesh = instance.mesh, use.primitive = p, use.positionAccessor = positionAccessor, use.world = instance.world;
+      if (member(*attributes, "NORMAL")) use.normalAccessor = long(indexInto(d, *attributes, "NORMAL", "accessors", where));
+      use.outputOf = std::move(outputOf);
+      use.triangles = std::move(triangles);
+      out.uses.push_back(std::move(use));
     }
   }
   if (m.faces.empty()) fail(d, "scene has no triangles (no mesh, or only empty primitives)");
-  out.sourceVertices = m.vertexCount();
-  std::vector<uint32_t> first;
-  out.welded = weldExactPositions(m, &first);
-  out.sourceVertex.resize(first.size());
-  for (size_t i = 0; i < first.size(); ++i) out.sourceVertex[i] = sourceOfOutput[first[i]];
   return out;
 }
+
+namespace {
+
+ImportedMesh readDocument(const Document& d) {
+  SceneGeometry scene = collectScene(d);
+  ImportedMesh out;
+  out.mesh = std::move(scene.mesh);
+  out.sourceFaces = scene.sourceFaces;
+  out.sourceVertices = out.mesh.vertexCount();
+  std::vector<uint32_t> first;
+  out.welded = weldExactPositions(out.mesh, &first);
+  out.sourceVertex.resize(first.size());
+  for (size_t i = 0; i < first.size(); ++i) out.sourceVertex[i] = scene.sourceOfVertex[first[i]];
+  return out;
+}
+
+}  // namespace
 
 void parseJson(Document& d, std::string_view text, uint64_t base) {
   try {
@@ -488,22 +496,17 @@ void parseJson(Document& d, std::string_view text, uint64_t base) {
   if (!d.root.is_object()) fail(d, "JSON: the document is not an object");
 }
 
-}  // namespace
-
-ImportedMesh readGltf(std::string_view text, const GltfResources& resources) {
+Document openGltf(std::string_view text, const GltfResources& resources) {
   if (text.empty()) throw Error("empty glTF file (0 bytes)");
   Document d;
   d.totalBytes = text.size();
   if (text.substr(0, 4) == "glTF") throw Error("this is a GLB (binary glTF) file, not .gltf JSON: read it as GLB");
   parseJson(d, text, 0);
   loadBuffers(d, {}, false, resources);
-  ImportedMesh out = readDocument(d);
-  out.format = MeshFormat::Gltf;
-  out.variant = "glTF";
-  return out;
+  return d;
 }
 
-ImportedMesh readGlb(std::string_view b, const GltfResources& resources) {
+Document openGlb(std::string_view b, const GltfResources& resources) {
   if (b.empty()) throw Error("empty GLB file (0 bytes)");
   if (b.size() < 12 || b.substr(0, 4) != "glTF")
     throw Error("not a GLB file: it does not start with the magic 'glTF'" + io::looksLike(b));
@@ -541,7 +544,20 @@ ImportedMesh readGlb(std::string_view b, const GltfResources& resources) {
   d.totalBytes = b.size();
   parseJson(d, jsonChunk, 20);
   loadBuffers(d, binChunk, haveBin, resources);
-  ImportedMesh out = readDocument(d);
+  return d;
+}
+
+}  // namespace gltf
+
+ImportedMesh readGltf(std::string_view text, const GltfResources& resources) {
+  ImportedMesh out = gltf::readDocument(gltf::openGltf(text, resources));
+  out.format = MeshFormat::Gltf;
+  out.variant = "glTF";
+  return out;
+}
+
+ImportedMesh readGlb(std::string_view bytes, const GltfResources& resources) {
+  ImportedMesh out = gltf::readDocument(gltf::openGlb(bytes, resources));
   out.format = MeshFormat::Glb;
   out.variant = "GLB";
   return out;

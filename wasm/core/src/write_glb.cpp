@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gltf_document.h"
 #include "mrvol/error.h"
 #include "mrvol/io_formats.h"
 
@@ -76,10 +77,20 @@ std::string writeGlb(const TriangleMesh& mesh) {
                                     {"target", 34963}}})},
       {"buffers", json::array({{{"byteLength", positionBytes + normalBytes + indexBytes}}})},
   };
-  std::string text = doc.dump();
+  std::string bin;
+  bin.reserve(positionBytes + normalBytes + indexBytes);
+  append(bin, positions.data(), positions.size());
+  append(bin, normals.data(), normals.size());
+  append(bin, mesh.faces.data(), mesh.faces.size());
+  return gltf::glbContainer(doc.dump(), bin);
+}
+
+namespace gltf {
+
+std::string glbContainer(std::string text, std::string_view bin) {
   while (text.size() % 4) text.push_back(' ');  // chunks are 4-byte aligned: JSON pads with spaces
-  const size_t binBytes = positionBytes + normalBytes + indexBytes;  // multiple of 4 already
-  const uint64_t total = 12 + 8 + text.size() + 8 + binBytes;
+  const size_t binPadded = (bin.size() + 3) / 4 * 4;
+  const uint64_t total = 12 + 8 + text.size() + 8 + binPadded;
   if (total > 0xffffffffu) throw Error("writeGlb: the mesh is too large for a GLB file (4 GB)");
   std::string out;
   out.reserve(size_t(total));
@@ -89,12 +100,13 @@ std::string writeGlb(const TriangleMesh& mesh) {
   putU32(out, uint32_t(text.size()));
   putU32(out, 0x4E4F534A);  // JSON
   out += text;
-  putU32(out, uint32_t(binBytes));
+  putU32(out, uint32_t(binPadded));
   putU32(out, 0x004E4942);  // BIN
-  append(out, positions.data(), positions.size());
-  append(out, normals.data(), normals.size());
-  append(out, mesh.faces.data(), mesh.faces.size());
+  out.append(bin);
+  out.append(binPadded - bin.size(), '\0');
   return out;
 }
+
+}  // namespace gltf
 
 }  // namespace mrvol

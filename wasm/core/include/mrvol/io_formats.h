@@ -61,12 +61,23 @@ ImportedMesh readMeshFile(std::string_view bytes, std::string_view name, const G
 ImportedMesh readMeshFile(std::string_view bytes, MeshFormat format, const GltfResources& resources = {});
 
 // Merges vertices at exactly the same position (sort-based) and renumbers the faces. Output
-// vertices keep the order of their first source vertex; `firstSource` (optional) receives it.
+// vertices keep the order of their first source vertex; `firstSource` (optional) receives it,
+// `outputOfSource` (optional) the output vertex of every source vertex.
 // Returns the number of vertices merged away.
-size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource = nullptr);
+size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource = nullptr,
+                          std::vector<uint32_t>* outputOfSource = nullptr);
 
 // A GLB file (glTF 2.0 binary) of the mesh: one node, one triangle primitive with float32
 // POSITION (the doubles rounded), area-weighted vertex NORMAL, uint32 indices.
 std::string writeGlb(const TriangleMesh& mesh);
+
+// A GLB of a glTF or GLB source file with new positions for the mesh read from it (the same
+// triangles as readGltf / readGlb gave, positions moved): the source's JSON, buffers, materials,
+// textures and other attributes are kept, each primitive's POSITION is replaced (in its node's
+// local frame) and its NORMAL, where present, recomputed (area-weighted; creases the source split
+// stay split). All buffers go into the one BIN chunk. Throws Error when the triangles differ from
+// the source's, or when an accessor shared by several nodes would need different local positions.
+std::string writeGlbKeeping(std::string_view source, MeshFormat sourceFormat, const GltfResources& resources,
+                            const TriangleMesh& edited);
 
 }  // namespace mrvol
