@@ -180,6 +180,47 @@ describe('writeGlb', () => {
   });
 });
 
+describe('writeGlb with the source glTF', () => {
+  test("keeps a GLTFExporter file's material, texture coordinates and node transform; the CLI edit too", async () => {
+    const obj = loadModel(mrvol, 'spiky-ball');
+    const g = geometryOf(obj);
+    const uv = new Float32Array((obj.positions.length / 3) * 2).map((_, i) => (i * 0.618) % 1);
+    g.setAttribute('uv', new THREE.BufferAttribute(uv, 2));
+    const object = new THREE.Mesh(g, new THREE.MeshStandardMaterial({ name: 'painted', color: 0x3366ff }));
+    object.name = 'ball';
+    object.position.set(1, 2, 3);
+    object.scale.set(2, 2, 2);
+    const glb = new Uint8Array(await new GLTFExporter().parseAsync(object, { binary: true }));
+    const m = mrvol.readMesh(glb, { name: 'ball.glb' });
+    assert.ok(Math.abs(mrvol.volume(m) - 8 * mrvol.volume(obj)) <= 1e-6 * 8 * mrvol.volume(obj));
+    // Move every vertex outwards by 5% about (1, 2, 3), in the world frame the reader gives.
+    const edited = m.positions.map((x, i) => [1, 2, 3][i % 3] + 1.05 * (x - [1, 2, 3][i % 3]));
+    const out = mrvol.writeGlb({ positions: edited, faces: m.faces }, { source: m.source });
+    const back = mrvol.readMesh(out, { name: 'out.glb' });
+    assert.deepEqual(back.faces, m.faces);
+    for (let i = 0; i < edited.length; i++) assert.ok(Math.abs(back.positions[i] - edited[i]) <= 1e-5, `${i}`);
+    const gltf = await new GLTFLoader().parseAsync(out.buffer.slice(out.byteOffset, out.byteOffset + out.byteLength), '');
+    const loaded = gltf.scene.getObjectByName('ball');
+    assert.equal(loaded.material.name, 'painted');
+    assert.deepEqual(loaded.position.toArray(), [1, 2, 3]);
+    assert.deepEqual(Array.from(loaded.geometry.attributes.uv.array), Array.from(uv));
+    // Local positions: the edit undone through the node transform (scale 2 about (1, 2, 3)).
+    const local = loaded.geometry.attributes.position.array;
+    for (let i = 0; i < local.length; i++) assert.ok(Math.abs(local[i] - 1.05 * Math.fround(obj.positions[i])) <= 1e-5, `${i}`);
+    // Changed triangles cannot keep the source.
+    const other = Uint32Array.from(m.faces);
+    [other[0], other[1]] = [other[1], other[0]];
+    assert.throws(() => mrvol.writeGlb({ positions: edited, faces: other }, { source: m.source }),
+                  { name: 'MrvolError', message: /triangles differ from its source glTF's/ });
+    // The CLI: edit a GLB, write a GLB: the material stays.
+    writeFileSync(file('ball.glb'), glb);
+    json(runCliSync(['edit', file('ball.glb'), '--move', '0:0.05,0,0', '-o', file('ball-edited.glb'), '--json']));
+    const edited2 = readFileSync(file('ball-edited.glb'));
+    const edgltf = await new GLTFLoader().parseAsync(edited2.buffer.slice(edited2.byteOffset, edited2.byteOffset + edited2.byteLength), '');
+    assert.equal(edgltf.scene.getObjectByName('ball').material.name, 'painted');
+  });
+});
+
 // ---- hostile files ---------------------------------------------------------------------------------
 
 const manifest = JSON.parse(readFileSync(bad('expected-formats.json'), 'utf8')).files;

@@ -492,6 +492,8 @@ void parseJson(Document& d, std::string_view text, uint64_t base) {
     size_t colon = what.find("syntax error");
     fail(d, "JSON: syntax error at byte " + count(base + (e.byte > 0 ? e.byte - 1 : 0)) +
                 (colon != std::string::npos ? " (" + what.substr(colon) + ")" : ""));
+  } catch (const json::exception& e) {  // a number out of range (1e526), ...
+    fail(d, std::string("JSON: ") + e.what());
   }
   if (!d.root.is_object()) fail(d, "JSON: the document is not an object");
 }
@@ -549,15 +551,29 @@ Document openGlb(std::string_view b, const GltfResources& resources) {
 
 }  // namespace gltf
 
+namespace {
+
+// The reader checks the types it reads; a JSON exception left over is still the file's fault.
+template <class F>
+ImportedMesh withJsonErrors(const char* kind, F&& read) {
+  try {
+    return read();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string(kind) + " JSON: " + e.what());
+  }
+}
+
+}  // namespace
+
 ImportedMesh readGltf(std::string_view text, const GltfResources& resources) {
-  ImportedMesh out = gltf::readDocument(gltf::openGltf(text, resources));
+  ImportedMesh out = withJsonErrors("glTF", [&] { return gltf::readDocument(gltf::openGltf(text, resources)); });
   out.format = MeshFormat::Gltf;
   out.variant = "glTF";
   return out;
 }
 
 ImportedMesh readGlb(std::string_view bytes, const GltfResources& resources) {
-  ImportedMesh out = gltf::readDocument(gltf::openGlb(bytes, resources));
+  ImportedMesh out = withJsonErrors("GLB", [&] { return gltf::readDocument(gltf::openGlb(bytes, resources)); });
   out.format = MeshFormat::Glb;
   out.variant = "GLB";
   return out;
