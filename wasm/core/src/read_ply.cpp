@@ -177,9 +177,12 @@ struct Builder {
   std::vector<int64_t> polygon;
   uint64_t vertexCount = 0;
 
-  void addPolygon(const std::string& where) {
+  // `where` makes the message prefix only when there is an error (a string per face would cost
+  // more than reading it).
+  template <class Where>
+  void addPolygon(const Where& where) {
     if (polygon.size() < 3)
-      throw Error(where + "has " + std::to_string(polygon.size()) + " vertices, a polygon needs at least 3");
+      throw Error(where() + "has " + std::to_string(polygon.size()) + " vertices, a polygon needs at least 3");
     for (size_t k = 1; k + 1 < polygon.size(); ++k) {
       out.mesh.faces.push_back(uint32_t(polygon[0]));
       out.mesh.faces.push_back(uint32_t(polygon[k]));
@@ -189,9 +192,10 @@ struct Builder {
     if (polygon.size() > 3) ++out.triangulated;
     ++out.sourceFaces;
   }
-  void addIndex(double value, const std::string& where) {
+  template <class Where>
+  void addIndex(double value, const Where& where) {
     if (value < 0 || value != std::floor(value) || value > 0xfffffff0u)
-      throw Error(where + "vertex index " + std::to_string(int64_t(value)) + " is not valid");
+      throw Error(where() + "vertex index " + std::to_string(int64_t(value)) + " is not valid");
     polygon.push_back(int64_t(value));
   }
 };
@@ -231,7 +235,8 @@ void readBinaryData(std::string_view b, const Header& h, Builder& build) {
           throw Error(where() + "list '" + p.name + "' of " + count(uint64_t(n)) + " values runs past the end of the file (" +
                       count(b.size()) + " bytes)");
         if (face && int(pi) == e.indices) {
-          const std::string at = "binary PLY: face " + count(item) + " (byte " + count(pos) + ") ";
+          const size_t listStart = pos;
+          auto at = [&] { return "binary PLY: face " + count(item) + " (byte " + count(listStart) + ") "; };
           for (uint64_t k = 0; k < uint64_t(n); ++k)
             build.addIndex(loadValue(b.data() + pos + k * sizeOf(p.type), p.type, big), at);
           build.addPolygon(at);
@@ -267,12 +272,12 @@ void readAsciiData(std::string_view b, const Header& h, Builder& build) {
           io::tokenize(line, tokens.data(), tokens.size());
         }
       } while (n == 0);
-      const std::string at = "PLY line " + count(lines.line()) + ": " + e.name + " " + count(item) + " ";
+      auto at = [&] { return "PLY line " + count(lines.line()) + ": " + e.name + " " + count(item) + " "; };
       size_t t = 0;
       auto value = [&](const char* what) {
-        if (t >= n) throw Error(at + "has " + std::to_string(n) + " values, too few for the header's properties");
+        if (t >= n) throw Error(at() + "has " + std::to_string(n) + " values, too few for the header's properties");
         double x;
-        if (!io::parseDouble(tokens[t], x)) throw Error(at + what + " " + io::quoted(tokens[t]) + " is not a number");
+        if (!io::parseDouble(tokens[t], x)) throw Error(at() + what + " " + io::quoted(tokens[t]) + " is not a number");
         ++t;
         return x;
       };
@@ -291,7 +296,7 @@ void readAsciiData(std::string_view b, const Header& h, Builder& build) {
         }
         double len = value("list length");
         if (len < 0 || len != std::floor(len) || len > double(n - t))
-          throw Error(at + "list '" + p.name + "' length " + io::quoted(tokens[t - 1]) + " does not fit the " +
+ throw Error(at() + "list '" + p.name + "' length " + io::quoted(tokens[t - 1]) + " does not fit the " +
                       std::to_string(n - t) + " values after it");
         for (size_t k = 0; k < size_t(len); ++k) {
           double x = value("list value");
@@ -299,11 +304,11 @@ void readAsciiData(std::string_view b, const Header& h, Builder& build) {
         }
         if (face && int(pi) == e.indices) build.addPolygon(at);
       }
-      if (t != n) throw Error(at + "has " + std::to_string(n) + " values, the header's properties take " + std::to_string(t));
+ if (t != n) throw Error(at() + "has " + std::to_string(n) + " values, the header's properties take " + std::to_string(t));
       if (vertex) {
         for (int k = 0; k < 3; ++k)
           if (!io::coordinateOk(xyz[k]))
-            throw Error(at + "coordinate " + "xyz"[k] + " " + io::coordinateProblem(xyz[k]));
+            throw Error(at() + "coordinate " + "xyz"[k] + " " + io::coordinateProblem(xyz[k]));
         m.positions.insert(m.positions.end(), xyz, xyz + 3);
       }
     }
