@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <numeric>
 
 #include "io_common.h"
@@ -201,26 +202,48 @@ ImportedMesh readMeshFile(std::string_view bytes, std::string_view name, const G
 
 size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource) {
   const size_t n = mesh.vertexCount();
-  // Sort (x, y, z, index): equal positions end up adjacent, the first source vertex first.
-  struct Key {
-    double x, y, z;
-    uint32_t index;
+  const double* p = mesh.positions.data();
+  // Order the vertices by (x, y, z, index): a stable radix sort on x (its bits made to sort like
+  // the doubles, -0 as +0), then each run of equal x sorted by (y, z, index). Equal positions end
+  // up adjacent, their first source vertex first.
+  auto keyOf = [](double x) {
+    uint64_t u;
+    x = x == 0 ? 0.0 : x;
+    std::memcpy(&u, &x, 8);
+    return (u >> 63) ? ~u : u | (uint64_t(1) << 63);
   };
-  std::vector<Key> keys(n);
-  for (size_t v = 0; v < n; ++v)
-    keys[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2], uint32_t(v)};
-  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
-    if (a.x != b.x) return a.x < b.x;
-    if (a.y != b.y) return a.y < b.y;
-    if (a.z != b.z) return a.z < b.z;
-    return a.index < b.index;
-  });
+  std::vector<uint64_t> key(n);
+  for (size_t v = 0; v < n; ++v) key[v] = keyOf(p[3 * v]);
+  std::vector<uint32_t> order(n), scratch(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::vector<uint32_t> counts(65537);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(counts.begin(), counts.end(), 0u);
+    for (size_t v = 0; v < n; ++v) ++counts[((key[v] >> shift) & 0xffff) + 1];
+    for (size_t d = 1; d < counts.size(); ++d) counts[d] += counts[d - 1];
+    for (uint32_t v : order) scratch[counts[(key[v] >> shift) & 0xffff]++] = v;
+    order.swap(scratch);
+  }
+  for (size_t i = 0; i < n;) {
+    size_t j = i + 1;
+    while (j < n && key[order[j]] == key[order[i]]) ++j;
+    if (j - i > 1)
+      std::sort(order.begin() + i, order.begin() + j, [&](uint32_t a, uint32_t b) {
+        if (p[3 * a + 1] != p[3 * b + 1]) return p[3 * a + 1] < p[3 * b + 1];
+        if (p[3 * a + 2] != p[3 * b + 2]) return p[3 * a + 2] < p[3 * b + 2];
+        return a < b;
+      });
+    i = j;
+  }
+  key = {};
+  scratch = {};
   std::vector<uint32_t> representative(n);
   for (size_t i = 0; i < n; ++i) {
-    const bool same = i > 0 && keys[i].x == keys[i - 1].x && keys[i].y == keys[i - 1].y && keys[i].z == keys[i - 1].z;
-    representative[keys[i].index] = same ? representative[keys[i - 1].index] : keys[i].index;
+    const uint32_t v = order[i], u = i > 0 ? order[i - 1] : 0;
+    const bool same = i > 0 && p[3 * v] == p[3 * u] && p[3 * v + 1] == p[3 * u + 1] && p[3 * v + 2] == p[3 * u + 2];
+    representative[v] = same ? representative[u] : v;
   }
-  keys = {};
+  order = {};
   // Output numbering in the order of first occurrence.
   std::vector<uint32_t> output(n);
   std::vector<uint32_t> first;
