@@ -4,6 +4,7 @@
 // Steps over about a second draw a progress bar on stderr when it is a terminal (bin/progress.mjs).
 import { open, readFile } from 'node:fs/promises';
 import { readFileSync, writeFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
 import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError } from '../lib/node.mjs';
 import { chooseGradientPath } from '../lib/api.mjs';
@@ -229,21 +230,44 @@ function writeText(path, text) {
   }
 }
 
-// Reads an OBJ file; errors name the file.
+// A .gltf's sidecar files (buffers with a relative URI), read beside it: [[uri, bytes]].
+function gltfResources(path, bytes) {
+  let doc;
+  try {
+    doc = JSON.parse(new TextDecoder().decode(bytes));
+  } catch {
+    return undefined;  // the core says what is wrong with the JSON
+  }
+  const uris = (Array.isArray(doc?.buffers) ? doc.buffers : []).map((b) => b?.uri)
+    .filter((uri) => typeof uri === 'string' && !uri.startsWith('data:'));
+  return uris.map((uri) => [uri, readBytes(join(dirname(path), decodeURIComponent(uri)))]);
+}
+
+// Reads a mesh file: OBJ (bytes straight into the WASM heap); STL, PLY, OFF, glTF, GLB by
+// extension or content. Errors name the file.
 async function loadMesh(mrvol, path) {
   const bytes = await readFileWithProgress(path);
   try {
-    return mrvol.readObj(bytes);  // bytes straight into the WASM heap
+    if (/\.obj$/i.test(path)) return mrvol.readObj(bytes);
+    return mrvol.readMesh(bytes, { name: path, resources: /\.gltf$/i.test(path) ? gltfResources(path, bytes) : undefined });
   } catch (e) {
     if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
   }
 }
 
+// Writes a mesh in the format of the output file's extension: .glb (keeping a glTF source's
+// data when given), else OBJ.
+function writeMesh(mrvol, path, mesh, source) {
+  if (/\.glb$/i.test(path)) return writeBytes(path, mrvol.writeGlb(mesh, { source }));
+  if (/\.(stl|ply|off|gltf)$/i.test(path)) throw new UsageError(`cannot write ${path}: mrvol writes .obj and .glb`);
+  writeText(path, mrvol.writeObj(mesh));
+}
+
 async function openMultires(mrvol, path, mesh = null) {
   mesh ??= await loadMesh(mrvol, path);
   try {
-    return mrvol.openMesh(mesh);
+    return Object.assign(mrvol.openMesh(mesh), { source: mesh.source });
   } catch (e) {
     if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
     throw e;
@@ -370,7 +394,7 @@ const COMMANDS = {
     const mesh = mr.toMesh();
     const info = mr.info();
     mr.delete();
-    writeText(values.output, mrvol.writeObj(mesh));
+    writeMesh(mrvol, values.output, mesh);
     const result = { vertices: info.vertices, faces: info.faces, levels, scheme: values.scheme ?? 'loop',
                      volume: info.volume, output: values.output };
     print(values, result, (r) => `wrote ${r.output}: ${r.vertices} vertices, ${r.faces} faces (${r.scheme}, ${r.levels} levels)`);
@@ -447,7 +471,10 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
     const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
     const stepMs = performance.now() - started;
     if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
-    writeText(values.output, mrvol.writeObjLike(readBytes(path), editor.positions()));
+    // An OBJ written as OBJ keeps every other line of the input (vt, vn, groups, materials).
+    if (/\.obj$/i.test(path) && !/\.glb$/i.test(values.output))
+      writeText(values.output, mrvol.writeObjLike(readBytes(path), editor.positions()));
+    else writeMesh(mrvol, values.output, { positions: editor.positions(), faces: mr.faces() }, mr.source);
     const result = {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
@@ -490,7 +517,7 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   } finally {
     bar.done();
   }
-  writeText(values.output, mrvol.writeObj(r.mesh));
+  writeMesh(mrvol, values.output, r.mesh);
   const round = (x, d) => Math.round(x * 10 ** d) / 10 ** d;
   const result = {
     levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces, vertices: r.vertices, faces: r.faces,

@@ -385,7 +385,52 @@ export function wrapModule(module) {
     }
   }
 
+  // Mesh files other than OBJ (wasm/bindings/io_bindings.cpp keeps its own error slot).
+  const callIo = (fn, ...args) => {
+    const result = fn(...args);
+    const error = module._takeIoError();
+    if (error) throw new MrvolError(error);
+    return result;
+  };
+  const toBytes = (bytes, what) => {
+    if (bytes instanceof Uint8Array) return bytes;
+    if (bytes instanceof ArrayBuffer) return new Uint8Array(bytes);
+    throw new MrvolError(`${what} expects the file as a Uint8Array`);
+  };
+
   return {
+    /**
+     * Reads a mesh file of any format mrvol knows (OBJ, STL, PLY, OFF, glTF, GLB), told by
+     * `format` or else by `name`'s extension and the content. `resources` ({ uri: Uint8Array } or
+     * [[uri, bytes]]) gives a .gltf's sidecar files. Returns { positions, faces, format, variant,
+     * sourceVertex, sourceVertices, sourceFaces, welded, triangulated } (and `lines` for OBJ).
+     */
+    readMesh(bytes, { name = '', format = '', resources } = {}) {
+      const data = toBytes(bytes, 'readMesh');
+      const pairs = resources === undefined ? undefined
+        : (resources instanceof Map ? [...resources] : Array.isArray(resources) ? resources : Object.entries(resources))
+          .map(([uri, b]) => [String(uri), toBytes(b, 'readMesh resources')]);
+      const mesh = callIo(module._readMesh, data, String(name), String(format), pairs);
+      // A glTF keeps what writeGlb needs to write it again with its other data: writeGlb(mesh, { source: mesh.source }).
+      if (mesh.format === 'gltf' || mesh.format === 'glb')
+        Object.defineProperty(mesh, 'source', { value: { bytes: data, format: mesh.format, resources: pairs }, enumerable: false });
+      return mesh;
+    },
+    /** The format ('obj', 'stl', 'ply', 'off', 'gltf', 'glb') of a file from its name and content. */
+    detectFormat(bytes, name = '') {
+      return callIo(module._detectFormat, toBytes(bytes, 'detectFormat'), String(name));
+    },
+    /**
+     * A GLB file (Uint8Array) of the mesh: float32 positions, vertex normals, uint32 indices. With
+     * `source` (a glTF mesh's `source` from readMesh; the triangles unchanged), the source's data
+     * is kept: materials, textures, other attributes; POSITION replaced, NORMAL recomputed.
+     */
+    writeGlb(mesh, { source } = {}) {
+      checkMesh(mesh);
+      if (source === undefined) return callIo(module._writeGlb, mesh.positions, mesh.faces);
+      return callIo(module._writeGlbKeeping, toBytes(source.bytes, 'writeGlb source'), '', String(source.format ?? ''),
+                    source.resources, mesh.positions, mesh.faces);
+    },
     /** Reads a theta file (Uint8Array); throws MrvolError if truncated, corrupt or of a future version. */
     readTheta(bytes) {
       if (!(bytes instanceof Uint8Array)) throw new MrvolError('readTheta expects a Uint8Array');

@@ -380,6 +380,47 @@ export interface MultiresMesh {
   delete(): void;
 }
 
+/** A mesh file format mrvol reads. */
+export type MeshFormat = 'obj' | 'stl' | 'ply' | 'off' | 'gltf' | 'glb';
+
+/** What readMesh returns: the mesh and what reading it did. */
+export interface ImportedMesh extends Mesh {
+  format: MeshFormat;
+  /** 'binary STL', 'ASCII STL', 'ASCII PLY', 'binary little-endian PLY', 'binary big-endian PLY', 'OFF', 'COFF', 'glTF', 'GLB', 'OBJ', ... */
+  variant: string;
+  /**
+   * For each vertex, its first source vertex: the file's vertex index (OBJ, PLY, OFF), the
+   * triangle corner 3 t + k (STL), the running index over the scene's POSITION accessors (glTF).
+   */
+  sourceVertex: Uint32Array;
+  /** Vertices in the file (STL: 3 per triangle). */
+  sourceVertices: number;
+  /** Faces in the file (polygons; glTF triangles after strips and fans). */
+  sourceFaces: number;
+  /** Source vertices merged into an earlier one at exactly the same position. */
+  welded: number;
+  /** Polygons of more than 3 corners split into triangle fans. */
+  triangulated: number;
+  /** glTF and GLB only: the file, for writeGlb(mesh, { source }). */
+  source?: GltfSource;
+}
+
+/** What writeGlb needs to write a glTF again with its own data (ImportedMesh.source, not enumerable). */
+export interface GltfSource {
+  bytes: Uint8Array;
+  format: 'gltf' | 'glb';
+  resources?: Array<[string, Uint8Array]>;
+}
+
+export interface ReadMeshOptions {
+  /** File name: its extension tells the format when the content has no signature. */
+  name?: string;
+  /** Forces the format. */
+  format?: MeshFormat;
+  /** A .gltf's sidecar files (buffers), by the URI the .gltf names them with. */
+  resources?: Record<string, Uint8Array> | Map<string, Uint8Array> | Array<[string, Uint8Array]>;
+}
+
 /** The API object: what wrapModule() and createMrvol() return. */
 export interface Mrvol {
   MrvolError: typeof MrvolError;
@@ -395,6 +436,22 @@ export interface Mrvol {
    * and byte is kept. Returns a Uint8Array for a Uint8Array, a string for a string.
    */
   writeObjLike<T extends Uint8Array | string>(original: T, positions: Float64Array): T extends string ? string : Uint8Array;
+  /**
+   * Reads OBJ, STL (binary, ASCII), PLY (ASCII, binary little/big endian), OFF (COFF, NOFF, ...),
+   * glTF 2.0 (.gltf with data: URIs or `resources`) and GLB: all meshes of the default scene with
+   * their node transforms. Polygons become triangle fans; vertices the format splits are welded by
+   * exact position. Throws MrvolError naming the file part and offset or element.
+   */
+  readMesh(bytes: Uint8Array | ArrayBuffer, options?: ReadMeshOptions): ImportedMesh;
+  /** The format of a file from its name (extension) and content; throws when it is none mrvol reads. */
+  detectFormat(bytes: Uint8Array | ArrayBuffer, name?: string): MeshFormat;
+  /**
+   * A GLB file: one triangle primitive, float32 POSITION (rounded from the doubles), vertex NORMAL,
+   * uint32 indices. With `source` (the `source` of a mesh readMesh read from glTF or GLB, triangles
+   * unchanged): the source's JSON and data kept (materials, textures, other attributes, node
+   * transforms), POSITION replaced, NORMAL recomputed where present.
+   */
+  writeGlb(mesh: Mesh, options?: { source?: GltfSource }): Uint8Array;
   /** Checks manifoldness and orientation; throws MrvolError saying where the mesh is wrong. */
   validate(mesh: Mesh): Topology;
   /** Signed enclosed volume of a valid mesh; surface 'limit': of its Loop limit surface (closed meshes). */

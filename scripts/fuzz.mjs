@@ -130,6 +130,10 @@ function seedCorpus(target) {
     seeds.push(...listFiles(join(root, 'tests/data'), (n) => n.toLowerCase().endsWith('.obj')));
     seeds.push(...listFiles(join(root, 'public/models'), (n) => n.toLowerCase().endsWith('.obj')));
   }
+  // The mesh file readers: the format test files of tests/data (good and hostile).
+  const extensions = { fuzz_stl: ['.stl'], fuzz_ply: ['.ply'], fuzz_off: ['.off', '.coff', '.noff'], fuzz_gltf: ['.gltf', '.glb'] };
+  if (extensions[target])
+    seeds.push(...listFiles(join(root, 'tests/data'), (n) => extensions[target].some((e) => n.toLowerCase().endsWith(e))));
   let added = 0;
   for (const path of seeds) {
     if (statSync(path).size > MAX_SEED_BYTES) continue;

@@ -165,8 +165,13 @@ VolumeTensor readThetaFile(const std::string& in, ThetaFileHeader* headerOut) {
   // Structure: offsets ascending and consistent, indices i < j < k < N, values finite.
   if (t.rowStart[0] != 0 || t.rowStart[rowCount] != pairs || t.pairStart[0] != 0 || t.pairStart[pairs] != entries)
     throw Error("theta file is corrupt (offsets)");
-  for (uint32_t i = 0; i < rowCount; ++i) {
+  // Ascending offsets between fixed ends stay in range: checked before any is used as an index
+  // (a row running past `pairs` and coming back would otherwise be read first; found by fuzz_theta).
+  for (uint32_t i = 0; i < rowCount; ++i)
     if (t.rowStart[i] > t.rowStart[i + 1]) throw Error("theta file is corrupt (row offsets)");
+  for (uint64_t p = 0; p < pairs; ++p)
+    if (t.pairStart[p] > t.pairStart[p + 1]) throw Error("theta file is corrupt (pair " + std::to_string(p) + ")");
+  for (uint32_t i = 0; i < rowCount; ++i) {
     uint32_t lastJ = i;
     for (uint32_t p = t.rowStart[i]; p < t.rowStart[i + 1]; ++p) {
       const uint32_t j = t.pairJ[p];

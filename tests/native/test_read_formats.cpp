@@ -1,0 +1,330 @@
+// Mesh files other than OBJ (mrvol/io_formats.h): every format and variant in tests/data/good
+// reads to the same mesh as octahedron.obj (same positions, same triangles up to vertex
+// numbering and rotation); welding, fans, strips, node transforms; GLB export read back; format
+// detection; the hostile files of tests/data/bad/expected-formats.json fail with their messages.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fixtures.h"
+#include "mrvol/error.h"
+#include "mrvol/io_formats.h"
+#include "mrvol/mesh.h"
+#include "mrvol/multires_mesh.h"
+
+using namespace mrvol;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kGood = fixtures::sourcePath("tests/data/good");
+const std::string kBad = fixtures::sourcePath("tests/data/bad");
+
+using Triangle = std::array<std::array<double, 3>, 3>;
+
+// The triangles as position triples, each rotated to start at its smallest corner, sorted:
+// equal for two meshes with the same triangles whatever their vertex numbering.
+std::vector<Triangle> canonicalTriangles(const TriangleMesh& m) {
+  std::vector<Triangle> out;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    Triangle t;
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) t[k][c] = m.positions[3 * m.faces[3 * f + k] + c];
+    auto smallest = std::min_element(t.begin(), t.end()) - t.begin();
+    std::rotate(t.begin(), t.begin() + smallest, t.end());
+    out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void expectSameMesh(const TriangleMesh& expected, const TriangleMesh& actual, const std::string& what) {
+  EXPECT_EQ(actual.vertexCount(), expected.vertexCount()) << what;
+  EXPECT_EQ(canonicalTriangles(actual), canonicalTriangles(expected)) << what;
+}
+
+TriangleMesh octahedronObj() { return readObj(fixtures::readFile(kGood + "/octahedron.obj")); }
+
+ImportedMesh readGood(const std::string& name, const GltfResources& resources = {}) {
+  return readMeshFile(fixtures::readFile(kGood + "/" + name), name, resources);
+}
+
+}  // namespace
+
+TEST(ReadFormats, EveryVariantReadsLikeTheObj) {
+  const TriangleMesh reference = octahedronObj();
+  const std::map<std::string, std::pair<MeshFormat, std::string>> files = {
+      {"octahedron-ascii.stl", {MeshFormat::Stl, "ASCII STL"}},
+      {"octahedron-binary.stl", {MeshFormat::Stl, "binary STL"}},
+      {"octahedron-binary-solid-header.stl", {MeshFormat::Stl, "binary STL"}},
+      {"octahedron-ascii.ply", {MeshFormat::Ply, "ASCII PLY"}},
+      {"octahedron-binary-le.ply", {MeshFormat::Ply, "binary little-endian PLY"}},
+      {"octahedron-binary-be.ply", {MeshFormat::Ply, "binary big-endian PLY"}},
+      {"octahedron.off", {MeshFormat::Off, "OFF"}},
+      {"octahedron.coff", {MeshFormat::Off, "COFF"}},
+      {"octahedron.noff", {MeshFormat::Off, "NOFF"}},
+      {"octahedron-embedded.gltf", {MeshFormat::Gltf, "glTF"}},
+      {"octahedron.glb", {MeshFormat::Glb, "GLB"}},
+      {"octahedron-soup-and-fan.glb", {MeshFormat::Glb, "GLB"}},
+  };
+  for (const auto& [name, expected] : files) {
+    SCOPED_TRACE(name);
+    ImportedMesh m = readGood(name);
+    EXPECT_EQ(m.format, expected.first);
+    EXPECT_EQ(m.variant, expected.second);
+    expectSameMesh(reference, m.mesh, name);
+    EXPECT_NO_THROW(validateMesh(m.mesh));
+    EXPECT_DOUBLE_EQ(meshVolume(m.mesh), 4.0 / 3.0);
+    EXPECT_EQ(m.sourceVertex.size(), m.mesh.vertexCount());
+    EXPECT_EQ(m.welded + m.mesh.vertexCount(), m.sourceVertices);
+  }
+  // The indexed formats keep the file's vertex order when nothing is welded: identical arrays.
+  for (const char* name : {"octahedron-ascii.ply", "octahedron-binary-be.ply", "octahedron.off", "octahedron.glb"}) {
+    ImportedMesh m = readGood(name);
+    EXPECT_EQ(m.mesh.positions, reference.positions) << name;
+    EXPECT_EQ(m.mesh.faces, reference.faces) << name;
+    EXPECT_EQ(m.welded, 0u) << name;
+  }
+}
+
+TEST(ReadFormats, StlTrianglesAreWeldedAndRecordTheirFirstCorner) {
+  ImportedMesh m = readGood("octahedron-binary.stl");
+  EXPECT_EQ(m.sourceVertices, 24u);  // 8 triangles x 3 corners
+  EXPECT_EQ(m.welded, 18u);
+  ASSERT_EQ(m.mesh.vertexCount(), 6u);
+  // Each output vertex's first corner has its position; the first corners are increasing.
+  const std::string bytes = fixtures::readFile(kGood + "/octahedron-binary.stl");
+  for (size_t v = 0; v < 6; ++v) {
+    const uint32_t corner = m.sourceVertex[v];
+    for (int k = 0; k < 3; ++k) {
+      float x;
+      std::memcpy(&x, bytes.data() + 84 + 50 * (corner / 3) + 12 + 12 * (corner % 3) + 4 * k, 4);
+      EXPECT_EQ(m.mesh.positions[3 * v + k], double(x));
+    }
+    if (v > 0) EXPECT_GT(m.sourceVertex[v], m.sourceVertex[v - 1]);
+  }
+  // The OBJ's numbering is the order of first appearance: corner 0 (vertex 0), 1 (vertex 2), 2 (vertex 4), ...
+  EXPECT_EQ(m.sourceVertex[0], 0u);
+}
+
+TEST(ReadFormats, WeldIsExactAndSortBased) {
+  TriangleMesh m;
+  // Two triangles sharing an edge, with the shared vertices repeated; one near-duplicate stays apart.
+  m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, /**/ 1, 0, 0, 1, 1, 0, 0, 1, 0, /**/ 1e-300, 0, 0};
+  m.faces = {0, 1, 2, 3, 4, 5, 6, 1, 2};
+  std::vector<uint32_t> first;
+  EXPECT_EQ(weldExactPositions(m, &first), 2u);
+  EXPECT_EQ(m.vertexCount(), 5u);
+  EXPECT_EQ(first, (std::vector<uint32_t>{0, 1, 2, 4, 6}));
+  EXPECT_EQ(m.faces, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2, 4, 1, 2}));
+  // -0.0 and 0.0 are the same position.
+  TriangleMesh z;
+  z.positions = {0.0, 0, 0, -0.0, 0, 0};
+  z.faces = {0, 1, 1};
+  EXPECT_EQ(weldExactPositions(z), 1u);
+}
+
+TEST(ReadFormats, PolygonsAreSplitIntoFans) {
+  for (const char* name : {"cube-quads.ply", "cube-quads.off"}) {
+    ImportedMesh m = readGood(name);
+    EXPECT_EQ(m.triangulated, 6u) << name;
+    EXPECT_EQ(m.sourceFaces, 6u) << name;
+    EXPECT_EQ(m.mesh.faceCount(), 12u) << name;
+    MeshTopology t = validateMesh(m.mesh);
+    EXPECT_TRUE(t.closed) << name;
+    EXPECT_DOUBLE_EQ(meshVolume(m.mesh), 1.0) << name;
+  }
+  expectSameMesh(readGood("cube-quads.ply").mesh, readGood("cube-quads.off").mesh, "cube");
+}
+
+TEST(ReadFormats, GltfSidecarBufferIsPassedByTheCaller) {
+  const std::string bin = fixtures::readFile(kGood + "/octahedron-sidecar.bin");
+  ImportedMesh m = readGood("octahedron-sidecar.gltf", {{"octahedron-sidecar.bin", bin}});
+  expectSameMesh(octahedronObj(), m.mesh, "sidecar");
+  try {
+    readGood("octahedron-sidecar.gltf");
+    FAIL() << "no error without the sidecar";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "glTF buffer 0 refers to the file 'octahedron-sidecar.bin', which was not given (pass it beside the .gltf)");
+  }
+}
+
+TEST(ReadFormats, GltfNodeTransformsAreApplied) {
+  ImportedMesh m = readGood("octahedron-transforms.glb");
+  const TriangleMesh o = octahedronObj();
+  // Node 0: translation (1, 2, 3), 90 degrees about z, scale 2: p -> 2 (-y, x, z) + t. Node 1, its
+  // child: x -> -x + 10, then node 0's transform. The mirror turns the winding around.
+  TriangleMesh expected;
+  const double s = std::sqrt(0.5);
+  const double c = 1 - 2 * s * s;  // cos 90 degrees as the quaternion gives it (rounding included)
+  auto place = [&](double x, double y, double z) {
+    const double r00 = c, r01 = -2 * s * s, r10 = 2 * s * s, r11 = c;
+    expected.positions.insert(expected.positions.end(),
+                              {2 * (r00 * x + r01 * y) + 1, 2 * (r10 * x + r11 * y) + 2, 2 * z + 3});
+  };
+  for (size_t v = 0; v < 6; ++v) place(o.positions[3 * v], o.positions[3 * v + 1], o.positions[3 * v + 2]);
+  for (size_t v = 0; v < 6; ++v) place(-o.positions[3 * v] + 10, o.positions[3 * v + 1], o.positions[3 * v + 2]);
+  for (size_t f = 0; f < 8; ++f) expected.faces.insert(expected.faces.end(), {o.faces[3 * f], o.faces[3 * f + 1], o.faces[3 * f + 2]});
+  for (size_t f = 0; f < 8; ++f) expected.faces.insert(expected.faces.end(), {o.faces[3 * f] + 6, o.faces[3 * f + 2] + 6, o.faces[3 * f + 1] + 6});
+  ASSERT_EQ(m.mesh.vertexCount(), 12u);
+  for (size_t i = 0; i < expected.positions.size(); ++i) EXPECT_NEAR(m.mesh.positions[i], expected.positions[i], 1e-12) << i;
+  EXPECT_EQ(m.mesh.faces, expected.faces);
+  MeshTopology t = validateMesh(m.mesh);
+  EXPECT_EQ(t.components, 2u);
+  EXPECT_NEAR(meshVolume(m.mesh), 2 * 8 * 4.0 / 3.0, 1e-12);  // both outward: the mirrored copy flipped back
+}
+
+TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
+  // A strip 0 1 2 3 over a unit square, written in a GLB by hand: triangles (0 1 2) and (1 3 2).
+  nlohmann::json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"mode", 5}}}}}}},
+      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+                     {{"bufferView", 1}, {"componentType", 5121}, {"count", 6}, {"type", "SCALAR"}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", 48}}, {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 6}}}},
+      {"buffers", {{{"byteLength", 54}}}},
+  };
+  const float p[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  const uint8_t strip[6] = {0, 1, 2, 3, 3, 3};  // the repeated 3s make degenerate triangles
+  std::string bin(reinterpret_cast<const char*>(p), 48);
+  bin.append(reinterpret_cast<const char*>(strip), 6);
+  bin.append(2, '\0');
+  std::string json = doc.dump();
+  while (json.size() % 4) json += ' ';
+  std::string glb = "glTF";
+  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size())), u32(uint32_t(json.size())), u32(0x4E4F534A);
+  glb += json;
+  u32(uint32_t(bin.size())), u32(0x004E4942);
+  glb += bin;
+  ImportedMesh m = readGlb(glb);
+  EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));  // glTF: odd i gives (i, i + 2, i + 1)
+  EXPECT_EQ(m.sourceFaces, 2u);
+}
+
+TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {
+  // A subdivided mesh: 642 vertices; coordinates rounded to float32 by the format.
+  MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 3, SchemeOptions{});
+  const TriangleMesh& mesh = mr.mesh();
+  TriangleMesh rounded = mesh;
+  for (double& x : rounded.positions) x = double(float(x));
+  ImportedMesh back = readGlb(writeGlb(mesh));
+  EXPECT_EQ(back.mesh.positions, rounded.positions);
+  EXPECT_EQ(back.mesh.faces, mesh.faces);
+  EXPECT_EQ(back.welded, 0u);
+  EXPECT_EQ(MultiresMesh(std::move(back.mesh)).levels(), 3);
+  EXPECT_THROW(writeGlb(TriangleMesh{}), Error);
+}
+
+TEST(ReadFormats, DetectionByContentAndExtension) {
+  auto file = [](const char* name) { return fixtures::readFile(kGood + "/" + name); };
+  // Content wins over a misleading or missing name.
+  EXPECT_EQ(detectFormat(file("octahedron.glb"), "model.obj"), MeshFormat::Glb);
+  EXPECT_EQ(detectFormat(file("octahedron-ascii.ply"), ""), MeshFormat::Ply);
+  EXPECT_EQ(detectFormat(file("octahedron.off"), "x.stl"), MeshFormat::Off);
+  EXPECT_EQ(detectFormat(file("octahedron-embedded.gltf"), ""), MeshFormat::Gltf);
+  EXPECT_EQ(detectFormat(file("octahedron-binary.stl"), ""), MeshFormat::Stl);
+  EXPECT_EQ(detectFormat(file("octahedron-ascii.stl"), ""), MeshFormat::Stl);
+  EXPECT_EQ(detectFormat(file("octahedron.obj"), ""), MeshFormat::Obj);
+  // A binary STL with "solid" in its header has no signature: the extension decides.
+  EXPECT_EQ(detectFormat(file("octahedron-binary-solid-header.stl"), "A.STL"), MeshFormat::Stl);
+  EXPECT_EQ(parseFormatName(".Glb"), MeshFormat::Glb);
+  EXPECT_THROW(parseFormatName("fbx"), Error);
+  try {
+    detectFormat(std::string("PK\x03\x04rest", 8), "");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "unknown mesh format (looks like a ZIP archive); mrvol reads obj, stl, ply, off, gltf and glb");
+  }
+}
+
+TEST(ReadFormats, HostileFilesFailWithTheirMessages) {
+  const nlohmann::json manifest = nlohmann::json::parse(fixtures::readFile(kBad + "/expected-formats.json"));
+  const auto& files = manifest.at("files");
+  size_t checked = 0;
+  for (const auto& entry : fs::directory_iterator(kBad)) {
+    const std::string name = entry.path().filename().string();
+    const std::string ext = entry.path().extension().string();
+    if (ext == ".obj" || ext == ".json" || ext == ".mjs") continue;
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(files.contains(name)) << name << " is not listed in expected-formats.json";
+    std::string message;
+    try {
+      ImportedMesh m = readMeshFile(fixtures::readFile(entry.path().string()), name);
+      validateMesh(m.mesh);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    size_t from = 0;
+    for (const auto& part : files.at(name).at("error")) {
+      const size_t at = message.find(part.get<std::string>(), from);
+      EXPECT_NE(at, std::string::npos) << "message: " << message << "\nexpected: " << part;
+      if (at != std::string::npos) from = at;
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, files.size());
+}
+
+TEST(WriteGlbKeeping, KeepsTheSourceAndReplacesPositionsAndNormals) {
+  MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 2, SchemeOptions{});
+  const std::string source = writeGlb(mr.mesh());  // has NORMAL
+  ImportedMesh read = readGlb(source);
+  TriangleMesh edited = read.mesh;
+  for (size_t i = 0; i < edited.positions.size(); ++i) edited.positions[i] *= 1 + 0.01 * double(i % 7);
+  const std::string out = writeGlbKeeping(source, MeshFormat::Glb, {}, edited);
+  ImportedMesh back = readGlb(out);
+  EXPECT_EQ(back.mesh.faces, edited.faces);
+  for (size_t i = 0; i < edited.positions.size(); ++i) EXPECT_EQ(back.mesh.positions[i], double(float(edited.positions[i]))) << i;
+  // The normals are what writeGlb computes for the edited mesh (same area-weighted sums).
+  const std::string fresh = writeGlb(edited);
+  auto normalsOf = [](const std::string& glb) {
+    const uint32_t jsonLength = *reinterpret_cast<const uint32_t*>(glb.data() + 12);
+    auto doc = nlohmann::json::parse(glb.substr(20, jsonLength));
+    const auto& accessor = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"].get<size_t>()];
+    const auto& view = doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+    const size_t offset = 20 + jsonLength + 8 + view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0));
+    return glb.substr(offset, 12 * accessor["count"].get<size_t>());
+  };
+  EXPECT_EQ(normalsOf(out), normalsOf(fresh));
+  // Other triangles are refused.
+  TriangleMesh other = edited;
+  std::swap(other.faces[0], other.faces[1]);
+  EXPECT_THROW(writeGlbKeeping(source, MeshFormat::Glb, {}, other), Error);
+}
+
+TEST(WriteGlbKeeping, NodeFramesAndSharedAccessors) {
+  const std::string source = fixtures::readFile(kGood + "/octahedron-transforms.glb");
+  ImportedMesh read = readGlb(source);
+  // Unchanged positions go back through the inverse node transforms.
+  ImportedMesh same = readGlb(writeGlbKeeping(source, MeshFormat::Glb, {}, read.mesh));
+  ASSERT_EQ(same.mesh.faces, read.mesh.faces);
+  for (size_t i = 0; i < read.mesh.positions.size(); ++i) EXPECT_NEAR(same.mesh.positions[i], read.mesh.positions[i], 1e-5);
+  // Both nodes instance mesh 0: moving one copy alone cannot be written into the shared accessor.
+  TriangleMesh moved = read.mesh;
+  moved.positions[0] += 0.5;
+  try {
+    writeGlbKeeping(source, MeshFormat::Glb, {}, moved);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is shared by nodes the edit moves differently"), std::string::npos) << e.what();
+  }
+  // A .gltf with a sidecar buffer becomes one GLB with everything in its BIN chunk.
+  const std::string gltf = fixtures::readFile(kGood + "/octahedron-sidecar.gltf");
+  const std::string bin = fixtures::readFile(kGood + "/octahedron-sidecar.bin");
+  ImportedMesh sidecar = readGltf(gltf, {{"octahedron-sidecar.bin", bin}});
+  sidecar.mesh.positions[2] = 2;  // vertex 0 up
+  ImportedMesh glb = readGlb(writeGlbKeeping(gltf, MeshFormat::Gltf, {{"octahedron-sidecar.bin", bin}}, sidecar.mesh));
+  EXPECT_EQ(glb.mesh.positions, sidecar.mesh.positions);
+  EXPECT_EQ(glb.mesh.faces, sidecar.mesh.faces);
+}

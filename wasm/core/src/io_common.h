@@ -1,0 +1,126 @@
+// Shared by the mesh file readers (read_*.cpp, io_formats.cpp): byte access, numbers in
+// messages, coordinate checks, a whitespace tokenizer for the text formats. Private to the core.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <string_view>
+
+#include "mrvol/error.h"
+
+namespace mrvol::io {
+
+// 1234567 -> "1,234,567": counts and offsets in messages.
+inline std::string count(uint64_t n) {
+  std::string digits = std::to_string(n), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out.push_back(',');
+    out.push_back(digits[i]);
+  }
+  return out;
+}
+
+// A token quoted for a message: at most 40 characters, control and non-ASCII bytes as '?'.
+inline std::string quoted(std::string_view token) {
+  std::string s(token.substr(0, 40));
+  for (char& c : s)
+    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
+  return "'" + s + (token.size() > 40 ? "...'" : "'");
+}
+
+// Coordinates beyond this would overflow the volume's triple products (as for OBJ).
+constexpr double kMaxCoordinate = 1e100;
+
+inline bool coordinateOk(double x) { return std::isfinite(x) && std::fabs(x) <= kMaxCoordinate; }
+
+inline std::string coordinateProblem(double x) {
+  return std::isfinite(x) ? "is too large (mrvol accepts |x| <= 1e100 so that volumes stay finite)" : "is not finite";
+}
+
+// Unaligned little- or big-endian loads.
+template <class T>
+T load(const char* p, bool bigEndian = false) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (bigEndian)
+    for (size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+  T value;
+  std::memcpy(&value, b, sizeof(T));
+  return value;
+}
+
+// Text formats (ASCII STL, PLY, OFF): line by line, tokens split by blanks.
+inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+class LineReader {
+ public:
+  explicit LineReader(std::string_view text, size_t start = 0, size_t firstLine = 1)
+      : text_(text), pos_(start), line_(firstLine - 1) {}
+  // The next line without its end of line; false at the end.
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    size_t eol = text_.find('\n', pos_);
+    if (eol == std::string_view::npos) eol = text_.size();
+    line = text_.substr(pos_, eol - pos_);
+    pos_ = eol + 1;
+    ++line_;
+    return true;
+  }
+  size_t line() const { return line_; }
+  size_t offset() const { return pos_; }
+  size_t remaining() const { return pos_ < text_.size() ? text_.size() - pos_ : 0; }
+
+ private:
+  std::string_view text_;
+  size_t pos_;
+  size_t line_;
+};
+
+// Splits a line into at most `max` tokens; returns how many (more are counted, not stored).
+inline size_t tokenize(std::string_view line, std::string_view* tokens, size_t max) {
+  size_t n = 0, i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && isBlank(line[i])) ++i;
+    size_t j = i;
+    while (j < line.size() && !isBlank(line[j])) ++j;
+    if (j > i) {
+      if (n < max) tokens[n] = line.substr(i, j - i);
+      ++n;
+    }
+    i = j;
+  }
+  return n;
+}
+
+// Decimal number (strtod's syntax, C locale); false when the token is not one number.
+inline bool parseDouble(std::string_view token, double& value) {
+  char buffer[64];
+  if (token.empty() || token.size() >= sizeof buffer) return false;
+  std::memcpy(buffer, token.data(), token.size());
+  buffer[token.size()] = '\0';
+  char* end = nullptr;
+  value = std::strtod(buffer, &end);
+  return end == buffer + token.size();
+}
+
+// Non-negative decimal integer up to `max`; false otherwise.
+inline bool parseUnsigned(std::string_view token, uint64_t max, uint64_t& value) {
+  if (token.empty() || token.size() > 20) return false;
+  size_t i = token[0] == '+' ? 1 : 0;
+  if (i == token.size()) return false;
+  value = 0;
+  for (; i < token.size(); ++i) {
+    char c = token[i];
+    if (c < '0' || c > '9') return false;
+    value = value * 10 + uint64_t(c - '0');
+    if (value > max) return false;
+  }
+  return true;
+}
+
+// What a file that is not the expected format looks like, from its first bytes ("" when unknown):
+// " (looks like a ZIP archive)".
+std::string looksLike(std::string_view bytes);
+
+}  // namespace mrvol::io

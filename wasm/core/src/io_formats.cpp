@@ -1,0 +1,270 @@
+// Format names, detection by extension and content, the dispatcher, and exact-position welding.
+#include "mrvol/io_formats.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <numeric>
+
+#include "io_common.h"
+#include "mrvol/error.h"
+
+namespace mrvol {
+
+namespace io {
+
+std::string looksLike(std::string_view b) {
+  auto starts = [&](std::string_view magic) { return b.substr(0, magic.size()) == magic; };
+  const char* what = nullptr;
+  if (starts("PK\x03\x04") || starts("PK\x05\x06")) what = "a ZIP archive";
+  else if (starts("\x1f\x8b")) what = "a gzip-compressed file";
+  else if (starts("\x89PNG")) what = "a PNG image";
+  else if (starts("\xff\xd8\xff")) what = "a JPEG image";
+  else if (starts("\x7f" "ELF")) what = "an executable (ELF)";
+  else if (starts("%PDF")) what = "a PDF document";
+  else if (starts("Kaydara FBX Binary")) what = "an FBX file";
+  else if (starts("glTF")) what = "a GLB file";
+  else if (starts("ply\n") || starts("ply\r\n")) what = "a PLY file";
+  else if (starts("solid ") && b.find("facet") != std::string_view::npos) what = "an ASCII STL file";
+  else {
+    size_t i = 0;
+    while (i < b.size() && std::isspace(static_cast<unsigned char>(b[i]))) ++i;
+    std::string_view rest = b.substr(i);
+    if (rest.substr(0, 1) == "<") what = "an HTML or XML document";
+    else if (rest.substr(0, 1) == "{") what = "a JSON document";
+  }
+  return what ? std::string(" (looks like ") + what + ")" : std::string();
+}
+
+}  // namespace io
+
+namespace {
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string extensionOf(std::string_view name) {
+  size_t slash = name.find_last_of("/\\");
+  if (slash != std::string_view::npos) name = name.substr(slash + 1);
+  size_t dot = name.rfind('.');
+  return dot == std::string_view::npos ? std::string() : lower(name.substr(dot + 1));
+}
+
+bool knownExtension(const std::string& ext) {
+  return ext == "obj" || ext == "stl" || ext == "ply" || ext == "off" || ext == "gltf" || ext == "glb";
+}
+
+// The first token of a text file after blank lines and '#' comments (OFF headers).
+std::string_view firstToken(std::string_view b) {
+  size_t i = 0;
+  if (b.substr(0, 3) == "\xEF\xBB\xBF") i = 3;
+  while (i < b.size()) {
+    while (i < b.size() && std::isspace(static_cast<unsigned char>(b[i]))) ++i;
+    if (i < b.size() && b[i] == '#') {
+      while (i < b.size() && b[i] != '\n') ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j < b.size() && !std::isspace(static_cast<unsigned char>(b[j])) && j - i < 16) ++j;
+    return b.substr(i, j - i);
+  }
+  return {};
+}
+
+bool isOffKeyword(std::string_view t) {
+  if (t.size() < 3 || t.substr(t.size() - 3) != "OFF") return false;
+  std::string_view prefix = t.substr(0, t.size() - 3);
+  // [ST][C][N][4][n]OFF: texture, colour, normal, 4D, n-dimensional
+  return prefix.find_first_not_of("STCN4n") == std::string_view::npos;
+}
+
+// A format identified from the content alone, or false.
+bool signature(std::string_view b, MeshFormat& format) {
+  if (b.substr(0, 4) == "glTF") return format = MeshFormat::Glb, true;
+  if (b.substr(0, 4) == "ply\n" || b.substr(0, 5) == "ply\r\n") return format = MeshFormat::Ply, true;
+  std::string_view token = firstToken(b);
+  if (isOffKeyword(token)) return format = MeshFormat::Off, true;
+  if (token.substr(0, 1) == "{" && b.find("\"asset\"") != std::string_view::npos) return format = MeshFormat::Gltf, true;
+  if (b.size() >= 84 && b.substr(0, 5) != "solid") {
+    uint32_t n = io::load<uint32_t>(b.data() + 80);
+    if (b.size() == 84 + 50 * uint64_t(n) && n > 0) return format = MeshFormat::Stl, true;
+  }
+  if (b.substr(0, 5) == "solid" && b.size() > 5 && std::isspace(static_cast<unsigned char>(b[5])) &&
+      b.substr(0, 4096).find("facet") != std::string_view::npos)
+    return format = MeshFormat::Stl, true;
+  return false;
+}
+
+const char* articleName(MeshFormat f) {
+  switch (f) {
+    case MeshFormat::Obj: return "an OBJ";
+    case MeshFormat::Stl: return "an STL";
+    case MeshFormat::Ply: return "a PLY";
+    case MeshFormat::Off: return "an OFF";
+    case MeshFormat::Gltf: return "a glTF";
+    case MeshFormat::Glb: return "a GLB";
+  }
+  return "a mesh";
+}
+
+std::string upperName(MeshFormat f) {
+  std::string s = formatName(f);
+  if (f == MeshFormat::Gltf) return "glTF";
+  for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+}  // namespace
+
+const char* formatName(MeshFormat format) {
+  switch (format) {
+    case MeshFormat::Obj: return "obj";
+    case MeshFormat::Stl: return "stl";
+    case MeshFormat::Ply: return "ply";
+    case MeshFormat::Off: return "off";
+    case MeshFormat::Gltf: return "gltf";
+    case MeshFormat::Glb: return "glb";
+  }
+  return "unknown";
+}
+
+MeshFormat parseFormatName(std::string_view name) {
+  std::string n = lower(name);
+  if (!n.empty() && n[0] == '.') n.erase(0, 1);
+  if (n == "obj") return MeshFormat::Obj;
+  if (n == "stl") return MeshFormat::Stl;
+  if (n == "ply") return MeshFormat::Ply;
+  if (n == "off") return MeshFormat::Off;
+  if (n == "gltf") return MeshFormat::Gltf;
+  if (n == "glb") return MeshFormat::Glb;
+  throw Error("unknown mesh format " + io::quoted(name) + " (mrvol reads obj, stl, ply, off, gltf, glb)");
+}
+
+MeshFormat detectFormat(std::string_view bytes, std::string_view name) {
+  const std::string ext = extensionOf(name);
+  MeshFormat byContent;
+  const bool known = knownExtension(ext);
+  if (bytes.empty()) {
+    if (known) throw Error("empty " + upperName(parseFormatName(ext)) + " file (0 bytes)");
+    throw Error("empty file (0 bytes)");
+  }
+  if (signature(bytes, byContent)) return byContent;
+  if (!known) {
+    // No signature: text is taken for OBJ (its reader says what is wrong), anything else is refused.
+    std::string like = io::looksLike(bytes);
+    if (!like.empty())
+      throw Error("unknown mesh format" + (ext.empty() ? std::string() : " ." + ext) + like +
+                  "; mrvol reads obj, stl, ply, off, gltf and glb");
+    return MeshFormat::Obj;
+  }
+  MeshFormat expected = parseFormatName(ext);
+  std::string like = io::looksLike(bytes);
+  if (!like.empty() && expected != MeshFormat::Obj) {
+    std::string head;
+    for (char c : bytes.substr(0, 4)) {
+      unsigned char u = static_cast<unsigned char>(c);
+      char hex[8];
+      std::snprintf(hex, sizeof hex, u >= 32 && u < 127 ? "%c" : "\\x%02x", u);
+      head += hex;
+    }
+    throw Error(std::string("not ") + articleName(expected) + " file: it starts with '" + head + "'" + like);
+  }
+  return expected;
+}
+
+ImportedMesh readMeshFile(std::string_view bytes, MeshFormat format, const GltfResources& resources) {
+  if (bytes.empty()) throw Error("empty " + upperName(format) + " file (0 bytes)");
+  switch (format) {
+    case MeshFormat::Stl: return readStl(bytes);
+    case MeshFormat::Ply: return readPly(bytes);
+    case MeshFormat::Off: return readOff(bytes);
+    case MeshFormat::Gltf: return readGltf(bytes, resources);
+    case MeshFormat::Glb: return readGlb(bytes, resources);
+    case MeshFormat::Obj: break;
+  }
+  ImportedMesh out;
+  out.format = MeshFormat::Obj;
+  out.variant = "OBJ";
+  out.mesh = readObj(bytes, &out.objLines);
+  out.sourceVertices = out.mesh.vertexCount();
+  out.sourceFaces = out.mesh.faceCount();
+  out.sourceVertex.resize(out.mesh.vertexCount());
+  std::iota(out.sourceVertex.begin(), out.sourceVertex.end(), 0u);
+  return out;
+}
+
+ImportedMesh readMeshFile(std::string_view bytes, std::string_view name, const GltfResources& resources) {
+  return readMeshFile(bytes, detectFormat(bytes, name), resources);
+}
+
+size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource) {
+  const size_t n = mesh.vertexCount();
+  const double* p = mesh.positions.data();
+  // Order the vertices by (x, y, z, index): a stable radix sort on x (its bits made to sort like
+  // the doubles, -0 as +0), then each run of equal x sorted by (y, z, index). Equal positions end
+  // up adjacent, their first source vertex first.
+  auto keyOf = [](double x) {
+    uint64_t u;
+    x = x == 0 ? 0.0 : x;
+    std::memcpy(&u, &x, 8);
+    return (u >> 63) ? ~u : u | (uint64_t(1) << 63);
+  };
+  std::vector<uint64_t> key(n);
+  for (size_t v = 0; v < n; ++v) key[v] = keyOf(p[3 * v]);
+  std::vector<uint32_t> order(n), scratch(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::vector<uint32_t> counts(65537);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(counts.begin(), counts.end(), 0u);
+    for (size_t v = 0; v < n; ++v) ++counts[((key[v] >> shift) & 0xffff) + 1];
+    for (size_t d = 1; d < counts.size(); ++d) counts[d] += counts[d - 1];
+    for (uint32_t v : order) scratch[counts[(key[v] >> shift) & 0xffff]++] = v;
+    order.swap(scratch);
+  }
+  for (size_t i = 0; i < n;) {
+    size_t j = i + 1;
+    while (j < n && key[order[j]] == key[order[i]]) ++j;
+    if (j - i > 1)
+      std::sort(order.begin() + i, order.begin() + j, [&](uint32_t a, uint32_t b) {
+        if (p[3 * a + 1] != p[3 * b + 1]) return p[3 * a + 1] < p[3 * b + 1];
+        if (p[3 * a + 2] != p[3 * b + 2]) return p[3 * a + 2] < p[3 * b + 2];
+        return a < b;
+      });
+    i = j;
+  }
+  key = {};
+  scratch = {};
+  std::vector<uint32_t> representative(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t v = order[i], u = i > 0 ? order[i - 1] : 0;
+    const bool same = i > 0 && p[3 * v] == p[3 * u] && p[3 * v + 1] == p[3 * u + 1] && p[3 * v + 2] == p[3 * u + 2];
+    representative[v] = same ? representative[u] : v;
+  }
+  order = {};
+  // Output numbering in the order of first occurrence.
+  std::vector<uint32_t> output(n);
+  std::vector<uint32_t> first;
+  first.reserve(n);
+  size_t kept = 0;
+  for (size_t v = 0; v < n; ++v) {
+    if (representative[v] == v) {
+      output[v] = uint32_t(kept);
+      if (kept != v)
+        for (int k = 0; k < 3; ++k) mesh.positions[3 * kept + k] = mesh.positions[3 * v + k];
+      first.push_back(uint32_t(v));
+      ++kept;
+    } else {
+      output[v] = output[representative[v]];
+    }
+  }
+  mesh.positions.resize(3 * kept);
+  for (uint32_t& i : mesh.faces) i = output[i];
+  if (firstSource) *firstSource = std::move(first);
+  if (outputOfSource) *outputOfSource = std::move(output);
+  return n - kept;
+}
+
+}  // namespace mrvol
