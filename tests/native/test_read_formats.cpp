@@ -214,8 +214,8 @@ TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
 
 TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {
   // A subdivided mesh: 642 vertices; coordinates rounded to float32 by the format.
-  MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 3, SchemeOptions{});
-  const TriangleMesh& mesh = mr.mesh();
+  const MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 3);
+  const TriangleMesh mesh{mr.subdivisionPositions(fixtures::icosahedron().positions, SchemeOptions{}), mr.faces()};
   TriangleMesh rounded = mesh;
   for (double& x : rounded.positions) x = double(float(x));
   ImportedMesh back = readGlb(writeGlb(mesh));
@@ -277,8 +277,9 @@ TEST(ReadFormats, HostileFilesFailWithTheirMessages) {
 }
 
 TEST(WriteGlbKeeping, KeepsTheSourceAndReplacesPositionsAndNormals) {
-  MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 2, SchemeOptions{});
-  const std::string source = writeGlb(mr.mesh());  // has NORMAL
+  const MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 2);
+  const std::string source =
+      writeGlb(TriangleMesh{mr.subdivisionPositions(fixtures::icosahedron().positions, SchemeOptions{}), mr.faces()});  // has NORMAL
   ImportedMesh read = readGlb(source);
   TriangleMesh edited = read.mesh;
   for (size_t i = 0; i < edited.positions.size(); ++i) edited.positions[i] *= 1 + 0.01 * double(i % 7);
