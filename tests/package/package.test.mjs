@@ -114,17 +114,27 @@ test('mrvol/remesh: the remesher loads with its dependencies from the installed 
   assert.ok(result.hausdorff < 0.05, `Hausdorff ${result.hausdorff}`);
 });
 
-test('TypeScript: examples/typescript type-checks with tsc --strict --noEmit against the installed types', () => {
+test('TypeScript: examples/typescript (core, remesh; mrvol/three with @types/three) type-check with tsc --strict --noEmit', () => {
   const dir = join(project, 'ts');
-  mkdirSync(dir);
-  for (const f of ['tsconfig.json', 'edit.ts']) cpSync(join(installed, 'examples/typescript', f), join(dir, f));
+  mkdirSync(join(dir, 'three'), { recursive: true });
+  for (const f of ['tsconfig.json', 'edit.ts', 'three/tsconfig.json', 'three/editor.ts'])
+    cpSync(join(installed, 'examples/typescript', f), join(dir, f));
   const tsc = join(ROOT, 'node_modules/typescript/bin/tsc');
   run(process.execPath, [tsc, '--strict', '--noEmit', '-p', dir], { cwd: dir });
+  // The component's types stand on three's: a TypeScript user of mrvol/three installs @types/three.
+  const threeVersion = JSON.parse(readFileSync(join(project, 'node_modules/three/package.json'), 'utf8')).version;
+  npm(['install', '--prefer-offline', `@types/three@~${threeVersion}`]);
+  run(process.execPath, [tsc, '--strict', '--noEmit', '-p', join(dir, 'three')], { cwd: dir });
   // The check can fail: a wrong option is refused.
   writeFileSync(join(dir, 'wrong.ts'), "import { createMrvol } from 'mrvol';\nexport const m = createMrvol({ wasmUrl: 42 });\n");
   const wrong = spawnSync(process.execPath, [tsc, '--strict', '--noEmit', '-p', dir], { cwd: dir, encoding: 'utf8' });
   assert.notEqual(wrong.status, 0);
   assert.match(wrong.stdout, /wrong\.ts\(2,\d+\): error TS\d+: .*number/);
+  writeFileSync(join(dir, 'three/wrong.ts'),
+                "import { VolumeEditControls } from 'mrvol/three';\nexport const level = (c: VolumeEditControls) => c.setLevel('one');\n");
+  const wrongThree = spawnSync(process.execPath, [tsc, '--strict', '--noEmit', '-p', join(dir, 'three')], { cwd: dir, encoding: 'utf8' });
+  assert.notEqual(wrongThree.status, 0);
+  assert.match(wrongThree.stdout, /wrong\.ts\(2,\d+\): error TS\d+: .*string/);
 });
 
 test('browser: examples/web/minimal.html built by vite against the installed package, dragged in Chromium, keeps the volume', async () => {
