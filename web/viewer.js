@@ -13,6 +13,7 @@ const SELECTED_COLOR = new THREE.Color(0xf0a020);
 const HOVER_COLOR = new THREE.Color(0x3fb950);
 const APPROX_COLOR = 0x2da44e;
 const DETAIL_COLOR = 0xcf222e;
+const FOV_DEG = 35;
 
 export class Viewer {
   /** @param {HTMLElement} container the element the canvas fills */
@@ -25,7 +26,7 @@ export class Viewer {
     this.canvas = this.renderer.domElement;
 
     this.scene = new THREE.Scene();
-    this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
+    this.camera = new THREE.PerspectiveCamera(FOV_DEG, 1, 0.01, 1000);
     this.camera.position.set(0, 0, 6);
     this.scene.add(this.camera);
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x606070, 1.4));
@@ -100,8 +101,12 @@ export class Viewer {
     if (w === 0 || h === 0) return;
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
+    // FOV_DEG spans the narrower side: a framed model stays in view when a tall view (a phone, its
+    // sheet folded or not) changes height.
+    this.camera.fov = w >= h ? FOV_DEG : THREE.MathUtils.radToDeg(2 * Math.atan(Math.tan(THREE.MathUtils.degToRad(FOV_DEG / 2)) * h / w));
     this.camera.updateProjectionMatrix();
-    this.requestRender();
+    // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
+    this.renderer.render(this.scene, this.camera);
   }
 
   requestRender() {
