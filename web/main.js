@@ -22,6 +22,7 @@ import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
 import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
 import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
+import { setUpKeyboardHandles } from './keyboard-handles.js';
 import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject } from './share.js';
 import { VIEWS } from './learn/router.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
@@ -651,6 +652,17 @@ async function start() {
   app.layers = new Layers(session, app.viewer, app.settings, (ms) => pushStat(app.stats.layers, ms));
   app.freeSet = new FreeSetTools({ session, viewer: app.viewer, panel: app.panel, settings: app.settings, defaults: DEFAULT_SETTINGS });
   followSession(session);
+  const keyboard = setUpKeyboardHandles({
+    app,
+    canNudge: () => app.ready && !session.dragging && !app.freeSet.painting,
+    onMoved: () => {
+      app.viewer.updateMesh(session.positions());
+      app.viewer.updateCage(session.cagePositions());
+      app.layers.afterDrag();
+      saveSoon();
+    },
+  });
+  session.addEventListener('editor', () => keyboard.describe());
   const chart = new VolumeChart(document.getElementById('chart'));
   session.addEventListener('model', () => chart.reset());
   session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
