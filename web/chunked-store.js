@@ -11,6 +11,7 @@ export function storageProblem(error) {
   if (error.name === 'SecurityError') return 'the browser does not allow storage on this page (private mode or blocked site data)';
   if (error.name === 'DataCloneError') return 'the browser refused a value this large';
   if (error.name === 'UnknownError' || error.name === 'AbortError') return `the browser's database failed to write (${error.message || error.name})`;
+  if (error.name === 'Error' && error.message) return error.message; // our own sentences
   return `${error.name ?? 'Error'}: ${error.message ?? String(error)}`;
 }
 

@@ -53,6 +53,8 @@ function tag(controller, id) {
   const element = controller.$input ?? controller.$select ?? controller.$button;
   if (element) element.dataset.testid = id;
   controller.domElement.dataset.testid = `${id}-row`;
+  // a name of its own for assistive technology (the row's label can be scrolled out of view)
+  if (element && controller._name) element.setAttribute('aria-label', controller._name);
   const title = TITLES[id];
   if (title) {
     controller.domElement.title = title;
