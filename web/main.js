@@ -23,6 +23,7 @@ import { showError, clearError, errorText, notice, showCacheStatus, showStorageP
 import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
+import { findSelfIntersection } from './self-intersection.js';
 import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject } from './share.js';
 import { VIEWS } from './learn/router.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
@@ -62,6 +63,22 @@ const app = {
   },
   pendingInput: null,
 };
+
+/** Warns under the readouts when the surface intersects itself (checked after each edit, not during drags). */
+let intersectionTimer = null;
+function checkSelfIntersection() {
+  clearTimeout(intersectionTimer);
+  intersectionTimer = setTimeout(() => {
+    const { session } = app;
+    const warning = document.getElementById('self-intersection');
+    if (!session.editor || session.dragging) return;
+    const found = findSelfIntersection(session.positions(), session.model.faces);
+    warning.textContent = found?.intersects
+      ? `The surface intersects itself (triangles ${found.pair[0]} and ${found.pair[1]}): the volume counts the overlap with opposite signs. Undo or move the handles apart.`
+      : '';
+    warning.dataset.checkedMs = found ? found.ms.toFixed(1) : '';
+  }, 50);
+}
 
 function pushStat(list, value) {
   list.push(value);
@@ -255,6 +272,10 @@ function followSessionInView(session) {
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
   });
   session.addEventListener('error', ({ detail }) => showError(detail.message));
+  session.addEventListener('change', ({ detail }) => {
+    if (detail.reason !== 'step' || !session.dragging) checkSelfIntersection();
+  });
+  session.addEventListener('dragend', checkSelfIntersection);
 }
 
 /** Rebuilds the editor at the panel's scheme or level (the session keeps shape, reference and history). */
