@@ -612,15 +612,17 @@ async function start() {
   app.store = await SessionStore.open();
   // The newest session in IndexedDB (or, with ?model=NAME, that sample's); else the localStorage copy.
   let stored = await app.store.load(urlModel === null ? null : `sample:${urlModel}`);
-  if (!stored) {
-    const small = loadSession();
-    if (small) {
-      let positions = null;
-      try {
-        positions = small.positions ? decodeFloat64(small.positions) : null;
-      } catch { /* a damaged session: the file's own positions */ }
-      stored = { ...small, positions, history: null };
-    }
+  // The localStorage copy is written at once; the IndexedDB write can be cut short by a reload. The
+  // newer of the two wins (the copy without the undo history, which may not reach its state).
+  const small = loadSession();
+  const sameModel = (a, b) => a.model.kind === b.model.kind && a.model.name === b.model.name;
+  if (small && (!stored || (small.saved > (stored.saved ?? 0) && sameModel(small, stored)))) {
+    let positions = null;
+    try {
+      positions = small.positions ? decodeFloat64(small.positions) : null;
+    } catch { /* a damaged session: the file's own positions */ }
+    const text = small.model.text ?? stored?.model.text;
+    if (positions || !stored) stored = { ...small, model: { ...small.model, text }, positions, history: null };
   }
   applyStoredSettings(stored?.settings);
   const useStored = stored && (urlModel === null || (stored.model.kind === 'sample' && stored.model.name === urlModel)) &&

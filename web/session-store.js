@@ -110,7 +110,7 @@ export class SessionStore {
       }
       return {
         model: { kind: record.kind, name: record.name, text }, settings: record.settings, fingerprint: record.fingerprint,
-        positions, reference: record.reference, history: record.history ?? null,
+        positions, reference: record.reference, history: record.history ?? null, saved: record.saved,
       };
     } catch (e) {
       this.problem = `the stored session could not be read: ${storageProblem(e)}`;
