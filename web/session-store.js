@@ -29,8 +29,12 @@ export class SessionStore {
     try {
       if (typeof indexedDB === 'undefined') throw new Error('IndexedDB is not available in this browser');
       let timer;
+      // Two timers in a row: after the page was busy (the core compiling under load) the first one can
+      // run before the database's already queued success; the second gives that a turn.
       const timeout = new Promise((_, reject) => {
-        timer = setTimeout(() => reject(new Error('the browser database did not open in time')), OPEN_TIMEOUT_MS);
+        timer = setTimeout(() => {
+          timer = setTimeout(() => reject(new Error('the browser database did not open in time')), 1000);
+        }, OPEN_TIMEOUT_MS);
       });
       store.#db = await Promise.race([openDB(DB_NAME, DB_VERSION, {
         upgrade(db) {

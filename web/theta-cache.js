@@ -39,8 +39,12 @@ export class ThetaCache {
         blocked() { /* another tab holds an older version: the timeout below gives up */ },
       });
       let timer;
+      // Two timers in a row: after the page was busy (the core compiling under load) the first one can
+      // run before the database's already queued success; the second gives that a turn.
       const timeout = new Promise((_, reject) => {
-        timer = setTimeout(() => reject(new Error('IndexedDB did not open in time')), OPEN_TIMEOUT_MS);
+        timer = setTimeout(() => {
+          timer = setTimeout(() => reject(new Error('IndexedDB did not open in time')), 1000);
+        }, OPEN_TIMEOUT_MS);
       });
       cache.#db = await Promise.race([opening, timeout]).finally(() => clearTimeout(timer));
       cache.#db.addEventListener?.('close', () => {
