@@ -32,6 +32,8 @@ export function installDebugHook(app) {
     selection: () => [...app.selection],
     settings: () => ({ ...app.settings }),
     ready: () => app.ready,
+    /** ms the room lighting took to prefilter (null until done). */
+    environmentMs: () => app.viewer?.environmentMs ?? null,
     thetaReady: () => app.ready && app.theta?.source != null && editor()?.path() === 'tensor',
     /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
     stats: () => ({

@@ -35,9 +35,9 @@ export function setUpDrop(onFile) {
   });
 }
 
-/** Downloads text as a file through a link carrying `testid` (tests catch the download). */
-export function download(text, name, testid) {
-  const blob = new Blob([text], { type: 'text/plain' });
+/** Downloads text (or a Blob) as a file through a link carrying `testid` (tests catch the download). */
+export function download(text, name, testid, type = 'text/plain') {
+  const blob = text instanceof Blob ? text : new Blob([text], { type });
   const link = document.createElement('a');
   link.href = URL.createObjectURL(blob);
   link.download = name;

@@ -13,13 +13,19 @@ import { ThetaJobs } from './theta-jobs.js';
 import { ThetaSource } from './theta-source.js';
 import { Layers } from './layers.js';
 import { loadSession, saveSession, clearSession, decodeFloat64 } from './session.js';
+import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openObj } from './models.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
-import { showError, clearError, errorText, notice, showCacheStatus, followSession } from './readouts.js';
+import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
 import { installDebugHook } from './debug-hook.js';
+import { VolumeChart } from './volume-chart.js';
+import { setUpKeyboardHandles } from './keyboard-handles.js';
+import { findSelfIntersection } from './self-intersection.js';
+import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject } from './share.js';
+import { VIEWS } from './learn/router.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
 
 const DEFAULT_MODEL = 'spiky-ball';
@@ -39,6 +45,7 @@ const app = {
   panel: null,
   dragger: null,
   theta: null,   // ThetaSource
+  store: null,   // SessionStore (IndexedDB): the sessions of recent models
   layers: null,
   freeSet: null, // FreeSetTools
   settings: { ...DEFAULT_SETTINGS },
@@ -57,6 +64,22 @@ const app = {
   pendingInput: null,
 };
 
+/** Warns under the readouts when the surface intersects itself (checked after each edit, not during drags). */
+let intersectionTimer = null;
+function checkSelfIntersection() {
+  clearTimeout(intersectionTimer);
+  intersectionTimer = setTimeout(() => {
+    const { session } = app;
+    const warning = document.getElementById('self-intersection');
+    if (!session.editor || session.dragging) return;
+    const found = findSelfIntersection(session.positions(), session.model.faces);
+    warning.textContent = found?.intersects
+      ? `The surface intersects itself (triangles ${found.pair[0]} and ${found.pair[1]}): the volume counts the overlap with opposite signs. Undo or move the handles apart.`
+      : '';
+    warning.dataset.checkedMs = found ? found.ms.toFixed(1) : '';
+  }, 50);
+}
+
 function pushStat(list, value) {
   list.push(value);
   if (list.length > 2000) list.splice(0, list.length - 2000);
@@ -74,13 +97,57 @@ function saveNow() {
   clearTimeout(saveTimer);
   const { session } = app;
   if (!app.model || !session.editor) return;
-  saveSession({
+  const stored = {
     model: app.model,
     settings: { ...app.settings },
     fingerprint: session.model.fingerprint,
     positions: session.positions(),
     reference: session.referenceVolume(),
+  };
+  // localStorage: a small copy the teaching views read synchronously (web/session.js);
+  // IndexedDB: the whole session at any size, with the undo history.
+  saveSession(stored);
+  if (!app.store) return;
+  const history = { level: session.level, scheme: session.scheme, steps: session.history.steps() };
+  app.store.save({ ...stored, history }).then(() => {
+    showStorageProblem(app.store.problem);
+    refreshRecent();
   });
+}
+
+async function refreshRecent() {
+  if (!app.store) return;
+  const entries = await app.store.recent();
+  app.panel.showRecent(entries.map(({ id, name, kind, saved }) => ({ id, name, kind, saved, current: app.model && id === sessionId(app.model) })));
+}
+
+/** Reopens a model of the recent list with its stored edits. */
+async function openRecent(id) {
+  const stored = await app.store?.load(id);
+  if (!stored) {
+    showError('That session is no longer stored in this browser.');
+    refreshRecent();
+    return false;
+  }
+  applyStoredSettings(stored.settings);
+  app.panel.update();
+  return openModel(sourceOfStored(stored), restoreOfStored(stored));
+}
+
+function applyStoredSettings(settings) {
+  if (!settings) return;
+  for (const key of Object.keys(DEFAULT_SETTINGS))
+    if (typeof settings[key] === typeof DEFAULT_SETTINGS[key]) app.settings[key] = settings[key];
+}
+
+function sourceOfStored(stored) {
+  return stored.model.kind === 'sample'
+    ? { kind: 'sample', name: stored.model.name }
+    : { kind: 'file', name: stored.model.name, text: stored.model.text };
+}
+
+function restoreOfStored(stored) {
+  return { fingerprint: stored.fingerprint, positions: stored.positions, reference: stored.reference, history: stored.history };
 }
 
 // ---- models ---------------------------------------------------------------------------------------
@@ -106,13 +173,20 @@ function openModelText({ name, kind, text }, restore = null) {
   app.theta.cancel();
   app.model = { name, kind, text };
   app.settings.model = name;
-  const fits = restore && restore.fingerprint === mr.fingerprint();
+  // a share link's edits carry no fingerprint: the vertex count decides (session.open)
+  const fits = restore && (restore.fingerprint == null || restore.fingerprint === mr.fingerprint());
   app.settings.level = Math.min(app.settings.level, info.levels);
   app.ready = false;
   session.level = app.settings.level;
   session.scheme = app.settings.scheme;
+  session.preserve = app.settings.preserve;
   session.open(mr, { name, own: true, restore: fits ? restore : null });  // emits model, editor
   app.settings.level = session.level;
+  const history = fits ? restore.history : null;
+  if (history?.steps && history.level === session.level && history.scheme === session.scheme) {
+    session.history.load(history.steps);
+    session.dispatchEvent(new CustomEvent('change', { detail: { reason: 'history' } }));
+  }
   app.stats.modelAt ??= performance.now();
   app.awaitingFrame = true; // ready once the next frame (with this model) is drawn
   app.viewer.requestRender();
@@ -120,18 +194,42 @@ function openModelText({ name, kind, text }, restore = null) {
   return true;
 }
 
+const BIG_FILE_CHARS = 2_000_000;
+
+const nextPaint = () => new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
+
+/** The busy indicator in the status strip (opening a big file), or null to hide it. */
+function showBusy(text) {
+  const busy = document.getElementById('busy');
+  busy.hidden = text === null;
+  document.getElementById('busy-text').textContent = text ?? '';
+}
+
 /** Loads a model from its source; false when it could not be read or opened. */
 async function openModel(source, restore = null) {
   const generation = ++app.loadGeneration;
   let text;
+  if (source.kind === 'file' && source.file?.size > BIG_FILE_CHARS) showBusy(`Reading ${source.name} (${(source.file.size / 1e6).toFixed(1)} MB)…`);
   try {
     text = await sourceText(source);
   } catch (e) {
+    showBusy(null);
     if (generation === app.loadGeneration) showError(`Could not open ${source.name}: ${e.message}`);
     return false;
   }
   if (generation !== app.loadGeneration) return false;
-  const ok = openModelText({ name: source.name, kind: source.kind, text }, restore);
+  if (source.kind === 'file' && isProject(text)) return openProjectText(text, source.name);
+  const big = text.length > BIG_FILE_CHARS;
+  if (big) {
+    showBusy(`Opening ${source.name} (${(text.length / 1e6).toFixed(1)} MB)…`);
+    await nextPaint(); // the indicator shows before the page is busy reading the mesh
+  }
+  let ok;
+  try {
+    ok = openModelText({ name: source.name, kind: source.kind, text }, restore);
+  } finally {
+    if (big) showBusy(null);
+  }
   if (ok) {
     const url = new URL(location.href);
     if (source.kind === 'sample') url.searchParams.set('model', source.name);
@@ -163,6 +261,7 @@ function followSessionInView(session) {
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
     frameNext = false;
+    syncSettings();
     app.theta.request();
   });
   session.addEventListener('change', ({ detail }) => {
@@ -170,16 +269,67 @@ function followSessionInView(session) {
     app.viewer.updateMesh(session.positions());
     app.viewer.updateCage(session.cagePositions());
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
+    if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
   });
   session.addEventListener('error', ({ detail }) => showError(detail.message));
+  session.addEventListener('change', ({ detail }) => {
+    if (detail.reason !== 'step' || !session.dragging) checkSelfIntersection();
+  });
+  session.addEventListener('dragend', checkSelfIntersection);
 }
 
-/** Rebuilds the editor at the panel's scheme and level (the session keeps shape and reference). */
+/** Rebuilds the editor at the panel's scheme or level (the session keeps shape, reference and history). */
 function rebuildEditor() {
   const { session, settings } = app;
   if (!session.editor) return;
-  session.scheme = settings.scheme;
-  session.setLevel(settings.level);  // rebuilds with the scheme too: emits editor
+  if (settings.scheme !== session.scheme) session.setScheme(settings.scheme); // emits editor
+  else session.setLevel(settings.level);
+}
+
+/** The panel follows what undo and redo changed in the session: level, scheme, preservation. */
+function syncSettings() {
+  const { session, settings } = app;
+  if (settings.level === session.level && settings.scheme === session.scheme && settings.preserve === session.preserve) return;
+  settings.level = session.level;
+  settings.scheme = session.scheme;
+  settings.preserve = session.preserve;
+  app.panel.update();
+  saveSoon();
+}
+
+/**
+ * Preservation from the panel. Turned back on while the volume is off its reference, the user
+ * chooses: restore the reference volume now, or take the current volume as the new reference.
+ */
+function changePreserve() {
+  const { session, settings } = app;
+  if (!session.editor) return;
+  session.setPreserve(settings.preserve);
+  const reference = session.referenceVolume(), volume = session.volume();
+  const off = Math.abs(volume - reference) / Math.max(Math.abs(reference), 1e-300);
+  if (settings.preserve && off > session.tolerance) askRestore(off);
+  saveSoon();
+}
+
+function askRestore(off) {
+  const dialog = document.getElementById('preserve-dialog');
+  document.getElementById('preserve-off').textContent = `${(100 * off).toPrecision(3)}%`;
+  const choose = (restore) => {
+    dialog.close();
+    if (restore) {
+      if (!app.session.restoreReferenceVolume()) return;
+      // a step outside a drag: the view draws it here (the change listener leaves steps to the drag)
+      app.viewer.updateMesh(app.session.positions());
+      app.viewer.updateCage(app.session.cagePositions());
+      app.layers.update();
+    } else {
+      app.session.setReferenceVolume();
+    }
+    saveSoon();
+  };
+  document.getElementById('preserve-restore').onclick = () => choose(true);
+  document.getElementById('preserve-keep').onclick = () => choose(false);
+  dialog.showModal();
 }
 
 function applyViewLayers() {
@@ -213,7 +363,6 @@ const dragHandlers = {
   drag(delta, eventTime) {
     const { session } = app;
     if (!session.dragging) return;
-    session.preserve = app.settings.preserve;
     session.tolerance = app.settings.tolerance;
     const report = session.dragBy(delta);
     if (!report) {
@@ -263,6 +412,68 @@ function redo() {
   if (app.session.redo()) saveSoon();
 }
 
+// ---- tools: screenshot, share link, project file, keyboard help ----------------------------------------
+
+function baseName() {
+  return app.model.name.replace(/\.(obj|json)$/i, '');
+}
+
+/** The view as a PNG file (drawn now, so the drawing buffer holds the frame). */
+function screenshot() {
+  app.viewer.renderer.render(app.viewer.scene, app.viewer.camera);
+  app.viewer.canvas.toBlob((blob) => {
+    if (blob) download(blob, `${baseName()}.png`, 'screenshot-link');
+  }, 'image/png');
+}
+
+/** A link that opens this sample with its edits and settings; copied to the clipboard when allowed. */
+async function shareLink() {
+  const { session } = app;
+  if (!session.editor) return;
+  const field = document.getElementById('share-url');
+  if (app.model.kind !== 'sample') {
+    field.value = '';
+    notice('A share link can carry a sample model\'s edits only; save a project file to pass on an opened file.');
+    return;
+  }
+  const original = app.mrvol.readObj(await fetchSample(app.model.name)).positions;
+  const url = await shareUrl({ name: app.model.name, positions: session.positions(), original, reference: session.referenceVolume(), settings: app.settings });
+  field.value = url;
+  document.getElementById('share').hidden = false;
+  field.select();
+  try {
+    await navigator.clipboard.writeText(url);
+    notice('The share link is copied to the clipboard.');
+  } catch {
+    notice('The share link is below the readouts: copy it from there.');
+  }
+}
+
+function saveProject() {
+  const { session } = app;
+  if (!session.editor) return;
+  const text = projectText({ model: app.model, positions: session.positions(), reference: session.referenceVolume(), settings: app.settings });
+  download(text, `${baseName()}.mrvol.json`, 'project-link', 'application/json');
+}
+
+/** Opens a project file's model with its edits and settings. */
+function openProjectText(text, fileName) {
+  let project;
+  try {
+    project = readProject(text, fileName);
+  } catch (e) {
+    showError(`Could not open ${fileName}: ${e.message}`);
+    return false;
+  }
+  applyStoredSettings(project.settings);
+  app.panel.update();
+  return openModelText(project.model, { fingerprint: null, positions: project.positions, reference: project.reference });
+}
+
+function showKeyboardHelp() {
+  document.getElementById('keys').showModal();
+}
+
 // ---- actions from the panel and the keyboard ---------------------------------------------------------
 
 function exportObj() {
@@ -283,6 +494,7 @@ function exportCage() {
 
 async function reset() {
   clearSession();
+  if (app.model) await app.store?.remove(sessionId(app.model));
   Object.assign(app.settings, DEFAULT_SETTINGS, { model: app.model?.name ?? DEFAULT_MODEL });
   app.viewer.setFlat(app.settings.flat);
   applyViewLayers();
@@ -293,6 +505,13 @@ async function reset() {
 const actions = {
   openSample: (name) => openModel({ kind: 'sample', name }),
   openFile: () => app.pickFile(),
+  openRecent: (id) => openRecent(id),
+  showGlossary: () => document.getElementById('glossary').showModal(),
+  showKeyboardHelp,
+  frame: () => app.viewer.frameAll(),
+  screenshot,
+  shareLink,
+  saveProject,
   exportObj,
   exportCage,
   reset,
@@ -300,7 +519,7 @@ const actions = {
   redo,
   changeScheme: () => { rebuildEditor(); saveSoon(); },
   changeLevel: () => { rebuildEditor(); saveSoon(); },
-  changePreserve: () => saveSoon(),
+  changePreserve,
   changeTolerance: () => saveSoon(),
   changeFreeSet: () => { app.freeSet.changeMode(); saveSoon(); },
   changeTool: () => { app.freeSet.changeTool(); saveSoon(); },
@@ -332,7 +551,13 @@ function onKeyDown(e) {
       target.type !== 'checkbox')
     return;
   const ctrl = e.ctrlKey || e.metaKey;
-  if (e.key === 'Escape') {
+  if (document.querySelector('dialog[open]')) return; // a dialog has the keys
+  if (e.key === '?' && !ctrl) {
+    e.preventDefault();
+    showKeyboardHelp();
+  } else if ((e.key === 'f' || e.key === 'F') && !ctrl && !e.altKey) {
+    app.viewer.frameAll();
+  } else if (e.key === 'Escape') {
     if (!app.dragger.cancel() && app.selection.size) {
       app.selection.clear();
       app.viewer.setSelection(app.selection);
@@ -345,6 +570,16 @@ function onKeyDown(e) {
     e.preventDefault();
     redo();
   }
+}
+
+/** The phone layout's sheet (panel and readouts below the view) folds to its title bar and back. */
+function setUpSheet() {
+  const side = document.getElementById('side');
+  const toggle = document.getElementById('sheet-toggle');
+  toggle.addEventListener('click', () => {
+    const collapsed = side.classList.toggle('collapsed');
+    toggle.setAttribute('aria-expanded', String(!collapsed));
+  });
 }
 
 // ---- start --------------------------------------------------------------------------------------------
@@ -371,40 +606,47 @@ async function start() {
   };
   app.dragger = new CageDragger(app.viewer, view, dragHandlers);
 
-  const stored = loadSession();
   const params = new URLSearchParams(location.search);
   const urlModel = params.get('model');
-  if (stored?.settings) {
-    for (const key of Object.keys(DEFAULT_SETTINGS))
-      if (typeof stored.settings[key] === typeof DEFAULT_SETTINGS[key]) app.settings[key] = stored.settings[key];
+  const shared = sharedState(params);
+  app.store = await SessionStore.open();
+  // The newest session in IndexedDB (or, with ?model=NAME, that sample's); else the localStorage copy.
+  let stored = await app.store.load(urlModel === null ? null : `sample:${urlModel}`);
+  // The localStorage copy is written at once; the IndexedDB write can be cut short by a reload. The
+  // newer of the two wins (the copy without the undo history, which may not reach its state).
+  const small = loadSession();
+  const sameModel = (a, b) => a.model.kind === b.model.kind && a.model.name === b.model.name;
+  if (small && (!stored || (small.saved > (stored.saved ?? 0) && sameModel(small, stored)))) {
+    let positions = null;
+    try {
+      positions = small.positions ? decodeFloat64(small.positions) : null;
+    } catch { /* a damaged session: the file's own positions */ }
+    const text = small.model.text ?? stored?.model.text;
+    if (positions || !stored) stored = { ...small, model: { ...small.model, text }, positions, history: null };
   }
+  applyStoredSettings(stored?.settings);
   const useStored = stored && (urlModel === null || (stored.model.kind === 'sample' && stored.model.name === urlModel)) &&
     (stored.model.kind === 'sample' || typeof stored.model.text === 'string');
 
-  app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions });
+  app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions, learnViews: VIEWS });
   app.viewer.setFlat(app.settings.flat);
   app.viewer.precompile(); // while the core, the cache and the model load
   document.getElementById('error-close').addEventListener('click', clearError);
+  setUpSheet();
   document.getElementById('theta-cancel').addEventListener('click', () => app.theta?.cancelJob());
   app.pickFile = setUpFileInput((file) => file && openModel({ kind: 'file', name: file.name, file }));
+  document.getElementById('share-close').addEventListener('click', () => { document.getElementById('share').hidden = true; });
   // Capture phase: lil-gui stops keydown events of its controls from bubbling.
   window.addEventListener('keydown', onKeyDown, { capture: true });
   setUpDrop((file) => file && openModel({ kind: 'file', name: file.name, file }));
 
   let restore = null, source;
-  if (useStored) {
-    try {
-      restore = {
-        fingerprint: stored.fingerprint,
-        positions: stored.positions ? decodeFloat64(stored.positions) : null,
-        reference: stored.reference,
-      };
-    } catch {
-      restore = null;
-    }
-    source = stored.model.kind === 'sample'
-      ? { kind: 'sample', name: stored.model.name }
-      : { kind: 'file', name: stored.model.name, text: stored.model.text };
+  if (shared) {
+    Object.assign(app.settings, { level: shared.level, preserve: shared.preserve }, shared.scheme ? { scheme: shared.scheme } : {});
+    source = { kind: 'sample', name: shared.name };
+  } else if (useStored) {
+    restore = restoreOfStored(stored);
+    source = sourceOfStored(stored);
   } else {
     source = { kind: 'sample', name: urlModel ?? DEFAULT_MODEL };
   }
@@ -433,6 +675,20 @@ async function start() {
   app.layers = new Layers(session, app.viewer, app.settings, (ms) => pushStat(app.stats.layers, ms));
   app.freeSet = new FreeSetTools({ session, viewer: app.viewer, panel: app.panel, settings: app.settings, defaults: DEFAULT_SETTINGS });
   followSession(session);
+  const keyboard = setUpKeyboardHandles({
+    app,
+    canNudge: () => app.ready && !session.dragging && !app.freeSet.painting,
+    onMoved: () => {
+      app.viewer.updateMesh(session.positions());
+      app.viewer.updateCage(session.cagePositions());
+      app.layers.afterDrag();
+      saveSoon();
+    },
+  });
+  session.addEventListener('editor', () => keyboard.describe());
+  const chart = new VolumeChart(document.getElementById('chart'));
+  session.addEventListener('model', () => chart.reset());
+  session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
   followSessionInView(session);
   // Without a stored session theta is likely not cached: the worker loads its copy of the core
   // while the model opens. (With one, the cache most likely has it, and the worker would compete
@@ -442,13 +698,33 @@ async function start() {
   app.theta.cache = cache;
   app.stats.cacheAt = performance.now();
   showCacheStatus(cache.available ? 'IndexedDB' : `none: ${cache.reason}; θ is computed on every load`);
+  showStorageProblem(app.store.problem);
   app.theta.refreshCacheList();
+  refreshRecent();
   applyViewLayers();
+  if (shared) {
+    // A share link: the sample, then its edits over the sample's own positions.
+    try {
+      const text = await sourceText({ ...source, prefetch: source.prefetch });
+      const positions = await decodeEdits(shared.edits, app.mrvol.readObj(text).positions);
+      restore = { fingerprint: null, positions, reference: shared.reference };
+      source = { ...source, text, prefetch: undefined };
+    } catch (e) {
+      showError(`The share link's edits could not be applied: ${e.message}`);
+    }
+  }
   if (!(await openModel(source, restore)) && !app.model && source.name !== DEFAULT_MODEL) {
     const why = errorText();
     if (await openModel({ kind: 'sample', name: DEFAULT_MODEL })) showError(`${why}\nOpened ${DEFAULT_MODEL} instead.`);
   }
   applyViewLayers();
+  if (shared) {
+    // applied: a reload opens the stored session (which now holds these edits)
+    const url = new URL(location.href);
+    for (const key of ['edits', 'level', 'scheme', 'preserve', 'reference']) url.searchParams.delete(key);
+    history.replaceState(null, '', url);
+    saveSoon();
+  }
   window.addEventListener('pagehide', saveNow);
 }
 

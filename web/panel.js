@@ -12,10 +12,54 @@ const FREE_SETS = Object.fromEntries(FREE_SET_MODES.map((mode) => [FREE_SET_NAME
 export const TOOLS = { 'drag handles': 'drag', 'paint free set': 'paint', 'assign to part': 'assign' };
 const TOLERANCES = { '1e-4': 1e-4, '1e-5': 1e-5, '1e-6': 1e-6, '1e-7': 1e-7, '1e-8': 1e-8 };
 
+// The tooltip of every control, by its data-testid: what it does, in plain words.
+const TITLES = {
+  'model-select': 'Open one of the sample models',
+  'open-button': 'Open an OBJ file from this computer (or drop one on the page)',
+  export: 'Download the edited fine mesh as an OBJ file',
+  'export-cage': 'Download the cage (the coarse mesh you drag) at level e as an OBJ file',
+  reset: 'Forget the edits and settings of this model and open it as it was',
+  glossary: 'What the words in this panel mean',
+  scheme: 'The wavelet scheme that splits the mesh into a coarse cage plus details (Loop, modified Butterfly, linear)',
+  level: 'Level e of the cage you drag: 0 is the coarsest; higher levels give more, finer handles',
+  preserve: 'Keep the enclosed volume constant while dragging (the other handles move a little to make up for it)',
+  'free-set': 'Which handles may move to keep the volume: all but the dragged ones, all of them, a painted region, or parts that each keep their own volume',
+  tool: 'What a press on a handle does: drag it, paint it into the free set, or assign it to a part',
+  'part-number': 'The part that "assign to part" puts handles into',
+  'clear-painted': 'Empty the painted region',
+  'clear-parts': 'Remove every handle from every part',
+  tolerance: 'How close the volume must come to the reference volume (relative error) in each step',
+  'set-reference': 'Make the current volume the volume to keep from now on (undoable)',
+  'theta-recompute': 'Forget the stored volume tensor θ of this level and compute it again',
+  undo: 'Undo the last edit, level or scheme change, reference change or preservation toggle (Ctrl+Z)',
+  redo: 'Redo what was undone (Ctrl+Shift+Z or Ctrl+Y)',
+  'show-mesh': 'Show the fine (full-resolution) mesh',
+  'show-cage': 'Show the cage: the level-e mesh whose vertices are the handles',
+  flat: 'Flat shading (each triangle one shade) or smooth shading',
+  'show-approx': 'Show the shape rebuilt from levels 0..l only (no finer details), semi-transparent',
+  'approx-level': 'Level l of that approximation',
+  'show-details': 'Show the detail vectors: from the level-l approximation to the fine vertices',
+  frame: 'Point the camera at the whole model again (F)',
+  screenshot: 'Download the view as a PNG image',
+  'share-link': 'A link that opens this sample with its edits and settings (copied to the clipboard)',
+  'save-project': 'Download a project file (JSON): the model, its edits and the settings, to open again later',
+  'open-project': 'Open a project file (.json) saved here, or an OBJ file',
+  'keys-help': 'The keyboard and pointer controls (?)',
+  'cache-refresh': 'List the volume tensors stored in this browser again',
+  'cache-clear': 'Delete every volume tensor stored in this browser',
+};
+
 function tag(controller, id) {
   const element = controller.$input ?? controller.$select ?? controller.$button;
   if (element) element.dataset.testid = id;
   controller.domElement.dataset.testid = `${id}-row`;
+  // a name of its own for assistive technology (the row's label can be scrolled out of view)
+  if (element && controller._name) element.setAttribute('aria-label', controller._name);
+  const title = TITLES[id];
+  if (title) {
+    controller.domElement.title = title;
+    if (element) element.title = title;
+  }
   return controller;
 }
 
@@ -32,8 +76,8 @@ function formatBytes(n) {
  *            changeFreeSet(), changeTool(), clearPainted(), clearParts(), changeView(), changeLayers(),
  *            setReference(), exportObj(), exportCage(), reset(), recomputeTheta(), refreshCache(), clearCache() }
  */
-export function createPanel({ settings, samples, actions }) {
-  const gui = new GUI({ title: 'mrvol' });
+export function createPanel({ settings, samples, actions, learnViews = [] }) {
+  const gui = new GUI({ title: 'mrvol', container: document.getElementById('panel-host') });
   gui.domElement.dataset.testid = 'panel';
 
   const model = gui.addFolder('Model');
@@ -42,12 +86,21 @@ export function createPanel({ settings, samples, actions }) {
   tag(model.add({ exportObj: () => actions.exportObj() }, 'exportObj').name('export OBJ'), 'export');
   tag(model.add({ exportCage: () => actions.exportCage() }, 'exportCage').name('export cage OBJ'), 'export-cage');
   tag(model.add({ reset: () => actions.reset() }, 'reset').name('reset (forget edits)'), 'reset');
+  tag(model.add({ glossary: () => actions.showGlossary() }, 'glossary').name('glossary: what the words mean'), 'glossary');
+
+  const recentFolder = model.addFolder('recent models');
+  recentFolder.close();
+  recentFolder.$title.dataset.testid = 'recent-folder';
+  const recentList = document.createElement('div');
+  recentList.className = 'recent-list';
+  recentList.dataset.testid = 'recent-list';
+  recentFolder.$children.appendChild(recentList);
 
   const edit = gui.addFolder('Editing');
   tag(edit.add(settings, 'scheme', SCHEMES).onChange(() => actions.changeScheme()), 'scheme');
-  const level = tag(edit.add(settings, 'level', [0]).name('level e').onChange(() => actions.changeLevel()), 'level');
+  const level = tag(edit.add(settings, 'level', [0]).name('cage level e').onChange(() => actions.changeLevel()), 'level');
   const preserve = tag(edit.add(settings, 'preserve').name('preserve volume').onChange(() => actions.changePreserve()), 'preserve');
-  tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set').onChange(() => actions.changeFreeSet()), 'free-set');
+  tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set (what moves)').onChange(() => actions.changeFreeSet()), 'free-set');
   tag(edit.add(settings, 'tool', TOOLS).name('pointer').onChange(() => actions.changeTool()), 'tool');
   const part = tag(edit.add(settings, 'part', 1, MAX_PARTS, 1).name('part to assign'), 'part-number');
   const clearPainted = tag(edit.add({ clear: () => actions.clearPainted() }, 'clear').name('clear painted region'), 'clear-painted');
@@ -63,8 +116,31 @@ export function createPanel({ settings, samples, actions }) {
   tag(view.add(settings, 'showCage').name('cage').onChange(() => actions.changeView()), 'show-cage');
   tag(view.add(settings, 'flat').name('flat shading').onChange(() => actions.changeView()), 'flat');
   tag(view.add(settings, 'showApprox').name('level-l approximation').onChange(() => actions.changeLayers()), 'show-approx');
-  const approxLevel = tag(view.add(settings, 'approxLevel', 0, 1, 1).name('l').onChange(() => actions.changeLayers()), 'approx-level');
+  const approxLevel = tag(view.add(settings, 'approxLevel', 0, 1, 1).name('approximation level l').onChange(() => actions.changeLayers()), 'approx-level');
   tag(view.add(settings, 'showDetails').name('detail vectors').onChange(() => actions.changeLayers()), 'show-details');
+
+  const tools = gui.addFolder('Tools');
+  tag(tools.add({ frame: () => actions.frame() }, 'frame').name('frame the model (F)'), 'frame');
+  tag(tools.add({ screenshot: () => actions.screenshot() }, 'screenshot').name('screenshot (PNG)'), 'screenshot');
+  tag(tools.add({ share: () => actions.shareLink() }, 'share').name('share link'), 'share-link');
+  tag(tools.add({ save: () => actions.saveProject() }, 'save').name('save project file'), 'save-project');
+  tag(tools.add({ open: () => actions.openFile() }, 'open').name('open project or OBJ…'), 'open-project');
+  tag(tools.add({ keys: () => actions.showKeyboardHelp() }, 'keys').name('keyboard help (?)'), 'keys-help');
+
+  const learn = gui.addFolder('Learn: the paper\'s figures');
+  learn.close();
+  const links = document.createElement('nav');
+  links.className = 'learn-links';
+  links.setAttribute('aria-label', 'Teaching views');
+  for (const view of learnViews) {
+    const a = document.createElement('a');
+    a.href = `#${view.route}`;
+    a.textContent = view.title;
+    a.title = `The teaching view "${view.title}" (#${view.route}), computed from the model on screen`;
+    a.dataset.testid = `learn-link-${view.route.replace('/', '-')}`;
+    links.append(a);
+  }
+  learn.$children.appendChild(links);
 
   const cache = gui.addFolder('θ cache (IndexedDB)');
   cache.close();
@@ -75,6 +151,8 @@ export function createPanel({ settings, samples, actions }) {
   cache.$children.appendChild(list);
   tag(cache.add({ refresh: () => actions.refreshCache() }, 'refresh').name('refresh list'), 'cache-refresh');
   tag(cache.add({ clear: () => actions.clearCache() }, 'clear').name('clear cache'), 'cache-clear');
+
+  for (const folder of [gui, ...gui.foldersRecursive()]) folder.$title.title = `Show or hide "${folder._title}"`;
 
   return {
     gui,
@@ -115,6 +193,20 @@ export function createPanel({ settings, samples, actions }) {
         const [fingerprint, scheme, , , level] = e.key.split(':');
         return `${e.model ?? fingerprint.slice(0, 8)} ${scheme} e=${level}  ${formatBytes(e.bytes)}`;
       }).join('\n') + `\ntotal ${formatBytes(total)}`;
+    },
+    /** The recent models' sessions: [{ id, name, kind, saved, current }], a button each. */
+    showRecent(entries) {
+      recentList.replaceChildren(...entries.map(({ id, name, kind, saved, current }) => {
+        const button = document.createElement('button');
+        button.type = 'button';
+        button.dataset.testid = 'recent-item';
+        button.dataset.id = id;
+        button.textContent = `${name}${kind === 'file' ? ' (file)' : ''}${current ? ' ·' : ''}`;
+        button.title = `Reopen ${name} with its edits (last saved ${new Date(saved).toLocaleString()})`;
+        button.addEventListener('click', () => actions.openRecent(id));
+        return button;
+      }));
+      if (entries.length === 0) recentList.textContent = 'none yet';
     },
     preserveController: preserve,
   };

@@ -36,7 +36,7 @@ export function noticeText() {
 }
 
 // Rows of the readout table made here, after the relative error, in this order.
-const EXTRA_ROWS = [['free-set-info', 'free set'], ['part-volumes', 'part volumes'], ['layer-info', 'layers']];
+const EXTRA_ROWS = [['free-set-info', 'handles that move (free set)'], ['part-volumes', 'part volumes'], ['layer-info', 'layers']];
 
 function readoutRow(id) {
   if (!$(id)) {
@@ -133,6 +133,11 @@ export function showProgress(fraction, label) {
   box.hidden = false;
   $('theta-progress-bar').value = fraction;
   $('theta-progress-label').textContent = label;
+}
+
+/** A storage failure in plain words under the readouts, or null to clear it (the failure is over). */
+export function showStorageProblem(text) {
+  $('storage-problem').textContent = text ?? '';
 }
 
 export function showCacheStatus(text) {

@@ -1,8 +1,11 @@
-// The editing session in localStorage, so that it survives a reload: the model (a sample's name,
-// or an opened file's name and text when it fits), the settings, the edited fine positions and the
-// reference volume. Storage failures (quota, disabled storage) only mean no session is kept.
+// A small copy of the editing session in localStorage, which the teaching views read synchronously:
+// the model (a sample's name, or an opened file's name and text when it fits), the settings, the
+// edited fine positions (when they fit) and the reference volume. The editor keeps the whole session
+// at any size in IndexedDB (web/session-store.js) and falls back to this copy without it.
+// Storage failures (quota, disabled storage) only mean no copy is kept.
 const KEY = 'mrvol.session.v1';
-const MAX_TEXT = 3_000_000; // characters of an opened OBJ file kept for the reload
+const MAX_TEXT = 3_000_000; // characters of an opened OBJ file kept here (web/session-store.js keeps any size)
+const MAX_POSITIONS = 200_000; // numbers of edited positions kept here
 
 export function encodeFloat64(array) {
   const bytes = new Uint8Array(array.buffer, array.byteOffset, array.byteLength);
@@ -42,7 +45,7 @@ export function saveSession({ model, settings, fingerprint, positions, reference
     model: { kind: model.kind, name: model.name },
     settings,
     fingerprint,
-    positions: positions ? encodeFloat64(positions) : null,
+    positions: positions && positions.length <= MAX_POSITIONS ? encodeFloat64(positions) : null,
     reference,
     saved: Date.now(),
   };

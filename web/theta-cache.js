@@ -3,10 +3,12 @@
 // connectivity. Editing positions never invalidates an entry, and another model with the same
 // connectivity reuses it.
 //
-// Two stores written in one transaction: 'theta' (key -> ArrayBuffer) and 'theta-meta' (key ->
-// { key, bytes, model, created }), so that listing entries does not read the tensors.
+// Two stores written in one transaction: 'theta' (`${key}#${i}` -> ArrayBuffer chunks of at most 32 MB,
+// web/chunked-store.js: one value over ~133 MB is refused by Chromium) and 'theta-meta' (key ->
+// { key, bytes, chunks, model, created }), so that listing entries does not read the tensors.
 // Without IndexedDB (private modes, blocked storage) every call is a no-op and `available` is false.
 import { openDB, deleteDB } from 'idb';
+import { putChunks, getChunks, chunkRange, storageProblem } from './chunked-store.js';
 
 const DB_NAME = 'mrvol';
 const DB_VERSION = 1;
@@ -16,11 +18,7 @@ export function thetaKey({ fingerprint, scheme, alpha, beta, level }) {
   return `${fingerprint}:${scheme}:${alpha}:${beta}:${level}:v1`;
 }
 
-function describe(error) {
-  if (!error) return 'unknown error';
-  if (error.name === 'QuotaExceededError') return 'the storage quota is exceeded';
-  return `${error.name ?? 'Error'}: ${error.message ?? String(error)}`;
-}
+const describe = storageProblem;
 
 export class ThetaCache {
   #db = null;
@@ -41,8 +39,12 @@ export class ThetaCache {
         blocked() { /* another tab holds an older version: the timeout below gives up */ },
       });
       let timer;
+      // Two timers in a row: after the page was busy (the core compiling under load) the first one can
+      // run before the database's already queued success; the second gives that a turn.
       const timeout = new Promise((_, reject) => {
-        timer = setTimeout(() => reject(new Error('IndexedDB did not open in time')), OPEN_TIMEOUT_MS);
+        timer = setTimeout(() => {
+          timer = setTimeout(() => reject(new Error('IndexedDB did not open in time')), 1000);
+        }, OPEN_TIMEOUT_MS);
       });
       cache.#db = await Promise.race([opening, timeout]).finally(() => clearTimeout(timer));
       cache.#db.addEventListener?.('close', () => {
@@ -60,9 +62,12 @@ export class ThetaCache {
   async get(key) {
     if (!this.#db) return null;
     try {
-      const value = await this.#db.get('theta', key);
-      if (value instanceof ArrayBuffer) return new Uint8Array(value);
-      if (value !== undefined) await this.delete(key); // not what we store: drop it
+      const tx = this.#db.transaction(['theta', 'theta-meta']);
+      const meta = await tx.objectStore('theta-meta').get(key);
+      if (!meta) return null;
+      const bytes = Number.isInteger(meta.chunks) ? await getChunks(tx.objectStore('theta'), key, meta.chunks) : null;
+      if (bytes) return bytes; // the core checks them; theta-source drops an unusable entry
+      await this.delete(key); // a chunk is missing: drop it
       return null;
     } catch {
       return null;
@@ -82,8 +87,9 @@ export class ThetaCache {
       tx = this.#db.transaction(['theta', 'theta-meta'], 'readwrite');
       // done rejects on 'abort' as well as 'error' (a quota error aborts the transaction).
       const done = tx.done;
-      tx.objectStore('theta').put(buffer, key).catch(() => {});
-      tx.objectStore('theta-meta').put({ key, bytes: buffer.byteLength, created: Date.now(), ...meta }).catch(() => {});
+      tx.objectStore('theta').delete(chunkRange(key)).catch(() => {});
+      const chunks = putChunks(tx.objectStore('theta'), key, buffer);
+      tx.objectStore('theta-meta').put({ key, bytes: buffer.byteLength, chunks, created: Date.now(), ...meta }).catch(() => {});
       await done;
       return { ok: true };
     } catch (e) {
@@ -96,7 +102,7 @@ export class ThetaCache {
     if (!this.#db) return;
     try {
       const tx = this.#db.transaction(['theta', 'theta-meta'], 'readwrite');
-      tx.objectStore('theta').delete(key);
+      tx.objectStore('theta').delete(chunkRange(key));
       tx.objectStore('theta-meta').delete(key);
       await tx.done;
     } catch { /* nothing to do */ }

@@ -2,7 +2,7 @@
 // level and scheme), the IndexedDB cache, or the worker. Until it arrives the editor runs
 // matrix-free; the rule of when a tensor is worth it is the API's (chooseGradientPath).
 import { thetaKey } from './theta-cache.js';
-import { thetaName, showTheta, showProgress, notice, showCacheStatus } from './readouts.js';
+import { thetaName, showTheta, showProgress, notice, noticeText, showCacheStatus } from './readouts.js';
 
 export class ThetaSource {
   /** The cache (ThetaCache) once open; `prefetch`: { key, bytes: Promise } read ahead at start-up. */
@@ -53,8 +53,8 @@ export class ThetaSource {
 
   #arrived(source, theta, started) {
     const info = theta.info();
-    this.#setState(source, `${thetaName(info.level)}: ${(info.nnzStored / 1e6).toFixed(2)}M entries, ` +
-      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ${Math.round(performance.now() - started)} ms`);
+    this.#setState(source, `${thetaName(info.level)}: ${(info.nnzStored / 1e6).toFixed(2)} million numbers, ` +
+      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ready in ${Math.round(performance.now() - started)} ms`);
     this.stats.thetaReadyAt ??= performance.now();
   }
 
@@ -174,6 +174,10 @@ export class ThetaSource {
       if (!stored.ok) {
         notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
         showCacheStatus(`IndexedDB (the last write failed: ${stored.reason})`);
+      } else {
+        // a failure said earlier is over
+        if (noticeText().startsWith('θ is not cached')) notice('');
+        showCacheStatus('IndexedDB');
       }
       this.refreshCacheList();
     }

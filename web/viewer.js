@@ -4,6 +4,7 @@
 // (lib/three): the same objects and pointer geometry as the component.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
 
@@ -13,6 +14,10 @@ const SELECTED_COLOR = new THREE.Color(0xf0a020);
 const HOVER_COLOR = new THREE.Color(0x3fb950);
 const APPROX_COLOR = 0x2da44e;
 const DETAIL_COLOR = 0xcf222e;
+const FOV_DEG = 35;
+// The page's background (web/style.css --page-bg) in each theme.
+const BACKGROUND = { light: 0xf4f5f7, dark: 0x16191d };
+const ENVIRONMENT_INTENSITY = 0.45;
 
 export class Viewer {
   /** @param {HTMLElement} container the element the canvas fills */
@@ -20,16 +25,36 @@ export class Viewer {
     this.container = container;
     this.renderer = new THREE.WebGLRenderer({ antialias: true });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
-    this.renderer.setClearColor(0xf4f5f7);
     container.appendChild(this.renderer.domElement);
     this.canvas = this.renderer.domElement;
+    const dark = window.matchMedia?.('(prefers-color-scheme: dark)');
+    const applyTheme = () => {
+      this.renderer.setClearColor(dark?.matches ? BACKGROUND.dark : BACKGROUND.light);
+      this.requestRender();
+    };
+    this.frameRequested = false;
+    applyTheme();
+    dark?.addEventListener?.('change', applyTheme);
 
     this.scene = new THREE.Scene();
-    this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
+    // Physically based shading lit by a room (image-based light) plus a key light. Prefiltering the
+    // room costs a few hundred ms on software WebGL: it is done once the page is idle, at 64 px.
+    const lightRoom = () => {
+      const started = performance.now();
+      const pmrem = new THREE.PMREMGenerator(this.renderer);
+      this.scene.environment = pmrem.fromScene(new RoomEnvironment(), 0.04, 0.1, 100, { size: 64 }).texture;
+      this.scene.environmentIntensity = ENVIRONMENT_INTENSITY; // (materials' envMapIntensity applies to their own envMap only)
+      pmrem.dispose();
+      this.environmentMs = performance.now() - started;
+      this.requestRender();
+    };
+    this.environmentMs = null;
+    (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(lightRoom, { timeout: 3000 });
+    this.camera = new THREE.PerspectiveCamera(FOV_DEG, 1, 0.01, 1000);
     this.camera.position.set(0, 0, 6);
     this.scene.add(this.camera);
-    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x606070, 1.4));
-    const key = new THREE.DirectionalLight(0xffffff, 1.8);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x606070, 0.6));
+    const key = new THREE.DirectionalLight(0xffffff, 1.4);
     key.position.set(2, 3, 4);
     this.camera.add(key); // the light follows the view
 
@@ -37,7 +62,7 @@ export class Viewer {
     this.controls.addEventListener('change', () => this.requestRender());
 
     this.meshMaterial = new THREE.MeshStandardMaterial({
-      color: MESH_COLOR, roughness: 0.65, metalness: 0.0, flatShading: true,
+      color: MESH_COLOR, roughness: 0.6, metalness: 0.0, flatShading: true,
       side: THREE.DoubleSide, // open meshes show their inside
       polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
     });
@@ -100,8 +125,12 @@ export class Viewer {
     if (w === 0 || h === 0) return;
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
+    // FOV_DEG spans the narrower side: a framed model stays in view when a tall view (a phone, its
+    // sheet folded or not) changes height.
+    this.camera.fov = w >= h ? FOV_DEG : THREE.MathUtils.radToDeg(2 * Math.atan(Math.tan(THREE.MathUtils.degToRad(FOV_DEG / 2)) * h / w));
     this.camera.updateProjectionMatrix();
-    this.requestRender();
+    // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
+    this.renderer.render(this.scene, this.camera);
   }
 
   requestRender() {

@@ -1,12 +1,14 @@
-// Undo/redo of cage edits. One drag is one step: the cage positions before and after it (the
-// details never change while editing, so the cage alone gives the shape back).
+// Undo/redo of the editing session (lib/three/session.mjs). A step is { before, after, label }: a drag
+// ('drag': Float64Array cage positions; the details never change while editing, so the cage alone
+// gives the shape back), a level or scheme change ('editor': { level, scheme }), a reference volume
+// ('reference': numbers) or a preservation toggle ('preserve': booleans).
 export class History {
   #undo = [];
   #redo = [];
   constructor(limit = 200) {
     this.limit = limit;
   }
-  /** Records one finished edit. before/after: Float64Array cage positions. */
+  /** Records one finished edit (see above for what before/after are per label). */
   push(before, after, label = 'drag') {
     this.#undo.push({ before, after, label });
     if (this.#undo.length > this.limit) this.#undo.shift();
@@ -25,6 +27,16 @@ export class History {
     if (!step) return null;
     this.#undo.push(step);
     return step;
+  }
+  /** The recorded steps, oldest first, for storing: { undo: [...], redo: [...] } (copies of the lists). */
+  steps() {
+    return { undo: [...this.#undo], redo: [...this.#redo] };
+  }
+  /** Replaces the history with stored steps (from steps()); steps that are not { before, after, label } are skipped. */
+  load({ undo = [], redo = [] } = {}) {
+    const valid = (step) => step && 'before' in step && 'after' in step && typeof step.label === 'string';
+    this.#undo = undo.filter(valid).slice(-this.limit);
+    this.#redo = redo.filter(valid);
   }
   clear() {
     this.#undo.length = 0;

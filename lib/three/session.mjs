@@ -8,7 +8,12 @@
 //   editor  the editor was rebuilt (level or scheme changed: a new cage)
 //   step    one drag step: { report, ms } (the core's report: volumes, iterations, path)
 //   change  the shape or the editing state changed: { reason } ('step', 'undo', 'redo', 'cancel',
-//           'free-set', 'reference', 'editor', 'model')
+//           'free-set', 'reference', 'preserve', 'editor', 'model', 'history')
+//
+// Undo/redo covers every change of the shape or the reference: drags (cage positions before and
+// after, at the level and scheme they were made), reference volume changes, preservation toggles,
+// and level and scheme changes themselves (undoing one goes back to the earlier cage, so the
+// earlier drags undo at the level they were made). Opening a model starts a new history.
 //   theta   the gradient path or the tensor in use changed: { source, path }
 //   dragend a drag ended (its undo step recorded when the cage moved)
 //   error   an edit was refused and undone: { message, error }
@@ -95,6 +100,7 @@ export class EditingSession extends EventTarget {
       throw e;
     }
     this.#closeModel();
+    this.history.clear(); // a new model, a new history
     this.model = model;
     this.#ownsMesh = opened || own;
     this.level = Math.max(0, Math.min(this.level, model.info.levels));
@@ -127,14 +133,45 @@ export class EditingSession extends EventTarget {
     if (!Number.isInteger(level)) throw new this.#mrvol.MrvolError(`level must be an integer, got ${level}`);
     if (this.model && (level < 0 || level > this.model.info.levels))
       throw new this.#mrvol.MrvolError(`level ${level} is outside 0..${this.model.info.levels}`);
-    this.level = level;
-    if (this.editor) this.#buildEditor();
+    this.#changeCage({ level, scheme: this.scheme });
   }
 
   /** The wavelet scheme (loop, butterfly, linear); the editor is rebuilt as for setLevel. */
   setScheme(scheme) {
-    this.scheme = scheme;
-    if (this.editor) this.#buildEditor();
+    this.#changeCage({ level: this.level, scheme });
+  }
+
+  /** Level and scheme together; a rebuilt editor is one undo step. */
+  #changeCage(after, { record = true } = {}) {
+    const before = { level: this.level, scheme: this.scheme };
+    this.level = after.level;
+    this.scheme = after.scheme;
+    if (!this.editor) return;
+    this.#buildEditor();
+    if (record && (before.level !== after.level || before.scheme !== after.scheme)) this.history.push(before, after, 'editor');
+  }
+
+  /** Turns preservation on or off (one undo step). */
+  setPreserve(on) {
+    on = Boolean(on);
+    if (on === this.preserve) return;
+    this.history.push(this.preserve, on, 'preserve');
+    this.preserve = on;
+    this.#emit('change', { reason: 'preserve' });
+  }
+
+  /**
+   * Brings the volume back to the reference with every handle free to move (the minimal
+   * correction of the whole cage): one undo step. Returns the core's report, or null when refused.
+   */
+  restoreReferenceVolume() {
+    if (!this.editor || this.#drag) return null;
+    const before = this.editor.cagePositions();
+    const report = this.#step(before.slice(), new Uint8Array(this.cageSize), globalThis.performance.now(), { preserve: true });
+    if (!report) return null;
+    const after = this.editor.cagePositions();
+    if (after.some((v, i) => v !== before[i])) this.history.push(before, after, 'drag');
+    return report;
   }
 
   /** Rebuilds the editor at the current level and scheme from the current shape (keeps the reference). */
@@ -154,7 +191,6 @@ export class EditingSession extends EventTarget {
     this.cageVertices = editor.cageVertices();
     this.cageIndex = new Map(Array.from(this.cageVertices, (v, i) => [v, i]));
     this.#heldAll = new Uint8Array(editor.cageSize).fill(1);
-    this.history.clear();
     this.lastReport = null;
     this.lastStepMs = null;
     this.thetaSource = null;
@@ -260,10 +296,10 @@ export class EditingSession extends EventTarget {
     return this.#step(target, held, globalThis.performance.now());
   }
 
-  #step(target, held, started) {
+  #step(target, held, started, { preserve = this.preserve } = {}) {
     let report;
     try {
-      report = this.editor.deformCage(target, held, { tolerance: this.tolerance, preserve: this.preserve });
+      report = this.editor.deformCage(target, held, { tolerance: this.tolerance, preserve });
     } catch (error) {
       this.#emit('error', { message: `This edit is not possible: ${error.message}`, error });
       return null;
@@ -303,15 +339,32 @@ export class EditingSession extends EventTarget {
   undo() {
     if (this.#drag || !this.editor) return false;
     const step = this.history.undo();
-    if (step) this.#restoreCage(step.before, 'undo');
+    if (step) this.#apply(step, step.before, 'undo');
     return Boolean(step);
   }
 
   redo() {
     if (this.#drag || !this.editor) return false;
     const step = this.history.redo();
-    if (step) this.#restoreCage(step.after, 'redo');
+    if (step) this.#apply(step, step.after, 'redo');
     return Boolean(step);
+  }
+
+  /** Puts back one side (`state`) of a history step. */
+  #apply(step, state, reason) {
+    if (step.label === 'editor') {
+      this.#changeCage(state, { record: false });
+      this.#emit('change', { reason });
+    } else if (step.label === 'reference') {
+      this.editor.setReferenceVolume(state);
+      if (this.parts.length) this.setFreeSet(this.freeSet, { quiet: true });
+      this.#emit('change', { reason });
+    } else if (step.label === 'preserve') {
+      this.preserve = state;
+      this.#emit('change', { reason });
+    } else {
+      this.#restoreCage(state, reason);
+    }
   }
 
   /** Puts the cage where a snapshot had it (details unchanged: the shape comes back). */
@@ -323,7 +376,9 @@ export class EditingSession extends EventTarget {
 
   /** The reference volume (default: the volume now); parts take theirs now too. */
   setReferenceVolume(volume = this.editor.volume()) {
+    const before = this.editor.referenceVolume();
     this.editor.setReferenceVolume(volume);
+    if (volume !== before) this.history.push(before, volume, 'reference');
     if (this.parts.length) this.setFreeSet(this.freeSet, { quiet: true });
     this.#emit('change', { reason: 'reference' });
   }

@@ -120,15 +120,18 @@ describe('web editor', { timeout: 240_000 }, () => {
     const undone = await readouts(page);
     assert.ok(Math.abs(undone.current - preservedVolume) < 1e-9, `undo: ${undone.current} vs ${preservedVolume}`);
     assert.ok(undone.error <= 1e-5);
-    assert.deepEqual(await page.evaluate(() => window.mrvolDebug.historySize()), { undo: 1, redo: 1 });
+    // the history holds the preservation toggle and the drag (tests/browser/history.test.mjs)
+    assert.deepEqual(await page.evaluate(() => window.mrvolDebug.historySize()), { undo: 2, redo: 1 });
 
     await page.keyboard.press('Control+Shift+z');
     await settle(page);
     const redone = await readouts(page);
     assert.ok(Math.abs(redone.current - changedVolume) < 1e-9, `redo: ${redone.current} vs ${changedVolume}`);
 
-    await checkbox.click(); // preservation back on
+    await checkbox.click(); // preservation back on: the editor asks what to keep
     assert.equal(await page.evaluate(() => window.mrvolDebug.settings().preserve), true);
+    await page.locator('[data-testid="preserve-restore"]').click();
+    assert.ok((await readouts(page)).error <= 1e-5, 'the reference volume is restored');
   });
 
   test('Escape during a drag puts the cage back', async () => {
@@ -226,7 +229,7 @@ describe('web editor', { timeout: 240_000 }, () => {
       open.onsuccess = () => {
         const tx = open.result.transaction('theta', 'readwrite');
         const bytes = new Uint8Array(4096).fill(7);
-        tx.objectStore('theta').put(bytes.buffer, key);
+        tx.objectStore('theta').put(bytes.buffer, `${key}#0`); // its first (only) chunk, web/chunked-store.js
         tx.oncomplete = () => { open.result.close(); resolve(); };
         tx.onerror = () => reject(tx.error);
       };
@@ -236,7 +239,8 @@ describe('web editor', { timeout: 240_000 }, () => {
     await waitTheta(page);
     assert.equal(await page.evaluate(() => window.mrvolDebug.thetaSource()), 'computed');
     assert.match(await page.locator('[data-testid="notice"]').textContent(), /cached θ was unusable/);
-    // the recomputed tensor went back into the cache
+    // the recomputed tensor went back into the cache (the list is refreshed after the write)
+    await page.waitForFunction(() => /spiky-ball loop e=0/.test(document.querySelector('[data-testid="cache-list"]').textContent));
     await page.reload();
     await waitReady(page);
     await waitTheta(page);

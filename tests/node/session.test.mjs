@@ -183,7 +183,7 @@ test('level and scheme changes keep the shape and the reference volume; the free
   assert.ok(session.cageSize > session.model.info.baseVertices);
   assert.equal(session.referenceVolume(), reference);
   assert.ok(session.positions().every((x, i) => Math.abs(x - shape[i]) < 1e-12), 'the shape is the same at another level');
-  assert.deepEqual(session.history.size, { undo: 0, redo: 0 }, 'history belongs to one cage');
+  assert.deepEqual(session.history.size, { undo: 2, redo: 0 }, 'the drag and the level change are kept');
   assert.equal(session.freeSet.painted.length, 1, 'a level-0 vertex is in the level-1 cage too');
   session.setScheme('butterfly');
   const after = session.positions();
@@ -328,3 +328,60 @@ test('approximation: level n gives the shape back, level 0 the smooth base, thro
 });
 
 after(() => {});
+
+test('undo and redo cross level and scheme changes, reference resets and preservation toggles', () => {
+  const { session } = openBall();
+  const original = session.cagePositions();
+  const reference = session.referenceVolume();
+  session.moveHandles([0], outward(session, 0, 0.3));
+  const level0Edit = session.positions();
+  session.setLevel(1);
+  session.moveHandles([session.cageSize - 1], [0.05, 0.02, 0]);
+  const level1Edit = session.positions();
+  session.setScheme('butterfly');
+  session.setPreserve(false);
+  session.moveHandles([1], outward(session, 1, 0.4));
+  const grown = session.volume();
+  assert.ok(relative(grown, reference) > 1e-3);
+  session.setReferenceVolume();
+  assert.equal(session.referenceVolume(), grown);
+  assert.deepEqual(session.history.size, { undo: 7, redo: 0 });
+
+  assert.ok(session.undo()); // the reference
+  assert.equal(session.referenceVolume(), reference);
+  assert.ok(session.undo()); // the unpreserved drag
+  assert.ok(relative(session.volume(), reference) < 1e-7);
+  assert.ok(session.undo()); // preservation back on
+  assert.equal(session.preserve, true);
+  assert.ok(session.undo()); // back to loop
+  assert.equal(session.scheme, 'loop');
+  assert.ok(session.positions().every((x, i) => Math.abs(x - level1Edit[i]) < 1e-9));
+  assert.ok(session.undo()); // the level-1 drag
+  assert.ok(session.positions().every((x, i) => Math.abs(x - level0Edit[i]) < 1e-9));
+  assert.ok(session.undo()); // back to level 0
+  assert.equal(session.level, 0);
+  assert.ok(session.undo()); // the level-0 drag
+  assert.ok(session.cagePositions().every((x, i) => Math.abs(x - original[i]) < 1e-9));
+  assert.equal(session.undo(), false);
+  for (let i = 0; i < 7; i++) assert.ok(session.redo());
+  assert.equal(session.level, 1);
+  assert.equal(session.scheme, 'butterfly');
+  assert.equal(session.preserve, false);
+  assert.equal(session.referenceVolume(), grown);
+  session.dispose();
+});
+
+test('restoring the reference volume after preservation was off: one undoable step', () => {
+  const { session } = openBall({ preserve: false });
+  const reference = session.referenceVolume();
+  session.moveHandles([0], outward(session, 0, 0.5));
+  const changed = session.cagePositions();
+  assert.ok(relative(session.volume(), reference) > 1e-3);
+  session.setPreserve(true);
+  const report = session.restoreReferenceVolume();
+  assert.ok(report.converged);
+  assert.ok(relative(session.volume(), reference) < 1e-7);
+  assert.ok(session.undo());
+  assert.deepEqual(session.cagePositions(), changed);
+  session.dispose();
+});

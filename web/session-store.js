@@ -1,0 +1,153 @@
+// Editing sessions in IndexedDB, at any size: one record per model (a sample's name, or an opened
+// file's name and size) with its settings, the edited fine positions, the reference volume and the
+// undo history; the model file's text and the positions are stored as chunks (web/chunked-store.js).
+// The newest record is the session the editor reopens; all of them are the "recent models" list.
+// Without IndexedDB every call is a no-op and `problem` says why; a failed write sets `problem`
+// (plain words), the next successful one clears it.
+import { openDB } from 'idb';
+import { putChunks, getChunks, chunkRange, storageProblem } from './chunked-store.js';
+
+const DB_NAME = 'mrvol-sessions';
+const DB_VERSION = 1;
+const OPEN_TIMEOUT_MS = 5000;
+const MAX_RECENT = 12;
+
+/** The record id of a model: samples by name, files by name and size. */
+export function sessionId(model) {
+  return model.kind === 'sample' ? `sample:${model.name}` : `file:${model.name}:${model.text.length}`;
+}
+
+export class SessionStore {
+  #db = null;
+  #textStored = new Set(); // ids whose file text is stored already (it never changes)
+  problem = null;
+
+  get available() { return this.#db !== null; }
+
+  static async open() {
+    const store = new SessionStore();
+    try {
+      if (typeof indexedDB === 'undefined') throw new Error('IndexedDB is not available in this browser');
+      let timer;
+      // Two timers in a row: after the page was busy (the core compiling under load) the first one can
+      // run before the database's already queued success; the second gives that a turn.
+      const timeout = new Promise((_, reject) => {
+        timer = setTimeout(() => {
+          timer = setTimeout(() => reject(new Error('the browser database did not open in time')), 1000);
+        }, OPEN_TIMEOUT_MS);
+      });
+      store.#db = await Promise.race([openDB(DB_NAME, DB_VERSION, {
+        upgrade(db) {
+          db.createObjectStore('sessions', { keyPath: 'id' });
+          db.createObjectStore('chunks');
+        },
+      }), timeout]).finally(() => clearTimeout(timer));
+    } catch (e) {
+      store.#db = null;
+      store.problem = `sessions are not kept: ${storageProblem(e)}`;
+    }
+    return store;
+  }
+
+  /**
+   * Stores a session: { model: { kind, name, text? }, settings, fingerprint, positions: Float64Array,
+   * reference, history: { level, scheme, steps } }. Resolves true or false (then `problem` says why).
+   */
+  async save({ model, settings, fingerprint, positions, reference, history }) {
+    if (!this.#db) return false;
+    const id = sessionId(model);
+    const tx = this.#db.transaction(['sessions', 'chunks'], 'readwrite');
+    try {
+      const done = tx.done;
+      const chunks = tx.objectStore('chunks');
+      const record = {
+        id, kind: model.kind, name: model.name, settings, fingerprint, reference, history, saved: Date.now(),
+        textBytes: null, textChunks: 0, positionCount: 0, positionChunks: 0,
+      };
+      if (model.kind === 'file') {
+        const text = new TextEncoder().encode(model.text);
+        record.textBytes = text.byteLength;
+        if (!this.#textStored.has(id)) {
+          chunks.delete(chunkRange(`${id}:text`)).catch(() => {});
+          record.textChunks = putChunks(chunks, `${id}:text`, text);
+        } else {
+          record.textChunks = Math.max(1, Math.ceil(text.byteLength / (32 * 1024 * 1024)));
+        }
+      }
+      if (positions) {
+        chunks.delete(chunkRange(`${id}:positions`)).catch(() => {});
+        record.positionCount = positions.length;
+        record.positionChunks = putChunks(chunks, `${id}:positions`, positions);
+      }
+      tx.objectStore('sessions').put(record).catch(() => {});
+      await done;
+      if (model.kind === 'file') this.#textStored.add(id);
+      this.problem = null;
+      await this.#trim();
+      return true;
+    } catch (e) {
+      try { tx.abort(); } catch { /* already finished */ }
+      this.problem = `this session is not kept: ${storageProblem(tx.error ?? e)}`;
+      return false;
+    }
+  }
+
+  /** The newest session (or the one of `id`): { model: { kind, name, text? }, settings, fingerprint, positions, reference, history }, or null. */
+  async load(id = null) {
+    if (!this.#db) return null;
+    try {
+      const record = id ? await this.#db.get('sessions', id) : (await this.recent())[0];
+      if (!record) return null;
+      const tx = this.#db.transaction('chunks');
+      const chunks = tx.objectStore('chunks');
+      let text;
+      if (record.kind === 'file') {
+        const bytes = await getChunks(chunks, `${record.id}:text`, record.textChunks);
+        if (!bytes || bytes.byteLength !== record.textBytes) return null;
+        text = new TextDecoder().decode(bytes);
+        this.#textStored.add(record.id);
+      }
+      let positions = null;
+      if (record.positionChunks) {
+        const bytes = await getChunks(chunks, `${record.id}:positions`, record.positionChunks);
+        if (bytes && bytes.byteLength === 8 * record.positionCount) positions = new Float64Array(bytes.buffer, 0, record.positionCount);
+      }
+      return {
+        model: { kind: record.kind, name: record.name, text }, settings: record.settings, fingerprint: record.fingerprint,
+        positions, reference: record.reference, history: record.history ?? null, saved: record.saved,
+      };
+    } catch (e) {
+      this.problem = `the stored session could not be read: ${storageProblem(e)}`;
+      return null;
+    }
+  }
+
+  /** [{ id, kind, name, saved }], newest first. */
+  async recent() {
+    if (!this.#db) return [];
+    try {
+      const records = await this.#db.getAll('sessions');
+      return records.sort((a, b) => b.saved - a.saved);
+    } catch {
+      return [];
+    }
+  }
+
+  async remove(id) {
+    if (!this.#db) return;
+    try {
+      const tx = this.#db.transaction(['sessions', 'chunks'], 'readwrite');
+      tx.objectStore('sessions').delete(id);
+      tx.objectStore('chunks').delete(chunkRange(`${id}:text`));
+      tx.objectStore('chunks').delete(chunkRange(`${id}:positions`));
+      await tx.done;
+      this.#textStored.delete(id);
+    } catch { /* nothing to do */ }
+  }
+
+  /** Keeps the MAX_RECENT newest sessions. */
+  async #trim() {
+    const records = await this.recent();
+    for (const record of records.slice(MAX_RECENT)) await this.remove(record.id);
+  }
+}
