@@ -114,11 +114,11 @@ export const solverBenchmark = {
     const mrvol = await ctx.api();
     const rows = [];
     const cases = [
-      { name: 'spiky ball', open: () => spikyBall(mrvol), levels: [0], paths: ['tensor', 'matrix-free'] },
-      { name: 'icosphere n=4', open: () => mrvol.subdivide(icosahedron(), { levels: 4 }), levels: [0, 2], paths: ['tensor', 'matrix-free'] },
-      { name: 'icosphere n=5', open: () => mrvol.subdivide(icosahedron(), { levels: 5 }), levels: [0, 3], paths: ['matrix-free'] },
-      { name: 'icosphere n=6', open: () => mrvol.subdivide(icosahedron(), { levels: 6 }), levels: [0, 4], paths: ['matrix-free'] },
-      { name: 'icosphere n=7', open: () => mrvol.subdivide(icosahedron(), { levels: 7 }), levels: [0, 5], paths: ['matrix-free'] },
+      { name: 'spiky ball', open: () => spikyBall(mrvol), levels: [0], paths: ['tensor', 'polynomial', 'matrix-free'] },
+      { name: 'icosphere n=4', open: () => mrvol.subdivide(icosahedron(), { levels: 4 }), levels: [0, 2], paths: ['tensor', 'polynomial', 'matrix-free'] },
+      { name: 'icosphere n=5', open: () => mrvol.subdivide(icosahedron(), { levels: 5 }), levels: [0, 3], paths: ['polynomial', 'matrix-free'] },
+      { name: 'icosphere n=6', open: () => mrvol.subdivide(icosahedron(), { levels: 6 }), levels: [0, 4], paths: ['polynomial', 'matrix-free'] },
+      { name: 'icosphere n=7', open: () => mrvol.subdivide(icosahedron(), { levels: 7 }), levels: [0, 5], paths: ['polynomial', 'matrix-free'] },
     ];
     let goalSmall = true, goalLarge = null;
     for (const c of cases) {
@@ -133,7 +133,8 @@ export const solverBenchmark = {
           let best = null, worst = 0, cageSize = 0;
           const iterations = [];
           for (let round = 0; round < Math.max(3, ctx.rounds); round++) {
-            const editor = mr.createEditor({ level: e });
+            // Without theta createEditor builds the polynomial; the matrix-free rows opt out.
+            const editor = mr.createEditor({ level: e, path: path === 'matrix-free' ? 'matrix-free' : 'auto' });
             if (path === 'tensor') editor.useTheta(mr.computeTheta({ level: e }));
             const cage = editor.cageVertices();
             cageSize = editor.cageSize;

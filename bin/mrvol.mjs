@@ -39,7 +39,7 @@ const COMMAND_HELP = {
   },
   edit: {
     usage: 'edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]\n' +
-           '     [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|tensor|matrix-free]\n' +
+           '     [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|polynomial|tensor|matrix-free]\n' +
            '     [--theta FILE.theta] -o OUT.obj [--json]',
     summary: 'moves level-e cage vertices, keeping the volume; OUT.obj is MESH.obj with the new positions (other lines kept)',
     options: ['scheme', 'alpha', 'level', 'move', 'free', 'free-details', 'no-preserve', 'tolerance', 'path', 'theta',
@@ -70,8 +70,10 @@ const OPTION_HELP = {
   'free-details': '--free-details L,...             also free the details of these levels (matrix-free path)',
   'no-preserve': '--no-preserve                    apply the move without volume correction',
   tolerance: '--tolerance t                    relative volume error to reach (default 1e-5)',
-  path: '--path auto|tensor|matrix-free   gradient path; auto uses the tensor when its estimate fits\n' +
-        '                                 (512 MB, a 1 GB working patch, ~15 s), else matrix-free',
+  path: '--path auto|polynomial|tensor|matrix-free\n' +
+        '                                 gradient path; auto: the cage polynomial built from the mesh\n' +
+        '                                 (no theta; matrix-free on a cage too fine for it), matrix-free\n' +
+        '                                 with --free-details; tensor computes theta (or --theta FILE)',
   'base-faces': '--base-faces k                   remesh: faces of the simplified base mesh (default: the\n' +
                 '                                 input\'s faces / 4^n, within 300..8000)',
   'keep-largest': '--keep-largest                   remesh: keep the largest connected component, drop the others',
@@ -440,8 +442,8 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
   const tolerance = values.tolerance === undefined ? 1e-5 : number(values.tolerance, 'tolerance');
   if (!(tolerance > 0 && tolerance < 1)) throw new UsageError('--tolerance must be between 0 and 1');
   const gradientPath = values.path ?? 'auto';
-  if (!['auto', 'tensor', 'matrix-free'].includes(gradientPath))
-    throw new UsageError(`--path must be auto, tensor or matrix-free, got '${gradientPath}'`);
+  if (!['auto', 'polynomial', 'tensor', 'matrix-free'].includes(gradientPath))
+    throw new UsageError(`--path must be auto, polynomial, tensor or matrix-free, got '${gradientPath}'`);
   const free = values.free ?? 'cage';
   const freeList = free === 'cage' || free === 'all' ? null : parseList(free, 'free');
   const detailLevels = values['free-details'] ? parseList(values['free-details'], 'free-details') : [];
@@ -450,11 +452,13 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
   try {
     if (level < 0 || level > mr.levels)
       throw new MrvolError(`level ${level} is out of range: ${path} has levels 0..${mr.levels}`);
-    const editor = mr.createEditor({ level, ...scheme });
+    // auto: the polynomial built from the mesh (no theta), matrix-free when details are free.
+    const chosen = values.theta ? 'tensor' : chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path;
+    const preserve = values['no-preserve'] === undefined;
+    const editor = mr.createEditor({ level, ...scheme, path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });
     editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
-    // auto: the tensor when its estimate fits (memory and time), else the matrix-free gradient.
-    const wantTensor = values.theta || chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path === 'tensor';
-    if (wantTensor && values['no-preserve'] === undefined) {
+    const wantTensor = chosen === 'tensor';
+    if (wantTensor && preserve) {
       if (values.theta) {
         try {
           theta = mrvol.readTheta(readBytes(values.theta));

@@ -14,17 +14,22 @@ export class MrvolError extends Error {
 export const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
 
 /**
- * The gradient path an editor uses: 'tensor' when asked for, or under 'auto' when theta^e's
- * estimate fits (memory and time) and no details are free; 'matrix-free' otherwise. One rule for
- * the CLI and the web editor. Returns { path, estimate (null unless consulted) }.
+ * The gradient path an editor uses, one rule for the CLI and the web editor: a path asked for is
+ * taken as is. Under 'auto': 'matrix-free' when details are free; else 'polynomial' (the cage
+ * polynomial built from the fine mesh: the tensor path's steps without computing theta^e; the editor
+ * falls back to matrix-free on a cage too fine for it), or, with thetaInBackground (a caller that
+ * computes theta^e off the editing thread, like the web app's worker), 'tensor' when theta^e's
+ * estimate fits (memory and time). Returns { path, estimate (null unless consulted) }.
  */
-export function chooseGradientPath(mr, { level = 0, path = 'auto', detailLevels = [], ...scheme } = {}) {
-  if (path === 'tensor' || path === 'matrix-free') return { path, estimate: null };
-  if (path !== 'auto') throw new MrvolError(`gradient path must be auto, tensor or matrix-free, got '${path}'`);
+export function chooseGradientPath(mr, { level = 0, path = 'auto', detailLevels = [], thetaInBackground = false, ...scheme } = {}) {
+  if (GRADIENT_PATHS.includes(path)) return { path, estimate: null };
+  if (path !== 'auto') throw new MrvolError(`gradient path must be auto, polynomial, tensor or matrix-free, got '${path}'`);
   if (detailLevels.length > 0) return { path: 'matrix-free', estimate: null };
+  if (!thetaInBackground) return { path: 'polynomial', estimate: null };
   const estimate = mr.estimateTheta({ level, ...scheme });
-  return { path: estimate.fits ? 'tensor' : 'matrix-free', estimate };
+  return { path: estimate.fits ? 'tensor' : 'polynomial', estimate };
 }
+const GRADIENT_PATHS = ['polynomial', 'tensor', 'matrix-free'];
 
 function schemeArgs(options = {}) {
   const scheme = options.scheme ?? DEFAULT_SCHEME.scheme;
@@ -152,12 +157,20 @@ export function wrapModule(module) {
     volume() { return call((r) => r.volume(), this.#live()); }
     referenceVolume() { return call((r) => r.referenceVolume(), this.#live()); }
     setReferenceVolume(volume) { call((r) => r.setReferenceVolume(volume), this.#live()); }
-    /** 'tensor' or 'matrix-free'. */
+    /** 'tensor', 'polynomial' or 'matrix-free'. */
     path() { return call((r) => r.path(), this.#live()); }
     /** Uses theta^e (cage storage, this mesh, scheme and level) for the gradients. */
     useTheta(theta) {
       if (!(theta instanceof Theta)) throw new MrvolError('useTheta expects a Theta');
       call((r) => r.useTheta(this.#mesh, theta.raw, this.#scheme), this.#live());
+    }
+    /**
+     * The cage polynomial built from the fine mesh (no theta; rebuilt when free details moved).
+     * Returns the path in use: 'polynomial', or 'matrix-free' on a cage too fine for it.
+     */
+    usePolynomial() {
+      call((r) => r.usePolynomial(), this.#live());
+      return this.path();
     }
     useMatrixFree() { call((r) => r.useMatrixFree(), this.#live()); }
     /**
@@ -208,7 +221,7 @@ export function wrapModule(module) {
     correct(held = new Uint8Array(this.cageSize), options = {}) {
       return call((r) => r.correct(Uint8Array.from(held), options), this.#live());
     }
-    /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor' (cage). */
+    /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor'/'polynomial' (cage). */
     gradient(path = 'matrix-free') { return call((r) => r.gradient(path), this.#live()); }
     delete() {
       if (this.#raw) this.#raw.delete();
@@ -366,13 +379,27 @@ export function wrapModule(module) {
       const method = theta.info().surface === 'limit' ? 'limitThetaVolume' : 'thetaVolume';
       return call((r) => r[method](theta.raw, levelArg(options.level), schemeArgs(options), this.#positions), this.#live());
     }
-    /** Starts an editing session at level e from the current positions. */
+    /**
+     * Starts an editing session at level e from the current positions. With options.theta it uses
+     * that tensor; else options.path 'auto' (default) or 'polynomial' builds the cage polynomial
+     * from the fine mesh (matrix-free on a cage too fine for it), 'matrix-free' skips it.
+     */
     createEditor(options = {}) {
       const scheme = schemeArgs(options);
+      const path = options.path ?? 'auto';
+      if (!['auto', 'polynomial', 'matrix-free'].includes(path) && !(path === 'tensor' && options.theta))
+        throw new MrvolError(`createEditor path must be auto, polynomial or matrix-free (tensor with a theta), got '${path}'`);
       const raw = call((r) => r.createEditor(levelArg(options.level), scheme, this.#positions), this.#live());
       const editor = new VolumeEditor(raw, this.#live(), scheme);
       this.#editors.add(editor);
-      if (options.theta) editor.useTheta(options.theta);
+      try {
+        if (options.theta) editor.useTheta(options.theta);
+        else if (path !== 'matrix-free') editor.usePolynomial();
+      } catch (e) {
+        editor.delete();
+        this.#editors.delete(editor);
+        throw e;
+      }
       return editor;
     }
     #editors = new Set();

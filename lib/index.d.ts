@@ -222,7 +222,8 @@ export interface EditReport {
 }
 
 /** 'tensor': the cubic polynomial of the cage from theta^e; 'matrix-free': the adjoint of synthesis. */
-export type GradientPath = 'tensor' | 'matrix-free';
+/** tensor: theta^e's cage polynomial; polynomial: the same built from the fine mesh (no theta); matrix-free. */
+export type GradientPath = 'tensor' | 'polynomial' | 'matrix-free';
 
 /** One vertex of a drag (caller's vertex index, a level-e cage vertex): a new position or an offset. */
 export type VertexMove =
@@ -243,6 +244,8 @@ export interface FreeSetOptions {
 export interface EditorOptions extends TransformOptions {
   /** theta^e (cage storage) of this mesh, scheme and level: the tensor gradient path. */
   theta?: Theta;
+  /** Without a theta: 'auto' (default) or 'polynomial' builds the cage polynomial from the fine mesh; 'matrix-free' does not. */
+  path?: 'auto' | 'polynomial' | 'matrix-free' | 'tensor';
 }
 
 /**
@@ -275,6 +278,8 @@ export interface VolumeEditor {
   path(): GradientPath;
   /** Uses theta^e (cage storage, this mesh, scheme and level); the editor keeps its own copy. */
   useTheta(theta: Theta): void;
+  /** The cage polynomial built from the fine mesh; returns the path in use ('matrix-free' on a cage too fine for it). */
+  usePolynomial(): GradientPath;
   useMatrixFree(): void;
   setFreeSet(options?: FreeSetOptions): void;
   /**
@@ -475,13 +480,13 @@ export function wrapModule(module: object): Mrvol;
 export const DEFAULT_SCHEME: Readonly<{ scheme: 'loop'; alpha: number; beta: number }>;
 
 /**
- * The gradient path an editor uses (the rule of the CLI and the web editor): 'tensor' or
- * 'matrix-free' when asked for; under 'auto' (default) the tensor when theta^e's estimate fits and
- * no detail levels are free, else matrix-free. `estimate` is null unless it was consulted.
- * Exported by lib/api.mjs.
+ * The gradient path an editor uses (the rule of the CLI and the web editor): a path asked for is
+ * taken as is; under 'auto' (default) matrix-free when detail levels are free, else 'polynomial',
+ * or with thetaInBackground 'tensor' when theta^e's estimate fits. `estimate` is null unless it was
+ * consulted. Exported by lib/api.mjs.
  */
-export function chooseGradientPath(mr: MultiresMesh, options?: { level?: number; path?: 'auto' | 'tensor' | 'matrix-free';
-  detailLevels?: number[] } & SchemeOptions): { path: 'tensor' | 'matrix-free'; estimate: ThetaEstimate | null };
+export function chooseGradientPath(mr: MultiresMesh, options?: { level?: number; path?: 'auto' | GradientPath;
+  detailLevels?: number[]; thetaInBackground?: boolean } & SchemeOptions): { path: GradientPath; estimate: ThetaEstimate | null };
 
 /**
  * Where createMrvol() finds the WebAssembly module, for hosts that move or serve it themselves.

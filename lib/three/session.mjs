@@ -184,7 +184,9 @@ export class EditingSession extends EventTarget {
       this.editor.delete();
       this.editor = null;
     }
-    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions });
+    // Matrix-free until theta^e arrives (the app's theta source decides; moving the app onto the
+    // polynomial path is its own change, with the browser tests that watch the path).
+    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free' });
     if (reference !== null) editor.setReferenceVolume(reference);
     this.editor = editor;
     this.cageSize = editor.cageSize;
@@ -411,7 +413,7 @@ export class EditingSession extends EventTarget {
    * theta^e fits, else 'matrix-free'; { path, estimate }.
    */
   gradientChoice() {
-    return chooseGradientPath(this.model.mr, { level: this.level, ...this.schemeOptions });
+    return chooseGradientPath(this.model.mr, { level: this.level, thetaInBackground: true, ...this.schemeOptions });
   }
 
   /** The tensor kept for the current level and scheme, or null. */

@@ -113,6 +113,82 @@ TEST(VolumeEditor, TensorAndMatrixFreeGradientsAgree) {
       }
 }
 
+// The polynomial built from the fine triangles (no theta) is the tensor path's polynomial: the same
+// volume, gradient and drags to 1e-10, and it keeps the volume.
+TEST(VolumeEditor, PolynomialPathEqualsTheTensorPath) {
+  std::mt19937 rng(77);
+  for (const auto& fx : fixtures::baseFixtures())
+    for (const auto& o : schemes())
+      for (int e = 0; e < fx.levels; ++e) {
+        EditFixture s(fx, o, 4);
+        VolumeEditor tensor(s.h, s.wt, e, s.positions.data()), poly(s.h, s.wt, e, s.positions.data());
+        tensor.useTensor(computeVolumeTensor(s.wt, e, TensorStorage::Cage));
+        ASSERT_TRUE(poly.usePolynomial()) << fx.name;
+        EXPECT_EQ(poly.path(), GradientPath::Polynomial);
+        EXPECT_STREQ(gradientPathName(poly.path()), "polynomial");
+        std::vector<double> gT, gP;
+        const double vT = tensor.gradientTensor(gT), vP = poly.gradientTensor(gP);
+        EXPECT_NEAR(vP, vT, 1e-10 * std::fabs(vT)) << fx.name;
+        EXPECT_NEAR(vP, poly.volume(), 1e-10 * std::fabs(vT)) << fx.name;
+        const double scale = maxAbs(gT);
+        for (size_t i = 0; i < gT.size(); ++i)
+          ASSERT_NEAR(gP[i], gT[i], 1e-10 * scale) << fx.name << " " << schemeName(o.kind) << " e=" << e;
+        const double reference = poly.referenceVolume();
+        const double size = maxAbs(s.positions);
+        std::uniform_real_distribution<double> u(-0.1 * size, 0.1 * size);
+        for (int d = 0; d < 5; ++d) {
+          auto target = poly.cagePositions();
+          const uint32_t c = std::uniform_int_distribution<uint32_t>(0, poly.cageSize() - 1)(rng);
+          if (s.h.boundary[c]) continue;
+          std::vector<uint8_t> held(poly.cageSize(), 0);
+          held[c] = 1;
+          for (int k = 0; k < 3; ++k) target[3 * c + k] += u(rng);
+          const EditReport rT = tensor.deformCage(target, held, EditOptions{});
+          const EditReport rP = poly.deformCage(target, held, EditOptions{});
+          ASSERT_TRUE(rP.converged) << fx.name << " " << rP.message;
+          EXPECT_EQ(rT.path, GradientPath::Tensor);
+          EXPECT_EQ(rP.path, GradientPath::Polynomial);
+          EXPECT_EQ(rP.iterations, rT.iterations) << fx.name;
+          const auto a = tensor.cagePositions(), b = poly.cagePositions();
+          for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(b[i], a[i], 1e-10 * size) << fx.name << " e=" << e;
+          TriangleMesh out{poly.positions(), s.h.fineFaces()};
+          EXPECT_NEAR(meshVolume(out), reference, 1e-5 * std::fabs(reference)) << fx.name;
+        }
+      }
+}
+
+// Free details run matrix-free; back on the cage alone the polynomial is rebuilt for the moved
+// details, so it still gives the fine volume. A refused builder falls back to matrix-free.
+TEST(VolumeEditor, PolynomialFollowsTheDetailsAndFallsBackToMatrixFree) {
+  const fixtures::Fixture fx = fixtures::baseFixtures().front();  // a copy: the vector is a temporary
+  EditFixture s(fx, SchemeOptions{}, 5);
+  VolumeEditor editor(s.h, s.wt, 0, s.positions.data());
+  ASSERT_TRUE(editor.usePolynomial());
+  const double reference = editor.referenceVolume();
+  std::vector<uint8_t> held(editor.cageSize(), 0);
+  held[0] = 1;
+  editor.setFreeSet(VolumeEditor::FreeCage::MinusHeld, {}, {0});
+  auto target = editor.cagePositions();
+  target[0] += 0.3, target[2] -= 0.2;
+  EditReport r = editor.deformCage(target, held, EditOptions{});
+  EXPECT_EQ(r.path, GradientPath::MatrixFree);
+  EXPECT_EQ(editor.path(), GradientPath::Polynomial) << "the polynomial waits for the cage-only free set";
+  editor.setFreeSet(VolumeEditor::FreeCage::MinusHeld);
+  target = editor.cagePositions();
+  target[0] -= 0.25;
+  r = editor.deformCage(target, held, EditOptions{});
+  EXPECT_EQ(r.path, GradientPath::Polynomial);
+  ASSERT_TRUE(r.converged) << r.message;
+  std::vector<double> g;
+  EXPECT_NEAR(editor.gradientTensor(g), editor.volume(), 1e-10 * std::fabs(reference)) << "built for the moved details";
+  EXPECT_NEAR(editor.volume(), reference, 1e-5 * std::fabs(reference));
+
+  VolumeEditor refused(s.h, s.wt, 0, s.positions.data());
+  EXPECT_FALSE(refused.usePolynomial(1));
+  EXPECT_EQ(refused.path(), GradientPath::MatrixFree);
+  EXPECT_TRUE(refused.correct(held, EditOptions{}).converged);
+}
+
 TEST(VolumeEditor, OneIterationIsTheMinimalNormSolutionOfTheLinearizedConstraint) {
   for (const auto& fx : fixtures::baseFixtures()) {
     EditFixture s(fx, SchemeOptions{}, 3);

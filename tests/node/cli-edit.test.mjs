@@ -29,20 +29,21 @@ describe('edit results', () => {
   let runs;
 
   before(async () => {
-    const [tensor, matrixFree, noPreserve, text] = await Promise.all([
+    const [tensor, matrixFree, noPreserve, text, withTensor] = await Promise.all([
       mrvolCli('edit', spiky, ...moveArgs, '-o', file('tensor.obj'), '--json'),
       mrvolCli('edit', spiky, ...moveArgs, '--path', 'matrix-free', '-o', file('mf.obj'), '--json'),
       mrvolCli('edit', spiky, ...moveArgs, '--no-preserve', '-o', file('raw.obj'), '--json'),
       mrvolCli('edit', spiky, '--move', '3:0.1,0.2,-0.1', '-o', file('text.obj')),
+      mrvolCli('edit', spiky, ...moveArgs, '--path', 'tensor', '-o', file('with-tensor.obj'), '--json'),
     ]);
-    runs = { tensor, matrixFree, noPreserve, text };
+    runs = { tensor, matrixFree, noPreserve, text, withTensor };
   });
 
   test('--json report; OUT.obj keeps vertex order and faces; the volume is kept', async () => {
     const r = json(runs.tensor);
     for (const key of EDIT_FIELDS) assert.ok(Object.hasOwn(r, key), `field ${key}`);
     for (const key of EDIT_FIELDS.filter((k) => k !== 'path')) assert.equal(typeof r[key], 'number', key);
-    assert.equal(r.path, 'tensor', 'auto uses the tensor on 642 vertices');
+    assert.equal(r.path, 'polynomial', 'auto builds the cage polynomial, no theta');
     const input = readMesh(spiky), out = readMesh(file('tensor.obj'));
     const inputVolume = mrvol.volume(input);
     assert.ok(relErr(r.volumeReference, inputVolume) < 1e-12);
@@ -59,11 +60,10 @@ describe('edit results', () => {
     for (const [v, offset] of moves)
       for (let k = 0; k < 3; ++k) assert.ok(Math.abs(cout[3 * v + k] - (cin[3 * v + k] + offset[k])) < 1e-12, `vertex ${v}`);
     // The very edit of the API.
-    const theta = mr.computeTheta({ level: 0 });
-    const ed = mr.createEditor({ level: 0, theta });
+    const ed = mr.createEditor({ level: 0 });
+    assert.equal(ed.path(), 'polynomial');
     ed.moveVertices(moves.map(([vertex, offset]) => ({ vertex, offset })));
     assert.ok(maxDiff(out.positions, ed.positions()) < 1e-12);
-    theta.delete();
     mr.delete();
     // mrvol info on the result: same levels and base, the volume kept.
     const [infoIn, infoOut] = await Promise.all([mrvolCli('info', spiky, '--json'), mrvolCli('info', file('tensor.obj'), '--json')]);
@@ -72,6 +72,14 @@ describe('edit results', () => {
     assert.equal(b.vertices, a.vertices);
     assert.deepEqual(b.baseVertexIndices, a.baseVertexIndices);
     assert.ok(relErr(b.volume, a.volume) < 1e-5, `${b.volume} vs ${a.volume}`);
+  });
+
+  test('--path tensor (theta computed): the result of auto (polynomial) to 1e-10', () => {
+    const r = json(runs.withTensor), auto = json(runs.tensor);
+    assert.equal(r.path, 'tensor');
+    assert.equal(r.iterations, auto.iterations);
+    assert.ok(relErr(r.volumeResult, auto.volumeResult) < 1e-10);
+    assert.ok(maxDiff(readMesh(file('with-tensor.obj')).positions, readMesh(file('tensor.obj')).positions) < 1e-10);
   });
 
   test('--path matrix-free: the same result', () => {
@@ -97,7 +105,7 @@ describe('edit results', () => {
     assert.equal(r.stderr, '');
     assert.match(r.stdout, /^reference volume +\S+$/m);
     assert.match(r.stdout, /^result volume +\S+ \(relative error \S+\)$/m);
-    assert.match(r.stdout, /tensor gradient$/m);
+    assert.match(r.stdout, /polynomial gradient$/m);
     assert.match(r.stdout, /^wrote +.*text\.obj$/m);
     assert.ok(existsSync(file('text.obj')));
   });
@@ -129,7 +137,7 @@ describe('theta files and free sets', () => {
     json(await mrvolCli('theta', spiky, '--level', '1', '-o', theta, '--json'));
     const [withFile, computed, wrongLevel, wrongScheme] = await Promise.all([
       mrvolCli('edit', spiky, '--level', '1', '--theta', theta, '--move', '20:0.1,0.1,0', '-o', file('with-theta.obj'), '--json'),
-      mrvolCli('edit', spiky, '--level', '1', '--move', '20:0.1,0.1,0', '-o', file('computed.obj'), '--json'),
+      mrvolCli('edit', spiky, '--level', '1', '--path', 'tensor', '--move', '20:0.1,0.1,0', '-o', file('computed.obj'), '--json'),
       mrvolCli('edit', spiky, '--level', '2', '--theta', theta, '--move', '20:0.1,0.1,0', '-o', file('never1.obj')),
       mrvolCli('edit', spiky, '--level', '1', '--scheme', 'linear', '--theta', theta, '--move', '20:0.1,0.1,0', '-o', file('never2.obj')),
     ]);
@@ -252,7 +260,7 @@ describe('edit errors', () => {
       [[], /at least one --move V:dx,dy,dz is required/],
       [['--move', '3:0.1,0,0', '--tolerance', '0'], /--tolerance must be between 0 and 1/],
       [['--move', '3:0.1,0,0', '--tolerance', 'tight'], /--tolerance expects a number/],
-      [['--move', '3:0.1,0,0', '--path', 'fast'], /--path must be auto, tensor or matrix-free/],
+      [['--move', '3:0.1,0,0', '--path', 'fast'], /--path must be auto, polynomial, tensor or matrix-free/],
       [['--move', '3:0.1,0,0', '--free', '1,x'], /--free expects a comma-separated list of integers/],
       [['--move', '3:0.1,0,0', '--level', '0.5'], /--level expects an integer/],
     ];

@@ -69,7 +69,7 @@ function dragAndCheck(ed, faces, moves, where, { path, details }) {
 
 // ---- random drags ---------------------------------------------------------------------------------
 
-describe('random drags keep the volume; tensor and matrix-free paths agree', () => {
+describe('random drags keep the volume; tensor, polynomial and matrix-free paths agree', () => {
   // [model, scheme, level]: every model and scheme, levels from the coarsest to the finest (e = n:
   // the cage is every vertex).
   const CASES = [
@@ -86,9 +86,12 @@ describe('random drags keep the volume; tensor and matrix-free paths agree', () 
       const faces = mr.faces();
       const theta = mr.computeTheta({ level, scheme });
       const tensor = mr.createEditor({ level, scheme, theta });
-      const free = mr.createEditor({ level, scheme });
+      const free = mr.createEditor({ level, scheme, path: 'matrix-free' });
+      const poly = mr.createEditor({ level, scheme });  // no theta: the polynomial built from the mesh
       assert.equal(tensor.path(), 'tensor');
       assert.equal(free.path(), 'matrix-free');
+      assert.equal(poly.path(), 'polynomial');
+      assert.ok(relErr(poly.referenceVolume(), tensor.referenceVolume()) < 1e-14);
       const details = free.coefficients().subarray(3 * free.cageSize);
       assert.ok(sameBits(tensor.coefficients().subarray(3 * tensor.cageSize), details));
       const cage = Array.from(free.cageVertices());
@@ -100,9 +103,13 @@ describe('random drags keep the volume; tensor and matrix-free paths agree', () 
         const where = `${name} ${scheme} e=${level} drag ${d}`;
         const a = dragAndCheck(tensor, faces, moves, `${where} (tensor)`, { path: 'tensor', details });
         dragAndCheck(free, faces, moves, `${where} (matrix-free)`, { path: 'matrix-free', details });
+        const p = dragAndCheck(poly, faces, moves, `${where} (polynomial)`, { path: 'polynomial', details });
         substeps = Math.max(substeps, a.substeps);
         const diff = maxDiff(tensor.positions(), free.positions());
         assert.ok(diff < 1e-9, `${where}: the two paths differ by ${diff}`);
+        const polyDiff = maxDiff(tensor.positions(), poly.positions());
+        assert.ok(polyDiff < 1e-10, `${where}: polynomial and tensor differ by ${polyDiff}`);
+        assert.equal(p.iterations, a.iterations, `${where}: the same steps`);
         if (d % 4 === 3) {
           // Theta_tau on the cage: the tensor polynomial against the adjoint of synthesis (the
           // cage comes first in hierarchy order).
@@ -111,11 +118,13 @@ describe('random drags keep the volume; tensor and matrix-free paths agree', () 
           assert.equal(gm.length, 3 * mr.vertexCount);
           const scale = maxAbs(gm.subarray(0, gt.length));
           assert.ok(maxDiff(gt, gm.subarray(0, gt.length)) <= 1e-10 * scale, `${where}: gradients differ by ${maxDiff(gt, gm.subarray(0, gt.length))}`);
+          const gp = poly.gradient('polynomial');
+          assert.ok(maxDiff(gp, gt) <= 1e-10 * scale, `${where}: polynomial gradient differs by ${maxDiff(gp, gt)}`);
         }
       }
       theta.delete();
       mr.delete();
-      assert.ok(tensor.deleted && free.deleted);
+      assert.ok(tensor.deleted && free.deleted && poly.deleted);
     });
 
   test('large drags are split into sub-steps and still keep the volume', () => {
@@ -160,9 +169,9 @@ describe('gradient', () => {
 
   test('gradient paths and their errors', () => {
     const mr = mrvol.openMesh(meshes['spiky-ball']);
-    const ed = mr.createEditor({ level: 1 });
+    const ed = mr.createEditor({ level: 1, path: 'matrix-free' });
     throwsMrvol(() => ed.gradient('tensor'), 'no tensor is in use');
-    throwsMrvol(() => ed.gradient('adjoint'), "unknown gradient path 'adjoint' (tensor or matrix-free)");
+    throwsMrvol(() => ed.gradient('adjoint'), "unknown gradient path 'adjoint' (tensor, polynomial or matrix-free)");
     assert.equal(ed.gradient().length, 3 * 642, 'matrix-free by default');
     const theta = mr.computeTheta({ level: 1 });
     ed.useTheta(theta);
@@ -197,7 +206,7 @@ describe('free sets', () => {
     assert.ok(maxDiff([0, 1, 2].map((k) => after[3 * c + k]), [0, 1, 2].map((k) => before[3 * c + k] + [0.2, 0.1, 0][k])) < 0.05);
     ed.setFreeSet({ cage: 'cage' });
     const details = ed.coefficients().subarray(3 * ed.cageSize);
-    dragAndCheck(ed, mr.faces(), [{ vertex: 7, offset: [-0.1, 0, 0.1] }], "'cage'", { path: 'matrix-free', details });
+    dragAndCheck(ed, mr.faces(), [{ vertex: 7, offset: [-0.1, 0, 0.1] }], "'cage'", { path: 'polynomial', details });
   });
 
   test('a list: only the listed vertices (and the moved one) change', () => {
@@ -237,6 +246,27 @@ describe('free sets', () => {
       'no cage vertex but the moved one changes');
     assert.ok(sameBits(last.subarray(3 * 42, 3 * 162), after.subarray(3 * 42, 3 * 162)), 'level-1 details stay');
     theta.delete();
+  });
+
+  test('no theta: free details run matrix-free, then the polynomial follows the moved details', () => {
+    const ed = mr.createEditor({ level: 0 });
+    assert.equal(ed.path(), 'polynomial');
+    const reference = ed.referenceVolume();
+    ed.setFreeSet({ detailLevels: [1] });
+    const r1 = ed.moveVertices([{ vertex: 4, offset: [0.1, 0.1, -0.1] }]);
+    assert.equal(r1.path, 'matrix-free');
+    assert.ok(r1.converged && relErr(ed.volume(), reference) < 1e-5);
+    ed.setFreeSet({});
+    const r2 = ed.moveVertices([{ vertex: 4, offset: [-0.15, 0, 0.05] }]);
+    assert.equal(r2.path, 'polynomial');
+    assert.ok(r2.converged && r2.relativeError < 1e-5);
+    assert.ok(relErr(ed.volume(), reference) < 1e-5, 'the rebuilt polynomial keeps the fine volume');
+    ed.useMatrixFree();
+    assert.equal(ed.path(), 'matrix-free');
+    assert.equal(ed.usePolynomial(), 'polynomial');
+    throwsMrvol(() => mr.createEditor({ level: 0, path: 'tensor' }), "createEditor path must be auto, polynomial or matrix-free (tensor with a theta), got 'tensor'");
+    throwsMrvol(() => mr.createEditor({ level: 0, path: 'fast' }), /got 'fast'/);
+    ed.delete();
   });
 
   test('an empty free list: converged false, with a message; the move is applied', () => {
@@ -481,8 +511,8 @@ describe('errors and life cycle', () => {
     throwsMrvol(() => linear.useTheta(thetas.full), 'the tensor is not theta^1 with cage storage for this mesh');
     throwsMrvol(() => linear.useTheta({}), 'useTheta expects a Theta');
     throwsMrvol(() => mr.createEditor({ level: 2, theta: thetas.linear }), /^theta file was computed for the linear scheme/);
-    assert.equal(ed.path(), 'matrix-free');
-    assert.equal(linear.path(), 'matrix-free');
+    assert.equal(ed.path(), 'polynomial');
+    assert.equal(linear.path(), 'polynomial');
     linear.useTheta(thetas.linear);
     assert.equal(linear.path(), 'tensor');
     for (const t of Object.values(thetas)) t.delete();
@@ -499,7 +529,7 @@ describe('errors and life cycle', () => {
     assert.equal(ed.level, 2);
     assert.equal(ed.cageSize, 66);
     assert.deepEqual(Array.from(ed.cageVertices()), Array.from({ length: 66 }, (_, i) => i));
-    assert.equal(ed.path(), 'matrix-free');
+    assert.equal(ed.path(), 'polynomial', 'no theta: the polynomial built from the mesh');
     assert.ok(relErr(ed.volume(), mr.info().volume) < 1e-12);
     assert.equal(ed.referenceVolume(), ed.volume());
     assert.ok(maxDiff(ed.positions(), mr.positions()) < 1e-14);

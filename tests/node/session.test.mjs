@@ -49,7 +49,7 @@ test('opening a sample emits model, editor and change; the cage is the level-0 b
   // A closed triangle mesh: E = 3F/2 with F = 2V - 4 (genus 0).
   assert.equal(edges.length / 2, 3 * (2 * session.cageSize - 4) / 2);
   assert.ok(edges.every((i) => i < session.cageSize));
-  assert.equal(session.editor.path(), 'matrix-free');
+  assert.equal(session.editor.path(), 'matrix-free', 'the app runs matrix-free until theta arrives');
   session.dispose();
   assert.equal(session.editor, null);
 });
@@ -290,13 +290,16 @@ test('an opened MultiresMesh stays the caller\'s unless owned', () => {
 
 test('chooseGradientPath: one rule for the CLI and the editor', () => {
   const mr = mrvol.openMesh(sample('spiky-ball'));
-  const auto = chooseGradientPath(mr, { level: 0 });
-  assert.equal(auto.path, auto.estimate.fits ? 'tensor' : 'matrix-free');
-  assert.equal(auto.path, 'tensor', 'theta^0 of the spiky ball fits');
+  assert.deepEqual(chooseGradientPath(mr, { level: 0 }), { path: 'polynomial', estimate: null }, 'no theta needed');
+  const background = chooseGradientPath(mr, { level: 0, thetaInBackground: true });
+  assert.equal(background.path, background.estimate.fits ? 'tensor' : 'polynomial');
+  assert.equal(background.path, 'tensor', 'theta^0 of the spiky ball fits');
+  assert.deepEqual(chooseGradientPath(mr, { level: 0, path: 'polynomial' }), { path: 'polynomial', estimate: null });
   assert.deepEqual(chooseGradientPath(mr, { level: 0, path: 'matrix-free' }), { path: 'matrix-free', estimate: null });
   assert.deepEqual(chooseGradientPath(mr, { level: 0, path: 'tensor' }), { path: 'tensor', estimate: null });
   assert.equal(chooseGradientPath(mr, { level: 0, detailLevels: [1] }).path, 'matrix-free', 'free details need the matrix-free path');
-  assert.throws(() => chooseGradientPath(mr, { path: 'fast' }), /gradient path must be auto, tensor or matrix-free, got 'fast'/);
+  assert.equal(chooseGradientPath(mr, { level: 0, detailLevels: [1], thetaInBackground: true }).path, 'matrix-free');
+  assert.throws(() => chooseGradientPath(mr, { path: 'fast' }), /gradient path must be auto, polynomial, tensor or matrix-free, got 'fast'/);
   assert.deepEqual({ ...DEFAULT_SCHEME }, { scheme: 'loop', alpha: -1.70943, beta: 0.42954 });
   mr.delete();
 });

@@ -392,6 +392,8 @@ bool js_editorUseTheta(VolumeEditor& e, const MultiresMesh& m, const Theta& t, J
     return true;
   });
 }
+// The cage polynomial built from the fine triangles; false (matrix-free) when the builder refuses.
+bool js_editorUsePolynomial(VolumeEditor& e) { return guarded([&] { return e.usePolynomial(); }); }
 bool js_editorUseMatrixFree(VolumeEditor& e) { return guarded([&] { return e.useMatrixFree(), true; }); }
 val js_editorPath(const VolumeEditor& e) { return guarded([&] { return val(std::string(gradientPathName(e.path()))); }); }
 val js_editorCageVertices(const VolumeEditor& e) { return guarded([&] { return toTyped(e.cageVertices()); }); }
@@ -468,9 +470,9 @@ val js_editorCorrect(VolumeEditor& e, val held, val options) {
 val js_editorGradient(const VolumeEditor& e, std::string path) {
   return guarded([&] {
     std::vector<double> g;
-    if (path == "tensor") e.gradientTensor(g);
+    if (path == "tensor" || path == "polynomial") e.gradientTensor(g);
     else if (path == "matrix-free") e.gradientMatrixFree(g);
-    else throw Error("unknown gradient path '" + path + "' (tensor or matrix-free)");
+    else throw Error("unknown gradient path '" + path + "' (tensor, polynomial or matrix-free)");
     return toTyped(g);
   });
 }
@@ -521,6 +523,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("level", &VolumeEditor::level)
       .function("cageSize", &VolumeEditor::cageSize)
       .function("useTheta", &js_editorUseTheta)
+      .function("usePolynomial", &js_editorUsePolynomial)
       .function("useMatrixFree", &js_editorUseMatrixFree)
       .function("path", &js_editorPath)
       .function("cageVertices", &js_editorCageVertices)

@@ -76,17 +76,37 @@ void VolumeEditor::useTensor(const VolumeTensor& tensor) {
       tensor.rowCount != cageSize())
     throw Error("the tensor is not theta^" + std::to_string(level_) + " with cage storage for this mesh");
   // Translation only moves the cage coefficients: the details contract as they are.
-  CagePolynomial poly = contractCageRows(tensor, session_.x.data());
-  // Entries made of details only fold into the constant.
+  builder_.reset();
+  setPolynomial(contractCageRows(tensor, session_.x.data()));
+}
+
+bool VolumeEditor::usePolynomial(uint64_t maxTerms) {
+  std::unique_ptr<CagePolynomialBuilder> builder;
+  try {
+    builder = std::make_unique<CagePolynomialBuilder>(*transform_, level_, maxTerms);
+  } catch (const Error&) {  // too many cage triples: no faster than the fine mesh
+    useMatrixFree();
+    return false;
+  }
+  setPolynomial(builder->build(session_.x.data()));
+  builder_ = std::move(builder);
+  return true;
+}
+
+void VolumeEditor::setPolynomial(CagePolynomial poly) {
+  // Entries made of details only fold into the constant: it is set from the exact fine volume, so
+  // both ways of forming the polynomial agree with volume() at the current shape.
   std::vector<double> shifted;
   session_.shiftedCage(shifted);
-  poly.constant = volume() - poly.evaluate(shifted.data(), nullptr);
+  poly.constant = volume() - (poly.evaluate(shifted.data(), nullptr) - poly.constant);
   polynomial_ = std::make_unique<CagePolynomialVolume>(std::move(poly));
   cageConstraint_ = std::make_unique<CageVolumeConstraint>(*polynomial_, session_);
+  detailsMoved_ = false;
   solver_.reset();
 }
 
 void VolumeEditor::useMatrixFree() {
+  builder_.reset();
   polynomial_.reset();
   cageConstraint_.reset();
   solver_.reset();
@@ -203,6 +223,13 @@ void VolumeEditor::setCage(const double* cage) {
   session_.fine.cageChanged();
 }
 
+void VolumeEditor::startEdit(const EditOptions& o) {
+  checkEditOptions(o);
+  // Back on the polynomial after corrections moved the details: build it for the new details.
+  if (usesTensor() && builder_ && detailsMoved_) setPolynomial(builder_->build(session_.x.data()));
+  if (o.preserve && !freeDetailLevels_.empty()) detailsMoved_ = true;  // this correction moves details
+}
+
 void VolumeEditor::finishReport(EditReport& report) const {
   if (parts_.empty()) report.relativeError = relative(report.volumeResult, reference_);
   else report.volumeResult = volume();
@@ -211,9 +238,9 @@ void VolumeEditor::finishReport(EditReport& report) const {
 }
 
 EditReport VolumeEditor::correct(const std::vector<uint8_t>& held, const EditOptions& o) {
-  checkEditOptions(o);
+  startEdit(o);
   EditReport report;
-  report.path = usesTensor() ? GradientPath::Tensor : GradientPath::MatrixFree;
+  report.path = activePath();
   report.volumeReference = reference_;
   report.volumeTarget = volume();
   report.substeps = 1;
@@ -239,8 +266,9 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
         throw Error("vertex " + std::to_string(hierarchy_->inputIndex[c]) +
                     " is on the boundary: boundary vertices stay fixed so that the volume stays meaningful");
     }
+  startEdit(o);
   EditReport report;
-  report.path = usesTensor() ? GradientPath::Tensor : GradientPath::MatrixFree;
+  report.path = activePath();
   report.volumeReference = reference_;
   const std::vector<double> start(session_.x.begin(), session_.x.begin() + cage3);
   // The cage takes the target as given (x + (t - x) need not round to t). On the matrix-free path the

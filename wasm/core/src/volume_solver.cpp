@@ -8,7 +8,13 @@
 
 namespace mrvol {
 
-const char* gradientPathName(GradientPath path) { return path == GradientPath::Tensor ? "tensor" : "matrix-free"; }
+const char* gradientPathName(GradientPath path) {
+  switch (path) {
+    case GradientPath::Tensor: return "tensor";
+    case GradientPath::Polynomial: return "polynomial";
+    default: return "matrix-free";
+  }
+}
 
 void checkEditOptions(const EditOptions& o) {
   if (!(o.tolerance > 0) || !(o.tolerance < 1)) throw Error("tolerance must be between 0 and 1");

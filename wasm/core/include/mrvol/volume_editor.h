@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mrvol/cage_polynomial.h"
+#include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/coefficient_volumes.h"
 #include "mrvol/lifting.h"
 #include "mrvol/mesh.h"
@@ -42,8 +43,14 @@ class VolumeEditor {
 
   // Gradient path. The tensor must be theta^e with Cage storage for this mesh and scheme.
   void useTensor(const VolumeTensor& tensor);
+  // The same cage polynomial built from the fine triangles (CagePolynomialBuilder), no tensor; it
+  // is rebuilt when a correction has moved the details (free detail levels). Returns false, and
+  // runs matrix-free, when the builder refuses (more than maxTerms cage triples).
+  bool usePolynomial(uint64_t maxTerms = 8'000'000);
   void useMatrixFree();
-  GradientPath path() const { return polynomial_ ? GradientPath::Tensor : GradientPath::MatrixFree; }
+  GradientPath path() const {
+    return !polynomial_ ? GradientPath::MatrixFree : builder_ ? GradientPath::Polynomial : GradientPath::Tensor;
+  }
 
   // Free set: which cage vertices may absorb the correction (the ones not held in a deformation,
   // all of them, or a list in cage order), and optionally the details of chosen levels (e <= l < n:
@@ -85,6 +92,9 @@ class VolumeEditor {
   std::vector<uint32_t> freeCoefficients(const std::vector<uint8_t>& held) const;
   VolumeSolver& solver(const std::vector<uint8_t>& held);  // precomputed for this free set
   void setCage(const double* cage);  // the cage coefficients take these values
+  void setPolynomial(CagePolynomial polynomial);  // the cage polynomial in use (its constant from volume())
+  GradientPath activePath() const { return usesTensor() ? path() : GradientPath::MatrixFree; }
+  void startEdit(const EditOptions& options);  // checks the options, brings the polynomial up to date
   void finishReport(EditReport& report) const;
 
   const Hierarchy* hierarchy_;
@@ -94,6 +104,9 @@ class VolumeEditor {
   FineEdgeVolume fineVolume_;
   double reference_ = 0;
   std::unique_ptr<CagePolynomialVolume> polynomial_;
+  // Set on the polynomial path: the builder, and whether the details moved since the build.
+  std::unique_ptr<CagePolynomialBuilder> builder_;
+  bool detailsMoved_ = false;
   std::unique_ptr<CageVolumeConstraint> cageConstraint_;
   mutable FineVolumeConstraints fineConstraints_;
   FreeCage freeMode_ = FreeCage::MinusHeld;

@@ -14,7 +14,9 @@
 
 namespace mrvol {
 
-enum class GradientPath { Tensor, MatrixFree };
+// Tensor: the cage polynomial contracted from theta^e; Polynomial: the same polynomial built from the
+// fine triangles (CagePolynomialBuilder, no theta); MatrixFree: the fine volume and the adjoint.
+enum class GradientPath { Tensor, Polynomial, MatrixFree };
 const char* gradientPathName(GradientPath path);
 
 struct EditOptions {
