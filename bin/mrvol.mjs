@@ -72,8 +72,8 @@ const OPTION_HELP = {
   tolerance: '--tolerance t                    relative volume error to reach (default 1e-5)',
   path: '--path auto|polynomial|tensor|matrix-free\n' +
         '                                 gradient path; auto: the cage polynomial built from the mesh\n' +
-        '                                 (no theta; matrix-free on a cage too fine for it), matrix-free\n' +
-        '                                 with --free-details; tensor computes theta (or --theta FILE)',
+        '                                 (no theta) when e <= n - 3, else (or with --free-details)\n' +
+        '                                 matrix-free; tensor computes theta (or --theta FILE)',
   'base-faces': '--base-faces k                   remesh: faces of the simplified base mesh (default: the\n' +
                 '                                 input\'s faces / 4^n, within 300..8000)',
   'keep-largest': '--keep-largest                   remesh: keep the largest connected component, drop the others',
@@ -452,7 +452,7 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
   try {
     if (level < 0 || level > mr.levels)
       throw new MrvolError(`level ${level} is out of range: ${path} has levels 0..${mr.levels}`);
-    // auto: the polynomial built from the mesh (no theta), matrix-free when details are free.
+    // auto: the polynomial built from the mesh (no theta) on a coarse cage, else matrix-free.
     const chosen = values.theta ? 'tensor' : chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path;
     const preserve = values['no-preserve'] === undefined;
     const editor = mr.createEditor({ level, ...scheme, path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });

@@ -15,21 +15,26 @@ export const DEFAULT_SCHEME = Object.freeze({ scheme: 'loop', alpha: -1.70943, b
 
 /**
  * The gradient path an editor uses, one rule for the CLI and the web editor: a path asked for is
- * taken as is. Under 'auto': 'matrix-free' when details are free; else 'polynomial' (the cage
- * polynomial built from the fine mesh: the tensor path's steps without computing theta^e; the editor
- * falls back to matrix-free on a cage too fine for it), or, with thetaInBackground (a caller that
- * computes theta^e off the editing thread, like the web app's worker), 'tensor' when theta^e's
- * estimate fits (memory and time). Returns { path, estimate (null unless consulted) }.
+ * taken as is. Under 'auto': 'matrix-free' when details are free; else, with thetaInBackground (a
+ * caller that computes theta^e off the editing thread, like the web app's worker), 'tensor' when
+ * theta^e's estimate fits (memory and time); else 'polynomial' (the cage polynomial built from the
+ * fine mesh: the tensor path's steps without computing theta^e) when the cage is coarse against the
+ * mesh (at least 3 levels of details, N >= ~64 cage vertices' worth), 'matrix-free' otherwise: at
+ * e = n - 2 and finer a step over the fine mesh is faster than one over the polynomial's cage
+ * triples (bench/RESULTS.md, solver-step). Returns { path, estimate (null unless consulted) }.
  */
 export function chooseGradientPath(mr, { level = 0, path = 'auto', detailLevels = [], thetaInBackground = false, ...scheme } = {}) {
   if (GRADIENT_PATHS.includes(path)) return { path, estimate: null };
   if (path !== 'auto') throw new MrvolError(`gradient path must be auto, polynomial, tensor or matrix-free, got '${path}'`);
   if (detailLevels.length > 0) return { path: 'matrix-free', estimate: null };
-  if (!thetaInBackground) return { path: 'polynomial', estimate: null };
+  const coarse = mr.levels - level >= COARSE_CAGE_LEVELS ? 'polynomial' : 'matrix-free';
+  if (!thetaInBackground) return { path: coarse, estimate: null };
   const estimate = mr.estimateTheta({ level, ...scheme });
-  return { path: estimate.fits ? 'tensor' : 'polynomial', estimate };
+  return { path: estimate.fits ? 'tensor' : coarse, estimate };
 }
 const GRADIENT_PATHS = ['polynomial', 'tensor', 'matrix-free'];
+// Levels of details from which the cage polynomial beats a pass over the fine mesh.
+const COARSE_CAGE_LEVELS = 3;
 
 function schemeArgs(options = {}) {
   const scheme = options.scheme ?? DEFAULT_SCHEME.scheme;
@@ -394,7 +399,9 @@ export function wrapModule(module) {
       this.#editors.add(editor);
       try {
         if (options.theta) editor.useTheta(options.theta);
-        else if (path !== 'matrix-free') editor.usePolynomial();
+        else if (path === 'polynomial' || (path === 'auto' &&
+                 chooseGradientPath(this, { level: levelArg(options.level), ...scheme }).path === 'polynomial'))
+          editor.usePolynomial();
       } catch (e) {
         editor.delete();
         this.#editors.delete(editor);
