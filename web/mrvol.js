@@ -1,9 +1,8 @@
-// Loads the browser build of the WASM core (build/wasm/mrvol-web.{mjs,wasm}) and wraps it in the
-// public JS API (lib/api.mjs). Used by the page and by the theta worker: the page compiles the
-// WebAssembly module once and hands the compiled module to the worker.
-import createMrvolModule from '../build/wasm/mrvol-web.mjs';
+// Loads the browser build of the WASM core through the package's browser entry (lib/browser.mjs).
+// Used by the page and by the workers: the page compiles the WebAssembly module once and hands the
+// compiled module to the workers.
 import wasmUrl from '../build/wasm/mrvol-web.wasm?url';
-import { wrapModule } from '../lib/api.mjs';
+import { createMrvol } from '../lib/browser.mjs';
 
 let compiling = null;
 
@@ -26,19 +25,5 @@ export function compileMrvolWasm() {
  * @param {WebAssembly.Module} [compiled] a module compiled elsewhere (the page's, in the worker)
  */
 export async function loadMrvol(compiled) {
-  const wasmModule = compiled ?? (await compileMrvolWasm());
-  let failed;
-  const failure = new Promise((_, reject) => (failed = reject));
-  const raw = await Promise.race([
-    createMrvolModule({
-      // emscripten calls this instead of fetching the file itself (its fetch path has no branch
-      // for module workers).
-      instantiateWasm(imports, receiveInstance) {
-        WebAssembly.instantiate(wasmModule, imports).then((instance) => receiveInstance(instance, wasmModule), failed);
-        return {};
-      },
-    }),
-    failure,
-  ]);
-  return wrapModule(raw);
+  return createMrvol({ wasmModule: compiled ?? (await compileMrvolWasm()) });
 }

@@ -470,7 +470,7 @@ describe('errors', () => {
     const [used, check] = r.stdout.trim().split('\n').map((l) => JSON.parse(l));
     assert.ok(Math.abs(used.volume - 1 / 6) < 1e-15);
     assert.deepEqual(used.nodeExports, ['MrvolError', 'createMrvol', 'wrapModule']);
-    assert.deepEqual(used.apiExports, ['MrvolError', 'wrapModule']);
+    assert.deepEqual(used.apiExports, ['DEFAULT_SCHEME', 'MrvolError', 'chooseGradientPath', 'wrapModule']);
     assert.match(check.refused, /the core loaded three/, 'the resolver hook is in force');
   });
 

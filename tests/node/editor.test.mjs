@@ -87,7 +87,7 @@ describe('random drags keep the volume; tensor, polynomial and matrix-free paths
       const theta = mr.computeTheta({ level, scheme });
       const tensor = mr.createEditor({ level, scheme, theta });
       const free = mr.createEditor({ level, scheme, path: 'matrix-free' });
-      const poly = mr.createEditor({ level, scheme });  // no theta: the polynomial built from the mesh
+      const poly = mr.createEditor({ level, scheme, path: 'polynomial' });  // the polynomial built from the mesh
       assert.equal(tensor.path(), 'tensor');
       assert.equal(free.path(), 'matrix-free');
       assert.equal(poly.path(), 'polynomial');
@@ -196,7 +196,7 @@ describe('free sets', () => {
   before(() => { mr = mrvol.openMesh(meshes['spiky-ball']); });
 
   test("'all': the held vertex may give too; 'cage' is 'minus-held'", () => {
-    const ed = mr.createEditor({ level: 1 });
+    const ed = mr.createEditor({ level: 1, path: 'polynomial' });
     ed.setFreeSet({ cage: 'all' });
     const before = ed.cagePositions();
     const report = ed.moveVertices([{ vertex: 7, offset: [0.2, 0.1, 0] }]);
@@ -495,7 +495,7 @@ describe('errors and life cycle', () => {
   test('useTheta refuses a tensor of another level, scheme, weights, mesh or storage', () => {
     const mr = mrvol.openMesh(meshes['spiky-ball']);
     const torus = mrvol.openMesh(meshes.torus);
-    const ed = mr.createEditor({ level: 1 });
+    const ed = mr.createEditor({ level: 1, path: 'polynomial' });
     const thetas = {
       level2: mr.computeTheta({ level: 2 }),
       linear: mr.computeTheta({ level: 1, scheme: 'linear' }),
@@ -507,7 +507,7 @@ describe('errors and life cycle', () => {
     throwsMrvol(() => ed.useTheta(thetas.linear), 'theta file was computed for the linear scheme, not loop');
     throwsMrvol(() => ed.useTheta(thetas.plain), /^theta file was computed with Loop weights alpha = 0\.000000, beta = 0\.000000/);
     throwsMrvol(() => ed.useTheta(thetas.torus), /^theta file does not match this mesh/);
-    const linear = mr.createEditor({ level: 1, scheme: 'linear' });
+    const linear = mr.createEditor({ level: 1, scheme: 'linear', path: 'polynomial' });
     throwsMrvol(() => linear.useTheta(thetas.full), 'the tensor is not theta^1 with cage storage for this mesh');
     throwsMrvol(() => linear.useTheta({}), 'useTheta expects a Theta');
     throwsMrvol(() => mr.createEditor({ level: 2, theta: thetas.linear }), /^theta file was computed for the linear scheme/);
@@ -529,7 +529,11 @@ describe('errors and life cycle', () => {
     assert.equal(ed.level, 2);
     assert.equal(ed.cageSize, 66);
     assert.deepEqual(Array.from(ed.cageVertices()), Array.from({ length: 66 }, (_, i) => i));
-    assert.equal(ed.path(), 'polynomial', 'no theta: the polynomial built from the mesh');
+    // auto: the polynomial built from the mesh on a cage at least 3 levels coarse, else matrix-free.
+    assert.equal(ed.path(), 'matrix-free', 'e = n - 2: matrix-free');
+    const coarse = mr.createEditor({ level: 1, scheme: 'butterfly' });
+    assert.equal(coarse.path(), 'polynomial', 'e = n - 3: the polynomial built from the mesh');
+    coarse.delete();
     assert.ok(relErr(ed.volume(), mr.info().volume) < 1e-12);
     assert.equal(ed.referenceVolume(), ed.volume());
     assert.ok(maxDiff(ed.positions(), mr.positions()) < 1e-14);
