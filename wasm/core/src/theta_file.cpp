@@ -9,29 +9,14 @@ namespace mrvol {
 
 namespace {
 
-constexpr char kMagic[8] = {'M', 'R', 'V', 'O', 'L', 'T', 'H', 'T'};
-constexpr size_t kHeaderBytes = 96;
-
 uint64_t mix(uint64_t h) {  // splitmix64 finalizer
   h ^= h >> 30, h *= 0xbf58476d1ce4e5b9ull;
   h ^= h >> 27, h *= 0x94d049bb133111ebull;
   return h ^ (h >> 31);
 }
 
-// Word-wise hash of a byte range (tail bytes folded in), for the checksum.
-uint64_t hashBytes(const char* data, size_t size) {
-  uint64_t h = 0x6d72766f6c746874ull ^ size;
-  size_t i = 0;
-  for (; i + 8 <= size; i += 8) {
-    uint64_t w;
-    std::memcpy(&w, data + i, 8);
-    h = (h ^ w) * 0x100000001b3ull;
-    h ^= h >> 29;
-  }
-  uint64_t tail = 0;
-  std::memcpy(&tail, data + i, size - i);
-  return mix(h ^ tail);
-}
+constexpr char kMagic[8] = {'M', 'R', 'V', 'O', 'L', 'T', 'H', 'T'};
+constexpr size_t kHeaderBytes = 96;
 
 template <class T>
 void put(std::string& out, const T& value) {
@@ -55,6 +40,21 @@ T get(const std::string& in, size_t offset) {
 const char* storageName(TensorStorage s) { return s == TensorStorage::Full ? "full" : "cage"; }
 
 }  // namespace
+
+// Word-wise hash of a byte range (tail bytes folded in).
+uint64_t thetaFileChecksum(const char* data, size_t size) {
+  uint64_t h = 0x6d72766f6c746874ull ^ size;
+  size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    uint64_t w;
+    std::memcpy(&w, data + i, 8);
+    h = (h ^ w) * 0x100000001b3ull;
+    h ^= h >> 29;
+  }
+  uint64_t tail = 0;
+  std::memcpy(&tail, data + i, size - i);
+  return mix(h ^ tail);
+}
 
 uint64_t connectivityFingerprint(const std::vector<uint32_t>& faces, size_t vertexCount) {
   uint64_t h = mix(0x636f6e6e65637469ull ^ vertexCount);
@@ -90,7 +90,7 @@ std::string writeThetaFile(const VolumeTensor& t, const ThetaFileHeader& header)
   else putArray(out, t.k32);
   pad8(out);
   putArray(out, t.values);
-  put<uint64_t>(out, hashBytes(out.data(), out.size()));
+  put<uint64_t>(out, thetaFileChecksum(out.data(), out.size()));
   return out;
 }
 
@@ -140,7 +140,7 @@ VolumeTensor readThetaFile(const std::string& in, ThetaFileHeader* headerOut) {
     throw Error("theta file is truncated: expected " + std::to_string(size) + " bytes, found " + std::to_string(in.size()));
   if (in.size() > size)
     throw Error("theta file is corrupt: expected " + std::to_string(size) + " bytes, found " + std::to_string(in.size()));
-  if (get<uint64_t>(in, size - 8) != hashBytes(in.data(), size - 8))
+  if (get<uint64_t>(in, size - 8) != thetaFileChecksum(in.data(), size - 8))
     throw Error("theta file checksum does not match: the file is damaged");
   VolumeTensor t;
   t.level = h.level;

@@ -130,5 +130,7 @@ std::string writeThetaFile(const VolumeTensor& tensor, const ThetaFileHeader& he
 VolumeTensor readThetaFile(const std::string& bytes, ThetaFileHeader* header = nullptr);
 // Header only (cheap), with the same checks on the header bytes.
 ThetaFileHeader readThetaHeader(const std::string& bytes);
+// The checksum a theta file ends with: a word-wise hash of all bytes before it.
+uint64_t thetaFileChecksum(const char* data, size_t size);
 
 }  // namespace mrvol
