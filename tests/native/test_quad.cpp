@@ -413,3 +413,23 @@ TEST(QuadEditor, EditsKeepTheBilinearVolume) {
     }
   }
 }
+
+#include "mrvol/quad_obj.h"
+
+TEST(QuadObj, KeepsQuadsAndNamesTheLine) {
+  QuadMesh m = quadfix::toQuadMesh(quadfix::cube());
+  const std::string text = writeObjQuads(m);
+  QuadMesh back = readObjQuads(text);
+  EXPECT_EQ(back.quads, m.quads);
+  EXPECT_EQ(back.positions, m.positions);
+  // Other face forms and negative indices.
+  QuadMesh forms = readObjQuads("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2/2 3//3 -1\n");
+  EXPECT_EQ(forms.quads, (std::vector<uint32_t>{0, 1, 2, 3}));
+  try {
+    readObjQuads(text + "f 1 2 3\n");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("line 15: a face with 3 corners"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(readObjQuads("v 0 0 0\nf 1 2 3 4\n"), Error);
+}

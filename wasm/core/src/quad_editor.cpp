@@ -41,7 +41,6 @@ double relative(double value, double reference) {
 QuadVolumeEditor::QuadVolumeEditor(const QuadHierarchy& hierarchy, const WaveletTransform& transform, int level,
                                    const double* positions)
     : hierarchy_(&hierarchy),
-      transform_(&transform),
       level_(checkedLevel(hierarchy, level)),
       form_(bilinearPatchForm(hierarchy.fineQuads())),
       session_(startSession(hierarchy, transform, level, positions)),

@@ -55,7 +55,6 @@ class QuadVolumeEditor {
   double currentVolume(bool withGradient);
 
   const QuadHierarchy* hierarchy_;
-  const WaveletTransform* transform_;
   int level_;
   FineForm form_;
   mutable SessionCoefficients session_;
