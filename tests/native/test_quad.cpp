@@ -433,3 +433,13 @@ TEST(QuadObj, KeepsQuadsAndNamesTheLine) {
   }
   EXPECT_THROW(readObjQuads("v 0 0 0\nf 1 2 3 4\n"), Error);
 }
+
+TEST(QuadMultires, RefusesASplitTooLargeToOpen) {
+  QuadMesh cube = quadfix::toQuadMesh(quadfix::cube());
+  try {
+    QuadMultiresMesh::subdivide(cube, 12);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("too large"), std::string::npos) << e.what();
+  }
+}

@@ -18,6 +18,10 @@ QuadMultiresMesh::QuadMultiresMesh(const QuadMesh& mesh, int maxLevels) : quads_
 QuadMultiresMesh QuadMultiresMesh::subdivide(const QuadMesh& base, int levels) {
   if (levels < 0 || levels > 12) throw Error("levels must be in 0..12, got " + std::to_string(levels));
   validateQuadMesh(base);
+  // What the split mesh will need, before building it: as many vertices as quads (closed), two
+  // triangles per quad in the estimate of checkMeshSize.
+  const double quads = double(base.faceCount()) * std::pow(4.0, levels);
+  checkMeshSize(size_t(std::min(quads, 1e15)), size_t(std::min(2 * quads, 1e15)));
   QuadMultiresMesh m;
   m.hierarchy_ = std::make_unique<QuadHierarchy>(QuadHierarchy::subdivide(base.quads, uint32_t(base.vertexCount()), levels));
   m.quads_ = m.hierarchy_->fineQuads();
