@@ -443,3 +443,27 @@ TEST(QuadMultires, RefusesASplitTooLargeToOpen) {
     EXPECT_NE(std::string(e.what()).find("too large"), std::string::npos) << e.what();
   }
 }
+
+TEST(QuadHierarchyDetect, CorruptedSplitsFailCleanlyOrDetectConsistently) {
+  // Split meshes with one quad flipped, dropped, or a corner replaced: opening them either throws
+  // Error or gives a hierarchy whose round trip is exact. Never a crash.
+  std::mt19937 rng(29);
+  for (const Case& c : cases()) {
+    QuadMesh good = fineMesh(c.base, 2, 31);
+    const size_t F = good.faceCount();
+    for (int trial = 0; trial < 30; ++trial) {
+      QuadMesh m = good;
+      const size_t q = rng() % F;
+      switch (trial % 3) {
+        case 0: std::swap(m.quads[4 * q + 1], m.quads[4 * q + 3]); break;      // flipped
+        case 1: m.quads.erase(m.quads.begin() + 4 * q, m.quads.begin() + 4 * q + 4); break;  // a hole
+        case 2: m.quads[4 * q + rng() % 4] = uint32_t(rng() % m.vertexCount()); break;  // a wrong corner
+      }
+      try {
+        QuadMultiresMesh mm(m);
+        EXPECT_LT(mm.roundtripError(m.positions, mm.lowestLevel()), 1e-10) << c.name << " trial " << trial;
+      } catch (const Error&) {
+      }
+    }
+  }
+}
