@@ -49,9 +49,9 @@ const COMMAND_HELP = {
   },
   remesh: {
     usage: 'remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]]\n' +
-           '     -o OUT.obj [--json]',
-    summary: 'semi-regular remeshing of any closed manifold mesh',
-    options: ['levels', 'base-faces', 'keep-largest', 'repair', 'max-hole', 'smooth', 'output', 'json'],
+           '     [--scheme catmull-clark] -o OUT.obj [--json]',
+    summary: 'semi-regular remeshing of any closed manifold mesh (catmull-clark: into quads)',
+    options: ['levels', 'base-faces', 'keep-largest', 'repair', 'max-hole', 'smooth', 'scheme', 'output', 'json'],
   },
   help: { usage: 'help [COMMAND]', summary: 'this help, or one command\'s', options: [] },
 };
@@ -548,7 +548,8 @@ COMMANDS.theta = async (mrvol, values, positionals) =>
   print(values, await tensorReport(mrvol, values, positionals, { requireOutput: true }), describeTensor);
 
 // What the catmull-clark commands (bin/quad-commands.mjs) share with the others.
-const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, describeTensor };
+const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, describeTensor,
+                   loadMesh };
 
 export async function main(argv) {
   let values, positionals;

@@ -147,8 +147,33 @@ export const QUAD_COMMANDS = {
     }
   },
 
-  async remesh() {
-    throw new MrvolError('remesh --scheme catmull-clark (remeshing into quads) is not implemented yet');
+  async remesh(mrvol, values, positionals, cli) {
+    const input = cli.onePath(positionals, 'IN.obj');
+    const levels = cli.integer(values.levels, 'levels', 2);
+    if (levels < 0 || levels > 5) throw new cli.UsageError(`--levels must be in 0..5 for catmull-clark, got ${levels}`);
+    const baseFaces = values['base-faces'] === undefined ? undefined : cli.integer(values['base-faces'], 'base-faces');
+    if (baseFaces !== undefined && baseFaces < 4) throw new cli.UsageError(`--base-faces must be at least 4, got ${baseFaces}`);
+    if (!values.output) throw new cli.UsageError('-o OUT.obj is required');
+    if (!/\.obj$/i.test(values.output)) throw new cli.UsageError(`cannot write ${values.output}: quad meshes are written as .obj`);
+    const mesh = await cli.loadMesh(mrvol, input);
+    const { remeshQuads } = await import('../lib/remesh-quad.mjs');
+    let r;
+    try {
+      r = await remeshQuads(mrvol, mesh, { levels, baseFaces, keepLargest: values['keep-largest'] ?? false,
+                                          repair: values.repair ?? false });
+    } catch (e) {
+      throw e instanceof MrvolError ? new MrvolError(`${input}: ${e.message}`) : e;
+    }
+    cli.writeText(values.output, mrvol.writeObjQuads(r.mesh));
+    const round = (x, d) => Math.round(x * 10 ** d) / 10 ** d;
+    const result = { scheme: 'catmull-clark', levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces,
+                     vertices: r.vertices, faces: r.faces, distanceToInput: r.distanceToInput, volumeChange: r.volumeChange,
+                     ms: round(r.ms, 1), output: values.output };
+    cli.print(values, result, (x) => [
+      `wrote            ${x.output}: ${x.vertices} vertices, ${x.faces} quads, ${x.levels} Catmull-Clark levels over ${x.baseVertices} base vertices`,
+      `distance         ${round(100 * x.distanceToInput, 3)}% of the bounding-box diagonal (largest, vertices to input)`,
+      `volume change    ${round(100 * x.volumeChange, 4)}%`,
+      `time             ${x.ms} ms`].join('\n'));
   },
 };
 

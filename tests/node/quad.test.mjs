@@ -5,7 +5,7 @@ import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync, readFileSync } from 'node:fs';
 import { createMrvol } from '../../lib/node.mjs';
-import { tempFolder, runCliSync, json, failsWith, usageError, rng, relErr, maxDiff, throwsMrvol } from './helpers.mjs';
+import { tempFolder, runCliSync, json, failsWith, usageError, rng, relErr, maxDiff, throwsMrvol, model } from './helpers.mjs';
 
 let mrvol;
 const file = tempFolder('mrvol-quad-test-');
@@ -194,7 +194,25 @@ describe('mrvol --scheme catmull-clark', () => {
     failsWith(cli('roundtrip', file('cube2.obj'), '--scheme', 'catmull-clark', '--level', '0', '--json'), /cube/);
     writeFileSync(file('tri.obj'), 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n');
     failsWith(cli('info', file('tri.obj'), '--scheme', 'catmull-clark'), /line 5: a face with 3 corners/);
-    failsWith(cli('remesh', file('tri.obj'), '--scheme', 'catmull-clark', '-o', file('x.obj')), /not implemented/);
+    usageError(cli('remesh', file('tri.obj'), '--scheme', 'catmull-clark', '-o', file('x.stl')), /\.obj/);
     usageError(cli('subdivide', file('cube.obj'), '--scheme', 'catmull-clark', '--levels', '1', '-o', file('x.stl')), /\.obj/);
+  });
+});
+
+describe('mrvol remesh --scheme catmull-clark', () => {
+  test('a closed triangle mesh becomes a semi-regular quad mesh near it', () => {
+    const r = json(cli('remesh', model('blob'), '--scheme', 'catmull-clark', '--levels', '1', '-o', file('blob-quads.obj'), '--json'));
+    assert.equal(r.levels, 1);
+    assert.ok(Math.abs(r.volumeChange) < 0.01, `volume change ${r.volumeChange}`);
+    assert.ok(r.distanceToInput < 0.01, `distance ${r.distanceToInput}`);
+    const written = mrvol.readObjQuads(readFileSync(file('blob-quads.obj')));
+    assert.equal(written.quads.length / 4, r.faces);
+    const info = json(cli('info', file('blob-quads.obj'), '--scheme', 'catmull-clark', '--json'));
+    assert.equal(info.levels, 1);
+    assert.equal(info.baseVertices, r.baseVertices);
+    assert.equal(info.closed, true);
+    assert.equal(info.genus, 0);
+    const input = mrvol.readObj(readFileSync(model('blob')));
+    assert.ok(relErr(info.volume, mrvol.volume(input)) < 0.01);
   });
 });
