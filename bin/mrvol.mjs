@@ -9,12 +9,14 @@ import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError } from '../lib/node.mjs';
 import { chooseGradientPath } from '../lib/api.mjs';
 import { Progress } from './progress.mjs';
+import { QUAD_COMMANDS } from './quad-commands.mjs';
 
 const VERSION = JSON.parse(await readFile(new URL('../package.json', import.meta.url), 'utf8')).version;
 
 // What each command takes and does: `usage` (after `mrvol `), a one-line summary, its options.
 const COMMAND_HELP = {
-  info: { usage: 'info MESH.obj [--json]', summary: 'counts, levels, base vertices, genus, volume', options: ['json'] },
+  info: { usage: 'info MESH.obj [--scheme catmull-clark] [--json]', summary: 'counts, levels, base vertices, genus, volume',
+          options: ['scheme', 'json'] },
   subdivide: {
     usage: 'subdivide BASE.obj --levels n [--scheme S] -o OUT.obj [--json]',
     summary: 'zero-detail synthesis (subdivision) of a base mesh',
@@ -47,15 +49,17 @@ const COMMAND_HELP = {
   },
   remesh: {
     usage: 'remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]]\n' +
-           '     -o OUT.obj [--json]',
-    summary: 'semi-regular remeshing of any closed manifold mesh',
-    options: ['levels', 'base-faces', 'keep-largest', 'repair', 'max-hole', 'smooth', 'output', 'json'],
+           '     [--scheme catmull-clark] -o OUT.obj [--json]',
+    summary: 'semi-regular remeshing of any closed manifold mesh (catmull-clark: into quads)',
+    options: ['levels', 'base-faces', 'keep-largest', 'repair', 'max-hole', 'smooth', 'scheme', 'output', 'json'],
   },
   help: { usage: 'help [COMMAND]', summary: 'this help, or one command\'s', options: [] },
 };
 
 const OPTION_HELP = {
-  scheme: '--scheme loop|butterfly|linear   wavelet scheme (default loop)',
+  scheme: '--scheme loop|butterfly|linear|catmull-clark\n' +
+          '                                 wavelet scheme (default loop); catmull-clark: quad meshes\n' +
+          '                                 (OBJ, quads kept; docs/catmull-clark.md)',
   alpha: '--alpha a --beta b               Loop update weights (default -1.70943, 0.42954)',
   level: '--level e                        analysis level, 0 <= e <= n (default 0)',
   levels: '--levels n                       levels of 1-to-4 splits (subdivide: required; remesh: default 2)',
@@ -174,8 +178,8 @@ function number(value, name) {
 
 function schemeOptions(values) {
   const scheme = values.scheme ?? 'loop';
-  if (!['loop', 'butterfly', 'linear'].includes(scheme))
-    throw new UsageError(`--scheme must be loop, butterfly or linear, got '${scheme}'`);
+  if (!['loop', 'butterfly', 'linear', 'catmull-clark'].includes(scheme))
+    throw new UsageError(`--scheme must be loop, butterfly or linear (catmull-clark for quad meshes), got '${scheme}'`);
   return { scheme, alpha: number(values.alpha, 'alpha'), beta: number(values.beta, 'beta') };
 }
 
@@ -543,6 +547,10 @@ COMMANDS.volume = async (mrvol, values, positionals) =>
 COMMANDS.theta = async (mrvol, values, positionals) =>
   print(values, await tensorReport(mrvol, values, positionals, { requireOutput: true }), describeTensor);
 
+// What the catmull-clark commands (bin/quad-commands.mjs) share with the others.
+const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, describeTensor,
+                   loadMesh };
+
 export async function main(argv) {
   let values, positionals;
   try {
@@ -580,8 +588,10 @@ export async function main(argv) {
     return 0;
   }
   try {
+    if (values.scheme === 'catmull-clark' && !QUAD_COMMANDS[command]) throw new UsageError(`${command} has no --scheme catmull-clark`);
     const mrvol = await createMrvol();
-    await COMMANDS[command](mrvol, values, rest);
+    if (values.scheme === 'catmull-clark') await QUAD_COMMANDS[command](mrvol, values, rest, QUAD_CLI);
+    else await COMMANDS[command](mrvol, values, rest);
     return 0;
   } catch (e) {
     if (e instanceof UsageError) {

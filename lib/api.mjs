@@ -1,6 +1,7 @@
 // The public JS API over the raw embind module: typed arrays in and out, errors as MrvolError.
 // Environment-agnostic: lib/node.mjs and the web app each load the module their own way and wrap
 // it here.
+import { wrapQuad } from './quad.mjs';
 
 /** An error reported by mrvol's core, with its message as the core wrote it. */
 export class MrvolError extends Error {
@@ -420,6 +421,10 @@ export function wrapModule(module) {
   }
 
   // Mesh files other than OBJ (wasm/bindings/io_bindings.cpp keeps its own error slot).
+  // Quad meshes and the catmull-clark scheme (lib/quad.mjs).
+  const quad = wrapQuad(module, { MrvolError, Theta, levelArg });
+  const isQuad = (mesh, options) => options?.scheme === 'catmull-clark' || mesh?.quads instanceof Uint32Array;
+
   const callIo = (fn, ...args) => {
     const result = fn(...args);
     const error = module._takeIoError();
@@ -471,6 +476,7 @@ export function wrapModule(module) {
       return new Theta(call(module._readTheta, bytes));
     },
     MrvolError,
+    ...quad,
     /**
      * Parses an OBJ file (a Uint8Array of its bytes, e.g. a Node Buffer, or a string) into
      * { positions: Float64Array, faces: Uint32Array } (0-based, polygons triangulated), with
@@ -510,12 +516,14 @@ export function wrapModule(module) {
     },
     /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */
     openMesh(mesh, options = {}) {
+      if (isQuad(mesh, options)) return quad.openQuadMesh(mesh, options);
       checkMesh(mesh);
       const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
       return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels, linesOf(mesh)), mesh.positions.slice());
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {
+      if (isQuad(base, options)) return quad.subdivideQuads(base, options);
       checkMesh(base);
       const levels = levelArg(options.levels ?? 1, 'levels');
       const scheme = schemeArgs(options);

@@ -463,8 +463,20 @@ export interface Mrvol {
   volume(mesh: Mesh, options?: SurfaceOptions): number;
   /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */
   openMesh(mesh: Mesh, options?: OpenMeshOptions): MultiresMesh;
+  /** A quad mesh (or scheme 'catmull-clark'): its Catmull-Clark hierarchy (openQuadMesh). */
+  openMesh(mesh: QuadMesh, options?: OpenMeshOptions & { scheme?: 'catmull-clark' }): QuadMultiresMesh;
   /** n levels of zero-detail synthesis (subdivision) of a base mesh. */
   subdivide(base: Mesh, options?: SubdivideOptions): MultiresMesh;
+  /** A quad base: n levels of Catmull-Clark subdivision (subdivideQuads). */
+  subdivide(base: QuadMesh, options?: { levels?: number; scheme?: 'catmull-clark' }): QuadMultiresMesh;
+  /** OBJ text to a quad mesh: every face must have 4 corners (MrvolError naming the line otherwise). */
+  readObjQuads(input: Uint8Array | string): QuadMesh;
+  /** A quad mesh as OBJ text with `f a b c d` lines. */
+  writeObjQuads(mesh: QuadMesh): string;
+  /** The volume enclosed by the bilinear patches of a valid quad mesh (docs/catmull-clark.md). */
+  quadVolume(mesh: QuadMesh): number;
+  openQuadMesh(mesh: QuadMesh, options?: OpenMeshOptions): QuadMultiresMesh;
+  subdivideQuads(base: QuadMesh, options?: { levels?: number }): QuadMultiresMesh;
   /** Reads a theta file; throws MrvolError if it is truncated, corrupt or of a future version. */
   readTheta(bytes: Uint8Array): Theta;
 }
@@ -527,4 +539,72 @@ export interface ThetaEstimate {
   denseBytes: number;
   milliseconds: number;
   fits: boolean;
+}
+
+/** A quad mesh: 4 vertex indices per face, counter-clockwise seen from outside. */
+export interface QuadMesh {
+  positions: Float64Array;
+  quads: Uint32Array;
+}
+
+/** QuadMultiresMesh.info(): MeshInfo's fields (volume: the bilinear patches') and lowestLevel. */
+export interface QuadMeshInfo {
+  vertices: number;
+  faces: number;
+  levels: number;
+  /** The lowest level analysis reaches: 1 when the base is a cube (its first split is not invertible), else 0. */
+  lowestLevel: number;
+  baseVertices: number;
+  baseVertexIndices: Uint32Array;
+  closed: boolean;
+  boundaryEdges: number;
+  genus: number;
+  components: number;
+  volume: number;
+}
+
+/** A semi-regular quad mesh with its Catmull-Clark hierarchy (docs/catmull-clark.md). */
+export interface QuadMultiresMesh {
+  readonly scheme: 'catmull-clark';
+  readonly levels: number;
+  readonly lowestLevel: number;
+  readonly vertexCount: number;
+  readonly faceCount: number;
+  readonly baseVertexIndices: Uint32Array;
+  info(): QuadMeshInfo;
+  positions(): Float64Array;
+  quads(): Uint32Array;
+  levelQuads(level: number): Uint32Array;
+  depths(): Uint8Array;
+  toMesh(): QuadMesh;
+  setPositions(positions: Float64Array): void;
+  analyze(positions?: Float64Array, options?: { level?: number }): Float64Array;
+  synthesize(coefficients: Float64Array, options?: { level?: number }): Float64Array;
+  roundtripError(options?: { level?: number }): number;
+  computeTheta(options?: { level?: number; storage?: 'cage' | 'full' }): Theta;
+  thetaVolume(theta: Theta, options?: { level?: number }): number;
+  fingerprint(): string;
+  createEditor(options?: { level?: number; path?: 'auto' | 'tensor' | 'matrix-free'; theta?: Theta }): QuadVolumeEditor;
+  delete(): void;
+}
+
+/** Volume-preserving editing of a quad mesh's level-e cage (bilinear volume; boundary fixed). */
+export interface QuadVolumeEditor {
+  readonly level: number;
+  readonly cageSize: number;
+  readonly deleted: boolean;
+  cageVertices(): Uint32Array;
+  cageIndexOf(vertex: number): number;
+  cagePositions(): Float64Array;
+  positions(): Float64Array;
+  volume(): number;
+  referenceVolume(): number;
+  path(): 'tensor' | 'matrix-free';
+  useTheta(theta: Theta): void;
+  useMatrixFree(): void;
+  setFreeSet(options?: { cage?: 'minus-held' | 'all' }): void;
+  deformCage(target: Float64Array, held: ArrayLike<number>, options?: EditOptions): EditReport;
+  moveVertices(moves: VertexMove[], options?: EditOptions): EditReport;
+  correct(held?: ArrayLike<number>, options?: EditOptions): EditReport;
+  delete(): void;
 }

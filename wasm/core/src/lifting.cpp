@@ -104,6 +104,7 @@ const char* schemeName(SchemeKind kind) {
     case SchemeKind::Loop: return "loop";
     case SchemeKind::Butterfly: return "butterfly";
     case SchemeKind::Linear: return "linear";
+    case SchemeKind::CatmullClark: return "catmull-clark";
   }
   return "?";
 }
@@ -112,6 +113,7 @@ SchemeKind parseSchemeName(const std::string& name) {
   if (name == "loop") return SchemeKind::Loop;
   if (name == "butterfly") return SchemeKind::Butterfly;
   if (name == "linear") return SchemeKind::Linear;
+  if (name == "catmull-clark") return SchemeKind::CatmullClark;
   throw Error("unknown scheme '" + name + "' (expected loop, butterfly or linear)");
 }
 
@@ -387,11 +389,27 @@ WaveletTransform::WaveletTransform(const Hierarchy& hierarchy, const SchemeOptio
     : hierarchy_(&hierarchy), options_(options) {
   if (!std::isfinite(options.alpha) || !std::isfinite(options.beta))
     throw Error("Loop update weights alpha and beta must be finite numbers");
+  if (options.kind == SchemeKind::CatmullClark)
+    throw Error("the catmull-clark scheme works on quad meshes; this mesh is made of triangles");
   if (options.kind == SchemeKind::Loop) {
     for (int l = 1; l <= hierarchy.levels; ++l) steps_.push_back(loopLevel(hierarchy, l, options));
   } else {
     steps_ = interpolatingLevels(hierarchy, options.kind);
   }
+  prepare();
+}
+
+WaveletTransform::WaveletTransform(const Hierarchy& hierarchy, const SchemeOptions& options,
+                                   std::vector<std::vector<LiftingStep>> steps)
+    : hierarchy_(&hierarchy), options_(options), steps_(std::move(steps)) {
+  if (int(steps_.size()) != hierarchy.levels)
+    throw Error("a transform needs the steps of " + std::to_string(hierarchy.levels) + " levels, got " +
+                std::to_string(steps_.size()));
+  prepare();
+}
+
+void WaveletTransform::prepare() {
+  const Hierarchy& hierarchy = *hierarchy_;
   for (int l = 1; l <= hierarchy.levels; ++l) {
     const uint32_t evens = hierarchy.vertexCount[l - 1];
     bool oddWritten = false;

@@ -108,7 +108,7 @@ ThetaFileHeader readThetaHeader(const std::string& in) {
   ThetaFileHeader h;
   h.formatVersion = version;
   const uint8_t kind = get<uint8_t>(in, 16), storage = get<uint8_t>(in, 17);
-  if (kind > uint8_t(SchemeKind::Linear)) throw Error("theta file header is corrupt (scheme " + std::to_string(kind) + ")");
+  if (kind > uint8_t(SchemeKind::CatmullClark)) throw Error("theta file header is corrupt (scheme " + std::to_string(kind) + ")");
   if (storage > 1) throw Error("theta file header is corrupt (storage mode " + std::to_string(storage) + ")");
   const uint8_t surface = get<uint8_t>(in, 19);
   if (surface > 1) throw Error("theta file header is corrupt (surface " + std::to_string(surface) + ")");

@@ -32,7 +32,8 @@ struct LiftingStep {
   void transposed(double* x, int stride = 3) const;  // x_s += W^T x_t | x_t *= f
 };
 
-enum class SchemeKind { Loop, Butterfly, Linear };
+// CatmullClark: quad hierarchies only (quad_lifting.h).
+enum class SchemeKind { Loop, Butterfly, Linear, CatmullClark };
 
 struct SchemeOptions {
   SchemeKind kind = SchemeKind::Loop;
@@ -42,7 +43,7 @@ struct SchemeOptions {
 };
 
 const char* schemeName(SchemeKind kind);
-SchemeKind parseSchemeName(const std::string& name);  // "loop" | "butterfly" | "linear"; throws
+SchemeKind parseSchemeName(const std::string& name);  // "loop" | "butterfly" | "linear" | "catmull-clark"; throws
 
 // Loop boundary update weights (quoted from the WTT project's Loop wavelet code).
 constexpr double kLoopBoundaryUpdateEnd = -0.525336;
@@ -53,6 +54,9 @@ constexpr double kLoopBoundaryUpdateBeyond = 0.189068;
 class WaveletTransform {
  public:
   WaveletTransform(const Hierarchy& hierarchy, const SchemeOptions& options);
+  // A transform whose steps were built elsewhere (steps[l - 1]: synthesis of level l), such as
+  // the Catmull-Clark levels of a quad hierarchy (quad_lifting.h).
+  WaveletTransform(const Hierarchy& hierarchy, const SchemeOptions& options, std::vector<std::vector<LiftingStep>> steps);
 
   const Hierarchy& hierarchy() const { return *hierarchy_; }
   const SchemeOptions& options() const { return options_; }
@@ -79,6 +83,7 @@ class WaveletTransform {
   // Per level: the step a zero-detail synthesis runs as an assignment (x_t = W x_s), or -1 when
   // none can be, and the details of that level are zeroed first.
   std::vector<int> zeroDetailAssign_;
+  void prepare();  // readsOnlyDetails and zeroDetailAssign_ from the steps
 };
 
 // Mask weights, exposed for tests and teaching views.

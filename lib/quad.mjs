@@ -1,0 +1,207 @@
+// The quad-mesh part of the public API (Catmull-Clark multiresolution, docs/catmull-clark.md):
+// typed arrays in and out, errors as MrvolError. A quad mesh is { positions: Float64Array,
+// quads: Uint32Array (4 per face, counter-clockwise) }. wrapModule (lib/api.mjs) mixes these
+// calls into its API and sends openMesh / subdivide with scheme 'catmull-clark' here.
+
+function checkQuadMesh(mesh, MrvolError) {
+  if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a quad mesh { positions, quads }');
+  if (!(mesh.positions instanceof Float64Array)) throw new MrvolError('mesh.positions must be a Float64Array');
+  if (!(mesh.quads instanceof Uint32Array)) throw new MrvolError('mesh.quads must be a Uint32Array (4 indices per quad)');
+  return mesh;
+}
+
+/**
+ * @param {object} module the instantiated emscripten module
+ * @param {{ MrvolError, Theta, levelArg }} shared what lib/api.mjs shares (its error and Theta classes)
+ */
+export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
+  const call = (fn, ...args) => {
+    const result = fn(...args);
+    const error = module._takeQuadError();
+    if (error) throw new MrvolError(error);
+    return result;
+  };
+
+  /** A volume-preserving editing session on the level-e cage of a quad mesh (bilinear volume). */
+  class QuadVolumeEditor {
+    #raw;
+    #mesh;
+    constructor(raw, mesh) {
+      this.#raw = raw;
+      this.#mesh = mesh;
+      this.level = raw.level();
+      this.cageSize = raw.cageSize();
+    }
+    #live() {
+      if (!this.#raw) throw new MrvolError('this QuadVolumeEditor has been deleted');
+      return this.#raw;
+    }
+    cageVertices() { return call((r) => r.cageVertices(), this.#live()); }
+    cageIndexOf(vertex) {
+      if (!Number.isInteger(vertex)) throw new MrvolError('vertex index must be a non-negative integer');
+      return call((r) => r.cageIndexOf(vertex), this.#live());
+    }
+    cagePositions() { return call((r) => r.cagePositions(), this.#live()); }
+    positions() { return call((r) => r.positions(), this.#live()); }
+    volume() { return call((r) => r.volume(), this.#live()); }
+    referenceVolume() { return call((r) => r.referenceVolume(), this.#live()); }
+    /** 'tensor' or 'matrix-free'. */
+    path() { return call((r) => r.path(), this.#live()); }
+    useTheta(theta) {
+      if (!(theta instanceof Theta)) throw new MrvolError('useTheta expects a Theta');
+      call((r) => r.useTheta(this.#mesh, theta.raw), this.#live());
+    }
+    useMatrixFree() { call((r) => r.useMatrixFree(), this.#live()); }
+    /** Free set: 'minus-held' (default) or 'all' non-boundary cage vertices. */
+    setFreeSet({ cage = 'minus-held' } = {}) {
+      if (cage !== 'minus-held' && cage !== 'cage' && cage !== 'all')
+        throw new MrvolError(`unknown free set '${cage}' (minus-held or all)`);
+      call((r) => r.setAllFree(cage === 'all'), this.#live());
+    }
+    deformCage(target, held, options = {}) {
+      if (!(target instanceof Float64Array)) throw new MrvolError('target must be a Float64Array');
+      return call((r) => r.deformCage(target, Uint8Array.from(held), options), this.#live());
+    }
+    /** moves = [{ vertex, position } | { vertex, offset }] (caller indices); those vertices are held. */
+    moveVertices(moves, options = {}) {
+      const target = this.cagePositions();
+      const held = new Uint8Array(this.cageSize);
+      for (const move of moves) {
+        const c = this.cageIndexOf(move.vertex);
+        const to = move.position ?? [0, 1, 2].map((k) => target[3 * c + k] + (move.offset?.[k] ?? 0));
+        for (let k = 0; k < 3; k++) target[3 * c + k] = to[k];
+        held[c] = 1;
+      }
+      return this.deformCage(target, held, options);
+    }
+    correct(held = new Uint8Array(this.cageSize), options = {}) {
+      return call((r) => r.correct(Uint8Array.from(held), options), this.#live());
+    }
+    delete() {
+      if (this.#raw) this.#raw.delete();
+      this.#raw = null;
+    }
+    get deleted() { return !this.#raw; }
+  }
+
+  /** A semi-regular quad mesh with its Catmull-Clark hierarchy; positions live here. */
+  class QuadMultiresMesh {
+    #raw;
+    #positions;
+    constructor(raw, positions) {
+      this.#raw = raw;
+      this.#positions = positions;
+      this.scheme = 'catmull-clark';
+      this.levels = raw.levels();
+      this.lowestLevel = raw.lowestLevel();
+      const info = call((r) => r.info(positions), raw);
+      this.vertexCount = info.vertices;
+      this.faceCount = info.faces;
+      this.baseVertexIndices = info.baseVertexIndices;
+    }
+    #live() {
+      if (!this.#raw) throw new MrvolError('this QuadMultiresMesh has been deleted');
+      return this.#raw;
+    }
+    /** Counts, levels (and lowestLevel analysis reaches), base vertices, topology, bilinear volume. */
+    info() { return call((r) => r.info(this.#positions), this.#live()); }
+    positions() {
+      this.#live();
+      return this.#positions.slice();
+    }
+    quads() { return call((r) => r.quads(), this.#live()); }
+    levelQuads(level) { return call((r) => r.levelQuads(levelArg(level)), this.#live()); }
+    depths() { return call((r) => r.depths(), this.#live()); }
+    toMesh() { return { positions: this.positions(), quads: this.quads() }; }
+    setPositions(positions) {
+      if (!(positions instanceof Float64Array)) throw new MrvolError('positions must be a Float64Array');
+      if (positions.length !== 3 * this.vertexCount)
+        throw new MrvolError(`expected ${3 * this.vertexCount} coordinates (3 per vertex), got ${positions.length}`);
+      this.#positions = positions.slice();
+    }
+    analyze(positions, options = {}) {
+      return call((r) => r.analyze(positions ?? this.#positions, levelArg(options.level)), this.#live());
+    }
+    synthesize(coefficients, options = {}) {
+      return call((r) => r.synthesize(coefficients, levelArg(options.level)), this.#live());
+    }
+    roundtripError(options = {}) {
+      return call((r) => r.roundtripError(this.#positions, levelArg(options.level)), this.#live());
+    }
+    /** theta^e of the bilinear volume: { level, storage: 'cage' | 'full' }. */
+    computeTheta(options = {}) {
+      const started = performance.now();
+      const raw = call((r) => r.computeTheta(levelArg(options.level), options.storage ?? 'cage'), this.#live());
+      return new Theta(raw, Math.round((performance.now() - started) * 1000) / 1000);
+    }
+    thetaVolume(theta, options = {}) {
+      if (!(theta instanceof Theta)) throw new MrvolError('thetaVolume expects a Theta');
+      return call((r) => r.thetaVolume(theta.raw, levelArg(options.level ?? theta.info().level), this.#positions), this.#live());
+    }
+    fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
+    /** { level, path: 'matrix-free' (default) | 'tensor', theta } */
+    createEditor(options = {}) {
+      const raw = call((r) => r.createEditor(levelArg(options.level), this.#positions), this.#live());
+      const editor = new QuadVolumeEditor(raw, this.#live());
+      try {
+        if (options.theta) editor.useTheta(options.theta);
+        else if (options.path === 'tensor') {
+          const theta = this.computeTheta({ level: editor.level });
+          try {
+            editor.useTheta(theta);
+          } finally {
+            theta.delete();
+          }
+        } else if (options.path !== undefined && options.path !== 'matrix-free' && options.path !== 'auto')
+          throw new MrvolError(`gradient path for quads must be tensor or matrix-free, got '${options.path}'`);
+      } catch (e) {
+        editor.delete();
+        throw e;
+      }
+      return editor;
+    }
+    delete() {
+      if (this.#raw) this.#raw.delete();
+      this.#raw = null;
+    }
+  }
+
+  const objBytes = (input, what) => {
+    if (input instanceof Uint8Array) return input;
+    if (typeof input === 'string') return new TextEncoder().encode(input);
+    throw new MrvolError(`${what} expects the OBJ file as a Uint8Array or a string`);
+  };
+
+  return {
+    /** OBJ text (Uint8Array or string) to { positions, quads }: every face must be a quad. */
+    readObjQuads(input) { return call(module._readObjQuads, objBytes(input, 'readObjQuads')); },
+    /** { positions, quads } to OBJ text with `f a b c d` lines. */
+    writeObjQuads(mesh) {
+      checkQuadMesh(mesh, MrvolError);
+      return call(module._writeObjQuads, mesh.positions, mesh.quads);
+    },
+    /** The volume enclosed by the bilinear patches of a valid quad mesh. */
+    quadVolume(mesh) {
+      checkQuadMesh(mesh, MrvolError);
+      return call(module._quadVolume, mesh.positions, mesh.quads);
+    },
+    /** Validates a quad mesh and recovers its Catmull-Clark splits (any vertex order). */
+    openQuadMesh(mesh, options = {}) {
+      checkQuadMesh(mesh, MrvolError);
+      const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
+      return new QuadMultiresMesh(call(module._openQuadMesh, mesh.positions, mesh.quads, maxLevels), mesh.positions.slice());
+    },
+    /** n levels of Catmull-Clark subdivision of a base quad mesh. */
+    subdivideQuads(base, options = {}) {
+      checkQuadMesh(base, MrvolError);
+      const levels = levelArg(options.levels ?? 1, 'levels');
+      const raw = call(module._subdivideQuads, base.positions, base.quads, levels);
+      try {
+        return new QuadMultiresMesh(raw, call((r) => r.subdivisionPositions(base.positions), raw));
+      } catch (e) {
+        raw.delete();
+        throw e;
+      }
+    },
+  };
+}

@@ -1,0 +1,266 @@
+// embind layer for quad meshes and the Catmull-Clark scheme (mrvol/quad_*.h): converts types,
+// nothing else. Like io_bindings.cpp, a core error never crosses as an exception: it is kept here
+// and lib/quad.mjs takes it with _takeQuadError() and throws MrvolError. Theta objects are the
+// same _Theta class bindings.cpp registers.
+#include <emscripten/bind.h>
+#include <emscripten/val.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <new>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mrvol/error.h"
+#include "mrvol/quad_editor.h"
+#include "mrvol/quad_multires_mesh.h"
+#include "mrvol/quad_obj.h"
+
+using emscripten::val;
+using namespace mrvol;
+
+namespace {
+
+std::string lastQuadError;
+
+template <class T>
+T failedQuad() { return T{}; }
+template <>
+val failedQuad<val>() { return val::undefined(); }
+
+template <class F>
+auto guardedQuad(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    lastQuadError = "out of memory: the input is too large for this WebAssembly module";
+  } catch (const std::length_error&) {
+    lastQuadError = "out of memory: the input is too large for this WebAssembly module";
+  } catch (const std::exception& e) {
+    lastQuadError = e.what();
+  } catch (...) {
+    lastQuadError = "unknown error";
+  }
+  return failedQuad<decltype(f())>();
+}
+
+std::string takeQuadError() { return std::exchange(lastQuadError, std::string()); }
+
+template <class T>
+std::vector<T> vectorOf(const val& v, const char* what) {
+  if (v.isUndefined() || v.isNull()) throw Error(std::string(what) + " is missing");
+  return emscripten::convertJSArrayToNumberVector<T>(v);
+}
+
+template <class T>
+val typed(const std::vector<T>& v) {
+  return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
+}
+
+QuadMesh quadMesh(const val& positions, const val& quads) {
+  return QuadMesh{vectorOf<double>(positions, "positions"), vectorOf<uint32_t>(quads, "quads")};
+}
+
+std::string textOf(const val& bytes) {
+  if (!bytes.instanceof(val::global("Uint8Array"))) throw Error("the OBJ file must be a Uint8Array");
+  std::string text(bytes["length"].as<size_t>(), '\0');
+  val(emscripten::typed_memory_view(text.size(), reinterpret_cast<uint8_t*>(text.data()))).call<void>("set", bytes);
+  return text;
+}
+
+val q_readObjQuads(val bytes) {
+  return guardedQuad([&] {
+    QuadMesh m = readObjQuads(textOf(bytes));
+    val out = val::object();
+    out.set("positions", typed(m.positions));
+    out.set("quads", typed(m.quads));
+    return out;
+  });
+}
+val q_writeObjQuads(val positions, val quads) {
+  return guardedQuad([&] { return val(writeObjQuads(quadMesh(positions, quads))); });
+}
+val q_volume(val positions, val quads) {
+  return guardedQuad([&] {
+    QuadMesh m = quadMesh(positions, quads);
+    validateQuadMesh(m);
+    return val(bilinearVolume(m));
+  });
+}
+
+QuadMultiresMesh* q_open(val positions, val quads, int maxLevels) {
+  return guardedQuad([&] { return new QuadMultiresMesh(quadMesh(positions, quads), maxLevels); });
+}
+QuadMultiresMesh* q_subdivide(val positions, val quads, int levels) {
+  return guardedQuad([&] { return new QuadMultiresMesh(QuadMultiresMesh::subdivide(quadMesh(positions, quads), levels)); });
+}
+val q_subdivisionPositions(const QuadMultiresMesh& m, val base) {
+  return guardedQuad([&] { return typed(m.subdivisionPositions(vectorOf<double>(base, "base positions"))); });
+}
+val q_info(const QuadMultiresMesh& m, val positions) {
+  return guardedQuad([&] {
+    MeshInfo i = m.info(vectorOf<double>(positions, "positions"));
+    val out = val::object();
+    out.set("vertices", double(i.vertices));
+    out.set("faces", double(i.faces));
+    out.set("levels", i.levels);
+    out.set("lowestLevel", m.lowestLevel());
+    out.set("baseVertices", double(i.baseVertices));
+    out.set("baseVertexIndices", typed(i.baseVertexIndices));
+    out.set("closed", i.closed);
+    out.set("boundaryEdges", double(i.boundaryEdges));
+    out.set("genus", double(i.genus));
+    out.set("components", double(i.components));
+    out.set("volume", i.volume);
+    return out;
+  });
+}
+val q_quads(const QuadMultiresMesh& m) { return guardedQuad([&] { return typed(m.quads()); }); }
+val q_levelQuads(const QuadMultiresMesh& m, int level) { return guardedQuad([&] { return typed(m.levelQuads(level)); }); }
+val q_depths(const QuadMultiresMesh& m) {
+  return guardedQuad([&] {
+    const Hierarchy& h = m.hierarchy().h;
+    std::vector<uint8_t> d(h.fineVertexCount());
+    for (uint32_t v = 0; v < d.size(); ++v) d[h.inputIndex[v]] = uint8_t(h.depth(v));
+    return typed(d);
+  });
+}
+val q_analyze(const QuadMultiresMesh& m, val p, int level) {
+  return guardedQuad([&] { return typed(m.analyze(vectorOf<double>(p, "positions"), level)); });
+}
+val q_synthesize(const QuadMultiresMesh& m, val c, int level) {
+  return guardedQuad([&] { return typed(m.synthesize(vectorOf<double>(c, "coefficients"), level)); });
+}
+val q_roundtripError(const QuadMultiresMesh& m, val p, int level) {
+  return guardedQuad([&] { return val(m.roundtripError(vectorOf<double>(p, "positions"), level)); });
+}
+Theta* q_computeTheta(const QuadMultiresMesh& m, int level, std::string storage) {
+  return guardedQuad([&]() -> Theta* {
+    if (storage != "cage" && storage != "full") throw Error("unknown tensor storage '" + storage + "' (expected cage or full)");
+    auto theta = std::make_unique<Theta>();
+    theta->tensor = m.computeTensor(level, storage == "full" ? TensorStorage::Full : TensorStorage::Cage);
+    theta->header = m.thetaHeader(theta->tensor);
+    return theta.release();
+  });
+}
+val q_thetaVolume(const QuadMultiresMesh& m, const Theta& t, int level, val positions) {
+  return guardedQuad([&] {
+    m.checkTheta(t.header, level);
+    return val(m.tensorVolume(t.tensor, vectorOf<double>(positions, "positions")));
+  });
+}
+val q_fingerprint(const QuadMultiresMesh& m) {
+  return guardedQuad([&] {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(m.fingerprint()));
+    return val(std::string(hex));
+  });
+}
+
+QuadVolumeEditor* q_createEditor(const QuadMultiresMesh& m, int level, val positions) {
+  return guardedQuad([&]() -> QuadVolumeEditor* {
+    const std::vector<double> p = vectorOf<double>(positions, "positions");
+    m.checkPositions(p);
+    if (level >= 0 && level < m.lowestLevel())
+      throw Error("analysis cannot reach level " + std::to_string(level) +
+                  ": the base is a cube, whose first Catmull-Clark split is not invertible (edit at level 1 or above)");
+    return new QuadVolumeEditor(m.hierarchy(), m.transform(), level, p.data());
+  });
+}
+bool q_editorUseTheta(QuadVolumeEditor& e, const QuadMultiresMesh& m, const Theta& t) {
+  return guardedQuad([&] {
+    m.checkTheta(t.header, e.level());
+    e.useTensor(t.tensor);
+    return true;
+  });
+}
+bool q_editorUseMatrixFree(QuadVolumeEditor& e) { return guardedQuad([&] { return e.useMatrixFree(), true; }); }
+val q_editorPath(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(std::string(gradientPathName(e.path()))); }); }
+bool q_editorSetAllFree(QuadVolumeEditor& e, bool all) { return guardedQuad([&] { return e.setAllFree(all), true; }); }
+val q_editorCageVertices(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.cageVertices()); }); }
+val q_editorCageIndexOf(const QuadVolumeEditor& e, double v) {
+  return guardedQuad([&] {
+    if (!(v >= 0) || v != std::floor(v) || v > 4294967295.0) throw Error("vertex index must be a non-negative integer");
+    return val(double(e.cageIndexOf(uint32_t(v))));
+  });
+}
+val q_editorCagePositions(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.cagePositions()); }); }
+val q_editorPositions(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.positions()); }); }
+val q_editorVolume(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.volume()); }); }
+val q_editorReference(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.referenceVolume()); }); }
+
+EditOptions editOptions(const val& o) {
+  EditOptions opts;
+  if (o.isUndefined() || o.isNull()) return opts;
+  if (!o["tolerance"].isUndefined()) opts.tolerance = o["tolerance"].as<double>();
+  if (!o["maxIterations"].isUndefined()) opts.maxIterations = o["maxIterations"].as<int>();
+  if (!o["maxSubsteps"].isUndefined()) opts.maxSubsteps = o["maxSubsteps"].as<int>();
+  if (!o["preserve"].isUndefined()) opts.preserve = o["preserve"].as<bool>();
+  return opts;
+}
+val reportOf(const EditReport& r) {
+  val out = val::object();
+  out.set("volumeReference", r.volumeReference);
+  out.set("volumeTarget", r.volumeTarget);
+  out.set("volumeResult", r.volumeResult);
+  out.set("relativeError", r.relativeError);
+  out.set("iterations", r.iterations);
+  out.set("substeps", r.substeps);
+  out.set("converged", r.converged);
+  out.set("message", r.message);
+  out.set("path", std::string(gradientPathName(r.path)));
+  return out;
+}
+val q_editorDeformCage(QuadVolumeEditor& e, val target, val held, val options) {
+  return guardedQuad([&] {
+    return reportOf(e.deformCage(vectorOf<double>(target, "cage target"), vectorOf<uint8_t>(held, "held flags"),
+                                 editOptions(options)));
+  });
+}
+val q_editorCorrect(QuadVolumeEditor& e, val held, val options) {
+  return guardedQuad([&] { return reportOf(e.correct(vectorOf<uint8_t>(held, "held flags"), editOptions(options))); });
+}
+
+}  // namespace
+
+EMSCRIPTEN_BINDINGS(mrvol_quad) {
+  using namespace emscripten;
+  function("_takeQuadError", &takeQuadError);
+  function("_readObjQuads", &q_readObjQuads);
+  function("_writeObjQuads", &q_writeObjQuads);
+  function("_quadVolume", &q_volume);
+  function("_openQuadMesh", &q_open, allow_raw_pointers());
+  function("_subdivideQuads", &q_subdivide, allow_raw_pointers());
+  class_<QuadMultiresMesh>("_QuadMultiresMesh")
+      .function("levels", &QuadMultiresMesh::levels)
+      .function("lowestLevel", &QuadMultiresMesh::lowestLevel)
+      .function("info", &q_info)
+      .function("quads", &q_quads)
+      .function("levelQuads", &q_levelQuads)
+      .function("depths", &q_depths)
+      .function("subdivisionPositions", &q_subdivisionPositions)
+      .function("analyze", &q_analyze)
+      .function("synthesize", &q_synthesize)
+      .function("roundtripError", &q_roundtripError)
+      .function("computeTheta", &q_computeTheta, allow_raw_pointers())
+      .function("thetaVolume", &q_thetaVolume)
+      .function("fingerprint", &q_fingerprint)
+      .function("createEditor", &q_createEditor, allow_raw_pointers());
+  class_<QuadVolumeEditor>("_QuadVolumeEditor")
+      .function("level", &QuadVolumeEditor::level)
+      .function("cageSize", &QuadVolumeEditor::cageSize)
+      .function("useTheta", &q_editorUseTheta)
+      .function("useMatrixFree", &q_editorUseMatrixFree)
+      .function("setAllFree", &q_editorSetAllFree)
+      .function("path", &q_editorPath)
+      .function("cageVertices", &q_editorCageVertices)
+      .function("cageIndexOf", &q_editorCageIndexOf)
+      .function("cagePositions", &q_editorCagePositions)
+      .function("positions", &q_editorPositions)
+      .function("volume", &q_editorVolume)
+      .function("referenceVolume", &q_editorReference)
+      .function("deformCage", &q_editorDeformCage)
+      .function("correct", &q_editorCorrect);
+}

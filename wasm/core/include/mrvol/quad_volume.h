@@ -1,0 +1,41 @@
+// The volume of a quad mesh whose quads are bilinear patches (docs/catmull-clark.md, section 4):
+// the cone volume of the patch through p0 p1 p2 p3 is exactly
+//   (det(p0,p1,p2) + det(p0,p2,p3) + det(p0,p1,p3) + det(p1,p2,p3)) / 12,
+// the mean of its two triangulations: a trilinear form of the corners, so theta^n stays a
+// trilinear tensor (a FineForm of four weighted triangles per quad).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "mrvol/mesh.h"
+#include "mrvol/quad_hierarchy.h"
+#include "mrvol/volume_function.h"
+#include "mrvol/volume_tensor.h"
+
+namespace mrvol {
+
+// The four triangles of weight 1/12 of every quad.
+FineForm bilinearPatchForm(const std::vector<uint32_t>& quads);
+
+// The reference point of volumeReferencePoint for the quads' triangulation (bounding-box centre of
+// a closed mesh, centroid of the boundary vertices otherwise).
+Vec3 quadReferencePoint(const QuadMesh& mesh);
+// Signed volume enclosed by the bilinear patches (cone volume to the reference point when open).
+double bilinearVolume(const QuadMesh& mesh);
+
+// Any FineForm as a volume function over N + 1 positions (FineEdgeVolume's layout: vertex N at
+// the reference point, unused here). One pass over the form's triangles.
+class FormVolume final : public VolumeFunction {
+ public:
+  // `form` must outlive this; its corners index [0, vertexCount).
+  FormVolume(const FineForm& form, uint32_t vertexCount) : form_(&form), vertexCount_(vertexCount) {}
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+  void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const override;
+
+ private:
+  const FineForm* form_;
+  uint32_t vertexCount_;
+};
+
+}  // namespace mrvol
