@@ -42,10 +42,10 @@ const COMMAND_HELP = {
   edit: {
     usage: 'edit MESH.obj [--scheme S] [--level e] --move V:dx,dy,dz [--move ...] [--free cage|all|LIST]\n' +
            '     [--free-details L,...] [--no-preserve] [--tolerance t] [--path auto|polynomial|tensor|matrix-free]\n' +
-           '     [--theta FILE.theta] -o OUT.obj [--json]',
+           '     [--theta FILE.theta] [--surface mesh|limit] [--keep volume[,centroid]] -o OUT.obj [--json]',
     summary: 'moves level-e cage vertices, keeping the volume; OUT.obj is MESH.obj with the new positions (other lines kept)',
     options: ['scheme', 'alpha', 'level', 'move', 'free', 'free-details', 'no-preserve', 'tolerance', 'path', 'theta',
-              'output', 'json'],
+              'surface', 'keep', 'output', 'json'],
   },
   remesh: {
     usage: 'remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]]\n' +
@@ -68,6 +68,8 @@ const OPTION_HELP = {
   theta: '--theta FILE                     use a stored theta file instead of computing',
   surface: '--surface mesh|limit             the volume of the fine mesh (default) or of its Loop limit\n' +
            '                                 surface (closed meshes; docs/limit-volume.md)',
+  keep: '--keep volume[,centroid]         what the edit keeps: the volume (default), and the centre of mass\n' +
+        '                                 (mesh surface; docs/centroid.md)',
   move: '--move V:dx,dy,dz                moves cage vertex V (0-based, file order) by (dx, dy, dz); held',
   free: '--free cage|all|LIST             free set: cage minus the moved vertices (default), all cage\n' +
         '                                 vertices, or a comma-separated list of cage vertices',
@@ -150,6 +152,7 @@ const OPTIONS = {
   path: { type: 'string' },
   theta: { type: 'string' },
   surface: { type: 'string' },
+  keep: { type: 'string' },
   'base-faces': { type: 'string' },
   'keep-largest': { type: 'boolean' },
   repair: { type: 'boolean' },
@@ -451,15 +454,37 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
   const free = values.free ?? 'cage';
   const freeList = free === 'cage' || free === 'all' ? null : parseList(free, 'free');
   const detailLevels = values['free-details'] ? parseList(values['free-details'], 'free-details') : [];
+  const surface = values.surface ?? 'mesh';
+  if (surface !== 'mesh' && surface !== 'limit') throw new UsageError(`--surface must be mesh or limit, got '${surface}'`);
+  const keep = (values.keep ?? 'volume').split(',').map((k) => k.trim());
+  if (keep.some((k) => k !== 'volume' && k !== 'centroid') || !keep.includes('volume'))
+    throw new UsageError(`--keep expects volume or volume,centroid, got '${values.keep}'${keep.includes('inertia') ? ' (the inertia tensor is not kept yet)' : ''}`);
+  const centroid = keep.includes('centroid');
+  if (centroid && (gradientPath === 'tensor' || gradientPath === 'polynomial' || values.theta))
+    throw new UsageError('--keep centroid runs matrix-free (--path auto or matrix-free, no --theta)');
   const mr = await openMultires(mrvol, path);
   let theta;
   try {
     if (level < 0 || level > mr.levels)
       throw new MrvolError(`level ${level} is out of range: ${path} has levels 0..${mr.levels}`);
-    // auto: the polynomial built from the mesh (no theta) on a coarse cage, else matrix-free.
-    const chosen = values.theta ? 'tensor' : chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path;
+    // auto: the polynomial built from the mesh (no theta) on a coarse cage, else matrix-free; the
+    // limit surface and the centre of mass run matrix-free unless given a theta.
+    const chosen = values.theta ? 'tensor'
+      : (surface === 'limit' || centroid) && gradientPath === 'auto' ? 'matrix-free'
+      : chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path;
     const preserve = values['no-preserve'] === undefined;
-    const editor = mr.createEditor({ level, ...scheme, path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });
+    const editor = mr.createEditor({ level, ...scheme, surface, keep,
+                                     path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });
+    // The centre of mass before and after (null where it is undefined: a solid of zero volume).
+    const centroidOf = () => {
+      try {
+        return Array.from(editor.centroid());
+      } catch (e) {
+        if (e instanceof MrvolError) return null;
+        throw e;
+      }
+    };
+    const centroidBefore = centroidOf();
     editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
     const wantTensor = chosen === 'tensor';
     if (wantTensor && preserve) {
@@ -471,7 +496,7 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
           throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${values.theta}: ${e.message}`) : e;
         }
       } else {
-        theta = computeTheta(mr, { level, ...scheme });
+        theta = computeTheta(mr, { level, surface, ...scheme });
         editor.useTheta(theta);
       }
     }
@@ -487,11 +512,14 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
       stepMs: Math.round(stepMs * 1000) / 1000, path: values['no-preserve'] ? 'none' : report.path,
+      surface, keep, centroidBefore, centroidAfter: centroidOf(),
       output: values.output,
     };
+    const drift = centroidBefore && result.centroidAfter ? Math.hypot(...result.centroidAfter.map((x, k) => x - centroidBefore[k])) : null;
     print(values, result, (r) => [
-      `reference volume ${r.volumeReference}`, `target volume    ${r.volumeTarget}`,
+      `reference volume ${r.volumeReference}${surface === 'limit' ? ' (limit surface)' : ''}`, `target volume    ${r.volumeTarget}`,
       `result volume    ${r.volumeResult} (relative error ${r.relativeError})`,
+      ...(drift === null ? [] : [`centre of mass   ${r.centroidBefore.join(' ')} -> ${r.centroidAfter.join(' ')} (moved ${drift}${centroid ? ', kept' : ''})`]),
       `correction       ${r.iterations} iterations, ${r.substeps} sub-steps, ${r.stepMs} ms, ${r.path} gradient`,
       `wrote            ${r.output}`].join('\n'));
   } finally {

@@ -62,6 +62,18 @@ function surfaceArg(surface) {
 }
 
 // Lifting steps belong to a level l >= 1, which has no default.
+// What an editor keeps: the volume, and optionally the centre of mass ('centroid').
+const KEEPABLE = ['volume', 'centroid'];
+function keepArg(keep) {
+  const list = typeof keep === 'string' ? keep.split(',').map((k) => k.trim()) : (keep ?? ['volume']);
+  if (!Array.isArray(list)) throw new MrvolError(`keep must be a list such as ['volume', 'centroid'], got ${JSON.stringify(keep)}`);
+  for (const k of list)
+    if (!KEEPABLE.includes(k))
+      throw new MrvolError(`keep: unknown quantity ${JSON.stringify(k)} (volume, centroid${k === 'inertia' ? '; the inertia tensor is not kept yet' : ''})`);
+  if (!list.includes('volume')) throw new MrvolError('keep must include volume (the centre of mass is kept with it)');
+  return list;
+}
+
 function stepLevelArg(level) {
   if (level === undefined) throw new MrvolError('level is required: level l (1..n) builds M^l from M^(l-1)');
   return levelArg(level);
@@ -199,6 +211,15 @@ export function wrapModule(module) {
       call((r) => r.setParts(local, references ? Float64Array.from(references) : undefined), this.#live());
     }
     partVolumes() { return call((r) => r.partVolumes(), this.#live()); }
+    /** 'mesh' or 'limit': whose volume is kept. */
+    surface() { return call((r) => r.limitSurface(), this.#live()) ? 'limit' : 'mesh'; }
+    /** Keeps the centre of mass (its current place) with the volume, or stops keeping it. */
+    keepCentroid(keep = true) { call((r) => r.keepCentroid(Boolean(keep)), this.#live()); }
+    keepsCentroid() { return call((r) => r.keepsCentroid(), this.#live()); }
+    /** The mesh solid's centre of mass now, [x, y, z] (Float64Array). */
+    centroid() { return call((r) => r.centroid(), this.#live()); }
+    /** The centre of mass kept (the current one when it is not kept). */
+    referenceCentroid() { return call((r) => r.referenceCentroid(), this.#live()); }
     /**
      * Moves the cage to `target` (Float64Array, 3 per cage vertex, cage order), keeping the `held`
      * cage vertices (Uint8Array flags, cage order) where the target puts them, and restores the volume.
@@ -389,17 +410,27 @@ export function wrapModule(module) {
      * Starts an editing session at level e from the current positions. With options.theta it uses
      * that tensor; else options.path 'auto' (default) or 'polynomial' builds the cage polynomial
      * from the fine mesh (matrix-free on a cage too fine for it), 'matrix-free' skips it.
+     * surface 'limit' keeps the Loop limit surface's volume (closed meshes; matrix-free, or the
+     * tensor path with a theta computed with surface 'limit'). keep ['volume', 'centroid'] keeps
+     * the centre of mass too (mesh surface, matrix-free).
      */
     createEditor(options = {}) {
       const scheme = schemeArgs(options);
       const path = options.path ?? 'auto';
+      const surface = surfaceArg(options.surface);
+      const centroid = keepArg(options.keep).includes('centroid');
       if (!['auto', 'polynomial', 'matrix-free'].includes(path) && !(path === 'tensor' && options.theta))
         throw new MrvolError(`createEditor path must be auto, polynomial or matrix-free (tensor with a theta), got '${path}'`);
+      if (path === 'polynomial' && (surface === 'limit' || centroid))
+        throw new MrvolError(`the polynomial path sums the mesh's triangles for the volume alone: with ${surface === 'limit' ? "surface 'limit'" : 'the centroid kept'} use 'auto' or 'matrix-free'${surface === 'limit' ? " (or a theta computed with surface 'limit')" : ''}`);
       const raw = call((r) => r.createEditor(levelArg(options.level), scheme, this.#positions), this.#live());
       const editor = new VolumeEditor(raw, this.#live(), scheme);
       this.#editors.add(editor);
       try {
+        if (surface === 'limit') call((r) => r.useLimitSurface(this.#live()), raw);
+        if (centroid) editor.keepCentroid(true);
         if (options.theta) editor.useTheta(options.theta);
+        else if (surface === 'limit' || centroid) editor.useMatrixFree();
         else if (path === 'polynomial' || (path === 'auto' &&
                  chooseGradientPath(this, { level: levelArg(options.level), ...scheme }).path === 'polynomial'))
           editor.usePolynomial();

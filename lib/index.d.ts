@@ -105,7 +105,7 @@ export type ThetaStorage = 'cage' | 'full';
 export interface ThetaOptions extends TransformOptions {
   /** 'cage' (default) keeps what editing needs; 'full' keeps every entry. */
   storage?: ThetaStorage;
-  /** 'limit': theta^e of the Loop limit surface's volume (editors take only 'mesh' tensors). */
+  /** 'limit': theta^e of the Loop limit surface's volume (for editors created with surface 'limit'). */
   surface?: VolumeSurface;
   /** Called with the fraction done (0..1); returning false cancels the computation (surface 'mesh' only). */
   onProgress?: (fraction: number) => boolean | void;
@@ -219,7 +219,13 @@ export interface EditReport {
   /** With parts: each part's volume after the edit, and its reference (empty without parts). */
   partVolumes: Float64Array;
   partReferences: Float64Array;
+  /** While the centre of mass is kept: the kept centre and where it ended, [x, y, z]. */
+  centroidReference?: Float64Array;
+  centroidResult?: Float64Array;
 }
+
+/** What an editor keeps: always the volume, optionally the centre of mass. */
+export type KeptQuantity = 'volume' | 'centroid';
 
 /** 'tensor': the cubic polynomial of the cage from theta^e; 'matrix-free': the adjoint of synthesis. */
 /** tensor: theta^e's cage polynomial; polynomial: the same built from the fine mesh (no theta); matrix-free. */
@@ -246,6 +252,10 @@ export interface EditorOptions extends TransformOptions {
   theta?: Theta;
   /** Without a theta: 'auto' (default) or 'polynomial' builds the cage polynomial from the fine mesh; 'matrix-free' does not. */
   path?: 'auto' | 'polynomial' | 'matrix-free' | 'tensor';
+  /** Whose volume is kept: 'mesh' (default) or 'limit' (the Loop limit surface; closed meshes, matrix-free or a limit theta). */
+  surface?: VolumeSurface;
+  /** ['volume'] (default) or ['volume', 'centroid'] (also the centre of mass; mesh surface, matrix-free), or 'volume,centroid'. */
+  keep?: KeptQuantity[] | string;
 }
 
 /**
@@ -288,6 +298,15 @@ export interface VolumeEditor {
    */
   setParts(parts: ArrayLike<number>[], references?: ArrayLike<number>): void;
   partVolumes(): Float64Array;
+  /** Whose volume is kept. */
+  surface(): VolumeSurface;
+  /** Keeps the centre of mass where it is now (with the volume), or stops keeping it. */
+  keepCentroid(keep?: boolean): void;
+  keepsCentroid(): boolean;
+  /** The mesh solid's centre of mass now. */
+  centroid(): Float64Array;
+  /** The centre of mass kept (the current one when it is not kept). */
+  referenceCentroid(): Float64Array;
   /**
    * Moves the cage to `target` (3 per cage vertex, cage order), keeping the flagged `held` cage
    * vertices where the target puts them, and restores the volume.

@@ -24,6 +24,7 @@ import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
 import { findSelfIntersection } from './self-intersection.js';
+import { setUpBalance } from './balance.js';
 import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject } from './share.js';
 import { VIEWS } from './learn/router.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
@@ -690,6 +691,7 @@ async function start() {
   session.addEventListener('model', () => chart.reset());
   session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
   followSessionInView(session);
+  app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: saveSoon });
   // Without a stored session theta is likely not cached: the worker loads its copy of the core
   // while the model opens. (With one, the cache most likely has it, and the worker would compete
   // for the CPU.)

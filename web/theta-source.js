@@ -76,7 +76,7 @@ export class ThetaSource {
     const choice = session.gradientChoice();
     if (choice.path !== 'tensor') {
       const { estimate } = choice;
-      this.#setState(null, `not computed: ${thetaName(session.level)} would need about ` +
+      this.#setState(null, choice.reason ?? `not computed: ${thetaName(session.level)} would need about ` +
         `${Math.round(estimate.bytes / 2 ** 20)} MB and ${(estimate.milliseconds / 1000).toFixed(0)} s; editing runs matrix-free`, false);
       return;
     }

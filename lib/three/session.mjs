@@ -8,7 +8,7 @@
 //   editor  the editor was rebuilt (level or scheme changed: a new cage)
 //   step    one drag step: { report, ms } (the core's report: volumes, iterations, path)
 //   change  the shape or the editing state changed: { reason } ('step', 'undo', 'redo', 'cancel',
-//           'free-set', 'reference', 'preserve', 'editor', 'model', 'history')
+//           'free-set', 'reference', 'preserve', 'editor', 'model', 'history', 'keep')
 //
 // Undo/redo covers every change of the shape or the reference: drags (cage positions before and
 // after, at the level and scheme they were made), reference volume changes, preservation toggles,
@@ -47,6 +47,9 @@ export class EditingSession extends EventTarget {
   partReferences = null;
   /** Where the tensor in use came from ('computed', 'cache', ...), or null (matrix-free). */
   thetaSource = null;
+  /** Whose volume is kept ('mesh' or 'limit': the Loop limit surface), and whether the centre of mass is kept too. */
+  surface = 'mesh';
+  keepCentroid = false;
   lastReport = null;
   lastStepMs = null;
   #mrvol;
@@ -161,6 +164,43 @@ export class EditingSession extends EventTarget {
   }
 
   /**
+   * The surface whose volume is kept: 'mesh' or 'limit' (closed meshes; the centre of mass is then
+   * not kept). The editor is rebuilt and its reference becomes that surface's volume now. Throws
+   * MrvolError (the session unchanged) when the mesh has no limit volume.
+   */
+  setSurface(surface) {
+    if (surface !== 'mesh' && surface !== 'limit') throw new this.#mrvol.MrvolError(`surface must be 'mesh' or 'limit', got ${surface}`);
+    if (surface === this.surface || !this.editor) {
+      this.surface = surface;
+      return;
+    }
+    const before = { surface: this.surface, keepCentroid: this.keepCentroid }, reference = this.editor.referenceVolume();
+    this.surface = surface;
+    if (surface === 'limit') this.keepCentroid = false;
+    try {
+      this.#buildEditor();
+    } catch (error) {
+      Object.assign(this, before);
+      this.#buildEditor(reference);
+      throw error;
+    }
+  }
+
+  /** Keeps the centre of mass where it is now (with the volume), or stops; mesh surface only. */
+  setKeepCentroid(on) {
+    on = Boolean(on);
+    if (on && this.surface === 'limit')
+      throw new this.#mrvol.MrvolError('the centre of mass is kept for the mesh surface only: switch the surface to mesh first');
+    this.keepCentroid = on;
+    this.editor?.keepCentroid(on);
+    this.#emit('change', { reason: 'keep' });
+  }
+
+  /** The mesh solid's centre of mass now, and the one kept (the current one when it is not kept). */
+  centroid() { return this.editor?.centroid() ?? null; }
+  referenceCentroid() { return this.editor?.referenceCentroid() ?? null; }
+
+  /**
    * Brings the volume back to the reference with every handle free to move (the minimal
    * correction of the whole cage): one undo step. Returns the core's report, or null when refused.
    */
@@ -180,14 +220,16 @@ export class EditingSession extends EventTarget {
     this.cancelDrag();
     if (this.editor) {
       mr.setPositions(this.editor.positions());
-      reference ??= this.editor.referenceVolume();
+      // Another surface has another volume: its reference is its volume now.
+      if (this.editor.surface() === this.surface) reference ??= this.editor.referenceVolume();
       this.editor.delete();
       this.editor = null;
     }
     // Matrix-free until theta^e arrives (the app's theta source decides; moving the app onto the
     // polynomial path is its own change, with the browser tests that watch the path).
-    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free' });
+    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free', surface: this.surface });
     if (reference !== null) editor.setReferenceVolume(reference);
+    if (this.keepCentroid) editor.keepCentroid(true);
     this.editor = editor;
     this.cageSize = editor.cageSize;
     this.cageVertices = editor.cageVertices();
@@ -410,9 +452,11 @@ export class EditingSession extends EventTarget {
 
   /**
    * The gradient path the rule picks for the current level (chooseGradientPath): 'tensor' when
-   * theta^e fits, else 'matrix-free'; { path, estimate }.
+   * theta^e fits, else 'matrix-free'; { path, estimate, reason (when not the estimate) }.
    */
   gradientChoice() {
+    // A mesh theta is no use for the limit surface's volume (its own theta is not computed here).
+    if (this.surface === 'limit') return { path: 'matrix-free', estimate: null, reason: "not used: the limit surface's volume runs matrix-free" };
     return chooseGradientPath(this.model.mr, { level: this.level, thetaInBackground: true, ...this.schemeOptions });
   }
 

@@ -11,6 +11,8 @@
 #include "mrvol/error.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
+#include "mrvol/limit_volume.h"
+#include "mrvol/mesh.h"
 #include "mrvol/volume_function.h"
 #include "mrvol/volume_tensor.h"
 
@@ -122,4 +124,74 @@ TEST(VolumeFunction, CagePolynomialFromTheTensorIsTheVolumeOfTheCageWithItsGradi
       EXPECT_NEAR(f.value(cage.data(), nullptr), volume, 1e-10 * (1 + std::fabs(volume))) << fx.name << " " << fixtures::label(o);
       checkFunction(f, cage, 8, fx.name + " " + fixtures::label(o));
     }
+}
+
+TEST(VolumeFunction, FormVolumeIsItsFormWithItsGradientAndCubic) {
+  // The Loop limit form of each closed fixture, and the mesh's own triangle form: the runs of
+  // pairs give the same value as the form, whatever the order of its entries.
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, 1);
+    const uint32_t n = uint32_t(h.fineVertexCount());
+    const auto& faces = h.fineFaces();
+    std::vector<double> x = fixtures::randomVector(3 * (size_t(n) + 1), 11, 1.0);
+    x[3 * n] = x[3 * n + 1] = x[3 * n + 2] = 0.0;
+    std::vector<std::pair<std::string, FineForm>> forms = {{"triangles", triangleForm(faces)}};
+    if (fx.name != "open-patch") forms.emplace_back("limit", limitVolumeForm(faces.data(), faces.size() / 3, n));
+    for (const auto& [kind, form] : forms) {
+      FormVolume f(form, n);
+      EXPECT_EQ(f.entryCount(), form.size());
+      const double expected = form.evaluate(x.data());
+      EXPECT_NEAR(f.value(x.data(), nullptr), expected, 1e-12 * (1 + std::fabs(expected))) << fx.name << " " << kind;
+      checkFunction(f, x, 12, fx.name + " " + kind, 3);
+    }
+    if (fx.name == "open-patch") {
+      FormVolume f(triangleForm(faces), n);
+      EXPECT_NEAR(f.value(x.data(), nullptr), FineEdgeVolume(faces, n).value(x.data(), nullptr), 1e-12);
+    }
+  }
+  FineForm bad;
+  bad.corners = {0, 1, 9};
+  bad.weights = {1.0};
+  EXPECT_THROW(FormVolume(bad, 4), Error);
+}
+
+TEST(VolumeFunction, FirstMomentsAreVolumeTimesCentroidWithTheirGradients) {
+  // A box [1, 3] x [-1, 0] x [2, 5]: volume 6, centroid (2, -0.5, 3.5), as triangles.
+  TriangleMesh box;
+  const double lo[3] = {1, -1, 2}, hi[3] = {3, 0, 5};
+  for (int i = 0; i < 8; ++i) box.positions.insert(box.positions.end(), {i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]});
+  box.faces = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  std::vector<double> x = box.positions;
+  x.insert(x.end(), {0, 0, 0});  // vertex N, the reference point
+  ASSERT_NEAR(FineEdgeVolume(box.faces, 8).value(x.data(), nullptr), 6.0, 1e-12);
+  const double centroid[3] = {2, -0.5, 3.5};
+  for (int k = 0; k < 3; ++k) {
+    FirstMoment m(box.faces, 8, k);
+    EXPECT_NEAR(m.value(x.data(), nullptr), 6.0 * centroid[k], 1e-12);
+    m.setCentre(centroid[k]);  // about the centre of mass: zero
+    EXPECT_NEAR(m.value(x.data(), nullptr), 0.0, 1e-12);
+    m.setCentre(centroid[k] + 0.5);
+    EXPECT_NEAR(m.value(x.data(), nullptr), -0.5 * 6.0, 1e-12);
+  }
+  EXPECT_THROW(FirstMoment(box.faces, 8, 3), Error);
+  // Gradients against central differences, on fixtures (closed and open).
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, 1);
+    const uint32_t n = uint32_t(h.fineVertexCount());
+    std::vector<double> p = fixtures::randomVector(3 * (size_t(n) + 1), 13, 1.0);
+    p[3 * n] = p[3 * n + 1] = p[3 * n + 2] = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      FirstMoment m(h.fineFaces(), n, k);
+      m.setCentre(0.3 * (k - 1));
+      std::vector<double> g(m.size());
+      const double v = m.value(p.data(), g.data());
+      EXPECT_NEAR(v, m.value(p.data(), nullptr), 1e-14 * (1 + std::fabs(v)));
+      for (size_t i = 0; i < 3 * size_t(n); i += 7) {
+        auto plus = p, minus = p;
+        plus[i] += 1e-6, minus[i] -= 1e-6;
+        const double fd = (m.value(plus.data(), nullptr) - m.value(minus.data(), nullptr)) / 2e-6;
+        EXPECT_NEAR(g[i], fd, 1e-7 * (1 + std::fabs(fd))) << fx.name << " axis " << k << " coordinate " << i;
+      }
+    }
+  }
 }

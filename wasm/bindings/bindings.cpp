@@ -387,7 +387,7 @@ VolumeEditor* js_createEditor(const MultiresMesh& m, int level, JsScheme scheme,
 }
 bool js_editorUseTheta(VolumeEditor& e, const MultiresMesh& m, const Theta& t, JsScheme scheme) {
   return guarded([&] {
-    m.checkTheta(t.header, e.level(), toScheme(scheme));
+    m.checkTheta(t.header, e.level(), toScheme(scheme), e.limitSurface());
     e.useTensor(t.tensor);
     return true;
   });
@@ -430,6 +430,14 @@ bool js_editorSetParts(VolumeEditor& e, val parts, val references) {
     return true;
   });
 }
+// The limit surface's volume kept instead of the mesh's (the form of this mesh, kept by it).
+bool js_editorUseLimitSurface(VolumeEditor& e, const MultiresMesh& m) {
+  return guarded([&] { return e.useLimitSurface(m.limitForm()), true; });
+}
+bool js_editorKeepCentroid(VolumeEditor& e, bool keep) { return guarded([&] { return e.keepCentroid(keep), true; }); }
+val vec3ToJs(Vec3 v) { return toTyped(std::vector<double>{v.x, v.y, v.z}); }
+val js_editorCentroid(const VolumeEditor& e) { return guarded([&] { return vec3ToJs(e.centroid()); }); }
+val js_editorReferenceCentroid(const VolumeEditor& e) { return guarded([&] { return vec3ToJs(e.referenceCentroid()); }); }
 val js_editorPartVolumes(const VolumeEditor& e) { return guarded([&] { return toTyped(e.partVolumes()); }); }
 
 EditOptions toEditOptions(const val& o) {
@@ -455,6 +463,10 @@ val reportToJs(const EditReport& r) {
   out.set("path", std::string(gradientPathName(r.path)));
   out.set("partVolumes", toTyped(r.partVolumes));
   out.set("partReferences", toTyped(r.partReferences));
+  if (!r.centroidResult.empty()) {
+    out.set("centroidReference", toTyped(r.centroidReference));
+    out.set("centroidResult", toTyped(r.centroidResult));
+  }
   return out;
 }
 
@@ -537,6 +549,12 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("setFreeSet", &js_editorSetFreeSet)
       .function("setParts", &js_editorSetParts)
       .function("partVolumes", &js_editorPartVolumes)
+      .function("useLimitSurface", &js_editorUseLimitSurface)
+      .function("limitSurface", &VolumeEditor::limitSurface)
+      .function("keepCentroid", &js_editorKeepCentroid)
+      .function("keepsCentroid", &VolumeEditor::keepsCentroid)
+      .function("centroid", &js_editorCentroid)
+      .function("referenceCentroid", &js_editorReferenceCentroid)
       .function("deformCage", &js_editorDeformCage)
       .function("correct", &js_editorCorrect)
       .function("gradient", &js_editorGradient);

@@ -12,7 +12,7 @@ import { twinEditors, runDemo, cageDragging } from './demo-common.js';
  * 12 % of the size away from it. Otherwise: the vertex farthest from the centroid, then the
  * farthest one at least 45 degrees away.
  */
-function pickEars(cage, upright = false) {
+export function pickEars(cage, upright = false) {
   const n = cage.length / 3;
   const c = [0, 0, 0];
   for (let i = 0; i < n; i++) for (let k = 0; k < 3; k++) c[k] += cage[3 * i + k] / n;

@@ -11,6 +11,7 @@ export const VIEWS = [
   { route: 'demo/skinning', title: 'Skinning', load: () => import('./skinning.js') },
   { route: 'learn/tensor', title: 'Volume tensor', load: () => import('./tensor.js') },
   { route: 'demo/bunny', title: 'Pulling ears', load: () => import('./bunny.js') },
+  { route: 'demo/balance', title: 'Keeping balance', load: () => import('./balance.js') },
   { route: 'learn/lifting', title: 'Lifting', load: () => import('./lifting.js') },
 ];
 

@@ -53,9 +53,12 @@ void CageVolumeConstraint::step(const std::vector<uint32_t>& free, const double*
   session_->fine.cageChanged();
 }
 
-void FineVolumeConstraints::setRows(std::vector<const VolumeFunction*> rows, std::vector<double> refs, bool detailsFree) {
-  rows_ = std::move(rows);
-  references = std::move(refs);
+void FineVolumeConstraints::setRows(const VolumeFunction& first, std::vector<const FineFunction*> more, bool detailsFree) {
+  first_ = &first;
+  rows_ = {&first};
+  rows_.insert(rows_.end(), more.begin(), more.end());
+  references.clear();
+  scales.clear();
   detailsFree_ = detailsFree;
   cacheVersion_ = ~uint64_t(0);
   gradientCached_ = false;
@@ -113,7 +116,7 @@ void FineVolumeConstraints::alongDirection(const std::vector<uint32_t>& free, co
   scatter(free, direction, direction_.data());
   if (detailsFree_) transform_->synthesize(direction_.data(), level_);
   else transform_->synthesizeZeroDetails(direction_.data(), level_);
-  rows_[0]->alongDirection(p.data(), direction_.data(), k, true);
+  first_->alongDirection(p.data(), direction_.data(), k, true);
 }
 
 void FineVolumeConstraints::step(const std::vector<uint32_t>& free, const double* direction, double s, const double* cubicValue) {

@@ -21,6 +21,8 @@ void checkEditOptions(const EditOptions& o) {
   if (o.maxIterations < 1 || o.maxSubsteps < 1) throw Error("tolerance must be positive and iteration limits at least 1");
 }
 
+double VolumeConstraints::scale(size_t row) const { return std::fabs(reference(row)); }
+
 VolumeSolver::VolumeSolver(VolumeConstraints& constraints, std::vector<uint32_t> free)
     : constraints_(&constraints), free_(std::move(free)) {
   const size_t k = constraints.rowCount(), m3 = 3 * free_.size();
@@ -32,7 +34,7 @@ VolumeSolver::VolumeSolver(VolumeConstraints& constraints, std::vector<uint32_t>
 void VolumeSolver::solve(const EditOptions& o, EditReport& report) {
   VolumeConstraints& c = *constraints_;
   const size_t k = c.rowCount(), m3 = 3 * free_.size();
-  auto relativeError = [&](size_t r) { return std::fabs(values_[r] - c.reference(r)) / std::max(std::fabs(c.reference(r)), 1e-300); };
+  auto relativeError = [&](size_t r) { return std::fabs(values_[r] - c.reference(r)) / std::max(c.scale(r), 1e-300); };
   bool cubicValue = false;  // values_[0] holds the exact volume after the last step (its cubic); no gradients
   for (int it = 0;; ++it) {
     if (!cubicValue || relativeError(0) >= o.tolerance) c.evaluate(values_.data());

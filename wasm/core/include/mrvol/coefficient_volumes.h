@@ -47,17 +47,20 @@ class CageVolumeConstraint final : public VolumeConstraints {
   std::vector<double> cage_, gradient_, direction_;
 };
 
-// Rows: volume functions of the fine positions (3 (N + 1), see FinePositions), each with its
-// reference. The first row's value and fine gradient are cached for the current fine positions.
+// Rows: functions of the fine positions (3 (N + 1), see FinePositions), each with its reference
+// (and optionally its error scale). Row 0 is a volume; its value and fine gradient are cached for
+// the current fine positions.
 class FineVolumeConstraints final : public VolumeConstraints {
  public:
   FineVolumeConstraints(const WaveletTransform& transform, int level, SessionCoefficients& session)
       : transform_(&transform), level_(level), session_(&session) {}
   // The functions must outlive their use here. detailsFree: the free set holds details too.
-  void setRows(std::vector<const VolumeFunction*> rows, std::vector<double> references, bool detailsFree);
+  void setRows(const VolumeFunction& first, std::vector<const FineFunction*> more, bool detailsFree);
   std::vector<double> references;
+  std::vector<double> scales;  // per row, or empty: |reference|
   size_t rowCount() const override { return rows_.size(); }
   double reference(size_t row) const override { return references[row]; }
+  double scale(size_t row) const override { return scales.empty() ? VolumeConstraints::scale(row) : scales[row]; }
   // Each row's value and fine gradient in one pass (row 0's from the cache when it holds them).
   void evaluate(double* values) override;
   // The fine gradients of evaluate() carried to the coefficients by the adjoint of synthesis.
@@ -73,7 +76,8 @@ class FineVolumeConstraints final : public VolumeConstraints {
   const WaveletTransform* transform_;
   int level_;
   SessionCoefficients* session_;
-  std::vector<const VolumeFunction*> rows_;
+  const VolumeFunction* first_ = nullptr;
+  std::vector<const FineFunction*> rows_;  // first_, then the others
   bool detailsFree_ = false;
   // Cache of row 0 at fine positions version cacheVersion_: its value, and its fine gradient in
   // gradient_ while gradientCached_.

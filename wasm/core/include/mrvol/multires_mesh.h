@@ -100,13 +100,14 @@ class MultiresMesh {
                                   const TensorProgress& progress = {}) const;
   double limitTensorVolume(const VolumeTensor& tensor, const SchemeOptions& scheme,
                            const std::vector<double>& positions) const;
+  // The limit volume form itself, in hierarchy numbering (built on first use; editors keep it).
+  const FineForm& limitForm() const;
 
  private:
   MultiresMesh() = default;
   void checkLevel(int level) const;
   const std::vector<LiftingStep>& stepsOfLevel(int level, const SchemeOptions& scheme) const;
   const std::vector<LiftingStep>& checkedSteps(int level, int steps, const SchemeOptions& scheme) const;
-  const FineForm& limitForm() const;  // in hierarchy numbering, built on first use
   double tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine,
                         const std::vector<double>& positions) const;
   template <class Apply>

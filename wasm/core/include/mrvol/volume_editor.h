@@ -39,7 +39,26 @@ class VolumeEditor {
 
   double referenceVolume() const { return reference_; }
   void setReferenceVolume(double volume);
-  double volume() const;  // current volume (from the fine mesh, exact)
+  double volume() const;  // current volume (from the fine mesh, or its limit surface; exact)
+
+  // The surface whose volume is kept: the fine mesh (default) or, given the Loop limit surface's
+  // volume form of the fine mesh (limit_volume.h, hierarchy numbering), the limit surface. The
+  // reference becomes the current volume of that surface. The limit surface runs matrix-free, or
+  // on the tensor path with theta^e of the limit form (useTensor); the polynomial builder knows
+  // only the mesh's triangles. Not with parts or the centre of mass.
+  void useLimitSurface(const FineForm& limitForm);
+  bool limitSurface() const { return limitVolume_ != nullptr; }
+
+  // Keeping the centre of mass (of the mesh's solid) with the volume: three more rows, the first
+  // moments about the centre of mass now, each kept at zero (matrix-free path; not with parts). A
+  // moment row's error is relative to |V| times a tenth of the bounding-box diagonal: the centroid's
+  // drift stays under a tenth of the tolerance times the model's size, whatever the volume's error.
+  void keepCentroid(bool keep);
+  bool keepsCentroid() const { return keepCentroid_; }
+  // The mesh solid's centre of mass now (caller's frame) and the one kept (reference moments over
+  // the reference volume).
+  Vec3 centroid() const;
+  Vec3 referenceCentroid() const;
 
   // Gradient path. The tensor must be theta^e with Cage storage for this mesh and scheme.
   void useTensor(const VolumeTensor& tensor);
@@ -83,7 +102,10 @@ class VolumeEditor {
  private:
   // The one choice of what the solver works on: the polynomial when a tensor is in use and
   // neither details nor parts call for the fine mesh.
-  bool usesTensor() const { return polynomial_ && freeDetailLevels_.empty() && parts_.empty(); }
+  bool usesTensor() const { return polynomial_ && freeDetailLevels_.empty() && parts_.empty() && !keepCentroid_; }
+  const VolumeFunction& surfaceVolume() const;  // the mesh's or the limit surface's
+  double meshMoments(double moments[3]) const;  // the mesh volume, and its first moments about the moments' centre
+  double momentChange() const;                  // the moments' largest relative deviation now
   VolumeConstraints& constraints();  // the active ones, references up to date
   // Row 0 of the active constraints (the global volume or part 0); withGradient: on the matrix-free
   // path, its gradient is computed in the same pass and kept for the solver's first iteration.
@@ -102,6 +124,10 @@ class VolumeEditor {
   int level_;
   mutable SessionCoefficients session_;
   FineEdgeVolume fineVolume_;
+  std::unique_ptr<FormVolume> limitVolume_;
+  std::vector<FirstMoment> moments_;  // x, y, z
+  bool keepCentroid_ = false;
+  double momentScale_ = 1;
   double reference_ = 0;
   std::unique_ptr<CagePolynomialVolume> polynomial_;
   // Set on the polynomial path: the builder, and whether the details moved since the build.

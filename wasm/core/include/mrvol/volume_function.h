@@ -13,13 +13,21 @@
 
 namespace mrvol {
 
-class VolumeFunction {
+struct FineForm;
+
+// A scalar of x (3 per vertex) with its gradient: what a constraint row of the solver needs.
+class FineFunction {
  public:
-  virtual ~VolumeFunction() = default;
+  virtual ~FineFunction() = default;
   // Doubles in x, the gradient and a direction (3 per vertex).
   virtual size_t size() const = 0;
-  // The volume at x and, if `gradient` is not null, its gradient (size() doubles, overwritten).
+  // The value at x and, if `gradient` is not null, its gradient (size() doubles, overwritten).
   virtual double value(const double* x, double* gradient) const = 0;
+};
+
+// A volume: a cubic form, so also exactly a cubic along any line.
+class VolumeFunction : public FineFunction {
+ public:
   // The cubic s -> V(x + s d): k[0] + k[1] s + k[2] s^2 + k[3] s^3. With lowKnown the caller has
   // already put V(x) in k[0] and grad V(x) . d in k[1] (an implementation may still recompute them).
   virtual void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const = 0;
@@ -59,6 +67,49 @@ class TriangleSetVolume final : public VolumeFunction {
   const std::vector<uint32_t>* faces_;
   uint32_t vertexCount_;
   std::vector<uint8_t> triangles_;
+};
+
+// A trilinear form of the fine positions as a volume, sum_t w_t det(p_a, p_b, p_c) (FineForm: the
+// Loop limit surface's volume, limit_volume.h), over the same N + 1 positions as above (vertex N,
+// the reference point, is in no entry). The entries are kept as runs of one pair (a, b): a run
+// shares p_a x p_b, and S = sum_c w_c p_c serves its value and its gradient at a and b.
+class FormVolume final : public VolumeFunction {
+ public:
+  // Entries with indices below vertexCount (hierarchy numbering, like the positions).
+  FormVolume(const FineForm& form, uint32_t vertexCount);
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+  void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const override;
+  size_t entryCount() const { return c_.size(); }
+
+ private:
+  uint32_t vertexCount_;
+  std::vector<uint32_t> pairA_, pairB_;
+  std::vector<uint64_t> runStart_;  // one more than the pairs
+  std::vector<uint32_t> c_;
+  std::vector<double> weight_;
+};
+
+// One first moment of the enclosed solid about a centre q on axis k (coordinates relative to the
+// reference point), M_k - q_k V = sum over triangles det(a, b, c) ((a_k + b_k + c_k) / 24 - q_k / 6):
+// each cone's volume times the k-th coordinate of its centroid (a + b + c) / 4, less q_k. With q = 0
+// it is V c_k for the centre of mass c; it vanishes when c_k = q_k, whatever the volume. Over the same
+// N + 1 positions; boundary loops close as cones, which add nothing here. A quadrilinear form (a
+// quartic of the positions) for q fixed.
+class FirstMoment final : public FineFunction {
+ public:
+  // `faces` (3 per triangle) must outlive this; axis 0, 1 or 2.
+  FirstMoment(const std::vector<uint32_t>& faces, uint32_t vertexCount, int axis);
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+  void setCentre(double q) { centre_ = q; }
+  double centre() const { return centre_; }
+
+ private:
+  const std::vector<uint32_t>* faces_;
+  uint32_t vertexCount_;
+  int axis_;
+  double centre_ = 0;
 };
 
 }  // namespace mrvol

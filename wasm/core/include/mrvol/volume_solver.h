@@ -39,6 +39,8 @@ struct EditReport {
   std::string message;  // why it did not converge
   GradientPath path = GradientPath::MatrixFree;
   std::vector<double> partVolumes, partReferences;
+  // While the centre of mass is kept: the kept one and where it ended (3 each, else empty).
+  std::vector<double> centroidReference, centroidResult;
 };
 
 // What the solver restores: rows r = 0..k-1, each a volume of the current coefficients with its
@@ -49,13 +51,16 @@ class VolumeConstraints {
   virtual ~VolumeConstraints() = default;
   virtual size_t rowCount() const = 0;
   virtual double reference(size_t row) const = 0;
+  // What a row's error is relative to: |reference| for a volume; a moment about the reference
+  // point, which may be near zero, takes a scale of its own (volume times the model's size).
+  virtual double scale(size_t row) const;
   // The value of every row at the current coefficients.
   virtual void evaluate(double* values) = 0;
   // After evaluate(), at the same coefficients: the rows' gradients with respect to the free
   // coefficients (rowCount rows of 3 free.size(), row after row). Asked for only when the values
   // are not within tolerance.
   virtual void gradients(const std::vector<uint32_t>& free, double* gradients) = 0;
-  // The cubic of row 0 along `direction` from the current coefficients; k[0] (its value) and k[1]
+  // With one row: the cubic of row 0 along `direction` from the current coefficients; k[0] (its value) and k[1]
   // (its derivative along the direction) come in known.
   virtual void alongDirection(const std::vector<uint32_t>& free, const double* direction, double* k) = 0;
   // The free coefficients move by s times `direction`. With `cubicValue`, the direction is the one

@@ -1,0 +1,118 @@
+// Keep balance: the editor's switches for what is kept besides the volume (the centre of mass,
+// "keep balance") and whose volume it is (the mesh, or its Loop limit surface), and the centre of
+// mass drawn as a marker (seen through the surface: it is inside). The core computes the centroid
+// (VolumeEditor.centroid); this module only moves it to the screen, once per frame at most.
+import * as THREE from 'three';
+import { showError } from './readouts.js';
+
+const KEPT = 0x1a7f37, FREE = 0xcf222e;
+
+function element(html) {
+  const t = document.createElement('template');
+  t.innerHTML = html.trim();
+  return t.content.firstChild;
+}
+
+/** Adds the switches above the panel and the marker to the view; follows `session`. */
+export function setUpBalance({ session, viewer, onChanged = () => {} }) {
+  const box = element(`
+    <section class="balance" data-testid="balance" aria-label="Balance and surface">
+      <label class="check" title="Keep the centre of mass where it is while dragging (four constraints: the volume and the three first moments)">
+        <input type="checkbox" data-testid="keep-balance"> keep balance (centre of mass)</label>
+      <label title="Whose volume is kept: the triangle mesh, or the smooth Loop limit surface it stands for (closed meshes)">surface
+        <select data-testid="surface-select" aria-label="surface whose volume is kept">
+          <option value="mesh">mesh</option><option value="limit">limit (smooth)</option></select></label>
+      <div class="muted" data-testid="centroid-readout">–</div>
+    </section>`);
+  document.getElementById('panel-host').before(box);
+  const keep = box.querySelector('[data-testid="keep-balance"]');
+  const surface = box.querySelector('[data-testid="surface-select"]');
+  const readout = box.querySelector('[data-testid="centroid-readout"]');
+
+  const marker = new THREE.Group();
+  const material = new THREE.MeshBasicMaterial({ color: FREE, depthTest: false, transparent: true, opacity: 0.95 });
+  const ball = new THREE.Mesh(new THREE.SphereGeometry(1, 20, 14), material);
+  const ring = new THREE.Mesh(new THREE.TorusGeometry(1.9, 0.18, 8, 32), material);
+  marker.add(ball, ring);
+  marker.renderOrder = 10;
+  ball.renderOrder = ring.renderOrder = 10;
+  marker.name = 'centre of mass';
+  viewer.scene.add(marker);
+
+  let baseline = null, diagonal = 1, pending = false;
+  const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+
+  function sync() {
+    keep.checked = session.keepCentroid;
+    surface.value = session.surface;
+    keep.disabled = session.surface === 'limit';
+    keep.parentElement.title = keep.disabled ? 'The centre of mass is kept for the mesh surface only'
+      : 'Keep the centre of mass where it is while dragging (four constraints: the volume and the three first moments)';
+  }
+
+  function draw() {
+    pending = false;
+    if (!session.editor) return;
+    let c;
+    try {
+      c = session.centroid();
+    } catch {
+      marker.visible = false;  // a solid of zero volume has no centre of mass
+      readout.textContent = 'no centre of mass (zero volume)';
+      return;
+    }
+    marker.visible = true;
+    marker.position.set(c[0], c[1], c[2]);
+    marker.quaternion.copy(viewer.camera.quaternion);  // the ring faces the viewer
+    baseline ??= Array.from(c);
+    const drift = distance(c, baseline) / diagonal;
+    material.color.setHex(session.keepCentroid ? KEPT : FREE);
+    readout.textContent = `centre of mass ${session.keepCentroid ? 'kept' : 'free'}: moved ${(100 * drift).toPrecision(2)} % of the size`;
+    box.dataset.centroid = JSON.stringify(Array.from(c));
+    box.dataset.baseline = JSON.stringify(baseline);
+    box.dataset.drift = String(drift);
+    viewer.requestRender();
+  }
+  const drawSoon = () => {
+    if (pending) return;
+    pending = true;
+    requestAnimationFrame(draw);
+  };
+
+  session.addEventListener('model', () => {
+    const p = session.positions();
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    for (let i = 0; i < p.length; i += 3) for (let k = 0; k < 3; k++) lo[k] = Math.min(lo[k], p[i + k]), hi[k] = Math.max(hi[k], p[i + k]);
+    diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+    marker.scale.setScalar(0.008 * diagonal);
+    baseline = null;
+    drawSoon();
+  });
+  session.addEventListener('editor', () => { sync(); drawSoon(); });
+  session.addEventListener('change', drawSoon);
+  viewer.controls?.addEventListener('change', () => marker.quaternion.copy(viewer.camera.quaternion));
+
+  keep.addEventListener('change', () => {
+    try {
+      session.setKeepCentroid(keep.checked);
+      if (keep.checked) baseline = Array.from(session.referenceCentroid());
+    } catch (e) {
+      showError(`Balance could not be kept: ${e.message}`);
+    }
+    sync();
+    drawSoon();
+    onChanged();
+  });
+  surface.addEventListener('change', () => {
+    try {
+      session.setSurface(surface.value);
+    } catch (e) {
+      showError(`The ${surface.value} surface cannot be used: ${e.message}`);
+    }
+    sync();
+    drawSoon();
+    onChanged();
+  });
+  sync();
+  return { marker, draw, sync };
+}
