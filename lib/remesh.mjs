@@ -34,6 +34,7 @@ export class Surface {
     this.point = new Vector3();
     this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
     this.ray = new Ray();
+    this.diagonal = boundingDiagonal(mesh.positions);
     if (!normals) return;
     // The BVH reorders the triangles of the index: face normals follow its order.
     const index = geometry.index.array, p = mesh.positions;
@@ -611,8 +612,18 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
  * point to their centroid (cosine below `against`) and against an edge neighbour's, or that are
  * degenerate.
  */
-function countFlipped(mesh, surface) {
-  return flippedFaces(mesh, surface, null, RESULT_AGAINST).length;
+function countFlipped(mesh, surface, constraints) {
+  return resultFlipped(mesh, surface, constraints).length;
+}
+
+/**
+ * The result's flipped triangles, but for those whose corners are all held (a piece that is its
+ * own base: exact, even where another piece's surface is closer to it than its own).
+ */
+function resultFlipped(mesh, surface, constraints) {
+  const kind = constraints?.kind, f = mesh.faces;
+  return flippedFaces(mesh, surface, null, RESULT_AGAINST)
+    .filter((t) => !(kind && kind[f[3 * t]] === 2 && kind[f[3 * t + 1]] === 2 && kind[f[3 * t + 2]] === 2));
 }
 
 /**
@@ -652,8 +663,10 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0) {
                            Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
                            Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz));
     const hit = surface.closest(cx, cy, cz, 1.0001 * bound + 1e-12);
-    const m = 3 * hit.faceIndex, sn = surface.smoothNormals;
+    const m = 3 * hit.faceIndex, sn = surface.smoothNormals, rn = surface.normals;
     if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= against) continue;
+    // Lying on an input face that faces the same way: the input itself is crumpled there.
+    if (against < 0 && hit.distance < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
     // tip, where the input's normal is ambiguous, has neighbours that agree with it).
     for (let j = 0; j < 3; j++) {
@@ -674,14 +687,15 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0) {
 /**
  * Local untangling: the vertices around flipped triangles (a ring more each round) move to the
  * mean of their neighbours and back onto the surface (on their line if on a feature; corners
- * stay), a few steps per round, until no triangle is flipped or `rounds` rounds. Returns the
- * flipped triangles left.
+ * stay), a few steps per round, until no triangle is flipped or `rounds` rounds. Without
+ * `project` they stay at the mean (a crumpled input re-creates the fold on it; the Hausdorff
+ * distance measured after says what that cost). Returns the flipped triangles left.
  */
-function untangle(surface, positions, faces, constraints, rounds = 6) {
+function untangle(surface, positions, faces, constraints, rounds = 6, project = true) {
   const vertexCount = positions.length / 3;
   const adjacency = connectivity(faces, vertexCount).neighbours;
   const { offsets, list } = adjacency;
-  let flipped = flippedFaces({ positions, faces }, surface, null, RESULT_AGAINST);
+  let flipped = resultFlipped({ positions, faces }, surface, constraints);
   for (let round = 0; round < rounds && flipped.length > 0; round++) {
     const near = new Uint8Array(vertexCount);
     let front = [];
@@ -701,12 +715,16 @@ function untangle(surface, positions, faces, constraints, rounds = 6) {
         let x = 0, y = 0, z = 0;
         const degree = offsets[v + 1] - offsets[v];
         for (let e = offsets[v]; e < offsets[v + 1]; e++) x += positions[3 * list[e]], y += positions[3 * list[e] + 1], z += positions[3 * list[e] + 2];
+        if (!project) {
+          next[3 * r] = x / degree, next[3 * r + 1] = y / degree, next[3 * r + 2] = z / degree;
+          return;
+        }
         const p = surface.closest(x / degree, y / degree, z / degree).point;
         next[3 * r] = p.x, next[3 * r + 1] = p.y, next[3 * r + 2] = p.z;
       });
       region.forEach((v, r) => positions.set(next.subarray(3 * r, 3 * r + 3), 3 * v));
     }
-    flipped = flippedFaces({ positions, faces }, surface, null, RESULT_AGAINST);
+    flipped = resultFlipped({ positions, faces }, surface, constraints);
   }
   return flipped.length;
 }
@@ -777,6 +795,8 @@ export async function remesh(mrvol, input, options = {}) {
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
 
+  // Input vertices the base must keep: tips that a fit left too far away (see below).
+  const tipKeys = new Set();
   // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
   const simplifierProblems = [];
   const fit = (levels, fraction, share, baseScale = 1) => {
@@ -789,10 +809,11 @@ export async function remesh(mrvol, input, options = {}) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
       const exact = [];
       const bases = pieces.map((piece) => {
-        let target = Math.max(8, Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
+        // A small piece (64 faces or fewer) is its own base: exact.
+        let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
-        const lock = withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null;
+        const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
         const b = simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
         simplifierProblems.push(...b.problems);
         exact.push(!b.simplified);
@@ -804,8 +825,10 @@ export async function remesh(mrvol, input, options = {}) {
       const pieceOfBaseVertex = (v) => firstVertex.findLastIndex((n) => n <= v);
       result = fitLevels(mrvol, surface, base, levels, relaxIterations, withFeatures, exact, pieceOfBaseVertex,
                          (f, stage) => progress(fraction + share * f, stage));
-      result.untangled = countFlipped(result.mesh, surface);
+      result.untangled = countFlipped(result.mesh, surface, result.constraints);
       result.flippedTriangles = result.untangled ? untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints) : 0;
+      if (result.flippedTriangles > 0)
+        result.flippedTriangles = untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints, 8, false);
       if (result.flippedTriangles === 0 || options.allowFlipped) break;
     }
     return result;
@@ -840,6 +863,13 @@ export async function remesh(mrvol, input, options = {}) {
     let levels = 2;
     while (levels > 0 && !fits(levels, 1)) levels--;
     for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1); levels++);
+    // Still far: the input vertices farthest from the result (tips the base cut off, a few
+    // apart) are kept in the base, up to three times.
+    for (let round = 0; round < 3 && distance(measured) > goal; round++) {
+      const added = addTips(mesh, measured.surface, goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
+      if (added === 0) break;
+      tryFit(result.levels, 1);
+    }
     for (const scale of [2, 4]) {
       if (distance(measured) <= goal || requested * scale > 1250) break;
       let l = result.levels;
@@ -908,10 +938,43 @@ function lockedFeatures(mesh, keys, target) {
   return null;
 }
 
-/** Two-sided sampled distances between the result and the input. */
+/** Two-sided sampled distances between the result and the input (and the result's surface). */
 function measure(result, input, surface, maxSamples) {
   const resultSurface = new Surface(result, { normals: false });
-  return { toInput: oneSidedHausdorff(result, surface, maxSamples), fromInput: oneSidedHausdorff(input, resultSurface, maxSamples) };
+  return { toInput: oneSidedHausdorff(result, surface, maxSamples), fromInput: oneSidedHausdorff(input, resultSurface, maxSamples),
+           surface: resultSurface };
+}
+
+/**
+ * Adds to `keys` the positions of the input vertices farther than `limit` from the result, the
+ * farthest first, each at least `spacing` from those already chosen, at most `count`. Returns how
+ * many were added.
+ */
+function addTips(input, resultSurface, limit, spacing, count, keys) {
+  const p = input.positions, far = [];
+  for (let i = 0; i < p.length / 3; i++) {
+    const d = resultSurface.closest(p[3 * i], p[3 * i + 1], p[3 * i + 2]).distance;
+    if (d > limit) far.push([d, i]);
+  }
+  far.sort((a, b) => b[0] - a[0]);
+  const chosen = [];
+  for (const [, i] of far) {
+    if (chosen.length >= count) break;
+    if (chosen.some((j) => Math.hypot(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing)) continue;
+    chosen.push(i);
+  }
+  let added = 0;
+  for (const i of chosen) if (!keys.has(positionKey(p, i))) keys.add(positionKey(p, i)), added++;
+  return added;
+}
+
+/** `lock` (or none) with the vertices of `mesh` at the positions of `keys` added, if they fit the target. */
+function withLocks(lock, mesh, keys, target) {
+  if (keys.size === 0) return lock;
+  const n = mesh.positions.length / 3, out = lock ? Uint8Array.from(lock) : new Uint8Array(n);
+  let count = 0;
+  for (let v = 0; v < n; v++) if (keys.has(positionKey(mesh.positions, v))) out[v] = 1, count++;
+  return count > 0 && count <= target / 4 ? out : lock;
 }
 
 /**
