@@ -50,7 +50,7 @@ const COMMAND_HELP = {
   remesh: {
     usage: 'remesh IN.obj [--levels n] [--base-faces k] [--keep-largest] [--repair [--max-hole m] [--smooth k]]\n' +
            '     [--scheme catmull-clark] -o OUT.obj [--json]',
-    summary: 'semi-regular remeshing of any closed manifold mesh (catmull-clark: into quads)',
+    summary: 'semi-regular remeshing of closed manifold meshes (any genus, pieces, sharp edges; catmull-clark: quads)',
     options: ['levels', 'base-faces', 'keep-largest', 'repair', 'max-hole', 'smooth', 'scheme', 'output', 'json'],
   },
   help: { usage: 'help [COMMAND]', summary: 'this help, or one command\'s', options: [] },
@@ -62,7 +62,8 @@ const OPTION_HELP = {
           '                                 (OBJ, quads kept; docs/catmull-clark.md)',
   alpha: '--alpha a --beta b               Loop update weights (default -1.70943, 0.42954)',
   level: '--level e                        analysis level, 0 <= e <= n (default 0)',
-  levels: '--levels n                       levels of 1-to-4 splits (subdivide: required; remesh: default 2)',
+  levels: '--levels n                       levels of 1-to-4 splits (subdivide: required; remesh: default\n' +
+          '                                 as many as keep the detail within 0.5%)',
   storage: '--storage cage|full              theta entries kept: rows of the level-e cage (default) or all;\n' +
            '                                 nnzFull (the full tensor\'s count) is known only with full',
   theta: '--theta FILE                     use a stored theta file instead of computing',
@@ -81,7 +82,7 @@ const OPTION_HELP = {
         '                                 (no theta) when e <= n - 3, else (or with --free-details)\n' +
         '                                 matrix-free; tensor computes theta (or --theta FILE)',
   'base-faces': '--base-faces k                   remesh: faces of the simplified base mesh (default: the\n' +
-                '                                 input\'s faces / 4^n, within 300..8000)',
+                '                                 input\'s faces / 12, within 200..1000: a cage of 100-500 handles)',
   'keep-largest': '--keep-largest                   remesh: keep the largest connected component, drop the others',
   repair: '--repair                         remesh: repair a scan first: weld, drop duplicate faces, fins,\n' +
           '                                 non-manifold and folded faces, close holes (reported in --json)',
@@ -530,7 +531,8 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
 
 COMMANDS.remesh = async (mrvol, values, positionals) => {
   const input = onePath(positionals, 'IN.obj');
-  const levels = integer(values.levels, 'levels', 2);
+  // Without --levels: as many as keep the input's detail (lib/remesh.mjs).
+  const levels = values.levels === undefined ? undefined : integer(values.levels, 'levels');
   if (levels < 0 || levels > 6) throw new UsageError(`--levels must be in 0..6, got ${levels}`);
   const baseFaces = values['base-faces'] === undefined ? undefined : integer(values['base-faces'], 'base-faces');
   if (baseFaces !== undefined && baseFaces < 4) throw new UsageError(`--base-faces must be at least 4, got ${baseFaces}`);
@@ -559,13 +561,16 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
     levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces, vertices: r.vertices, faces: r.faces,
     hausdorff: r.hausdorff, hausdorffToInput: r.hausdorffToInput, hausdorffFromInput: r.hausdorffFromInput,
     flippedTriangles: r.flippedTriangles, volumeChange: r.volumeChange, ms: round(r.ms, 1), output: values.output,
-    genus: r.input.genus, repair: r.repair,
+    genus: r.input.genus, components: r.components, features: r.features, untangledTriangles: r.untangledTriangles,
+    droppedPieces: r.input.droppedPieces, repair: r.repair,
   };
   print(values, result, (x) => [
     `wrote            ${x.output}: ${x.vertices} vertices, ${x.faces} faces, ${x.levels} levels over ${x.baseVertices} base vertices`,
     `hausdorff        ${round(100 * x.hausdorff, 3)}% of the bounding-box diagonal (to input ${round(100 * x.hausdorffToInput, 3)}%, from input ${round(100 * x.hausdorffFromInput, 3)}%)`,
     `flipped          ${x.flippedTriangles} triangles`,
     `volume change    ${round(100 * x.volumeChange, 4)}%`,
+    `pieces           ${x.components} component(s), genus ${x.genus}${x.droppedPieces ? `, ${x.droppedPieces} empty piece(s) dropped` : ''}`,
+    `features         ${x.features.edges} crease edges, ${x.features.corners} corners (${x.features.cornerVertices} base corners held, ${x.features.creaseVertices} vertices on creases)`,
     ...(x.repair ? [`repaired         ${Object.entries(x.repair).filter(([, v]) => v).map(([k, v]) => `${k} ${v}`).join(', ') || 'nothing'}`] : []),
     `time             ${x.ms} ms`].join('\n'));
 };

@@ -5,15 +5,30 @@ import type { Mesh, Mrvol } from './index.js';
 
 /** Options of remesh(). */
 export interface RemeshOptions {
-  /** Levels of 1-to-4 splits over the base mesh (0..6, default 2). */
+  /**
+   * Levels of 1-to-4 splits over the base mesh (0..6). Default: from 2, as many as bring the
+   * two-sided Hausdorff distance within `hausdorffGoal`, within `maxVertices`; still above it, a
+   * base twice and four times as large is tried.
+   */
   levels?: number;
   /**
-   * Faces of the simplified base mesh (>= 4). Default: the input's face count / 4^levels within
-   * 300..8000; then a folded result is retried with twice the base (3 attempts).
+   * Faces of the simplified base mesh over all components (>= 4). Default: the input's face count
+   * / 12 within 200..1000 (a cage of about 100-500 handles), raised to make room for the feature
+   * vertices of a CAD part; a component smaller than its share is its own base (then exact). A
+   * result that still folds after untangling is retried without the feature constraints, then
+   * (unless given) with twice and four times the base.
    */
   baseFaces?: number;
-  /** Keep the largest connected component instead of refusing several (default false). */
+  /** Keep only the largest connected component (default false: every component is remeshed). */
   keepLargest?: boolean;
+  /** Default levels: the distance to reach (fraction of the diagonal, default 0.005). */
+  hausdorffGoal?: number;
+  /** Default levels: at most this many vertices (default max(2x the input's, 10000)). */
+  maxVertices?: number;
+  /** Sharp features kept (default true): see `features` in the result. */
+  features?: boolean;
+  /** Dihedral angle in degrees over which an edge is a crease (default 35). */
+  featureAngle?: number;
   /** Run repair() on the input first (for scans that are almost a closed 2-manifold; default false). */
   repair?: boolean;
   /** With repair: the largest hole (in edges) it closes (default 100). */
@@ -35,6 +50,12 @@ export interface RemeshResult {
   /** The semi-regular mesh, hierarchy order (base vertices first): openMesh() detects `levels`. */
   mesh: Mesh;
   levels: number;
+  /** The level counts fitted (default levels: the search). */
+  levelsTried: number[];
+  /** Every fit tried: levels, base faces, flipped triangles left, Hausdorff distance. */
+  fits: { levels: number; baseFaces: number; flipped: number; hausdorff?: number }[];
+  /** Connected components remeshed (each with its own base). */
+  components: number;
   baseVertices: number;
   baseFaces: number;
   vertices: number;
@@ -46,15 +67,27 @@ export interface RemeshResult {
   /** Input samples to the result surface, / diagonal. */
   hausdorffFromInput: number;
   diagonal: number;
-  /** Triangles facing against the input's (smoothed) normal at their centroid's closest point. */
+  /**
+   * Triangles facing clearly against the input's (smoothed) normal at their centroid's closest
+   * point (cosine below -0.25) and against an edge neighbour, or degenerate: 0 unless allowFlipped.
+   */
   flippedTriangles: number;
+  /** Such triangles before the local untangling. */
+  untangledTriangles: number;
+  /**
+   * Sharp features: crease edges (dihedral over featureAngle; spurs and lines under 3% of the
+   * diagonal dropped as bumps, counted in ignoredAsNoise), corners, lines; base vertices held on
+   * corners and vertices kept on creases in the result.
+   */
+  features: { edges: number; corners: number; lines: number; ignoredAsNoise: number; cornerVertices: number; creaseVertices: number };
   volumeInput: number;
   volume: number;
   /** (volume - volumeInput) / volumeInput. */
   volumeChange: number;
   /** New vertices placed at the closest point because no ray hit within its cap. */
   rayFallbacks: number;
-  input: { vertices: number; faces: number; weldedVertices: number; droppedFaces: number; droppedComponents: number; genus: number };
+  /** droppedPieces: closed pieces that enclose no volume (fewer than 4 faces, flat double sheets). */
+  input: { vertices: number; faces: number; weldedVertices: number; droppedFaces: number; droppedComponents: number; droppedPieces: number; genus: number };
   /** What repair() did, when the repair option was given (else null). */
   repair: RepairReport | null;
   /** Simplifier outputs that failed validation (target faces: problem). */
@@ -80,6 +113,12 @@ export interface RepairReport {
   largestHoleLeft?: number;
   /** Folded faces cut out and filled again. */
   foldedFaces: number;
+  /** Faces turned to agree with their neighbours (a flipped patch). */
+  reorientedFaces: number;
+  /** Edges whose faces no orientation can make agree (a one-sided surface: refused). */
+  oneSidedEdges: number;
+  /** Components turned outwards (they enclosed a negative volume). */
+  reversedComponents: number;
   [key: string]: number | undefined;
 }
 
@@ -93,10 +132,12 @@ export function repair(mesh: Mesh, options?: { keepLargest?: boolean; maxHoleEdg
   { mesh: Mesh; report: RepairReport };
 
 /**
- * Semi-regular remeshing of a closed manifold triangle mesh (welded first): meshoptimizer
- * simplification to a base mesh (closed, manifold, same genus), n levels of 1-to-4 splits fitted
- * to the input (three-mesh-bvh), tangential relaxation. Rejects with MrvolError naming the
- * problem: holes, several components (unless keepLargest), non-manifold input, a folded result.
+ * Semi-regular remeshing of closed manifold triangle meshes (welded first; several components,
+ * any genus): meshoptimizer simplification of each component to a base mesh (closed, manifold,
+ * same genus, feature vertices kept), n levels of 1-to-4 splits fitted to the input
+ * (three-mesh-bvh) with corners held and crease vertices kept on their creases, tangential
+ * relaxation, local untangling of folds. Rejects with MrvolError naming the problem: holes,
+ * non-manifold input (both: try repair), a one-sided surface, no volume, a fold that no retry removes.
  * `mrvol` is the API object of createMrvol().
  */
 export function remesh(mrvol: Mrvol, mesh: Mesh, options?: RemeshOptions): Promise<RemeshResult>;
@@ -107,5 +148,5 @@ export function remesh(mrvol: Mrvol, mesh: Mesh, options?: RemeshOptions): Promi
  */
 export function weld(mesh: Mesh): Mesh & { merged: number; droppedFaces: number };
 
-/** remesh()'s default base size for an input of `inputFaces` faces and `levels` levels. */
-export function defaultBaseFaces(inputFaces: number, levels: number): number;
+/** remesh()'s default base size (faces over all components) for an input of `inputFaces` faces. */
+export function defaultBaseFaces(inputFaces: number): number;

@@ -15,7 +15,8 @@ import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Vector3 } from 'three
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
-import { checkInput, repair, weld } from './repair.mjs';
+import { Constraints, findFeatures } from './features.mjs';
+import { repair, weld } from './repair.mjs';
 
 export { repair, weld };
 
@@ -23,7 +24,7 @@ const now = () => globalThis.performance?.now() ?? Date.now();
 
 // ---- the original surface as a BVH ---------------------------------------------------------------
 
-class Surface {
+export class Surface {
   constructor(mesh, { normals = true } = {}) {
     this.mesh = mesh;
     const geometry = new BufferGeometry();
@@ -33,6 +34,7 @@ class Surface {
     this.point = new Vector3();
     this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
     this.ray = new Ray();
+    this.diagonal = boundingDiagonal(mesh.positions);
     if (!normals) return;
     // The BVH reorders the triangles of the index: face normals follow its order.
     const index = geometry.index.array, p = mesh.positions;
@@ -186,10 +188,15 @@ export function closestPointQuery(bvh, hit) {
 
 // ---- simplification --------------------------------------------------------------------------------
 
-/** meshoptimizer's simplifier to about `targetFaces`, compacted; null if it did not reduce. */
-function simplifyOnce(mesh, targetFaces) {
-  const [indices] = MeshoptSimplifier.simplify(mesh.faces, Float32Array.from(mesh.positions), 3,
-                                               3 * targetFaces, 1.0, []);
+/**
+ * meshoptimizer's simplifier to about `targetFaces`, compacted; the vertices of `lock` (a mask,
+ * or null) are kept. The output's vertices are input vertices (same coordinates).
+ */
+function simplifyOnce(mesh, targetFaces, lock) {
+  const positions32 = Float32Array.from(mesh.positions);
+  const [indices] = lock
+    ? MeshoptSimplifier.simplifyWithAttributes(mesh.faces, positions32, 3, new Float32Array(0), 0, [], lock, 3 * targetFaces, 1.0, [])
+    : MeshoptSimplifier.simplify(mesh.faces, positions32, 3, 3 * targetFaces, 1.0, []);
   const copy = Uint32Array.from(indices);
   const [remap, unique] = MeshoptSimplifier.compactMesh(copy);
   const positions = new Float64Array(3 * unique);
@@ -200,45 +207,80 @@ function simplifyOnce(mesh, targetFaces) {
 }
 
 /**
- * A base mesh of about `targetFaces` faces, closed, manifold, one component, with the input's
- * genus: the simplifier's output is validated, and the target raised by half until one passes.
+ * A base mesh of about `targetFaces` faces for one component, closed, manifold, one component,
+ * with the input's genus: the simplifier's output is validated, and the target raised by half
+ * until one passes. A component smaller than the target is its own base.
  */
-function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase) {
+function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock) {
   const problems = [];
   let target = Math.max(4, targetFaces);
   for (let attempt = 0; attempt < attempts; attempt++, target = Math.ceil(target * 1.5)) {
-    if (target * 1 >= mesh.faces.length / 3) return { base: mesh, target, problems, simplified: false };
-    let base = simplifyOnce(mesh, target);
+    if (target >= mesh.faces.length / 3) return { base: mesh, target, problems, simplified: false };
+    let base = simplifyOnce(mesh, target, lock);
+    const check = () => {
+      try {
+        const v = mrvol.validate(base);
+        if (!v.closed) return `${v.boundaryEdges} boundary edges`;
+        if (v.components !== 1) return `${v.components} components`;
+        if (v.genus !== genus) return `genus ${v.genus} instead of ${genus}`;
+        return null;
+      } catch (e) {
+        return e.message;
+      }
+    };
+    let problem = check();
     // On a repaired scan thin parts collapse into fins and pinched edges: the same repair (small
     // holes only) cleans the base, which must then pass the same checks.
-    if (repairBase) base = repair(base, { maxHoleEdges: 12 }).mesh;
-    let problem = null;
-    try {
-      const v = mrvol.validate(base);
-      if (!v.closed) problem = `${v.boundaryEdges} boundary edges`;
-      else if (v.components !== 1) problem = `${v.components} components`;
-      else if (v.genus !== genus) problem = `genus ${v.genus} instead of ${genus}`;
-    } catch (e) {
-      problem = e.message;
+    if (problem && repairBase) {
+      base = repair(base, { maxHoleEdges: 12 }).mesh;
+      problem = check();
     }
     if (!problem) return { base, target, problems, simplified: true };
     problems.push(`${target} faces: ${problem}`);
   }
-  throw new mrvol.MrvolError(`the simplifier gave no valid base mesh (${problems.join('; ')})`);
+  // Nothing simpler passed: the component itself is the base (always valid).
+  return { base: mesh, target, problems, simplified: false };
+}
+
+/** The faces of component `c` (of `ofFace`) as a mesh of their own (exact positions). */
+function componentMesh(mesh, ofFace, c) {
+  const faces = [];
+  for (let f = 0; f < ofFace.length; f++) if (ofFace[f] === c) faces.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
+  return weld({ positions: mesh.positions, faces: Uint32Array.from(faces) });
+}
+
+/** Meshes side by side in one (vertices and faces appended in order). */
+function concatenate(meshes) {
+  let vertexCount = 0, faceCount = 0;
+  for (const m of meshes) vertexCount += m.positions.length / 3, faceCount += m.faces.length / 3;
+  const positions = new Float64Array(3 * vertexCount), faces = new Uint32Array(3 * faceCount);
+  let v = 0, f = 0;
+  for (const m of meshes) {
+    positions.set(m.positions, 3 * v);
+    for (let i = 0; i < m.faces.length; i++) faces[3 * f + i] = m.faces[i] + v;
+    v += m.positions.length / 3, f += m.faces.length / 3;
+  }
+  return { positions, faces };
 }
 
 // ---- fitting the subdivided mesh to the surface ------------------------------------------------
 
-/** Tangential uniform-Laplacian smoothing, each step followed by closest-point reprojection. */
-function relaxTangentially(surface, positions, faces, adjacency, iterations, weight, fixed) {
+/**
+ * Tangential uniform-Laplacian smoothing, each step followed by closest-point reprojection. With
+ * `constraints` (lib/features.mjs): corners stay, vertices on a feature line move towards the
+ * mean of their two neighbours on that line and back onto it.
+ */
+function relaxTangentially(surface, positions, faces, adjacency, iterations, weight, fixed, constraints = null) {
   const { offsets, list } = adjacency;
   const vertexCount = positions.length / 3;
   // Only the vertices that move (in this level's mesh, not held) are computed.
   let count = 0;
-  for (let i = 0; i < vertexCount; i++) if (offsets[i + 1] > offsets[i] && !fixed[i]) count++;
+  const kind = constraints?.kind;
+  const moves = (i) => offsets[i + 1] > offsets[i] && !fixed[i] && !(kind && kind[i] === 2);
+  for (let i = 0; i < vertexCount; i++) if (moves(i)) count++;
   if (count === 0) return;
   const active = new Uint32Array(count);
-  for (let i = 0, c = 0; i < vertexCount; i++) if (offsets[i + 1] > offsets[i] && !fixed[i]) active[c++] = i;
+  for (let i = 0, c = 0; i < vertexCount; i++) if (moves(i)) active[c++] = i;
   const next = new Float64Array(3 * count);
   // Few vertices: their normals from their own faces (the same sums, in the same face order).
   const local = count < vertexCount / 4;
@@ -263,6 +305,10 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
     }
     for (let c = 0; c < count; c++) {
       const i = active[c], m = local ? 3 * c : 3 * i, nv = local ? normals : all;
+      if (kind && kind[i] === 1) {
+        slideOnLine(constraints, positions, adjacency, i, weight, next, 3 * c);
+        continue;
+      }
       const degree = offsets[i + 1] - offsets[i];
       let d0 = 0, d1 = 0, d2 = 0;
       for (let e = offsets[i]; e < offsets[i + 1]; e++) {
@@ -286,6 +332,25 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
   }
 }
 
+/** Moves vertex i on its feature line towards the mean of its two neighbours on that line; into next[at..]. */
+function slideOnLine(constraints, positions, adjacency, i, weight, next, at) {
+  const id = constraints.line[i];
+  let count = 0, x = 0, y = 0, z = 0;
+  for (let e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; e++) {
+    const w = adjacency.list[e];
+    if (!constraints.onLine(w, id)) continue;
+    count++, x += positions[3 * w], y += positions[3 * w + 1], z += positions[3 * w + 2];
+  }
+  if (count !== 2) {
+    next[at] = positions[3 * i], next[at + 1] = positions[3 * i + 1], next[at + 2] = positions[3 * i + 2];
+    return;
+  }
+  const q = constraints.features.projectToLine(id, positions[3 * i] + weight * (x / 2 - positions[3 * i]),
+                                               positions[3 * i + 1] + weight * (y / 2 - positions[3 * i + 1]),
+                                               positions[3 * i + 2] + weight * (z / 2 - positions[3 * i + 2]));
+  next[at] = q[0], next[at + 1] = q[1], next[at + 2] = q[2];
+}
+
 /**
  * Tips and ridges the base mesh cut off stay cut off by the fit (rays from a midpoint do not reach
  * them and relaxation does not spread outwards). Each input vertex farther than 0.2% of the
@@ -294,11 +359,12 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
  * snap that folds the surface (flipped triangles around it) is pulled halfway back, twice, then
  * undone. Two rounds.
  */
-function snapToFeatures(surface, positions, faces, relaxIterations) {
+function snapToFeatures(surface, positions, faces, relaxIterations, constraints = null) {
   const input = surface.mesh.positions;
   const threshold = 0.002 * boundingDiagonal(input);
   const vertexCount = positions.length / 3;
-  const held = new Uint8Array(vertexCount);
+  // Vertices on features are not snapped (held = 2: never).
+  const held = constraints ? constraints.kind.map((k) => (k ? 2 : 0)) : new Uint8Array(vertexCount);
   const adjacency = connectivity(faces, vertexCount).neighbours;
   for (let round = 0; round < 2; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
@@ -349,7 +415,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
     for (let f = 0; f < faces.length / 3; f++)
       if (near[faces[3 * f]] || near[faces[3 * f + 1]] || near[faces[3 * f + 2]]) nearFaces.push(f);
     const frozen = () => held.map((h, v) => (h === 1 || !near[v] ? 1 : 0));
-    if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen());
+    if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen(), constraints);
     // A snap that folds the surface is undone: the corners of flipped triangles go back.
     for (let pass = 0; pass < 4; pass++) {
       const flipped = flippedFaces({ positions, faces }, surface, nearFaces);
@@ -372,7 +438,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
           undone++;
         }
       if (undone === 0) break;
-      if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen());
+      if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen(), constraints);
     }
   }
 }
@@ -388,12 +454,13 @@ function snapToFeatures(surface, positions, faces, relaxIterations) {
  * and lowers the sum of squared excesses); otherwise it is undone and retried with half the
  * step, down to a quarter. At most `rounds` rounds. Deterministic.
  */
-function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}) {
+function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}, constraints = null) {
   const input = surface.mesh.positions, inputCount = input.length / 3;
   const limit = threshold * boundingDiagonal(input);
   const vertexCount = positions.length / 3;
   let adjacency = null;
-  const noMore = new Uint8Array(vertexCount);
+  // Vertices on features stay on them.
+  const noMore = constraints ? constraints.kind.map((k) => (k ? 1 : 0)) : new Uint8Array(vertexCount);
   const disp = new Float64Array(3 * vertexCount), weight = new Float64Array(vertexCount);
   const distance = new Float64Array(inputCount), hitPoint = new Float64Array(3 * inputCount), hitFace = new Uint32Array(inputCount);
   let accepted = null, acceptedWorst = Infinity, acceptedExcess = Infinity, step = 1, retry = false;
@@ -465,7 +532,7 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     const frozen = new Uint8Array(vertexCount);
     for (let v = 0; v < vertexCount; v++) frozen[v] = !near[v] || weight[v] > 0 ? 1 : 0;
-    relaxTangentially(surface, positions, faces, adjacency, 2, 0.5, frozen);
+    relaxTangentially(surface, positions, faces, adjacency, 2, 0.5, frozen, constraints);
     const nearFaces = [];
     for (let f = 0; f < faces.length / 3; f++)
       if (near[faces[3 * f]] || near[faces[3 * f + 1]] || near[faces[3 * f + 2]]) nearFaces.push(f);
@@ -542,13 +609,30 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
 
 /**
  * Triangles of `mesh` whose normal points against the surface's (smoothed) normal at the closest
- * point to their centroid, or that are degenerate.
+ * point to their centroid (cosine below `against`) and against an edge neighbour's, or that are
+ * degenerate.
  */
-function countFlipped(mesh, surface) {
-  return flippedFaces(mesh, surface).length;
+function countFlipped(mesh, surface, constraints) {
+  return resultFlipped(mesh, surface, constraints).length;
 }
 
-function flippedFaces(mesh, surface, onlyFaces = null) {
+/**
+ * The result's flipped triangles, but for those whose corners are all held (a piece that is its
+ * own base: exact, even where another piece's surface is closer to it than its own).
+ */
+function resultFlipped(mesh, surface, constraints) {
+  const kind = constraints?.kind, f = mesh.faces;
+  return flippedFaces(mesh, surface, null, RESULT_AGAINST)
+    .filter((t) => !(kind && kind[f[3 * t]] === 2 && kind[f[3 * t + 1]] === 2 && kind[f[3 * t + 2]] === 2));
+}
+
+/**
+ * The result's test: clearly against the input's smoothed normal (a face across a right-angled
+ * crease from its closest point is not); the fit's own moves are undone on any disagreement (0).
+ */
+const RESULT_AGAINST = -0.25;
+
+export function flippedFaces(mesh, surface, onlyFaces = null, against = 0) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3;
   // Edge-adjacent faces: the face on the other side of each directed edge.
@@ -579,8 +663,10 @@ function flippedFaces(mesh, surface, onlyFaces = null) {
                            Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
                            Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz));
     const hit = surface.closest(cx, cy, cz, 1.0001 * bound + 1e-12);
-    const m = 3 * hit.faceIndex, sn = surface.smoothNormals;
-    if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= 0) continue;
+    const m = 3 * hit.faceIndex, sn = surface.smoothNormals, rn = surface.normals;
+    if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= against) continue;
+    // Lying on an input face that faces the same way: the input itself is crumpled there.
+    if (against < 0 && hit.distance < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
     // tip, where the input's normal is ambiguous, has neighbours that agree with it).
     for (let j = 0; j < 3; j++) {
@@ -596,122 +682,379 @@ function flippedFaces(mesh, surface, onlyFaces = null) {
   return flipped;
 }
 
+// ---- folds ---------------------------------------------------------------------------------------
+
+/**
+ * Local untangling: the vertices around flipped triangles (a ring more each round) move to the
+ * mean of their neighbours and back onto the surface (on their line if on a feature; corners
+ * stay), a few steps per round, until no triangle is flipped or `rounds` rounds. Without
+ * `project` they stay at the mean (a crumpled input re-creates the fold on it; the Hausdorff
+ * distance measured after says what that cost). Returns the flipped triangles left.
+ */
+function untangle(surface, positions, faces, constraints, rounds = 6, project = true) {
+  const vertexCount = positions.length / 3;
+  const adjacency = connectivity(faces, vertexCount).neighbours;
+  const { offsets, list } = adjacency;
+  let flipped = resultFlipped({ positions, faces }, surface, constraints);
+  for (let round = 0; round < rounds && flipped.length > 0; round++) {
+    const near = new Uint8Array(vertexCount);
+    let front = [];
+    for (const f of flipped) for (let j = 0; j < 3; j++) if (!near[faces[3 * f + j]]) near[faces[3 * f + j]] = 1, front.push(faces[3 * f + j]);
+    for (let ring = 0; ring <= round; ring++) {
+      const next = [];
+      for (const v of front)
+        for (let e = offsets[v]; e < offsets[v + 1]; e++) if (!near[list[e]]) near[list[e]] = 1, next.push(list[e]);
+      front = next;
+    }
+    const region = [];
+    for (let v = 0; v < vertexCount; v++) if (near[v] && !(constraints && constraints.kind[v] === 2)) region.push(v);
+    const next = new Float64Array(3 * region.length);
+    for (let step = 0; step < 6; step++) {
+      region.forEach((v, r) => {
+        if (constraints && constraints.kind[v] === 1) return slideOnLine(constraints, positions, adjacency, v, 1, next, 3 * r);
+        let x = 0, y = 0, z = 0;
+        const degree = offsets[v + 1] - offsets[v];
+        for (let e = offsets[v]; e < offsets[v + 1]; e++) x += positions[3 * list[e]], y += positions[3 * list[e] + 1], z += positions[3 * list[e] + 2];
+        if (!project) {
+          next[3 * r] = x / degree, next[3 * r + 1] = y / degree, next[3 * r + 2] = z / degree;
+          return;
+        }
+        const p = surface.closest(x / degree, y / degree, z / degree).point;
+        next[3 * r] = p.x, next[3 * r + 1] = p.y, next[3 * r + 2] = p.z;
+      });
+      region.forEach((v, r) => positions.set(next.subarray(3 * r, 3 * r + 3), 3 * v));
+    }
+    flipped = resultFlipped({ positions, faces }, surface, constraints);
+  }
+  return flipped.length;
+}
+
 // ---- the pipeline ----------------------------------------------------------------------------------
 
 /**
- * Default base size: the input's face count divided by 4^levels (as many fine faces as the
- * input), at least 300 (fewer cut off too much of a scan like the bunny: Hausdorff above 1%) and
- * at most 8000.
+ * Default base size (faces over all components): the input's face count / 12 within 200..1000,
+ * a level-0 cage of roughly 100-500 handles (a smaller input is its own base).
  */
-export function defaultBaseFaces(inputFaces, levels) {
-  return Math.min(8000, Math.max(300, Math.round(inputFaces / 4 ** levels)));
+export function defaultBaseFaces(inputFaces) {
+  return Math.min(1000, Math.max(200, Math.round(inputFaces / 12)));
 }
 
+/** Two-sided Hausdorff distance (over the diagonal) a remeshing should keep by default. */
+export const DEFAULT_HAUSDORFF = 0.005;
+
 /**
- * Remeshes a closed manifold triangle mesh into a semi-regular one with `levels` levels of 1-to-4
- * splits (a simplified base mesh, split and fitted to the input level by level).
+ * Remeshes a closed manifold triangle mesh (several components and any genus) into a
+ * semi-regular one: each component simplified to a base mesh (corners kept), the bases split
+ * 1-to-4 `levels` times and fitted to the input level by level, sharp features kept (corners
+ * held, vertices on creases slid along them), folds untangled locally and retried with a larger
+ * base. Without `levels`: as many levels (from 2) as reach a two-sided Hausdorff distance of
+ * 0.5% of the diagonal, within max(2x the input's vertices, 10000) vertices.
  * @param {object} mrvol the API object of createMrvol()
  * @param {{ positions: Float64Array, faces: Uint32Array }} input
- * @param {{ levels?: number, baseFaces?: number, keepLargest?: boolean, repair?: boolean, maxHoleEdges?: number,
- *           relaxIterations?: number, maxSamples?: number, allowFlipped?: boolean,
- *           onProgress?: (fraction: number, stage: string) => void }} [options]
- *   repair: run repair() first (duplicate and non-manifold faces dropped, holes of at most
- *   maxHoleEdges edges closed, default 100; `smooth` Taubin iterations after it, default 0);
- *   its report is the result's `repair`; the Hausdorff distance is measured to the repaired input.
- *   onProgress: called between stages with the rough fraction done (0..1) and the stage's name.
+ * @param {object} [options] see lib/remesh.d.ts (RemeshOptions)
  */
 export async function remesh(mrvol, input, options = {}) {
   const { MrvolError } = mrvol;
   const started = now();
-  const levels = options.levels ?? 2;
-  if (!Number.isInteger(levels) || levels < 0 || levels > 6) throw new MrvolError(`levels must be an integer in 0..6, got ${levels}`);
+  const auto = options.levels === undefined;
+  if (!auto && !(Number.isInteger(options.levels) && options.levels >= 0 && options.levels <= 6))
+    throw new MrvolError(`levels must be an integer in 0..6, got ${options.levels}`);
   if (!input || !(input.positions instanceof Float64Array) || !(input.faces instanceof Uint32Array))
     throw new MrvolError('remesh expects a mesh { positions: Float64Array, faces: Uint32Array }');
   if (options.baseFaces !== undefined && !(Number.isInteger(options.baseFaces) && options.baseFaces >= 4))
     throw new MrvolError(`baseFaces must be an integer >= 4, got ${options.baseFaces}`);
   const relaxIterations = options.relaxIterations ?? 4;
   const maxSamples = options.maxSamples ?? 200000;
+  const goal = options.hausdorffGoal ?? DEFAULT_HAUSDORFF;
   const progress = (fraction, stage) => options.onProgress?.(fraction, stage);
 
-  // Repair (optional) or weld only; then the input must be one closed 2-manifold.
+  // Repair (optional) or weld only; then the input must be closed 2-manifolds.
   progress(0, options.repair ? 'repairing' : 'welding');
   const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
                                                    smooth: options.smooth }) : null;
   const welded = repaired ? repaired.mesh : weld(input);
-  const { mesh, validation, droppedComponents } = checkInput(mrvol, welded, options.keepLargest, !!repaired);
+  let pieces, genus, droppedComponents, droppedPieces;
+  try {
+    ({ pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired));
+  } catch (e) {
+    // A one-sided surface cannot bound a solid: that is the reason, whatever the repair left.
+    if (e instanceof MrvolError && repaired?.report.oneSidedEdges > 0)
+      throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made (after the repair: ${e.message})`);
+    throw e;
+  }
+  const mesh = pieces.length === 1 ? pieces[0].mesh : concatenate(pieces.map((p) => p.mesh));
   const inputVolume = mrvol.volume(mesh);
-  if (!(inputVolume > 0)) throw new MrvolError(`the input encloses no positive volume (${inputVolume}): is it inside out?`);
   const diagonal = boundingDiagonal(mesh.positions);
-  const inputFaces = mesh.faces.length / 3;
+  const inputFaces = mesh.faces.length / 3, inputVertices = mesh.positions.length / 3;
 
   await MeshoptSimplifier.ready;
   const surface = new Surface(mesh);
-  const requested = options.baseFaces ?? defaultBaseFaces(inputFaces, levels);
+  const features = options.features === false ? null : findFeatures(mesh, { angle: options.featureAngle });
+  const featureKeys = { corners: new Set([...(features?.corners ?? [])].map((v) => positionKey(mesh.positions, v))),
+                        features: new Set([...(features?.linesAt.keys() ?? [])].map((v) => positionKey(mesh.positions, v))) };
+  const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
+  const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
 
-  // Folds are refused; a larger base (shorter rays, finer features) usually avoids them.
-  const attempts = options.baseFaces !== undefined ? 1 : 3;
-  let target = requested, result;
+  // Input vertices the base must keep: tips that a fit left too far away (see below).
+  const tipKeys = new Set();
+  // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
   const simplifierProblems = [];
-  for (let attempt = 0; attempt < attempts; attempt++) {
-    progress(0.1, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
-    const { base, target: used, problems } = simplifyToBase(mrvol, mesh, validation.genus, target, 8, !!repaired);
-    simplifierProblems.push(...problems);
-    result = fitLevels(mrvol, surface, base, levels, relaxIterations, (f, stage) => progress(0.15 + 0.7 * f, stage));
-    result.baseTarget = used;
-    result.flippedTriangles = countFlipped(result.mesh, surface);
-    if (result.flippedTriangles === 0 || options.allowFlipped) break;
-    target = Math.ceil(used * 2);
-  }
-  if (result.flippedTriangles > 0 && !options.allowFlipped)
-    throw new MrvolError(`the remeshed surface folds over: ${result.flippedTriangles} flipped triangles (base of ${result.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
+  const fit = (levels, fraction, share, baseScale = 1) => {
+    // Folds left after untangling: once more without the feature constraints (if any), then
+    // (unless the base size is given) with a base twice and four times as large.
+    const useFeatures = features && features.edgeCount > 0;
+    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]])];
+    let result = null;
+    for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
+      progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
+      const exact = [];
+      const bases = pieces.map((piece) => {
+        // A small piece (64 faces or fewer) is its own base: exact.
+        let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
+        // Room for every feature vertex in the base (a cage of at most about 500 handles).
+        if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
+        const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
+        const b = simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
+        simplifierProblems.push(...b.problems);
+        exact.push(!b.simplified);
+        return b.base;
+      });
+      const base = bases.length === 1 ? bases[0] : concatenate(bases);
+      const firstVertex = [];
+      bases.reduce((n, b) => (firstVertex.push(n), n + b.positions.length / 3), 0);
+      const pieceOfBaseVertex = (v) => firstVertex.findLastIndex((n) => n <= v);
+      result = fitLevels(mrvol, surface, base, levels, relaxIterations, withFeatures, exact, pieceOfBaseVertex,
+                         (f, stage) => progress(fraction + share * f, stage));
+      result.untangled = countFlipped(result.mesh, surface, result.constraints);
+      result.flippedTriangles = result.untangled ? untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints) : 0;
+      if (result.flippedTriangles > 0)
+        result.flippedTriangles = untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints, 8, false);
+      if (result.flippedTriangles === 0 || options.allowFlipped) break;
+    }
+    return result;
+  };
 
-  progress(0.9, 'measuring the Hausdorff distance');
-  const resultSurface = new Surface(result.mesh, { normals: false });
-  const toInput = oneSidedHausdorff(result.mesh, surface, maxSamples);
-  const fromInput = oneSidedHausdorff(mesh, resultSurface, maxSamples);
+  let result = null, measured = null;
+  const tried = [];
+  const distance = (m) => Math.max(m.toInput, m.fromInput) / diagonal;
+  // One fit, kept if it is the first or closer to the input; false if it folded.
+  const tryFit = (levels, baseScale) => {
+    const fraction = Math.min(0.8, 0.05 + (auto ? 0.25 * tried.length : 0));
+    const attempt = fit(levels, fraction, auto ? 0.25 : 0.75, baseScale);
+    tried.push({ levels, baseFaces: attempt.baseFaces, flipped: attempt.flippedTriangles });
+    if (attempt.flippedTriangles > 0 && !options.allowFlipped) {
+      if (result) return false;  // a fit without folds is kept
+      throw new MrvolError(`the remeshed surface folds over: ${attempt.flippedTriangles} flipped triangles after untangling (base of ${attempt.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
+    }
+    progress(Math.min(0.9, fraction + 0.2), 'measuring the Hausdorff distance');
+    const m = measure(attempt.mesh, mesh, surface, maxSamples);
+    tried.at(-1).hausdorff = distance(m);
+    attempt.levels = levels;
+    if (!result || distance(m) < distance(measured)) result = attempt, measured = m;
+    return true;
+  };
+  if (!auto) {
+    tryFit(options.levels, 1);
+  } else {
+    // From 2 levels (fewer if even 2 exceed the budget), one more while the distance is above the
+    // goal and the vertices fit the budget; then, if still above it, a base twice and four times
+    // as large (up to about 600 handles) at the most levels that fit.
+    const fits = (levels, scale) => (requested * scale * 4 ** levels) / 2 <= budget;
+    let levels = 2;
+    while (levels > 0 && !fits(levels, 1)) levels--;
+    for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1); levels++);
+    // Still far: the input vertices farthest from the result (tips the base cut off, a few
+    // apart) are kept in the base, up to three times.
+    for (let round = 0; round < 3 && distance(measured) > goal; round++) {
+      const added = addTips(mesh, measured.surface, goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
+      if (added === 0) break;
+      tryFit(result.levels, 1);
+    }
+    for (const scale of [2, 4]) {
+      if (distance(measured) <= goal || requested * scale > 1250) break;
+      let l = result.levels;
+      while (l > 0 && !fits(l, scale)) l--;
+      tryFit(l, scale);
+    }
+  }
+
   const volume = mrvol.volume(result.mesh);
+  const constraints = result.constraints;
   return {
     mesh: result.mesh,
-    levels,
+    levels: result.levels,
+    levelsTried: tried.map((t) => t.levels),
+    fits: tried,
     baseVertices: result.baseVertices,
     baseFaces: result.baseFaces,
     vertices: result.mesh.positions.length / 3,
     faces: result.mesh.faces.length / 3,
-    hausdorff: Math.max(toInput, fromInput) / diagonal,
-    hausdorffToInput: toInput / diagonal,
-    hausdorffFromInput: fromInput / diagonal,
+    components: pieces.length,
+    hausdorff: Math.max(measured.toInput, measured.fromInput) / diagonal,
+    hausdorffToInput: measured.toInput / diagonal,
+    hausdorffFromInput: measured.fromInput / diagonal,
     diagonal,
     flippedTriangles: result.flippedTriangles,
+    untangledTriangles: result.untangled,
     volumeInput: inputVolume,
     volume,
     volumeChange: (volume - inputVolume) / inputVolume,
     rayFallbacks: result.fallbacks,
+    features: { edges: features?.edgeCount ?? 0, corners: features?.corners.size ?? 0, lines: features?.lines.length ?? 0,
+                ignoredAsNoise: features?.noisyEdges ?? 0, cornerVertices: constraints?.corners ?? 0,
+                creaseVertices: constraints ? constraints.count - constraints.corners : 0 },
     input: { vertices: input.positions.length / 3, faces: input.faces.length / 3,
              weldedVertices: repaired ? repaired.report.weldedVertices : welded.merged,
              droppedFaces: repaired ? repaired.report.degenerateFaces : welded.droppedFaces,
-             droppedComponents: droppedComponents + (repaired?.report.droppedComponents ?? 0), genus: validation.genus },
+             droppedComponents: droppedComponents + (repaired?.report.droppedComponents ?? 0), droppedPieces, genus },
     repair: repaired?.report ?? null,
     simplifierRetries: simplifierProblems,
     ms: now() - started,
   };
 }
 
+const positionKey = (p, v) => `${p[3 * v]},${p[3 * v + 1]},${p[3 * v + 2]}`;
+
+function countFeatureVertices(mesh, keys) {
+  let count = 0;
+  for (let v = 0; v < mesh.positions.length / 3; v++) if (keys.features.has(positionKey(mesh.positions, v))) count++;
+  return count;
+}
+
+/**
+ * A simplifier lock for `mesh`: all its feature vertices (by position) if they fit in the base
+ * of `target` faces (then the base's edges can follow every crease), else its corners if they
+ * fit, else null.
+ */
+function lockedFeatures(mesh, keys, target) {
+  const n = mesh.positions.length / 3;
+  for (const [set, room] of [[keys.features, target / 2], [keys.corners, target / 4]]) {
+    if (set.size === 0) continue;
+    const lock = new Uint8Array(n);
+    let count = 0;
+    for (let v = 0; v < n; v++) if (set.has(positionKey(mesh.positions, v))) lock[v] = 1, count++;
+    if (count > 0 && count <= room) return lock;
+  }
+  return null;
+}
+
+/** Two-sided sampled distances between the result and the input (and the result's surface). */
+function measure(result, input, surface, maxSamples) {
+  const resultSurface = new Surface(result, { normals: false });
+  return { toInput: oneSidedHausdorff(result, surface, maxSamples), fromInput: oneSidedHausdorff(input, resultSurface, maxSamples),
+           surface: resultSurface };
+}
+
+/**
+ * Adds to `keys` the positions of the input vertices farther than `limit` from the result, the
+ * farthest first, each at least `spacing` from those already chosen, at most `count`. Returns how
+ * many were added.
+ */
+function addTips(input, resultSurface, limit, spacing, count, keys) {
+  const p = input.positions, far = [];
+  for (let i = 0; i < p.length / 3; i++) {
+    const d = resultSurface.closest(p[3 * i], p[3 * i + 1], p[3 * i + 2]).distance;
+    if (d > limit) far.push([d, i]);
+  }
+  far.sort((a, b) => b[0] - a[0]);
+  const chosen = [];
+  for (const [, i] of far) {
+    if (chosen.length >= count) break;
+    if (chosen.some((j) => Math.hypot(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing)) continue;
+    chosen.push(i);
+  }
+  let added = 0;
+  for (const i of chosen) if (!keys.has(positionKey(p, i))) keys.add(positionKey(p, i)), added++;
+  return added;
+}
+
+/** `lock` (or none) with the vertices of `mesh` at the positions of `keys` added, if they fit the target. */
+function withLocks(lock, mesh, keys, target) {
+  if (keys.size === 0) return lock;
+  const n = mesh.positions.length / 3, out = lock ? Uint8Array.from(lock) : new Uint8Array(n);
+  let count = 0;
+  for (let v = 0; v < n; v++) if (keys.has(positionKey(mesh.positions, v))) out[v] = 1, count++;
+  return count > 0 && count <= target / 4 ? out : lock;
+}
+
+/**
+ * The welded (or repaired) input as closed 2-manifold pieces, one per connected component, each
+ * with its genus and outward: errors name what is wrong (not manifold, holes, inside out). Pieces
+ * enclosing no volume (fewer than 4 faces, a flat double sheet) are dropped when others remain.
+ */
+function inputPieces(mrvol, mesh, keepLargest, repaired) {
+  const { MrvolError } = mrvol;
+  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
+  let v;
+  try {
+    v = mrvol.validate(mesh);
+  } catch (e) {
+    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}${repaired ? '' : ' (--repair drops such faces and closes the holes)'}`);
+  }
+  if (!v.closed)
+    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: ` +
+                         (repaired ? 'holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)' : 'close the holes first (or try --repair)'));
+  const { ofFace, count } = connectivity(mesh.faces, mesh.positions.length / 3).components;
+  let pieces = [];
+  for (let c = 0; c < count; c++) {
+    const piece = count === 1 ? mesh : componentMesh(mesh, ofFace, c);
+    pieces.push({ mesh: piece, faces: piece.faces.length / 3 });
+  }
+  let droppedComponents = 0, droppedPieces = 0;
+  if (keepLargest && pieces.length > 1) {
+    const largest = pieces.reduce((x, y) => (y.faces > x.faces ? y : x));
+    droppedComponents = pieces.length - 1;
+    pieces = [largest];
+  }
+  const diagonal = boundingDiagonal(mesh.positions);
+  let genus = 0;
+  const kept = [];
+  for (const [i, piece] of pieces.entries()) {
+    const where = pieces.length > 1 ? ` (component ${i + 1} of ${pieces.length})` : '';
+    const volume = mrvol.volume(piece.mesh);
+    if (piece.faces < 4 || Math.abs(volume) <= 1e-9 * diagonal ** 3) {
+      droppedPieces++;
+      continue;
+    }
+    if (volume < 0) {
+      if (!repaired) throw new MrvolError(`the input encloses no positive volume (${volume})${where}: is it inside out? (--repair turns it)`);
+      throw new MrvolError(`a component encloses a negative volume (${volume})${where}`);
+    }
+    piece.genus = mrvol.validate(piece.mesh).genus;
+    genus += piece.genus;
+    kept.push(piece);
+  }
+  if (kept.length === 0) throw new MrvolError('the input encloses no volume: no piece is a closed surface around a solid');
+  return { pieces: kept, genus, droppedComponents, droppedPieces };
+}
+
 /**
  * Subdivides `base` (linear scheme: 1-to-4 splits at edge midpoints) and fits level by level: the
  * vertices born at level l start at the midpoint of their parent edge (whose ends are already on
- * the surface) and move along the mean normal of the level-(l-1) faces around that edge, at most
- * one parent edge long, then the level-l mesh is relaxed tangentially and reprojected. Output in
- * the hierarchy order of the core (base vertices first).
+ * the surface): on a feature line if both parents are (lib/features.mjs), else moved along the
+ * mean normal of the level-(l-1) faces around that edge, at most one parent edge long; then the
+ * level-l mesh is relaxed tangentially and reprojected. Output in the hierarchy order of the core
+ * (base vertices first).
  */
-function fitLevels(mrvol, surface, base, levels, relaxIterations, onProgress = () => {}) {
+function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, pieceOfBaseVertex, onProgress = () => {}) {
   const mr = mrvol.subdivide(base, { levels, scheme: 'linear' });
   try {
     const positions = Float64Array.from(mr.positions());
     const faces = Uint32Array.from(mr.faces());
     const depths = mr.depths();
     const vertexCount = positions.length / 3;
+    const constraints = new Constraints(features && features.edgeCount > 0 ? features : null, vertexCount);
+    for (let m = 0; m < vertexCount; m++) if (depths[m] === 0) constraints.assignBase(positions, m);
+    // Pieces that are their own base: the linear subdivision is exact, every vertex stays.
+    if (exact.some((x) => x)) {
+      const { ofFace } = connectivity(faces, vertexCount).components;
+      const pieceOf = new Map();
+      for (let f = 0; f < ofFace.length; f++)
+        for (let j = 0; j < 3; j++) if (depths[faces[3 * f + j]] === 0 && !pieceOf.has(ofFace[f])) pieceOf.set(ofFace[f], pieceOfBaseVertex(faces[3 * f + j]));
+      for (let f = 0; f < ofFace.length; f++) if (exact[pieceOf.get(ofFace[f])]) for (let j = 0; j < 3; j++) constraints.hold(faces[3 * f + j]);
+    }
     // Holding the base vertices (input vertices) keeps tips but folds the triangles around them:
-    // every vertex relaxes.
+    // every vertex relaxes (except corners).
     const held = new Uint8Array(vertexCount);
     let fallbacks = 0;
     // Level l's work grows as 4^l; the feature snap and pull after them count as one more level.
@@ -724,6 +1067,17 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, onProgress = (
       const adjacency = connectivity(fine, vertexCount).neighbours;
       const { offsets, list } = adjacency;
       const normal = [0, 0, 0];
+      const around = connectivity(coarse, vertexCount).vertexFaces;
+      // The vertices facing the coarse edge a-b (in the one or two faces that hold it).
+      const opposite = (a, b) => {
+        const out = [];
+        for (let e = around.offsets[a]; e < around.offsets[a + 1]; e++) {
+          const f = 3 * around.list[e];
+          if (coarse[f] !== b && coarse[f + 1] !== b && coarse[f + 2] !== b) continue;
+          for (let j = 0; j < 3; j++) if (coarse[f + j] !== a && coarse[f + j] !== b) out.push(coarse[f + j]);
+        }
+        return out;
+      };
       for (let m = 0; m < vertexCount; m++) {
         if (depths[m] !== level) continue;
         // Parents: the two neighbours born earlier (the ends of the split edge).
@@ -733,6 +1087,7 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, onProgress = (
           if (a < 0) a = list[e];
           else b = list[e];
         }
+        if (constraints.kind[m] === 2 || constraints.assignChild(positions, m, a, b, opposite(a, b))) continue;
         const x = (positions[3 * a] + positions[3 * b]) / 2, y = (positions[3 * a + 1] + positions[3 * b + 1]) / 2,
               z = (positions[3 * a + 2] + positions[3 * b + 2]) / 2;
         for (let k = 0; k < 3; k++) normal[k] = coarseNormals[3 * a + k] + coarseNormals[3 * b + k];
@@ -749,14 +1104,14 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, onProgress = (
         const p = hit ? hit.point : (fallbacks++, surface.closest(x, y, z).point);
         positions[3 * m] = p.x, positions[3 * m + 1] = p.y, positions[3 * m + 2] = p.z;
       }
-      if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held);
+      if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held, constraints);
     }
     if (levels > 0) {
       onProgress(work(levels) / work(levels + 1), 'fitting features');
-      snapToFeatures(surface, positions, faces, relaxIterations);
-      attractToInput(surface, positions, faces);
+      snapToFeatures(surface, positions, faces, relaxIterations, constraints);
+      attractToInput(surface, positions, faces, {}, constraints);
     }
-    return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks };
+    return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks, constraints };
   } finally {
     mr.delete();
   }

@@ -1,7 +1,7 @@
-// The input stage of remeshing (lib/remesh.mjs): welding, the optional repair of a scan that is
-// almost a closed 2-manifold (duplicate, non-manifold and folded faces dropped, holes closed,
-// optional smoothing), and the validation after it (closed, manifold, one component), which the
-// repair leaves to name what it could not fix. No three.js here: plain arrays and the mrvol API.
+// The input stage of remeshing (lib/remesh.mjs): welding and the optional repair of a scan that is
+// almost a closed 2-manifold (orientation made consistent and outward, duplicate, non-manifold and
+// folded faces dropped, holes closed, optional smoothing); the remesher's validation after it
+// names what the repair could not fix. No three.js here: plain arrays and the mrvol API.
 import { connectivity } from './connectivity.mjs';
 import { boundingDiagonal, triangleNormal } from './geometry.mjs';
 
@@ -57,29 +57,6 @@ function keepLargestComponent(mesh) {
   const faces = [];
   for (let f = 0; f < ofFace.length; f++) if (ofFace[f] === best) faces.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
   return { mesh: weld({ positions: mesh.positions, faces: Uint32Array.from(faces) }), dropped: count - 1 };
-}
-
-/** Validates a welded input: closed, manifold, one component. Errors name the problem. */
-export function checkInput(mrvol, mesh, keepLargest, repaired) {
-  const { MrvolError } = mrvol;
-  if (mesh.faces.length === 0) throw new MrvolError('the input has no triangle');
-  const components = connectivity(mesh.faces, mesh.positions.length / 3).components.count;
-  let droppedComponents = 0;
-  if (components > 1) {
-    if (!keepLargest)
-      throw new MrvolError(`the input has ${components} connected components; remeshing needs one closed surface (keep the largest with --keep-largest / keepLargest)`);
-    ({ mesh, dropped: droppedComponents } = keepLargestComponent(mesh));
-  }
-  let v;
-  try {
-    v = mrvol.validate(mesh);
-  } catch (e) {
-    throw new MrvolError(`the input is not a manifold triangle mesh: ${e.message}${repaired ? '' : ' (--repair drops such faces and closes the holes)'}`);
-  }
-  if (!v.closed)
-    throw new MrvolError(`the input has holes (${v.boundaryEdges} boundary edges); remeshing needs a closed surface: ` +
-                         (repaired ? 'holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)' : 'close the holes first (or try --repair)'));
-  return { mesh, validation: v, droppedComponents };
 }
 
 // ---- repair (optional): a closed 2-manifold from a scan that is almost one -----------------------
@@ -236,6 +213,77 @@ function foldedFaces(mesh) {
 }
 
 /**
+ * Consistent orientation: faces are walked across the edges that exactly two faces
+ * share, and a neighbour that walks the shared edge in the same direction is reversed (a patch
+ * saved with flipped faces). A non-orientable surface keeps its conflicts (for the non-manifold
+ * step to drop, and counted). Returns the faces, how many were reversed and the conflicts.
+ */
+function orientConsistently(faces, vertexCount) {
+  const out = Uint32Array.from(faces);
+  const byEdge = connectivity(faces, vertexCount).edgeFaces;
+  const faceCount = faces.length / 3, seen = new Uint8Array(faceCount);
+  const neighbours = Array.from({ length: faceCount }, () => []);
+  for (const list of byEdge.values()) if (list.length === 2) neighbours[list[0]].push(list[1]), neighbours[list[1]].push(list[0]);
+  const directed = (f) => [[out[3 * f], out[3 * f + 1]], [out[3 * f + 1], out[3 * f + 2]], [out[3 * f + 2], out[3 * f]]];
+  let reversed = 0;
+  // The walk keeps its seed's orientation; orientOutwards() then turns inside-out components.
+  for (let seed = 0; seed < faceCount; seed++) {
+    if (seen[seed]) continue;
+    seen[seed] = 1;
+    const queue = [seed];
+    while (queue.length) {
+      const f = queue.pop();
+      const mine = new Set(directed(f).map(([a, b]) => a * 0x100000000 + b));
+      for (const g of neighbours[f]) {
+        if (seen[g]) continue;
+        seen[g] = 1;
+        if (directed(g).some(([a, b]) => mine.has(a * 0x100000000 + b))) {
+          const t = out[3 * g + 1];
+          out[3 * g + 1] = out[3 * g + 2], out[3 * g + 2] = t;
+          reversed++;
+        }
+        queue.push(g);
+      }
+    }
+  }
+  // Edges still walked twice the same way: the surface is one-sided there (a Klein bottle).
+  let conflicts = 0;
+  for (const list of byEdge.values()) {
+    if (list.length !== 2) continue;
+    const [f, g] = list, mine = new Set(directed(f).map(([a, b]) => a * 0x100000000 + b));
+    if (directed(g).some(([a, b]) => mine.has(a * 0x100000000 + b))) conflicts++;
+  }
+  return { faces: out, reversed, conflicts };
+}
+
+/** Signed volume of the faces of each component (divergence theorem). */
+function componentVolumes(mesh) {
+  const { ofFace, count } = connectivity(mesh.faces, mesh.positions.length / 3).components;
+  const volumes = new Float64Array(count), p = mesh.positions, f = mesh.faces;
+  for (let t = 0; t < ofFace.length; t++) {
+    const a = 3 * f[3 * t], b = 3 * f[3 * t + 1], c = 3 * f[3 * t + 2];
+    volumes[ofFace[t]] += (p[a] * (p[b + 1] * p[c + 2] - p[b + 2] * p[c + 1]) - p[a + 1] * (p[b] * p[c + 2] - p[b + 2] * p[c]) +
+                           p[a + 2] * (p[b] * p[c + 1] - p[b + 1] * p[c])) / 6;
+  }
+  return { volumes, ofFace };
+}
+
+/** Components of negative volume (inside out) reversed. Returns how many. */
+function orientOutwards(mesh) {
+  const { volumes, ofFace } = componentVolumes(mesh);
+  let count = 0;
+  for (const v of volumes) if (v < 0) count++;
+  if (count === 0) return 0;
+  const f = mesh.faces;
+  for (let t = 0; t < ofFace.length; t++)
+    if (volumes[ofFace[t]] < 0) {
+      const x = f[3 * t + 1];
+      f[3 * t + 1] = f[3 * t + 2], f[3 * t + 2] = x;
+    }
+  return count;
+}
+
+/**
  * Taubin's lambda|mu smoothing (lambda 0.5, mu -0.53, uniform weights), `iterations` pairs, in
  * place: evens out the crumples of a crudely decimated scan with little shrinking.
  */
@@ -280,6 +328,10 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   report.finFaces = duplicates.finFaces;
   report.duplicateFaces = duplicates.duplicateFaces;
   keepFaces(duplicates.keep);
+  const oriented = orientConsistently(mesh.faces, mesh.positions.length / 3);
+  mesh = { positions: mesh.positions, faces: oriented.faces };
+  report.reorientedFaces = oriented.reversed;
+  report.oneSidedEdges = oriented.conflicts;
   report.foldedFaces = 0;
   // Folds left by the input or by a fill are cut out with their neighbours and filled again.
   for (let pass = 0; pass < 6; pass++) {
@@ -305,6 +357,7 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     report.foldedFaces += folds.count;
     keepFaces(folds.drop.map((d) => 1 - d));
   }
+  report.reversedComponents = orientOutwards(mesh);
   report.smoothIterations = smooth;
   if (smooth > 0) taubinSmooth(mesh, smooth);
   return { mesh, report };

@@ -113,12 +113,15 @@ describe('remesh (API)', () => {
     mr.delete();
   });
 
-  test('holes, components, non-manifold input: refused with the problem named', async () => {
+  test('holes, non-manifold input: refused with the problem named; several components: each remeshed', async () => {
     const open = bunnyMesh();
     const holed = { positions: open.positions, faces: open.faces.slice(3) };
     await assert.rejects(remesh(mrvol, holed), (e) => e instanceof MrvolError && /holes \(3 boundary edges\)/.test(e.message));
     const two = concat(tetrahedron(), tetrahedron([5, 0, 0]));
-    await assert.rejects(remesh(mrvol, two), (e) => e instanceof MrvolError && /2 connected components/.test(e.message));
+    const r = await remesh(mrvol, two, { levels: 1 });
+    assert.equal(r.components, 2);
+    assert.equal(r.faces, 2 * 4 * 4);
+    assert.equal(r.hausdorff < 1e-12, true, `a tetrahedron is its own base: ${r.hausdorff}`);
     // Two tetrahedra sharing an edge: three faces on it.
     const t = tetrahedron();
     const nonManifold = { positions: Float64Array.of(...t.positions, 3, 3, -3, 3, -3, 3),
@@ -280,10 +283,11 @@ describe('mrvol remesh (CLI)', () => {
   test('errors: exit 1 with one line naming the problem; usage: exit 2', () => {
     const t = tetrahedron();
     writeFileSync(file('two.obj'), mrvol.writeObj(concat(t, tetrahedron([5, 0, 0]))));
-    const two = cli('remesh', file('two.obj'), '-o', file('x.obj'));
-    assert.equal(two.status, 1);
-    assert.match(two.stderr, /^mrvol: error: .*two\.obj: the input has 2 connected components.*--keep-largest/);
-    assert.equal(two.stderr.trim().split('\n').length, 1);
+    writeFileSync(file('holed.obj'), mrvol.writeObj({ positions: t.positions, faces: t.faces.slice(3) }));
+    const holed = cli('remesh', file('holed.obj'), '-o', file('x.obj'));
+    assert.equal(holed.status, 1);
+    assert.match(holed.stderr, /^mrvol: error: .*holed\.obj: the input has holes \(3 boundary edges\).*--repair/);
+    assert.equal(holed.stderr.trim().split('\n').length, 1);
     const keep = cli('remesh', file('two.obj'), '--keep-largest', '--levels', '1', '-o', file('x.obj'), '--json');
     assert.equal(keep.status, 0, keep.stderr);
     assert.equal(cli('remesh', file('bunny.obj')).status, 2);
