@@ -35,7 +35,11 @@ class SurfaceBuffers {
   size_t vertexCount_;
   bool callerIsHierarchyOrder_;  // then no reordering (meshes written by our own subdivision)
   std::vector<float> positions_, normals_;
-  std::vector<float> sums_;  // face normal sums in hierarchy order (when the orders differ)
+  // The normals' faces (caller's indices, ordered by their last vertex) and scratch, caller's order,
+  // 4 floats a vertex (one SIMD register; a 3-float stride is slower: overlapping stores and loads
+  // stall): the positions relative to the reference point, the sums of the face cross products.
+  std::vector<uint32_t> faces_;
+  std::vector<float> relative_, sums_;
   uint64_t positionsOf_ = 0, normalsOf_ = 0;  // fine version written (+1; 0: none yet)
   uint64_t writes_ = 0;
 };
