@@ -5,9 +5,12 @@
 // beside three.js OBJLoader's parse() of the same text. Each measurement runs in a fresh Node
 // process so that its peak memory (max RSS, and the WASM heap's size) is its own.
 // Goals: 655k opened in at most half OBJLoader's time; 2.6M in <= 5 s; peak <= 300 bytes per vertex.
+// Then drag steps on the large meshes (step + the renderer's positions and normals): goals <= 16 ms
+// at 655k, <= 60 ms at 2.6M.
 // Writes bench/RESULTS-scale.md (machine, date) unless --no-write.
 //
-//   node bench/scale.mjs [--no-write] [--quick]      (--quick: up to 163k)
+//   node bench/scale.mjs [--no-write] [--quick] [--open-only | --edit-only]
+//   (--quick: up to 163k; a run of one part keeps the other's section of the results file)
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync, statSync, writeFileSync } from 'node:fs';
 import { cpus, loadavg, totalmem } from 'node:os';
@@ -42,6 +45,8 @@ async function child(kind, path) {
     Object.assign(result, { readMs: t1 - t0, openMs: t2 - t1, totalMs: t2 - t0, readCpuMs: cpuMs(c0, c1),
                             openCpuMs: cpuMs(c1, c2), cpuMs: cpuMs(c0, c2), levels: info.levels,
                             vertices: info.vertices, wasmHeap: raw.HEAPU8.length });
+  } else if (kind === 'edit') {
+    Object.assign(result, await editSteps(bytes));
   } else {
     const { OBJLoader } = await import('three/examples/jsm/loaders/OBJLoader.js');
     const text = bytes.toString('utf8');
@@ -54,6 +59,56 @@ async function child(kind, path) {
   }
   result.maxRss = process.resourceUsage().maxRSS * 1024;
   process.stdout.write(JSON.stringify(result) + '\n');
+}
+
+// Drag steps at each editing level: a held cage vertex moved a little at a time (as a pointer drag
+// does), each step timed as the app sees it: the step (moveVertices: the cage move and the volume
+// correction), then the renderer's buffers (positionsView, normalsView). CPU time per part, the
+// median over the steps after a few warm-up ones.
+const EDIT_LEVELS = [0, 3, 5];
+const EDIT_HEADING = '# Drag steps on large meshes (bench/scale.mjs)';
+const EDIT_STEPS = 20, EDIT_WARMUP = 3;
+async function editSteps(bytes) {
+  const { wrapModule } = await import('../lib/api.mjs');
+  const buildDir = new URL('../build/wasm/', import.meta.url);
+  const { default: factory } = await import(new URL('mrvol-node.mjs', buildDir).href);
+  const mrvol = wrapModule(await factory({ wasmBinary: readFileSync(new URL('mrvol-node.wasm', buildDir)) }));
+  const mr = mrvol.openMesh(mrvol.readObj(bytes));
+  const median = (a) => [...a].sort((x, y) => x - y)[a.length >> 1];
+  const levels = {};
+  for (const level of EDIT_LEVELS) {
+    const c0 = process.cpuUsage();
+    const ed = mr.createEditor({ level });
+    const setupCpuMs = cpuMs(c0, process.cpuUsage());
+    ed.normalsView();
+    const vertex = ed.cageVertices()[1];
+    // Steps of 0.5% of the mesh's size: a pointer drag's frame; each needs a volume correction.
+    const size = ed.cagePositions().reduce((m, x) => Math.max(m, Math.abs(x)), 0);
+    const offset = [0.005 * size, 0.0025 * size, 0];
+    const parts = { step: [], positions: [], normals: [] };
+    let worst = 0, corrected = 0;
+    for (let s = 0; s < EDIT_WARMUP + EDIT_STEPS; ++s) {
+      const a = process.cpuUsage();
+      const report = ed.moveVertices([{ vertex, offset }]);
+      const b = process.cpuUsage();
+      ed.positionsView();
+      const c = process.cpuUsage();
+      ed.normalsView();
+      const d = process.cpuUsage();
+      if (!report.converged) throw new Error(`level ${level}: ${report.message}`);
+      worst = Math.max(worst, report.relativeError);
+      if (s < EDIT_WARMUP) continue;
+      if (report.iterations > 0) ++corrected;
+      parts.step.push(cpuMs(a, b)), parts.positions.push(cpuMs(b, c)), parts.normals.push(cpuMs(c, d));
+    }
+    levels[level] = { path: ed.path(), cage: ed.cageSize, setupCpuMs, stepMs: median(parts.step),
+                      positionsMs: median(parts.positions), normalsMs: median(parts.normals),
+                      frameMs: median(parts.step.map((x, i) => x + parts.positions[i] + parts.normals[i])), worst,
+                      corrected };
+    ed.delete();
+  }
+  mr.delete();
+  return { levels };
 }
 
 if (process.argv[2] === '--child') {
@@ -90,8 +145,9 @@ function best(kind, path, rounds) {
 }
 
 const sizes = Object.keys(LEVELS).map(Number).filter((n) => !quick || n <= 163842);
+const onlyEdit = process.argv.includes('--edit-only'), onlyOpen = process.argv.includes('--open-only');
 const rows = [];
-for (const n of sizes) {
+for (const n of onlyEdit ? [] : sizes) {
   const path = meshFile(n);
   const bytes = statSync(path).size;
   const ours = best('mrvol', path, roundsFor(n));
@@ -103,18 +159,32 @@ for (const n of sizes) {
                        `(wall ${three.totalMs.toFixed(0)}), ` +
                        `RSS ${(ours.maxRss / n).toFixed(0)} B/vertex\n`);
 }
+// Editing: the large meshes only (one process each: it opens the mesh once for every level).
+const editRows = [];
+for (const n of onlyOpen ? [] : sizes.filter((n) => n >= (quick ? 40962 : 655362))) {
+  const r = measure('edit', meshFile(n));
+  for (const [level, m] of Object.entries(r.levels)) {
+    editRows.push({ n, level: Number(level), ...m });
+    process.stderr.write(`bench: N = ${n}, e = ${level} (${m.path}, cage ${m.cage}): step ${m.stepMs.toFixed(2)} ms, ` +
+                         `positions ${m.positionsMs.toFixed(2)}, normals ${m.normalsMs.toFixed(2)}, frame ${m.frameMs.toFixed(2)} ms CPU\n`);
+  }
+}
 
 const f0 = (x) => x.toFixed(0);
+const f1 = (x) => x.toFixed(1);
 const mb = (x) => (x / 1e6).toFixed(1);
 const goal655 = rows.find((r) => r.n === 655362);
 const goal26 = rows.find((r) => r.n === 2621442);
 const verdict = (ok) => (ok ? 'met' : '**not met**');
-const lines = [
-  '# Opening large OBJ files (bench/scale.mjs)',
-  '',
+const machine = [
   `Machine: ${cpus()[0]?.model ?? 'unknown CPU'} x ${cpus().length}, ${(totalmem() / 2 ** 30).toFixed(0)} GB; ` +
     `Node ${process.version}; load average ${loadavg()[0].toFixed(1)} at the end.`,
   `Date: ${new Date().toISOString()}`,
+];
+const openSection = [
+  '# Opening large OBJ files (bench/scale.mjs)',
+  '',
+  ...machine,
   '',
   'Meshes: public/models/spiky-ball.obj subdivided with `mrvol subdivide` (Loop), cached in .cache/scale/.',
   'Ours: readObj(file bytes) + openMesh (validation, hierarchy detection) + info(), the WASM module under Node, as `mrvol info` does.',
@@ -136,7 +206,31 @@ const lines = [
   goal26 ? `- 2.6M opened in <= 5 s: ${f0(goal26.ours.cpuMs)} ms CPU: ${verdict(goal26.ours.cpuMs <= 5000)}` : '- 2.6M: not run (--quick)',
   goal26 ? `- peak memory <= 300 bytes per vertex at 2.6M: ${f0(goal26.ours.maxRss / goal26.n)} B/vertex (max RSS): ${verdict(goal26.ours.maxRss / goal26.n <= 300)}` : '',
   '',
-];
-const text = lines.join('\n');
-if (write) writeFileSync(fileURLToPath(new URL('RESULTS-scale.md', import.meta.url)), text);
+].join('\n');
+const frameGoal = (n) => (n <= 655362 ? 16 : 60);
+const editSection = [
+  EDIT_HEADING,
+  '',
+  ...machine,
+  '',
+  `The same meshes, opened once per process; an editor at level e (cage of V_e vertices; the path \`auto\` picks), a`,
+  `held cage vertex dragged by ${EDIT_STEPS} steps of 0.5% of the mesh's size after ${EDIT_WARMUP} warm-up ones (steps corrected: those whose volume needed a correction). Step: moveVertices (cage move and`,
+  'volume correction); positions: positionsView() (the fine positions brought up to date, float32 in the caller\'s',
+  'order); normals: normalsView() (area-weighted, in WASM). CPU time per part, median over the steps; frame: median of',
+  'their sum. Set-up: createEditor (the path\'s precomputation), once.',
+  '',
+  '| vertices | e | cage | path | set-up ms | step ms | positions ms | normals ms | frame ms | goal ms | steps corrected | worst rel. volume error |',
+  '| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |',
+  ...editRows.map((r) => `| ${r.n} | ${r.level} | ${r.cage} | ${r.path} | ${f0(r.setupCpuMs)} | ${r.stepMs.toFixed(2)} | ` +
+    `${r.positionsMs.toFixed(2)} | ${r.normalsMs.toFixed(2)} | ${f1(r.frameMs)} | ${frameGoal(r.n)} ${verdict(r.frameMs <= frameGoal(r.n))} | ${r.corrected}/${EDIT_STEPS} | ${r.worst.toExponential(1)} |`),
+  '',
+].join('\n');
+const resultsPath = fileURLToPath(new URL('RESULTS-scale.md', import.meta.url));
+// A run of one part keeps the other part's section from the file.
+const previous = existsSync(resultsPath) ? readFileSync(resultsPath, 'utf8') : '';
+const cut = previous.indexOf(EDIT_HEADING);
+const keptOpen = cut >= 0 ? previous.slice(0, cut) : previous;
+const keptEdit = cut >= 0 ? previous.slice(cut) : '';
+const text = (onlyEdit ? keptOpen : openSection + '\n') + (onlyOpen ? keptEdit : editSection);
+if (write) writeFileSync(resultsPath, text);
 process.stderr.write(write ? 'bench: wrote bench/RESULTS-scale.md\n' : text);

@@ -250,7 +250,32 @@ export function wrapModule(module) {
     }
     /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor'/'polynomial' (cage). */
     gradient(path = 'matrix-free') { return call((r) => r.gradient(path), this.#live()); }
+    // Renderer buffers (float32, caller's order, in WASM memory), made on first use.
+    #surface = null;
+    #surfaceVersion = 0;
+    #updateSurface(normals) {
+      const raw = this.#live();
+      this.#surface ??= call(module._createSurfaceBuffers, this.#mesh);
+      this.#surfaceVersion = call((s) => s.update(raw, normals), this.#surface);
+      return this.#surface;
+    }
+    /**
+     * The fine positions after the last edit as a Float32Array (3 per vertex, caller's order) that
+     * views WASM memory: no copy; its values are rewritten in place by the next positionsView()
+     * after an edit (only what changed is recomputed). The view is invalidated (length 0) when WASM
+     * memory grows, which any later call may do: take the view again after each edit (cheap).
+     */
+    positionsView() { return this.#updateSurface(false).positions(); }
+    /**
+     * Area-weighted unit vertex normals of the current positions, a Float32Array over WASM memory
+     * like positionsView() (same order and validity); computed in WASM when asked for.
+     */
+    normalsView() { return this.#updateSurface(true).normals(); }
+    /** Changes whenever positionsView()'s values do (as of the last positionsView()/normalsView()). */
+    get surfaceVersion() { return this.#surfaceVersion; }
     delete() {
+      this.#surface?.delete();
+      this.#surface = null;
       if (this.#raw) this.#raw.delete();
       this.#raw = null;
     }

@@ -278,6 +278,16 @@ export interface VolumeEditor {
   cagePositions(): Float64Array;
   /** Fine positions, caller's vertex order. */
   positions(): Float64Array;
+  /**
+   * The fine positions as float32 (3 per vertex, caller's order) viewing WASM memory, no copy:
+   * rewritten in place by the next call after an edit. Invalidated (length 0) when WASM memory
+   * grows: take it again after each edit.
+   */
+  positionsView(): Float32Array;
+  /** Area-weighted unit vertex normals of the current positions, a view like positionsView(). */
+  normalsView(): Float32Array;
+  /** Changes whenever positionsView()'s values do (as of the last view taken). */
+  readonly surfaceVersion: number;
   /** All level-e coefficients (3 N), hierarchy order: the cage, then the details. */
   coefficients(): Float64Array;
   /** The current (exact) volume. */

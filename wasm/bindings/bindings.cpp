@@ -14,6 +14,7 @@
 #include "mrvol/error.h"
 #include "mrvol/limit_volume.h"
 #include "mrvol/multires_mesh.h"
+#include "mrvol/surface_buffers.h"
 #include "mrvol/volume_editor.h"
 
 using emscripten::val;
@@ -489,6 +490,20 @@ val js_editorGradient(const VolumeEditor& e, std::string path) {
   });
 }
 
+// Renderer buffers: views into WASM memory (no copy), valid until the memory grows.
+SurfaceBuffers* js_createSurfaceBuffers(const MultiresMesh& m) {
+  return guarded([&] { return new SurfaceBuffers(m.hierarchy()); });
+}
+val js_surfaceUpdate(SurfaceBuffers& s, const VolumeEditor& e, bool normals) {
+  return guarded([&] {
+    const double* fine = e.finePositions().data();
+    s.update(fine, e.referencePoint(), e.finePositionsVersion(), normals);
+    return val(double(s.version()));
+  });
+}
+val js_surfacePositions(const SurfaceBuffers& s) { return val(emscripten::typed_memory_view(3 * s.vertexCount(), s.positions())); }
+val js_surfaceNormals(const SurfaceBuffers& s) { return val(emscripten::typed_memory_view(3 * s.vertexCount(), s.normals())); }
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(mrvol) {
@@ -563,4 +578,9 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("bytes", &js_thetaBytes)
       .function("entries", &js_thetaEntries);
   function("_readTheta", &js_readTheta, allow_raw_pointers());
+  function("_createSurfaceBuffers", &js_createSurfaceBuffers, allow_raw_pointers());
+  class_<SurfaceBuffers>("_SurfaceBuffers")
+      .function("update", &js_surfaceUpdate)
+      .function("positions", &js_surfacePositions)
+      .function("normals", &js_surfaceNormals);
 }

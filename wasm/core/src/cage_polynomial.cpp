@@ -6,6 +6,29 @@
 
 namespace mrvol {
 
+void CagePolynomial::indexRuns() {
+  runStart.clear(), runI.clear(), runJ.clear();
+  for (size_t p = 0; p < tripleT.size(); ++p)
+    if (p == 0 || tripleI[p] != tripleI[p - 1] || tripleJ[p] != tripleJ[p - 1])
+      runStart.push_back(uint32_t(p)), runI.push_back(tripleI[p]), runJ.push_back(tripleJ[p]);
+  runStart.push_back(uint32_t(tripleT.size()));
+}
+
+template <class F>
+void CagePolynomial::forEachRun(F&& f) const {
+  if (!runI.empty() && runStart.size() == runI.size() + 1 && runStart.back() == tripleT.size()) {
+    for (size_t r = 0; r < runI.size(); ++r) f(runI[r], runJ[r], size_t(runStart[r]), size_t(runStart[r + 1]));
+    return;
+  }
+  for (size_t p = 0; p < tripleT.size();) {
+    const uint32_t i = tripleI[p], j = tripleJ[p];
+    size_t end = p + 1;
+    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+    f(i, j, p, end);
+    p = end;
+  }
+}
+
 double CagePolynomial::evaluate(const double* c, double* g) const {
   double v = constant;
   if (g) std::fill(g, g + 3 * size_t(cageSize), 0.0);
@@ -26,12 +49,11 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
   }
   // Triples in runs of one (i, j): sum_k T_ijk c_i . (c_j x c_k) = c_i . (c_j x w), w = sum_k T_ijk c_k,
   // and the gradient at k is T_ijk (c_i x c_j): per triple two vector updates, per run the crosses.
-  for (size_t p = 0; p < tripleT.size();) {
-    const uint32_t i = tripleI[p], j = tripleJ[p];
-    size_t end = p + 1;
-    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+  const uint32_t* tk = tripleK.data();
+  const double* tt = tripleT.data();
+  forEachRun([&](uint32_t i, uint32_t j, size_t p, size_t end) {
     double w[3] = {0, 0, 0};
-    for (size_t q = p; q < end; ++q) axpy(tripleT[q], c + 3 * tripleK[q], w);
+    for (size_t q = p; q < end; ++q) axpy(tt[q], c + 3 * size_t(tk[q]), w);
     const double *ci = c + 3 * i, *cj = c + 3 * j;
     cross(cj, w, t);
     v += dot(ci, t);
@@ -40,10 +62,9 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
       cross(w, ci, t);
       axpy(1.0, t, g + 3 * j);
       cross(ci, cj, t);
-      for (size_t q = p; q < end; ++q) axpy(tripleT[q], t, g + 3 * tripleK[q]);
+      for (size_t q = p; q < end; ++q) axpy(tt[q], t, g + 3 * size_t(tk[q]));
     }
-    p = end;
-  }
+  });
   return v;
 }
 
@@ -60,12 +81,11 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
     k[1] += dot(ci, t), k[2] += dot(gi, t);
   }
   // Triples by runs of one (i, j) as in evaluate: (c_i + s g_i) . ((c_j + s g_j) x (wc + s wg)).
-  for (size_t p = 0; p < tripleT.size();) {
-    const uint32_t i = tripleI[p], j = tripleJ[p];
-    size_t end = p + 1;
-    while (end < tripleT.size() && tripleI[end] == i && tripleJ[end] == j) ++end;
+  const uint32_t* tk = tripleK.data();
+  const double* tt = tripleT.data();
+  forEachRun([&](uint32_t i, uint32_t j, size_t p, size_t end) {
     double wc[3] = {0, 0, 0}, wg[3] = {0, 0, 0};
-    for (size_t q = p; q < end; ++q) axpy(tripleT[q], c + 3 * tripleK[q], wc), axpy(tripleT[q], g + 3 * tripleK[q], wg);
+    for (size_t q = p; q < end; ++q) axpy(tt[q], c + 3 * size_t(tk[q]), wc), axpy(tt[q], g + 3 * size_t(tk[q]), wg);
     const double *ci = c + 3 * i, *cj = c + 3 * j, *gi = g + 3 * i, *gj = g + 3 * j;
     cross(cj, wc, t);
     k[0] += dot(ci, t), k[1] += dot(gi, t);
@@ -75,8 +95,7 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
     k[1] += dot(ci, t), k[2] += dot(gi, t);
     cross(gj, wg, t);
     k[2] += dot(ci, t), k[3] += dot(gi, t);
-    p = end;
-  }
+  });
 }
 
 CagePolynomial contractCageRows(const VolumeTensor& tensor, const double* x) {

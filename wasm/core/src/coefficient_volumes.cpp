@@ -28,16 +28,23 @@ void SessionCoefficients::shiftedCage(std::vector<double>& out) const {
 
 double CageVolumeConstraint::value() {
   session_->shiftedCage(cage_);
-  return volume_->value(cage_.data(), nullptr);
+  if (cage_ != valueCage_) {
+    value_ = volume_->value(cage_.data(), nullptr);
+    valueCage_ = cage_;
+    gradientCurrent_ = false;
+  }
+  return value_;
 }
 
-void CageVolumeConstraint::evaluate(double* values) {
-  session_->shiftedCage(cage_);
-  gradient_.resize(cage_.size());
-  values[0] = volume_->value(cage_.data(), gradient_.data());
-}
+void CageVolumeConstraint::evaluate(double* values) { values[0] = value(); }
 
 void CageVolumeConstraint::gradients(const std::vector<uint32_t>& free, double* gradients) {
+  value();  // the cage of the last value (valueCage_) is the current one
+  if (!gradientCurrent_) {
+    gradient_.resize(cage_.size());
+    volume_->value(cage_.data(), gradient_.data());
+    gradientCurrent_ = true;
+  }
   gather(free, gradient_.data(), gradients);
 }
 

@@ -21,9 +21,18 @@ struct CagePolynomial {
   std::vector<uint32_t> tripleI, tripleJ, tripleK;     // cage triples, in runs of one (i, j) (any order is
                                                        // correct; runs share their cross products)
   std::vector<double> tripleT;
+  // The runs of one (i, j) among the triples, found once by indexRuns() (evaluation then reads only
+  // k and T per triple): run r is (runI[r], runJ[r]) over triples [runStart[r], runStart[r + 1]).
+  // Without them (or after the triples changed) evaluation finds the runs as it goes.
+  std::vector<uint32_t> runStart, runI, runJ;
+  void indexRuns();
   double evaluate(const double* cage, double* gradient /* 3 * cageSize or null */) const;
   // The cubic s -> Theta(cage + s direction): its coefficients k[0] + k[1] s + k[2] s^2 + k[3] s^3.
   void alongDirection(const double* cage, const double* direction, double* k) const;
+
+ private:
+  template <class F>
+  void forEachRun(F&& f) const;  // f(i, j, first triple, end)
 };
 
 // Contracts the cage rows of theta^e (Cage storage) with the details of `coefficients` (level-e
@@ -34,7 +43,7 @@ CagePolynomial contractCageRows(const VolumeTensor& tensor, const double* coeffi
 // The polynomial as a VolumeFunction of the cage coefficients (3 * cageSize doubles).
 class CagePolynomialVolume final : public VolumeFunction {
  public:
-  explicit CagePolynomialVolume(CagePolynomial polynomial) : polynomial_(std::move(polynomial)) {}
+  explicit CagePolynomialVolume(CagePolynomial polynomial) : polynomial_(std::move(polynomial)) { polynomial_.indexRuns(); }
   const CagePolynomial& polynomial() const { return polynomial_; }
   size_t size() const override { return 3 * size_t(polynomial_.cageSize); }
   double value(const double* cage, double* gradient) const override { return polynomial_.evaluate(cage, gradient); }

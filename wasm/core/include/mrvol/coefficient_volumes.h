@@ -45,6 +45,11 @@ class CageVolumeConstraint final : public VolumeConstraints {
   const CagePolynomialVolume* volume_;
   SessionCoefficients* session_;
   std::vector<double> cage_, gradient_, direction_;
+  // The last value and the cage it is of: the editor's value() before a solve spares the solver's
+  // first evaluation, and the gradient is formed only when a correction needs it.
+  std::vector<double> valueCage_;
+  double value_ = 0;
+  bool gradientCurrent_ = false;
 };
 
 // Rows: functions of the fine positions (3 (N + 1), see FinePositions), each with its reference

@@ -93,6 +93,11 @@ class VolumeEditor {
   std::vector<double> cagePositions() const;  // 3 * cageSize, cage order
   std::vector<double> positions() const;      // fine positions, caller's order
   std::vector<double> coefficients() const;   // level-e coefficients, hierarchy order
+  // The fine positions as the session keeps them (3 N doubles and 3 more, hierarchy order, relative
+  // to referencePoint()), brought up to date; their version changes whenever they do (SurfaceBuffers).
+  const std::vector<double>& finePositions() const { return session_.fine.of(session_.x); }
+  uint64_t finePositionsVersion() const { return session_.fine.version(); }
+  Vec3 referencePoint() const { return session_.origin; }
 
   // Theta_tau for every coefficient at level e (3 * N, hierarchy order) by the matrix-free path,
   // and for the cage (3 * cageSize) by the tensor polynomial; both for tests.
