@@ -207,6 +207,7 @@ export class Viewer {
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
     geometry.setIndex(new THREE.BufferAttribute(faces.length > 0 ? new Uint32Array(faces) : new Uint32Array(0), 1));
     this.mesh = new THREE.Mesh(geometry, this.meshMaterial);
+    this.mesh.frustumCulled = false;
     this.scene.add(this.mesh);
     // The layers: same faces; filled in by updateApprox / updateDetails.
     const approxGeometry = new THREE.BufferGeometry();
@@ -247,11 +248,12 @@ export class Viewer {
 
   /** New fine positions, same connectivity. */
   updateMesh(positions) {
+    // in place: the buffer is uploaded again, not reallocated; no bounding sphere per step (the mesh
+    // is not frustum culled; framing reads the positions): a pass less over a big mesh per frame
     const attribute = this.mesh.geometry.getAttribute('position');
     attribute.array.set(positions);
     attribute.needsUpdate = true;
     if (!this.flat) this.mesh.geometry.computeVertexNormals();
-    this.mesh.geometry.computeBoundingSphere();
     this.requestRender();
   }
 
