@@ -35,6 +35,12 @@ export function installDebugHook(app) {
     /** ms the room lighting took to prefilter (null until done). */
     environmentMs: () => app.viewer?.environmentMs ?? null,
     thetaReady: () => app.ready && app.theta?.source != null && editor()?.path() === 'tensor',
+    /** Drag steps on their fast path: the cage polynomial, or theta^e in use. */
+    gradientReady: () => app.ready && (editor()?.path() === 'polynomial' || (app.theta?.source != null && editor()?.path() === 'tensor')),
+    /** The live chart: volume points, multipliers λ of the current drag, their ticks. */
+    chart: () => (app.chart ? { points: app.chart.current.length, lambdas: [...app.chart.lambdas], ticks: app.chart.volumePlot.tickValues, lambdaTicks: app.chart.lambdaPlot.tickValues } : null),
+    /** The model's file: name, format, bytes (null for samples and OBJ texts made here). */
+    modelFile: () => (app.model ? { name: app.model.name, kind: app.model.kind, format: app.model.format ?? null, bytes: app.model.bytes?.byteLength ?? null, vertices: app.model.vertices ?? null } : null),
     /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
     stats: () => ({
       ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders],

@@ -16,12 +16,14 @@ import { loadSession, saveSession, clearSession, decodeFloat64 } from './session
 import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
-import { fetchSample, sourceText, openObj } from './models.js';
+import { fetchSample, sourceText, openParsed, baseNameOf } from './models.js';
+import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
 import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
 import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
+import { stepMultiplier } from './multiplier.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
 import { findSelfIntersection } from './self-intersection.js';
 import { setUpBalance } from './balance.js';
@@ -34,6 +36,9 @@ const DEFAULT_MODEL = 'spiky-ball';
 // Both are replaced, never mutated.
 const DEFAULT_SETTINGS = Object.freeze({
   model: DEFAULT_MODEL, scheme: DEFAULT_SCHEME.scheme, level: 0, preserve: true, freeSet: 'minus-held', tolerance: 1e-6,
+  // 'polynomial': the editor's cage polynomial wherever theta^e would do (no tensor computed or handed
+  // over); 'tensor': the paper's theta^e from the worker or the cache (?gradient=tensor)
+  gradient: 'polynomial',
   flat: true, showMesh: true, showCage: true,
   tool: 'drag', part: 1, painted: Object.freeze([]), parts: Object.freeze([]),
   showApprox: false, approxLevel: 0, showDetails: false,
@@ -63,6 +68,8 @@ const app = {
     steps: [], frames: [], renders: [], layers: [],
   },
   pendingInput: null,
+  chart: null,       // VolumeChart
+  dragHandles: [],   // cage indices of the drag in progress
 };
 
 /** Warns under the readouts when the surface intersects itself (checked after each edit, not during drags). */
@@ -144,7 +151,7 @@ function applyStoredSettings(settings) {
 function sourceOfStored(stored) {
   return stored.model.kind === 'sample'
     ? { kind: 'sample', name: stored.model.name }
-    : { kind: 'file', name: stored.model.name, text: stored.model.text };
+    : { kind: 'file', name: stored.model.name, text: stored.model.text, bytes: stored.model.bytes };
 }
 
 function restoreOfStored(stored) {
@@ -154,25 +161,43 @@ function restoreOfStored(stored) {
 // ---- models ---------------------------------------------------------------------------------------
 
 /**
- * Opens an OBJ (web/models.js says whether it can be edited); on success replaces the current model
- * (and returns true), otherwise shows why, offers remeshing when that would help, and keeps the
- * current one (false). restore: { positions: Float64Array, reference, fingerprint } from a stored session.
+ * Opens an OBJ text (samples, remeshed results, project files, older stored sessions); see openModelMesh.
  */
 function openModelText({ name, kind, text }, restore = null) {
-  const { session } = app;
-  let mr, info;
+  let mesh;
   try {
-    ({ mr, info } = openObj(app.mrvol, text));
+    mesh = app.mrvol.readObj(text);
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
-    if (e.offer) offerRemesh({ name, text }, { repair: e.offer === 'repair', open: openModel, notice });
+    return false;
+  }
+  return openModelMesh({ name, kind, text, format: 'obj' }, mesh, restore);
+}
+
+/**
+ * Opens a mesh read from a model (web/models.js says whether it can be edited); on success replaces
+ * the current model (and returns true), otherwise shows why, remeshes it in a worker when that
+ * would help (repairing it first when it is not a closed 2-manifold), and keeps the current one
+ * (false). model: { name, kind, format, text? (OBJ text) | bytes? (the file) }; restore:
+ * { positions: Float64Array, reference, fingerprint } from a stored session.
+ */
+function openModelMesh(model, mesh, restore = null) {
+  const { session } = app;
+  const { name } = model;
+  let mr, info;
+  try {
+    ({ mr, info } = openParsed(app.mrvol, mesh));
+  } catch (e) {
+    showError(`Could not open ${name}: ${e.message}`);
+    if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true });
     return false;
   }
   clearError();
   hideRemeshOffer();
   notice('');
   app.theta.cancel();
-  app.model = { name, kind, text };
+  // what an export keeps: the file's own lines (OBJ) or data (glTF) while the vertices are its own
+  app.model = { ...model, vertices: mesh.positions.length / 3 };
   app.settings.model = name;
   // a share link's edits carry no fingerprint: the vertex count decides (session.open)
   const fits = restore && (restore.fingerprint == null || restore.fingerprint === mr.fingerprint());
@@ -195,43 +220,60 @@ function openModelText({ name, kind, text }, restore = null) {
   return true;
 }
 
-const BIG_FILE_CHARS = 2_000_000;
-
 const nextPaint = () => new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
 
-/** The busy indicator in the status strip (opening a big file), or null to hide it. */
-function showBusy(text) {
-  const busy = document.getElementById('busy');
-  busy.hidden = text === null;
-  document.getElementById('busy-text').textContent = text ?? '';
+/** Whether a chosen or dropped file is a project (JSON) rather than a mesh: by name, else its first byte. */
+async function isProjectFile(file) {
+  if (/\.json$/i.test(file.name)) return true;
+  if (/\.(obj|stl|ply|off|coff|noff|gltf|glb)$/i.test(file.name)) return false;
+  return isProject(await file.slice(0, 64).text());
 }
 
-/** Loads a model from its source; false when it could not be read or opened. */
+/**
+ * Loads a model from its source: a sample, an OBJ text, a file (any mesh format, big ones read in a
+ * worker with progress and cancel) or a stored file's bytes; false when it could not be read or opened.
+ */
 async function openModel(source, restore = null) {
   const generation = ++app.loadGeneration;
-  let text;
-  if (source.kind === 'file' && source.file?.size > BIG_FILE_CHARS) showBusy(`Reading ${source.name} (${(source.file.size / 1e6).toFixed(1)} MB)…`);
-  try {
-    text = await sourceText(source);
-  } catch (e) {
-    showBusy(null);
-    if (generation === app.loadGeneration) showError(`Could not open ${source.name}: ${e.message}`);
+  const fail = (e) => {
+    if (generation === app.loadGeneration && !e.cancelled) showError(`Could not open ${source.name}: ${e.message}`);
+    if (e.cancelled && generation === app.loadGeneration) notice(`Opening ${source.name} was cancelled.`);
     return false;
+  };
+  let opened;
+  if (source.kind === 'file' && source.text === undefined && (source.file || source.bytes)) {
+    try {
+      if (source.file && await isProjectFile(source.file)) {
+        const text = await source.file.text();
+        if (generation !== app.loadGeneration) return false;
+        return openProjectText(text, source.name);
+      }
+      const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name });
+      if (generation !== app.loadGeneration) return false;
+      const big = read.bytes.byteLength > BIG_FILE_BYTES;
+      if (big) {
+        showFileProgress(`Opening ${source.name}: finding its levels…`, null);
+        await nextPaint(); // the indicator shows before the page is busy with the hierarchy
+      }
+      try {
+        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes }, read.mesh, restore);
+      } finally {
+        if (big) showFileProgress(null);
+      }
+    } catch (e) {
+      return fail(e);
+    }
+  } else {
+    let text;
+    try {
+      text = await sourceText(source);
+    } catch (e) {
+      return fail(e);
+    }
+    if (generation !== app.loadGeneration) return false;
+    opened = openModelText({ name: source.name, kind: source.kind, text }, restore);
   }
-  if (generation !== app.loadGeneration) return false;
-  if (source.kind === 'file' && isProject(text)) return openProjectText(text, source.name);
-  const big = text.length > BIG_FILE_CHARS;
-  if (big) {
-    showBusy(`Opening ${source.name} (${(text.length / 1e6).toFixed(1)} MB)…`);
-    await nextPaint(); // the indicator shows before the page is busy reading the mesh
-  }
-  let ok;
-  try {
-    ok = openModelText({ name: source.name, kind: source.kind, text }, restore);
-  } finally {
-    if (big) showBusy(null);
-  }
-  if (ok) {
+  if (opened) {
     const url = new URL(location.href);
     if (source.kind === 'sample') url.searchParams.set('model', source.name);
     else url.searchParams.delete('model');
@@ -240,8 +282,10 @@ async function openModel(source, restore = null) {
     app.settings.model = app.model?.name ?? DEFAULT_MODEL;
     app.panel.update(); // the sample list goes back to the current model
   }
-  return ok;
+  return opened;
 }
+// Opening a file this big blocks the page while the hierarchy is found: say so first.
+const BIG_FILE_BYTES = 2_000_000;
 
 // ---- the session's events: the view follows ---------------------------------------------------------
 
@@ -360,12 +404,16 @@ const dragHandlers = {
   },
   dragStart(handles) {
     app.session.beginDrag(handles);
+    app.dragHandles = handles;
+    app.chart.startDrag();
   },
   drag(delta, eventTime) {
     const { session } = app;
     if (!session.dragging) return;
     session.tolerance = app.settings.tolerance;
+    const before = session.cagePositions();
     const report = session.dragBy(delta);
+    if (report) app.chart.pushLambda(stepMultiplier(session, before, app.dragHandles)); // drawn on the change
     if (!report) {
       app.dragger.cancel(); // refused: the session put the cage back and said why
       return;
@@ -416,7 +464,7 @@ function redo() {
 // ---- tools: screenshot, share link, project file, keyboard help ----------------------------------------
 
 function baseName() {
-  return app.model.name.replace(/\.(obj|json)$/i, '');
+  return baseNameOf(app.model.name);
 }
 
 /** The view as a PNG file (drawn now, so the drawing buffer holds the frame). */
@@ -468,7 +516,8 @@ function openProjectText(text, fileName) {
   }
   applyStoredSettings(project.settings);
   app.panel.update();
-  return openModelText(project.model, { fingerprint: null, positions: project.positions, reference: project.reference });
+  const restore = { fingerprint: null, positions: project.positions, reference: project.reference };
+  return project.model.bytes ? openModel(project.model, restore) : openModelText(project.model, restore);
 }
 
 function showKeyboardHelp() {
@@ -477,11 +526,42 @@ function showKeyboardHelp() {
 
 // ---- actions from the panel and the keyboard ---------------------------------------------------------
 
+/**
+ * The edited mesh as OBJ: an OBJ file's own text with its positions replaced (vt, vn, groups,
+ * materials kept) while its vertices are the file's; else a plain OBJ.
+ */
 function exportObj() {
   const { session } = app;
   if (!session.editor) return;
-  const text = app.mrvol.writeObj({ positions: session.positions(), faces: session.model.faces });
-  download(text, `${app.model.name.replace(/\.obj$/i, '')}-edited.obj`, 'export-link');
+  const positions = session.positions();
+  const own = app.model.format === 'obj' && app.model.vertices === positions.length / 3 && (app.model.bytes ?? app.model.text);
+  let data = null;
+  if (own) {
+    try {
+      data = app.mrvol.writeObjLike(own, positions);
+    } catch { /* a plain OBJ below */ }
+  }
+  data ??= app.mrvol.writeObj({ positions, faces: session.model.faces });
+  download(data instanceof Uint8Array ? new Blob([data], { type: 'text/plain' }) : data, `${baseName()}-edited.obj`, 'export-link');
+}
+
+/**
+ * The edited mesh as GLB: a glTF file's own data (materials, textures, other attributes) with its
+ * positions replaced while the triangles are the file's; else positions, normals and triangles.
+ */
+function exportGlb() {
+  const { session } = app;
+  if (!session.editor) return;
+  const mesh = { positions: session.positions(), faces: session.model.faces };
+  const { format, bytes } = app.model;
+  let glb = null;
+  if ((format === 'glb' || format === 'gltf') && bytes && app.model.vertices === mesh.positions.length / 3) {
+    try {
+      glb = app.mrvol.writeGlb(mesh, { source: { bytes, format } });
+    } catch { /* a plain GLB below */ }
+  }
+  glb ??= app.mrvol.writeGlb(mesh);
+  download(new Blob([glb], { type: 'model/gltf-binary' }), `${baseName()}-edited.glb`, 'export-glb-link');
 }
 
 /** The level-e cage as its own OBJ: cage positions in cage order, the level-e triangles. */
@@ -490,7 +570,7 @@ function exportCage() {
   if (!session.editor) return;
   const faces = Uint32Array.from(session.model.mr.levelFaces(session.level), (v) => session.cageIndex.get(v));
   const text = app.mrvol.writeObj({ positions: session.cagePositions(), faces });
-  download(text, `${app.model.name.replace(/\.obj$/i, '')}-cage-level${session.level}.obj`, 'export-cage-link');
+  download(text, `${baseName()}-cage-level${session.level}.obj`, 'export-cage-link');
 }
 
 async function reset() {
@@ -499,7 +579,7 @@ async function reset() {
   Object.assign(app.settings, DEFAULT_SETTINGS, { model: app.model?.name ?? DEFAULT_MODEL });
   app.viewer.setFlat(app.settings.flat);
   applyViewLayers();
-  if (app.model) await openModel({ kind: app.model.kind, name: app.model.name, text: app.model.kind === 'file' ? app.model.text : undefined });
+  if (app.model) await openModel({ kind: app.model.kind, name: app.model.name, text: app.model.kind === 'file' ? app.model.text : undefined, bytes: app.model.bytes });
   app.panel.update();
 }
 
@@ -514,6 +594,7 @@ const actions = {
   shareLink,
   saveProject,
   exportObj,
+  exportGlb,
   exportCage,
   reset,
   undo,
@@ -522,6 +603,11 @@ const actions = {
   changeLevel: () => { rebuildEditor(); saveSoon(); },
   changePreserve,
   changeTolerance: () => saveSoon(),
+  changeGradient: () => {
+    app.session.path = sessionPath();
+    if (app.session.editor) app.session.setLevel(app.session.level); // rebuilt on the chosen path
+    saveSoon();
+  },
   changeFreeSet: () => { app.freeSet.changeMode(); saveSoon(); },
   changeTool: () => { app.freeSet.changeTool(); saveSoon(); },
   clearPainted: () => { app.freeSet.clearPainted(); saveSoon(); },
@@ -583,6 +669,11 @@ function setUpSheet() {
   });
 }
 
+/** The session's gradient path for the panel's choice (lib/three/session.mjs). */
+function sessionPath() {
+  return app.settings.gradient === 'tensor' ? 'matrix-free' : 'auto';
+}
+
 // ---- start --------------------------------------------------------------------------------------------
 
 async function start() {
@@ -610,6 +701,7 @@ async function start() {
   const params = new URLSearchParams(location.search);
   const urlModel = params.get('model');
   const shared = sharedState(params);
+  const gradientParam = params.get('gradient');
   app.store = await SessionStore.open();
   // The newest session in IndexedDB (or, with ?model=NAME, that sample's); else the localStorage copy.
   let stored = await app.store.load(urlModel === null ? null : `sample:${urlModel}`);
@@ -623,11 +715,18 @@ async function start() {
       positions = small.positions ? decodeFloat64(small.positions) : null;
     } catch { /* a damaged session: the file's own positions */ }
     const text = small.model.text ?? stored?.model.text;
-    if (positions || !stored) stored = { ...small, model: { ...small.model, text }, positions, history: null };
+    if (positions || !stored) stored = { ...small, model: { ...small.model, text, bytes: text === undefined ? stored?.model.bytes : undefined, format: stored?.model.format }, positions, history: null };
   }
   applyStoredSettings(stored?.settings);
+  if (gradientParam === 'tensor' || gradientParam === 'polynomial') app.settings.gradient = gradientParam;
+  if (gradientParam !== null) {
+    // applied: the stored settings keep it from now on
+    const url = new URL(location.href);
+    url.searchParams.delete('gradient');
+    history.replaceState(null, '', url);
+  }
   const useStored = stored && (urlModel === null || (stored.model.kind === 'sample' && stored.model.name === urlModel)) &&
-    (stored.model.kind === 'sample' || typeof stored.model.text === 'string');
+    (stored.model.kind === 'sample' || typeof stored.model.text === 'string' || stored.model.bytes instanceof Uint8Array);
 
   app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions, learnViews: VIEWS });
   app.viewer.setFlat(app.settings.flat);
@@ -635,6 +734,7 @@ async function start() {
   document.getElementById('error-close').addEventListener('click', clearError);
   setUpSheet();
   document.getElementById('theta-cancel').addEventListener('click', () => app.theta?.cancelJob());
+  document.getElementById('busy-cancel').addEventListener('click', cancelFileRead);
   app.pickFile = setUpFileInput((file) => file && openModel({ kind: 'file', name: file.name, file }));
   document.getElementById('share-close').addEventListener('click', () => { document.getElementById('share').hidden = true; });
   // Capture phase: lil-gui stops keydown events of its controls from bubbling.
@@ -668,7 +768,7 @@ async function start() {
   }
   app.stats.coreAt = performance.now();
   const session = new EditingSession(app.mrvol, {
-    level: app.settings.level, scheme: app.settings.scheme, preserve: app.settings.preserve, tolerance: app.settings.tolerance,
+    level: app.settings.level, scheme: app.settings.scheme, preserve: app.settings.preserve, tolerance: app.settings.tolerance, path: sessionPath(),
   });
   app.session = session;
   app.theta = new ThetaSource(session, { jobs, stats: app.stats, showCache: (entries, note) => app.panel.showCache(entries, note) });
@@ -688,14 +788,11 @@ async function start() {
   });
   session.addEventListener('editor', () => keyboard.describe());
   const chart = new VolumeChart(document.getElementById('chart'));
+  app.chart = chart;
   session.addEventListener('model', () => chart.reset());
   session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
   followSessionInView(session);
   app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: saveSoon });
-  // Without a stored session theta is likely not cached: the worker loads its copy of the core
-  // while the model opens. (With one, the cache most likely has it, and the worker would compete
-  // for the CPU.)
-  if (!prefetch) jobs.prepare();
   const cache = await cacheOpening;
   app.theta.cache = cache;
   app.stats.cacheAt = performance.now();

@@ -26,15 +26,28 @@ export async function sourceText(source) {
 }
 
 /**
- * Reads an OBJ and opens it for editing: the MultiresMesh (the caller's) and its info. Otherwise
- * throws the reason, with `offer`: 'remesh' (it opened but is not semi-regular), 'repair' (it reads
- * but is not a closed 2-manifold, a raw scan), or null (nothing would help).
+ * Reads an OBJ and opens it for editing (openParsed); a file that does not read throws its reason
+ * with `offer` null.
  */
 export function openObj(mrvol, text) {
-  let mr = null, info, read = false;
+  let mesh;
   try {
-    const mesh = mrvol.readObj(text);
-    read = true;
+    mesh = mrvol.readObj(text);
+  } catch (e) {
+    e.offer = null;
+    throw e;
+  }
+  return openParsed(mrvol, mesh);
+}
+
+/**
+ * Opens a mesh read from a file ({ positions, faces }, any format) for editing: the MultiresMesh
+ * (the caller's) and its info. Otherwise throws the reason, with `offer`: 'remesh' (it opened but is
+ * not semi-regular), 'repair' (it is not a closed 2-manifold, a raw scan), or null (nothing would help).
+ */
+export function openParsed(mrvol, mesh) {
+  let mr = null, info;
+  try {
     mr = mrvol.openMesh(mesh);
     info = mr.info();
     if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
@@ -43,8 +56,13 @@ export function openObj(mrvol, text) {
         'so it has no coarse cage to edit (mrvol edits meshes made by repeated 1-to-4 splits of a base mesh)');
     return { mr, info };
   } catch (e) {
-    e.offer = mr !== null && info?.levels === 0 ? 'remesh' : read && mr === null ? 'repair' : null;
+    e.offer = mr !== null && info?.levels === 0 ? 'remesh' : mr === null ? 'repair' : null;
     mr?.delete();
     throw e;
   }
+}
+
+/** A file's name without its mesh extension (the base of the names of its exports and remeshed copy). */
+export function baseNameOf(name) {
+  return name.replace(/\.(obj|stl|ply|off|coff|noff|gltf|glb|json)$/i, '').replace(/\.mrvol$/i, '');
 }

@@ -9,14 +9,16 @@ const SCHEMES = ['loop', 'butterfly', 'linear'];
 const FREE_SET_NAMES = { 'minus-held': 'cage minus held', all: 'all cage', painted: 'painted region', parts: 'parts' };
 const FREE_SETS = Object.fromEntries(FREE_SET_MODES.map((mode) => [FREE_SET_NAMES[mode], mode]));
 /** Pointer tools: drag handles, paint the free set, assign handles to parts. */
+export const GRADIENTS = { 'cage polynomial': 'polynomial', 'volume tensor θ (the paper\'s)': 'tensor' };
 export const TOOLS = { 'drag handles': 'drag', 'paint free set': 'paint', 'assign to part': 'assign' };
 const TOLERANCES = { '1e-4': 1e-4, '1e-5': 1e-5, '1e-6': 1e-6, '1e-7': 1e-7, '1e-8': 1e-8 };
 
 // The tooltip of every control, by its data-testid: what it does, in plain words.
 const TITLES = {
   'model-select': 'Open one of the sample models',
-  'open-button': 'Open an OBJ file from this computer (or drop one on the page)',
-  export: 'Download the edited fine mesh as an OBJ file',
+  'open-button': 'Open a mesh file from this computer: OBJ, STL, PLY, OFF, glTF or GLB (or drop one on the page)',
+  export: 'Download the edited fine mesh as an OBJ file (an OBJ file keeps its own texture coordinates, normals and groups)',
+  'export-glb': 'Download the edited fine mesh as a GLB (binary glTF) file (a glTF file keeps its materials and attributes)',
   'export-cage': 'Download the cage (the coarse mesh you drag) at level e as an OBJ file',
   reset: 'Forget the edits and settings of this model and open it as it was',
   glossary: 'What the words in this panel mean',
@@ -31,6 +33,7 @@ const TITLES = {
   tolerance: 'How close the volume must come to the reference volume (relative error) in each step',
   'set-reference': 'Make the current volume the volume to keep from now on (undoable)',
   'theta-recompute': 'Forget the stored volume tensor θ of this level and compute it again',
+  gradient: 'How each drag step gets the volume gradient: the cage polynomial (built from the mesh in a moment, small) or the paper\'s volume tensor θ (computed in the background, can be large; the same steps)',
   undo: 'Undo the last edit, level or scheme change, reference change or preservation toggle (Ctrl+Z)',
   redo: 'Redo what was undone (Ctrl+Shift+Z or Ctrl+Y)',
   'show-mesh': 'Show the fine (full-resolution) mesh',
@@ -74,7 +77,7 @@ function formatBytes(n) {
  *             showApprox, approxLevel, showDetails }
  * actions: { openSample(name), openFile(), changeScheme(), changeLevel(), changePreserve(),
  *            changeFreeSet(), changeTool(), clearPainted(), clearParts(), changeView(), changeLayers(),
- *            setReference(), exportObj(), exportCage(), reset(), recomputeTheta(), refreshCache(), clearCache() }
+ *            setReference(), exportObj(), exportGlb(), exportCage(), reset(), recomputeTheta(), refreshCache(), clearCache() }
  */
 export function createPanel({ settings, samples, actions, learnViews = [] }) {
   const gui = new GUI({ title: 'mrvol', container: document.getElementById('panel-host') });
@@ -82,8 +85,9 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
 
   const model = gui.addFolder('Model');
   const modelChoice = tag(model.add(settings, 'model', samples).name('sample').onChange((name) => actions.openSample(name)), 'model-select');
-  tag(model.add({ open: () => actions.openFile() }, 'open').name('open OBJ file…'), 'open-button');
+  tag(model.add({ open: () => actions.openFile() }, 'open').name('open mesh file…'), 'open-button');
   tag(model.add({ exportObj: () => actions.exportObj() }, 'exportObj').name('export OBJ'), 'export');
+  tag(model.add({ exportGlb: () => actions.exportGlb() }, 'exportGlb').name('export GLB'), 'export-glb');
   tag(model.add({ exportCage: () => actions.exportCage() }, 'exportCage').name('export cage OBJ'), 'export-cage');
   tag(model.add({ reset: () => actions.reset() }, 'reset').name('reset (forget edits)'), 'reset');
   tag(model.add({ glossary: () => actions.showGlossary() }, 'glossary').name('glossary: what the words mean'), 'glossary');
@@ -107,6 +111,7 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
   const clearParts = tag(edit.add({ clear: () => actions.clearParts() }, 'clear').name('clear parts'), 'clear-parts');
   tag(edit.add(settings, 'tolerance', TOLERANCES).onChange(() => actions.changeTolerance()), 'tolerance');
   tag(edit.add({ setReference: () => actions.setReference() }, 'setReference').name('reference = current volume'), 'set-reference');
+  tag(edit.add(settings, 'gradient', GRADIENTS).name('gradient from').onChange(() => actions.changeGradient()), 'gradient');
   tag(edit.add({ recompute: () => actions.recomputeTheta() }, 'recompute').name('compute θ again'), 'theta-recompute');
   tag(edit.add({ undo: () => actions.undo() }, 'undo').name('undo (Ctrl+Z)'), 'undo');
   tag(edit.add({ redo: () => actions.redo() }, 'redo').name('redo (Ctrl+Shift+Z)'), 'redo');

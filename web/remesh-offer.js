@@ -1,19 +1,37 @@
-// The offer to remesh an OBJ that opened but cannot be edited: not semi-regular (remeshing), or
-// not a closed 2-manifold (repair first). Runs lib/remesh.mjs in a worker; the result goes to
-// `open` as a new model, and the notice says what was done.
+// The offer to remesh a mesh file that read but cannot be edited: not semi-regular (remeshing), or
+// not a closed 2-manifold (repair first). Runs lib/remesh.mjs in a worker (started at once with
+// `auto`; the fields change it and run it again, cancel stops it); the result goes to `open` as a
+// new model named after the file, and the notice says what was done.
+import { baseNameOf } from './models.js';
+
 const $ = (id) => document.getElementById(id);
 
 let worker = null;
 
 export function hideRemeshOffer() {
+  cancelRemesh();
   $('remesh-offer').hidden = true;
 }
 
+/** Stops a running remesh (the cancel button); false when none runs. */
+export function cancelRemesh() {
+  if (!worker) return false;
+  worker.terminate();
+  worker = null;
+  $('remesh-progress').hidden = true;
+  $('remesh-cancel').hidden = true;
+  $('remesh-go').disabled = false;
+  $('remesh-stage').textContent = 'cancelled';
+  return true;
+}
+
 /**
- * source: { name, text }; repair: start with the repair stage checked. open({ name, kind, text })
- * resolves true when the result opened; notice(text) shows the outcome.
+ * source: { name, mesh: { positions, faces } } (or { name, text }: an OBJ); repair: start with the
+ * repair stage checked; auto: start at once. open({ name, kind, text }) resolves true when the
+ * result opened; notice(text) shows the outcome.
  */
-export function offerRemesh(source, { repair = false, open, notice }) {
+export function offerRemesh(source, { repair = false, open, notice, auto = false }) {
+  cancelRemesh();
   $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
   $('remesh-repair').checked = repair;
   $('remesh-smooth').disabled = !repair;
@@ -30,23 +48,28 @@ export function offerRemesh(source, { repair = false, open, notice }) {
     worker = running;
     $('remesh-go').disabled = true;
     $('remesh-progress').hidden = false;  // indeterminate: the stage text says where it is
+    $('remesh-cancel').hidden = false;
     const started = performance.now();
     const finish = (stage) => {
       running.terminate();
-      if (worker === running) worker = null;
+      if (worker !== running) return false;
+      worker = null;
       $('remesh-progress').hidden = true;
+      $('remesh-cancel').hidden = true;
       $('remesh-go').disabled = false;
       $('remesh-stage').textContent = stage;
+      return true;
     };
     running.onmessage = async ({ data }) => {
+      if (worker !== running) return;
       if (data.type === 'stage') {
         $('remesh-stage').textContent = data.stage;
         return;
       }
       if (data.type === 'error') return finish(`remeshing failed: ${data.message}`);
-      finish('');
+      if (!finish('')) return;
       const r = data.report;
-      const ok = await open({ name: `${source.name.replace(/\.obj$/i, '')}-remeshed`, kind: 'file', text: data.text });
+      const ok = await open({ name: `${baseNameOf(source.name)}-remeshed`, kind: 'file', text: data.text });
       const fixes = r.repair
         ? `Repaired (${r.repair.finFaces + r.repair.duplicateFaces + r.repair.nonManifoldFaces + r.repair.foldedFaces} faces ` +
           `dropped, ${r.repair.droppedComponents} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
@@ -60,7 +83,10 @@ export function offerRemesh(source, { repair = false, open, notice }) {
       e.preventDefault?.();
       finish(`remeshing failed: ${e.message || 'the worker could not start'}`);
     };
-    running.postMessage({ text: source.text, levels, baseFaces: base > 0 ? base : undefined,
+    const mesh = source.mesh ? { positions: source.mesh.positions, faces: source.mesh.faces } : undefined;
+    running.postMessage({ text: source.text, mesh, levels, baseFaces: base > 0 ? base : undefined,
       repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined });
   };
+  $('remesh-cancel').onclick = cancelRemesh;
+  if (auto) $('remesh-go').onclick();
 }

@@ -1,6 +1,6 @@
 // Module worker that turns an ordinary closed mesh into a semi-regular one (lib/remesh.mjs) off
 // the page's thread.
-// Message in:   { text, levels, baseFaces?, repair?, smooth? } (repair also keeps the largest piece)
+// Message in:   { mesh: { positions, faces } | text (OBJ), levels, baseFaces?, repair?, smooth? } (repair also keeps the largest piece)
 // Messages out: { type: 'stage', stage }, { type: 'done', text, report }, { type: 'error', message }
 import { loadMrvol } from './mrvol.js';
 import { remesh } from '../lib/remesh.mjs';
@@ -11,7 +11,7 @@ self.onmessage = async (event) => {
     self.postMessage({ type: 'stage', stage: 'loading the core' });
     const mrvol = await loadMrvol();
     self.postMessage({ type: 'stage', stage: `${job.repair ? 'repairing and remeshing' : 'remeshing'} (${job.levels} levels)` });
-    const result = await remesh(mrvol, mrvol.readObj(job.text), {
+    const result = await remesh(mrvol, job.mesh ?? mrvol.readObj(job.text), {
       levels: job.levels, baseFaces: job.baseFaces, repair: !!job.repair, keepLargest: !!job.repair, smooth: job.smooth,
     });
     const { mesh, ...report } = result;

@@ -14,7 +14,7 @@ const MAX_RECENT = 12;
 
 /** The record id of a model: samples by name, files by name and size. */
 export function sessionId(model) {
-  return model.kind === 'sample' ? `sample:${model.name}` : `file:${model.name}:${model.text.length}`;
+  return model.kind === 'sample' ? `sample:${model.name}` : `file:${model.name}:${model.bytes?.byteLength ?? model.text.length}`;
 }
 
 export class SessionStore {
@@ -50,7 +50,7 @@ export class SessionStore {
   }
 
   /**
-   * Stores a session: { model: { kind, name, text? }, settings, fingerprint, positions: Float64Array,
+   * Stores a session: { model: { kind, name, text? | bytes?, format? }, settings, fingerprint, positions: Float64Array,
    * reference, history: { level, scheme, steps } }. Resolves true or false (then `problem` says why).
    */
   async save({ model, settings, fingerprint, positions, reference, history }) {
@@ -65,7 +65,10 @@ export class SessionStore {
         textBytes: null, textChunks: 0, positionCount: 0, positionChunks: 0,
       };
       if (model.kind === 'file') {
-        const text = new TextEncoder().encode(model.text);
+        // the file as it was read (any format), or an OBJ text made here (a remeshed model)
+        const text = model.bytes ?? new TextEncoder().encode(model.text);
+        record.format = model.format ?? 'obj';
+        record.binary = Boolean(model.bytes);
         record.textBytes = text.byteLength;
         if (!this.#textStored.has(id)) {
           chunks.delete(chunkRange(`${id}:text`)).catch(() => {});
@@ -100,11 +103,12 @@ export class SessionStore {
       if (!record) return null;
       const tx = this.#db.transaction('chunks');
       const chunks = tx.objectStore('chunks');
-      let text;
+      let text, file;
       if (record.kind === 'file') {
         const bytes = await getChunks(chunks, `${record.id}:text`, record.textChunks);
         if (!bytes || bytes.byteLength !== record.textBytes) return null;
-        text = new TextDecoder().decode(bytes);
+        if (record.binary) file = bytes;
+        else text = new TextDecoder().decode(bytes);
         this.#textStored.add(record.id);
       }
       let positions = null;
@@ -113,7 +117,7 @@ export class SessionStore {
         if (bytes && bytes.byteLength === 8 * record.positionCount) positions = new Float64Array(bytes.buffer, 0, record.positionCount);
       }
       return {
-        model: { kind: record.kind, name: record.name, text }, settings: record.settings, fingerprint: record.fingerprint,
+        model: { kind: record.kind, name: record.name, text, bytes: file, format: record.format }, settings: record.settings, fingerprint: record.fingerprint,
         positions, reference: record.reference, history: record.history ?? null, saved: record.saved,
       };
     } catch (e) {

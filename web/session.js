@@ -49,7 +49,9 @@ export function saveSession({ model, settings, fingerprint, positions, reference
     reference,
     saved: Date.now(),
   };
-  if (model.kind === 'file' && model.text.length <= MAX_TEXT) stored.model.text = model.text;
+  // an OBJ opened from its bytes: its text when small (the teaching views read OBJ text)
+  const text = model.text ?? (model.format === 'obj' && model.bytes?.byteLength <= MAX_TEXT ? new TextDecoder().decode(model.bytes) : undefined);
+  if (model.kind === 'file' && typeof text === 'string' && text.length <= MAX_TEXT) stored.model.text = text;
   try {
     localStorage.setItem(KEY, JSON.stringify(stored));
     return true;

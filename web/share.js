@@ -73,9 +73,16 @@ export function sharedState(params) {
 export function projectText({ model, positions, reference, settings }) {
   const bytes = new Uint8Array(positions.buffer, positions.byteOffset, positions.byteLength);
   return JSON.stringify({
-    format: PROJECT_FORMAT, version: PROJECT_VERSION, model: { name: model.name, kind: model.kind, text: model.text },
+    format: PROJECT_FORMAT, version: PROJECT_VERSION, model: projectModel(model),
     positions: toBase64Url(bytes), reference, settings,
   });
+}
+
+// The model in a project: an OBJ as its text; another format's file as base64url bytes with its format.
+function projectModel({ name, kind, text, bytes, format }) {
+  if (typeof text === 'string') return { name, kind, text };
+  if (format === 'obj') return { name, kind, text: new TextDecoder().decode(bytes) };
+  return { name, kind, format, bytes: toBase64Url(bytes) };
 }
 
 /** Whether a file's text looks like a project (JSON) rather than an OBJ. */
@@ -93,7 +100,7 @@ export function readProject(text, fileName) {
   }
   if (data?.format !== PROJECT_FORMAT) throw new Error(`${fileName} is not an mrvol project (its "format" is ${JSON.stringify(data?.format)})`);
   if (data.version !== PROJECT_VERSION) throw new Error(`${fileName} is a version ${data.version} project; this editor reads version ${PROJECT_VERSION}`);
-  if (typeof data.model?.text !== 'string' || typeof data.model?.name !== 'string')
+  if ((typeof data.model?.text !== 'string' && typeof data.model?.bytes !== 'string') || typeof data.model?.name !== 'string')
     throw new Error(`${fileName}: the project has no model (model.name and model.text)`);
   let positions = null;
   if (typeof data.positions === 'string') {
@@ -101,5 +108,7 @@ export function readProject(text, fileName) {
     if (bytes.byteLength % 8 !== 0) throw new Error(`${fileName}: "positions" is not a list of float64 numbers`);
     positions = new Float64Array(bytes.buffer, 0, bytes.byteLength / 8);
   }
-  return { model: { name: data.model.name, kind: 'file', text: data.model.text }, positions, reference: data.reference ?? null, settings: data.settings ?? {} };
+  const model = typeof data.model.text === 'string' ? { name: data.model.name, kind: 'file', text: data.model.text }
+    : { name: data.model.name, kind: 'file', bytes: fromBase64Url(data.model.bytes), format: String(data.model.format ?? '') };
+  return { model, positions, reference: data.reference ?? null, settings: data.settings ?? {} };
 }

@@ -74,6 +74,12 @@ export class ThetaSource {
     const started = performance.now();
 
     const choice = session.gradientChoice();
+    if (session.editor.path() === 'polynomial') {
+      // A coarse cage: the editor built the cage polynomial from the fine mesh (small, no hand-off).
+      this.#setState(null, `not needed: editing uses the cage polynomial (the volume as a cubic in the ${session.cageSize} handles, built from the mesh)`, false);
+      this.stats.thetaReadyAt ??= performance.now();
+      return;
+    }
     if (choice.path !== 'tensor') {
       const { estimate } = choice;
       this.#setState(null, choice.reason ?? `not computed: ${thetaName(session.level)} would need about ` +

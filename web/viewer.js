@@ -19,6 +19,58 @@ const FOV_DEG = 35;
 const BACKGROUND = { light: 0xf4f5f7, dark: 0x16191d };
 const ENVIRONMENT_INTENSITY = 0.45;
 
+const FRAME_DIRECTION = new THREE.Vector3(0.45, 0.35, 1).normalize();
+const FRAME_MARGIN = 1.1;
+const FRAME_SAMPLES = 20_000; // points of a big mesh looked at to frame it
+
+/**
+ * Puts the camera on FRAME_DIRECTION from the points' projected centre, at the least distance that
+ * shows every point (a sample of them for big meshes) with FRAME_MARGIN. sets: arrays of x, y, z.
+ */
+function frameTight(camera, sets, controls) {
+  const z = FRAME_DIRECTION, x = new THREE.Vector3(0, 1, 0).cross(z).normalize(), y = z.clone().cross(x);
+  const box = new THREE.Box3();
+  const p = new THREE.Vector3();
+  const each = (fn) => {
+    for (const a of sets) {
+      const count = a.length / 3, stride = Math.max(1, Math.floor(count / FRAME_SAMPLES));
+      for (let i = 0; i < count; i += stride) fn(p.set(a[3 * i], a[3 * i + 1], a[3 * i + 2]));
+    }
+  };
+  each((q) => box.expandByPoint(q));
+  if (box.isEmpty()) return;
+  // the centre of the points as seen along the view direction
+  const mid = box.getCenter(new THREE.Vector3());
+  let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
+  each((q) => {
+    q.sub(mid);
+    x0 = Math.min(x0, q.dot(x)); x1 = Math.max(x1, q.dot(x));
+    y0 = Math.min(y0, q.dot(y)); y1 = Math.max(y1, q.dot(y));
+  });
+  const center = mid.clone().addScaledVector(x, (x0 + x1) / 2).addScaledVector(y, (y0 + y1) / 2);
+  const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)), tanH = tanV * camera.aspect;
+  let distance = 0, depth = 0;
+  each((q) => {
+    q.sub(center);
+    const along = q.dot(z);
+    depth = Math.max(depth, along);
+    distance = Math.max(distance, along + FRAME_MARGIN * Math.abs(q.dot(x)) / tanH, along + FRAME_MARGIN * Math.abs(q.dot(y)) / tanV);
+  });
+  const radius = box.getSize(new THREE.Vector3()).length() / 2 || 1;
+  distance = Math.max(distance, depth + radius * 0.05);
+  camera.position.copy(center).addScaledVector(z, distance);
+  // as frameSphere: room to zoom in and out
+  camera.near = distance / 100;
+  camera.far = distance * 100;
+  camera.up.set(0, 1, 0);
+  camera.lookAt(center);
+  camera.updateProjectionMatrix();
+  if (controls) {
+    controls.target.copy(center);
+    controls.update();
+  }
+}
+
 export class Viewer {
   /** @param {HTMLElement} container the element the canvas fills */
   constructor(container) {
@@ -155,6 +207,7 @@ export class Viewer {
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
     geometry.setIndex(new THREE.BufferAttribute(faces.length > 0 ? new Uint32Array(faces) : new Uint32Array(0), 1));
     this.mesh = new THREE.Mesh(geometry, this.meshMaterial);
+    this.mesh.frustumCulled = false;
     this.scene.add(this.mesh);
     // The layers: same faces; filled in by updateApprox / updateDetails.
     const approxGeometry = new THREE.BufferGeometry();
@@ -176,16 +229,16 @@ export class Viewer {
     this.requestRender();
   }
 
-  /** Points the camera at the mesh and the cage. */
+  /**
+   * Points the camera at the mesh and the cage, as close as keeps every point in view (a margin of
+   * FRAME_MARGIN): the model fills the view where its shape allows, not its bounding sphere.
+   */
   frameAll() {
-    let sphere = null;
-    if (this.mesh) sphere = this.mesh.geometry.boundingSphere.clone();
-    if (this.cage) {
-      this.cage.lines.geometry.computeBoundingSphere();
-      const cage = this.cage.lines.geometry.boundingSphere;
-      sphere = sphere ? sphere.union(cage) : cage.clone();
-    }
-    if (sphere) this.frame(sphere);
+    const sets = [];
+    if (this.mesh) sets.push(this.mesh.geometry.getAttribute('position').array);
+    if (this.cage) sets.push(this.cage.positions);
+    if (sets.length === 0) return;
+    frameTight(this.camera, sets, this.controls);
   }
 
   /** Points the camera at a bounding sphere (room left for the panels). */
@@ -195,11 +248,12 @@ export class Viewer {
 
   /** New fine positions, same connectivity. */
   updateMesh(positions) {
+    // in place: the buffer is uploaded again, not reallocated; no bounding sphere per step (the mesh
+    // is not frustum culled; framing reads the positions): a pass less over a big mesh per frame
     const attribute = this.mesh.geometry.getAttribute('position');
     attribute.array.set(positions);
     attribute.needsUpdate = true;
     if (!this.flat) this.mesh.geometry.computeVertexNormals();
-    this.mesh.geometry.computeBoundingSphere();
     this.requestRender();
   }
 

@@ -60,10 +60,13 @@ export class EditingSession extends EventTarget {
 
   /**
    * @param {object} mrvol the API object (createMrvol)
-   * @param {object} [options] { level, scheme, alpha, beta, preserve, tolerance, historyLimit }
+   * @param {object} [options] { level, scheme, alpha, beta, preserve, tolerance, historyLimit, path }; path
+   *   'matrix-free' (default: until a tensor is handed over) or 'auto': the cage polynomial built from
+   *   the fine mesh wherever chooseGradientPath would take it or theta^e (the same steps, without
+   *   computing theta^e or handing it over), else matrix-free; no tensor is wanted then.
    */
   constructor(mrvol, { level = 0, scheme = DEFAULT_SCHEME.scheme, alpha = DEFAULT_SCHEME.alpha, beta = DEFAULT_SCHEME.beta,
-    preserve = true, tolerance = 1e-6, historyLimit = 200 } = {}) {
+    preserve = true, tolerance = 1e-6, historyLimit = 200, path = 'matrix-free' } = {}) {
     super();
     this.#mrvol = mrvol;
     this.level = level;
@@ -72,6 +75,7 @@ export class EditingSession extends EventTarget {
     this.beta = beta;
     this.preserve = preserve;
     this.tolerance = tolerance;
+    this.path = path;
     this.history = new History(historyLimit);
   }
 
@@ -225,9 +229,12 @@ export class EditingSession extends EventTarget {
       this.editor.delete();
       this.editor = null;
     }
-    // Matrix-free until theta^e arrives (the app's theta source decides; moving the app onto the
-    // polynomial path is its own change, with the browser tests that watch the path).
+    // 'matrix-free': until theta^e arrives (a theta source decides); 'auto': the cage polynomial
+    // where the cage is coarse (no tensor needed), else matrix-free until theta^e arrives.
+    const path = this.path === 'auto' ? this.gradientChoice().path : 'matrix-free';
+    // created matrix-free, then the polynomial: the same editor, measured faster than createEditor's own path
     const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free', surface: this.surface });
+    if (path === 'polynomial') editor.usePolynomial();
     if (reference !== null) editor.setReferenceVolume(reference);
     if (this.keepCentroid) editor.keepCentroid(true);
     this.editor = editor;
@@ -451,13 +458,18 @@ export class EditingSession extends EventTarget {
   }
 
   /**
-   * The gradient path the rule picks for the current level (chooseGradientPath): 'tensor' when
-   * theta^e fits, else 'matrix-free'; { path, estimate, reason (when not the estimate) }.
+   * The gradient path the rule picks for the current level (chooseGradientPath, theta^e computed in
+   * the background): 'tensor' when theta^e fits (with path 'auto': 'polynomial' instead), else
+   * 'polynomial' on a coarse cage, else 'matrix-free'; { path, estimate, reason (when not the estimate) }.
    */
   gradientChoice() {
     // A mesh theta is no use for the limit surface's volume (its own theta is not computed here).
     if (this.surface === 'limit') return { path: 'matrix-free', estimate: null, reason: "not used: the limit surface's volume runs matrix-free" };
-    return chooseGradientPath(this.model.mr, { level: this.level, thetaInBackground: true, ...this.schemeOptions });
+    const options = { level: this.level, ...this.schemeOptions };
+    // a coarse cage needs no estimate of theta^e (a second or more on a big mesh)
+    if (this.path === 'auto' && chooseGradientPath(this.model.mr, options).path === 'polynomial') return { path: 'polynomial', estimate: null };
+    const choice = chooseGradientPath(this.model.mr, { ...options, thetaInBackground: true });
+    return this.path === 'auto' && choice.path === 'tensor' ? { ...choice, path: 'polynomial' } : choice;
   }
 
   /** The tensor kept for the current level and scheme, or null. */
@@ -482,14 +494,15 @@ export class EditingSession extends EventTarget {
     return { ok: true };
   }
 
-  /** Drops the tensor of the current level and scheme; the editor runs matrix-free. */
+  /** Drops the tensor of the current level and scheme; the editor runs matrix-free (with path 'auto': its choice). */
   forgetTheta() {
     const slot = this.#thetaSlot();
-    this.editor?.useMatrixFree();
+    if (this.path === 'auto' && this.gradientChoice().path === 'polynomial') this.editor?.usePolynomial();
+    else this.editor?.useMatrixFree();
     this.#thetas.get(slot)?.theta.delete();
     this.#thetas.delete(slot);
     this.thetaSource = null;
-    this.#emit('theta', { source: null, path: 'matrix-free' });
+    this.#emit('theta', { source: null, path: this.editor?.path() ?? 'matrix-free' });
   }
 
   /** Computes theta^e here (synchronously) and uses it. */

@@ -56,7 +56,8 @@ describe('web editor', { timeout: 240_000 }, () => {
   after(() => browser?.close());
 
   test('loads the default model (spiky ball) with its level-0 cage and computes theta in the worker', { timeout: 120_000 }, async () => {
-    await page.goto(browser.url);
+    // the paper's tensor path (the app's default is the cage polynomial: files.test.mjs); kept in the stored settings
+    await page.goto(`${browser.url}?gradient=tensor`);
     await waitReady(page);
     assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), 'spiky-ball');
     assert.equal(await page.evaluate(() => window.mrvolDebug.cageSize()), 12);

@@ -120,6 +120,11 @@ export async function waitReady(page, timeout = 60_000) {
   await page.waitForFunction(() => window.mrvolDebug?.ready() === true, null, { timeout });
 }
 
+/** Waits until drag steps run on their fast path (the cage polynomial, or theta in use). */
+export async function waitGradient(page, timeout = 90_000) {
+  await page.waitForFunction(() => window.mrvolDebug?.gradientReady() === true, null, { timeout });
+}
+
 export async function waitTheta(page, timeout = 90_000) {
   await page.waitForFunction(() => window.mrvolDebug?.thetaReady() === true, null, { timeout });
 }

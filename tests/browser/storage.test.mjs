@@ -43,7 +43,7 @@ describe('web editor: storage, cancel, drop, open meshes', { timeout: 240_000 },
     await withBrowser(async (page) => {
       const cdp = await page.context().newCDPSession(page);
       await cdp.send('Storage.overrideQuotaForOrigin', { origin: new URL(server.url).origin, quotaSize: 200_000 });
-      await page.goto(server.url);
+      await page.goto(`${server.url}?gradient=tensor`);
       await waitReady(page);
       await waitTheta(page);
       assert.equal(await page.evaluate(() => window.mrvolDebug.thetaSource()), 'computed');
@@ -68,7 +68,7 @@ describe('web editor: storage, cancel, drop, open meshes', { timeout: 240_000 },
           get() { throw new DOMException('The user denied permission to access the database.', 'SecurityError'); },
         });
       });
-      await page.goto(server.url);
+      await page.goto(`${server.url}?gradient=tensor`);
       await waitReady(page);
       await waitTheta(page);
       assert.equal(await page.evaluate(() => window.mrvolDebug.thetaSource()), 'computed');
@@ -86,7 +86,7 @@ describe('web editor: storage, cancel, drop, open meshes', { timeout: 240_000 },
     const obj = mrvol.writeObj(fine.toMesh());
     fine.delete();
     await withBrowser(async (page) => {
-      await page.goto(server.url);
+      await page.goto(`${server.url}?gradient=tensor`);
       await waitReady(page);
       await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'ball-4.obj', mimeType: 'text/plain', buffer: Buffer.from(obj) });
       await page.waitForFunction(() => window.mrvolDebug.modelName() === 'ball-4.obj' && window.mrvolDebug.ready());

@@ -1,0 +1,256 @@
+// Mesh files in the app (issues 12, 13, 14): the cage polynomial as the default gradient path and the
+// drag's multiplier λ in the chart; STL, PLY, OFF, glTF and GLB opened from the file input and by a
+// drop, exported as OBJ and GLB (what the file carried kept); a file that is not semi-regular
+// remeshed by itself in a worker under its own name; hostile files of each format refused with the
+// core's message; a big OBJ read in a worker while the page keeps drawing; too big files refused in
+// words about their size.
+import { after, before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFile, readdir } from 'node:fs/promises';
+import { join } from 'node:path';
+import { createMrvol } from '../../lib/node.mjs';
+import { openApp, waitGradient, visibleHandles, dragHandle, settle, root, RESULTS_DIR } from './harness.mjs';
+
+const GOOD = join(root, 'tests/data/good');
+const BAD = join(root, 'tests/data/bad');
+
+let browser, page, mrvol;
+
+/** Opens a file through the page's file input and waits until it is the model (or an error shows). */
+async function openFile(name, buffer) {
+  await page.evaluate(() => {
+    document.querySelector('[data-testid="error"]').hidden = true;
+    document.querySelector('[data-testid="error-text"]').textContent = '';
+  });
+  await page.locator('[data-testid="open-file"]').setInputFiles({ name, mimeType: 'application/octet-stream', buffer });
+  await page.waitForFunction((n) => (window.mrvolDebug.modelName() === n && window.mrvolDebug.ready()) ||
+    document.querySelector('[data-testid="error-text"]').textContent !== '', name, { timeout: 60_000 });
+}
+
+/** Drops a file made in the page (bytes from `make`, run in the page) on the view. */
+async function dropMadeFile(name, make, arg) {
+  await page.evaluate(({ name, source, arg }) => {
+    const bytes = new Function('arg', `return (${source})(arg);`)(arg);
+    const data = new DataTransfer();
+    data.items.add(new File([bytes], name));
+    const target = document.querySelector('#view canvas');
+    for (const type of ['dragenter', 'dragover', 'drop']) target.dispatchEvent(new DragEvent(type, { dataTransfer: data, bubbles: true, cancelable: true }));
+  }, { name, source: make.toString(), arg });
+}
+
+async function download(testid) {
+  const [file] = await Promise.all([page.waitForEvent('download'), page.locator(`[data-testid="${testid}"]`).click()]);
+  const path = await file.path();
+  return { name: file.suggestedFilename(), bytes: await readFile(path) };
+}
+
+/** A closed latitude-longitude sphere as an ASCII STL (valid after welding, not semi-regular). */
+function uvSphereStl(rings = 10, segments = 16) {
+  const p = (i, j) => {
+    const t = Math.PI * i / rings, f = 2 * Math.PI * j / segments;
+    return [Math.sin(t) * Math.cos(f), Math.sin(t) * Math.sin(f), Math.cos(t)].map((v) => Number(v.toFixed(9)));
+  };
+  const lines = ['solid uv'];
+  const tri = (a, b, c) => lines.push('facet normal 0 0 0', 'outer loop', ...[a, b, c].map((v) => `vertex ${v.join(' ')}`), 'endloop', 'endfacet');
+  for (let i = 0; i < rings; i++)
+    for (let j = 0; j < segments; j++) {
+      const a = p(i, j), b = p(i + 1, j), c = p(i + 1, j + 1), d = p(i, j + 1);
+      if (i > 0) tri(a, b, d);
+      if (i < rings - 1) tri(d, b, c);
+    }
+  lines.push('endsolid uv');
+  return lines.join('\n') + '\n';
+}
+
+describe('mesh files in the app', { timeout: 600_000 }, () => {
+  before(async () => {
+    mrvol = await createMrvol();
+    ({ browser, page } = await openApp({ viewport: { width: 1280, height: 800 } }));
+  });
+  after(() => browser?.close());
+
+  test('the default path is the cage polynomial (no θ computed); the chart plots λ of each drag step with round ticks', async () => {
+    await waitGradient(page);
+    assert.equal(await page.evaluate(() => window.mrvolDebug.gradientPath()), 'polynomial');
+    assert.match(await page.locator('[data-testid="theta-status"]').textContent(), /not needed: editing uses the cage polynomial/);
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 50, -30, { steps: 15 });
+    await settle(page);
+    const chart = await page.evaluate(() => window.mrvolDebug.chart());
+    assert.ok(chart.lambdas.length >= 10, `λ points ${chart.lambdas.length}`);
+    assert.ok(chart.lambdas.some((l) => l !== 0), 'the correction moved the free handles');
+    // round ticks: multiples of 1, 2 or 5 x 10^k
+    for (const ticks of [chart.ticks, chart.lambdaTicks]) {
+      assert.ok(ticks.length >= 2, JSON.stringify(ticks));
+      const step = ticks[1] - ticks[0];
+      const mantissa = step / 10 ** Math.floor(Math.log10(step) + 1e-9);
+      assert.ok([1, 2, 5].some((m) => Math.abs(mantissa - m) < 1e-6), `tick step ${step}`);
+    }
+    const legend = await page.locator('[data-testid="volume-chart"]').textContent();
+    assert.match(legend, /volume now V/);
+    assert.match(legend, /multiplier λ/);
+    const r = await page.evaluate(() => window.mrvolDebug.lastReport());
+    assert.equal(r.path, 'polynomial');
+    assert.ok(r.relativeError <= 1e-5);
+    await page.locator('#chart').screenshot({ path: join(RESULTS_DIR, 'files-chart-lambda.png') });
+  });
+
+  test('STL, PLY, OFF, glTF and GLB files open and edit; OBJ and GLB exports keep the volume', async () => {
+    const names = (await readdir(GOOD)).filter((n) => /\.(stl|ply|off|gltf|glb)$/.test(n) && !n.includes('sidecar'));
+    assert.ok(names.length >= 10, names.join(' '));
+    for (const name of names) {
+      const bytes = await readFile(join(GOOD, name));
+      await openFile(name, bytes);
+      const error = await page.locator('[data-testid="error-text"]').textContent();
+      assert.equal(error, '', `${name}: ${error}`);
+      const file = await page.evaluate(() => window.mrvolDebug.modelFile());
+      assert.equal(file.name, name);
+      const expected = mrvol.readMesh(bytes, { name });
+      assert.equal(file.format, expected.format);
+      assert.equal(file.vertices, expected.positions.length / 3);
+      const volume = await page.evaluate(() => window.mrvolDebug.volume());
+      assert.ok(Math.abs(volume - mrvol.volume(expected)) < 1e-9 * Math.abs(volume), `${name}: volume ${volume}`);
+    }
+    // the last one (a GLB or glTF) edited and exported both ways
+    const gltfName = names.find((n) => n.endsWith('.glb'));
+    await openFile(gltfName, await readFile(join(GOOD, gltfName)));
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 30, 20);
+    const edited = await page.evaluate(() => window.mrvolDebug.volume());
+    const glb = await download('export-glb');
+    assert.equal(glb.name, gltfName.replace(/\.glb$/, '-edited.glb'));
+    const back = mrvol.readMesh(new Uint8Array(glb.bytes), { name: glb.name });
+    assert.ok(Math.abs(mrvol.volume(back) - edited) < 1e-5 * Math.abs(edited), `GLB volume ${mrvol.volume(back)} vs ${edited}`);
+    const obj = await download('export');
+    const objBack = mrvol.readObj(obj.bytes);
+    assert.ok(Math.abs(mrvol.volume(objBack) - edited) < 1e-9 * Math.abs(edited));
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('an OBJ with texture coordinates, normals and groups keeps them on export', async () => {
+    const bytes = await readFile(join(GOOD, 'octahedron-slashes.obj'));
+    await openFile('octahedron-slashes.obj', bytes);
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 25, -25);
+    const out = (await download('export')).bytes.toString('utf8');
+    const keep = (text) => text.split(/\r?\n/).filter((l) => /^(vt|vn|f|g|o|usemtl|mtllib|s) /.test(l));
+    assert.deepEqual(keep(out), keep(bytes.toString('utf8')));
+    const original = mrvol.readObj(bytes), exported = mrvol.readObj(out);
+    assert.notDeepEqual(Array.from(exported.positions), Array.from(original.positions), 'the edit is in the file');
+  });
+
+  test('a file that is not semi-regular (an STL sphere) is remeshed in a worker by itself, under its own name', async () => {
+    await openFile('globe.stl', Buffer.from(uvSphereStl()));
+    await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
+    assert.match(await page.locator('[data-testid="error-text"]').textContent(), /globe\.stl.*not semi-regular/s);
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'globe-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    assert.match(await page.locator('[data-testid="notice"]').textContent(), /^Remeshed in [\d.]+ s: \d+ levels, \d+ vertices, Hausdorff/);
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 30, 30);
+    const r = await page.evaluate(() => window.mrvolDebug.lastReport());
+    assert.ok(r.relativeError <= 1e-5);
+    await page.screenshot({ path: join(RESULTS_DIR, 'files-remeshed-stl.png') });
+  });
+
+  test('remeshing can be cancelled: the current model stays', async () => {
+    const current = await page.evaluate(() => window.mrvolDebug.modelName());
+    await openFile('globe-2.stl', Buffer.from(uvSphereStl(14, 20)));
+    await page.locator('[data-testid="remesh-cancel"]').click();
+    assert.equal(await page.locator('[data-testid="remesh-stage"]').textContent(), 'cancelled');
+    assert.equal(await page.locator('[data-testid="remesh-progress"]').isVisible(), false);
+    assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
+  });
+
+  test('hostile files of every format give one clear message; the model stays usable', async () => {
+    const expected = JSON.parse(await readFile(join(BAD, 'expected-formats.json'), 'utf8')).files;
+    const current = await page.evaluate(() => window.mrvolDebug.modelName());
+    for (const [name, { error }] of Object.entries(expected)) {
+      await openFile(name, await readFile(join(BAD, name)));
+      const text = await page.locator('[data-testid="error-text"]').textContent();
+      assert.ok(text.startsWith(`Could not open ${name}: `), `${name}: ${text}`);
+      let at = 0;
+      for (const part of error) {
+        const found = text.indexOf(part, at);
+        assert.ok(found >= 0, `${name}: '${part}' in '${text}'`);
+        at = found + part.length;
+      }
+      assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
+    }
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, -20, 20);
+    assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('too big: a PLY holding 10 million vertices and a 420 MB file are refused in words about their size', async () => {
+    const current = await page.evaluate(() => window.mrvolDebug.modelName());
+    await page.evaluate(() => { document.querySelector('[data-testid="error-text"]').textContent = ''; });
+    await dropMadeFile('ten-million.ply', (count) => {
+      const header = new TextEncoder().encode(`ply\nformat binary_little_endian 1.0\nelement vertex ${count}\nproperty float x\nproperty float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n`);
+      const bytes = new Uint8Array(header.length + 12 * count);
+      bytes.set(header);
+      return bytes;
+    }, 10_000_000);
+    await page.waitForFunction(() => document.querySelector('[data-testid="error-text"]').textContent !== '', null, { timeout: 60_000 });
+    assert.match(await page.locator('[data-testid="error-text"]').textContent(),
+      /^Could not open ten-million\.ply: this file says it has 10 million vertices: too big to edit in a browser tab \(at most 3\.0 million vertices/);
+    await page.evaluate(() => { document.querySelector('[data-testid="error-text"]').textContent = ''; });
+    await dropMadeFile('huge.obj', (mb) => new Uint8Array(mb * 2 ** 20), 420);
+    await page.waitForFunction(() => document.querySelector('[data-testid="error-text"]').textContent !== '', null, { timeout: 60_000 });
+    assert.match(await page.locator('[data-testid="error-text"]').textContent(), /^Could not open huge\.obj: this file is 420 MB: too big to edit/);
+    assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
+    assert.deepEqual(page.problems, []);
+  });
+
+  test('a ~17 MB OBJ is read in a worker with progress while the page keeps drawing; it can be cancelled', { timeout: 300_000 }, async () => {
+    const spiky = mrvol.readObj(await readFile(join(root, 'public/models/spiky-ball.obj')));
+    const fine = mrvol.subdivide({ positions: spiky.positions, faces: spiky.faces }, { levels: 4 });
+    const text = Buffer.from(mrvol.writeObj(fine.toMesh()));
+    fine.delete();
+    assert.ok(text.length > 15e6, `${text.length} bytes`);
+    // The file comes into the page as a user's drop would: a File made in the page (fetched from a
+    // route), dropped on the view. (setInputFiles with 17 MB holds the page for a second itself.)
+    await page.route('**/test-files/spiky-fine.obj', (route) => route.fulfill({ body: text, contentType: 'text/plain' }));
+    const drop = () => page.evaluate(async () => {
+      const blob = await (await fetch('/test-files/spiky-fine.obj')).blob();
+      // the frames from the drop until the worker hands the mesh over (the page then finds its levels)
+      window.frameWatch = { last: performance.now(), maxGap: 0, frames: 0, progress: [], running: true };
+      const w = window.frameWatch;
+      const busy = document.querySelector('[data-testid="busy"]');
+      const tick = (now) => {
+        if (!w.running || /finding its levels/.test(busy.textContent)) {
+          w.running = false;
+          return;
+        }
+        w.maxGap = Math.max(w.maxGap, now - w.last);
+        w.last = now;
+        w.frames++;
+        if (!busy.hidden) w.progress.push([document.getElementById('busy-text').textContent, document.getElementById('busy-bar').value]);
+        requestAnimationFrame(tick);
+      };
+      requestAnimationFrame(tick);
+      const data = new DataTransfer();
+      data.items.add(new File([blob], 'spiky-fine.obj'));
+      document.querySelector('#view canvas').dispatchEvent(new DragEvent('drop', { dataTransfer: data, bubbles: true, cancelable: true }));
+    });
+    await drop();
+    await page.locator('[data-testid="busy"]').waitFor({ state: 'visible' });
+    await page.locator('[data-testid="busy-cancel"]').click();
+    await page.waitForFunction(() => /cancelled/.test(document.querySelector('[data-testid="notice"]').textContent));
+    assert.notEqual(await page.evaluate(() => window.mrvolDebug.modelName()), 'spiky-fine.obj');
+
+    await drop();
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'spiky-fine.obj' && window.mrvolDebug.ready(), null, { timeout: 240_000 });
+    const w = await page.evaluate(() => window.frameWatch);
+    assert.equal(w.running, false, 'the worker handed the mesh over');
+    assert.ok(w.progress.some(([label]) => /^Reading spiky-fine\.obj \(1\d\.\d MB\)/.test(label)), JSON.stringify(w.progress.slice(0, 3)));
+    assert.ok(w.progress.some(([, value]) => value > 0 && value < 1), 'the bar moves');
+    assert.ok(w.frames >= 5, `${w.frames} frames while reading`);
+    assert.ok(w.maxGap < 500, `longest frame gap while reading and parsing: ${w.maxGap.toFixed(0)} ms`);
+    assert.equal(await page.evaluate(() => window.mrvolDebug.gradientPath()), 'polynomial');
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 20, -20, { steps: 4 });
+    assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
+    await page.screenshot({ path: join(RESULTS_DIR, 'files-big-obj.png') });
+  });
+});

@@ -1,0 +1,73 @@
+// Module worker that reads a mesh file off the page's thread: the bytes in chunks (progress as it
+// goes), then the core's reader for its format (lib/api.mjs readMesh: OBJ, STL, PLY, OFF, glTF/GLB)
+// through the package's browser entry (web/mrvol.js: compiled here, not handed over by the page,
+// which measurably blocked the page's thread for a moment). The page opens the parsed arrays
+// (web/file-open.js).
+// Message in:   { file?: File, bytes?: ArrayBuffer, name }
+// Messages out: { type: 'progress', stage, fraction }, { type: 'done', mesh, bytes, format },
+//               { type: 'error', message, size? (true: a size problem) }
+import { loadMrvol } from './mrvol.js';
+import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
+
+const post = (message, transfer = []) => self.postMessage(message, transfer);
+
+/** The file's bytes, read in chunks with progress (a File's stream; `bytes` as they are). */
+async function readBytes(file) {
+  const bytes = new Uint8Array(file.size);
+  const reader = file.stream().getReader();
+  let at = 0, said = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    if (at + value.byteLength > bytes.byteLength) throw new Error('the file grew while it was read');
+    bytes.set(value, at);
+    at += value.byteLength;
+    if (at - said > bytes.byteLength / 50) {
+      said = at;
+      post({ type: 'progress', stage: 'reading', fraction: 0.5 * at / bytes.byteLength });
+    }
+  }
+  return at === bytes.byteLength ? bytes : bytes.subarray(0, at);
+}
+
+self.onmessage = async ({ data: job }) => {
+  try {
+    post({ type: 'progress', stage: 'reading', fraction: 0 });
+    const mrvolLoading = loadMrvol();
+    mrvolLoading.catch(() => {}); // awaited below
+    const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
+    const claimed = claimedVertices(bytes, job.name);
+    if (claimed > MAX_VERTICES) {
+      post({ type: 'error', message: sizeMessage({ vertices: claimed, claimed: true }), size: true });
+      return;
+    }
+    const mrvol = await mrvolLoading;
+    const format = mrvol.detectFormat(bytes, job.name);
+    post({ type: 'progress', stage: `parsing the ${format.toUpperCase()} file`, fraction: 0.5 });
+    let mesh;
+    try {
+      mesh = mrvol.readMesh(bytes, { name: job.name });
+    } catch (e) {
+      // The core ran out of memory (a WebAssembly heap of at most a few GB): say so in terms of size.
+      if (e instanceof RangeError || /memory|bad_alloc/i.test(e.message)) {
+        post({ type: 'error', message: sizeMessage({ bytes: bytes.byteLength }), size: true });
+        return;
+      }
+      throw e;
+    }
+    const vertices = mesh.positions.length / 3;
+    if (vertices > MAX_VERTICES) {
+      post({ type: 'error', message: sizeMessage({ vertices }), size: true });
+      return;
+    }
+    post({ type: 'progress', stage: 'handing the mesh over', fraction: 0.9 });
+    const transfer = [mesh.positions.buffer, mesh.faces.buffer];
+    for (const key of ['texCoords', 'normals', 'colors', 'cornerTexCoords', 'cornerNormals', 'sourceVertex'])
+      if (ArrayBuffer.isView(mesh[key])) transfer.push(mesh[key].buffer);
+    if (mesh.lines) transfer.push(mesh.lines.vertex.buffer, mesh.lines.face.buffer);
+    const copy = { ...mesh };
+    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format }, [...new Set(transfer.filter((b) => b !== bytes.buffer)), bytes.buffer]);
+  } catch (e) {
+    post({ type: 'error', message: e?.message ?? String(e) });
+  }
+};
