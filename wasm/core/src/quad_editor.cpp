@@ -46,7 +46,7 @@ QuadVolumeEditor::QuadVolumeEditor(const QuadHierarchy& hierarchy, const Wavelet
       session_(startSession(hierarchy, transform, level, positions)),
       fineVolume_(form_, uint32_t(hierarchy.h.fineVertexCount())),
       fineConstraints_(transform, level, session_) {
-  fineConstraints_.setRows({&fineVolume_}, {}, false);
+  fineConstraints_.setRows(fineVolume_, {}, false);
   reference_ = volume();
 }
 

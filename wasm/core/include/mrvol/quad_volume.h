@@ -23,19 +23,4 @@ Vec3 quadReferencePoint(const QuadMesh& mesh);
 // Signed volume enclosed by the bilinear patches (cone volume to the reference point when open).
 double bilinearVolume(const QuadMesh& mesh);
 
-// Any FineForm as a volume function over N + 1 positions (FineEdgeVolume's layout: vertex N at
-// the reference point, unused here). One pass over the form's triangles.
-class FormVolume final : public VolumeFunction {
- public:
-  // `form` must outlive this; its corners index [0, vertexCount).
-  FormVolume(const FineForm& form, uint32_t vertexCount) : form_(&form), vertexCount_(vertexCount) {}
-  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
-  double value(const double* x, double* gradient) const override;
-  void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const override;
-
- private:
-  const FineForm* form_;
-  uint32_t vertexCount_;
-};
-
 }  // namespace mrvol
