@@ -108,7 +108,8 @@ describe('#demo/balance', { timeout: 240_000 }, () => {
     await page.goto(`${browser.url}#demo/balance`);
     await page.waitForFunction(() => window.mrvolLearn?.route() === 'demo/balance' && window.mrvolLearn.ready(), null, { timeout: 60_000 });
     await page.evaluate(() => window.mrvolLearn.act('pause'));
-    await page.evaluate(() => window.mrvolLearn.act('run', 30, 1 / 30));  // to about the widest pull
+    await page.evaluate(() => window.mrvolLearn.act('restart'));
+    await page.evaluate(() => window.mrvolLearn.act('run', 63, 1 / 30));  // out to the widest pull (t = 2.1 s)
     await settle(page);
     const s = await page.evaluate(() => window.mrvolLearn.state());
     assert.equal(s.model, 'bunny-remeshed');

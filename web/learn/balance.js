@@ -47,20 +47,25 @@ export async function mount({ mrvol, layout, el, stale }) {
     const cage = wire(editor.cagePositions(), edges);
     const color = p ? KEPT : FREE;
     const material = new THREE.MeshBasicMaterial({ color, depthTest: false, transparent: true });
-    const marker = new THREE.Mesh(new THREE.SphereGeometry(0.012 * diagonal, 20, 14), material);
+    const marker = new THREE.Mesh(new THREE.SphereGeometry(0.018 * diagonal, 20, 14), material);
     marker.renderOrder = 10;
+    // The plumb line's foot on the floor: over the ring while balanced.
+    const foot = new THREE.Mesh(new THREE.CircleGeometry(0.012 * diagonal, 24), new THREE.MeshBasicMaterial({ color, depthTest: false, transparent: true, side: THREE.DoubleSide }));
+    foot.rotation.x = -Math.PI / 2;
+    foot.renderOrder = 11;
     const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]),
       new THREE.LineBasicMaterial({ color, depthTest: false, transparent: true }));
     line.renderOrder = 10;
     // Where the centre started: a ring on the floor.
-    const ring = new THREE.Mesh(new THREE.RingGeometry(0.02 * diagonal, 0.026 * diagonal, 40), new THREE.MeshBasicMaterial({ color: 0x57606a, side: THREE.DoubleSide }));
+    const ring = new THREE.Mesh(new THREE.RingGeometry(0.022 * diagonal, 0.03 * diagonal, 40), new THREE.MeshBasicMaterial({ color: 0x24292f, side: THREE.DoubleSide, depthTest: false, transparent: true }));
     ring.rotation.x = -Math.PI / 2;
+    ring.renderOrder = 10;
     ring.position.set(start[0], floorY, start[2]);
     const plate = new THREE.Mesh(new THREE.PlaneGeometry(1.6 * diagonal, 1.6 * diagonal), new THREE.MeshStandardMaterial({ color: 0xdfe3e8, roughness: 1, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 2, polygonOffsetUnits: 2 }));
     plate.rotation.x = -Math.PI / 2;
     plate.position.set(b.center[0], floorY - 1e-4 * diagonal, b.center[2]);
-    scene.add(plate, ring, body, cage, marker, line);
-    return { editor, body, cage, marker, line };
+    scene.add(plate, ring, body, cage, marker, line, foot);
+    return { editor, body, cage, marker, line, foot };
   });
   stage.frame(b.center, (isBunny ? 1.25 : 1.5) * b.radius, [0.15, 0.25, 1]);
 
@@ -102,6 +107,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       const c = part.editor.centroid();
       part.marker.position.set(c[0], c[1], c[2]);
       part.line.geometry.setFromPoints([new THREE.Vector3(c[0], c[1], c[2]), new THREE.Vector3(c[0], floorY, c[2])]);
+      part.foot.position.set(c[0], floorY, c[2]);
       stats.drift[p] = Math.hypot(c[0] - start[0], c[1] - start[1], c[2] - start[2]) / diagonal;
       stats.maxDrift[p] = Math.max(stats.maxDrift[p], stats.drift[p]);
       stats.volumeError = Math.max(stats.volumeError, Math.abs(part.editor.volume() - reference) / Math.abs(reference));
@@ -120,7 +126,14 @@ export async function mount({ mrvol, layout, el, stale }) {
   };
   const startLoop = () => stage.animate(advance);
   const stopLoop = () => stage.stop();
-  const controls = playControls(layout, el, { start: startLoop, stop: stopLoop, restart: () => { sim.t = 0; apply(); } });
+  // Back to the rest shape, the chart and the worst drifts from there.
+  const restart = () => {
+    sim.t = 0;
+    for (const series of chart.series) series.values.length = 0;
+    stats.maxDrift = [0, 0];
+    apply();
+  };
+  const controls = playControls(layout, el, { start: startLoop, stop: stopLoop, restart });
   apply();
   startLoop();
   return {
@@ -132,6 +145,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     },
     actions: {
       pause: () => controls.pause(),
+      restart,
       /** Advances the pull by `count` steps of `step` seconds (tests). */
       run(count, step = 1 / 30) {
         for (let i = 0; i < count; i++) advance(step);
