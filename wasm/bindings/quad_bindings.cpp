@@ -136,6 +136,23 @@ val q_synthesize(const QuadMultiresMesh& m, val c, int level) {
 val q_roundtripError(const QuadMultiresMesh& m, val p, int level) {
   return guardedQuad([&] { return val(m.roundtripError(vectorOf<double>(p, "positions"), level)); });
 }
+val q_liftingSteps(const QuadMultiresMesh& m, int level) {
+  return guardedQuad([&] {
+    val out = val::array();
+    for (const LiftingStep& step : m.liftingSteps(level)) {
+      val s = val::object();
+      s.set("name", step.name);
+      s.set("scaling", step.scaling);
+      s.set("readsOnlyDetails", step.readsOnlyDetails);
+      s.set("targets", typed(step.targets));
+      s.set("offsets", typed(step.offsets));
+      s.set("sources", typed(step.sources));
+      s.set("weights", typed(step.weights));
+      out.call<void>("push", s);
+    }
+    return out;
+  });
+}
 Theta* q_computeTheta(const QuadMultiresMesh& m, int level, std::string storage) {
   return guardedQuad([&]() -> Theta* {
     if (storage != "cage" && storage != "full") throw Error("unknown tensor storage '" + storage + "' (expected cage or full)");
@@ -244,6 +261,7 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("analyze", &q_analyze)
       .function("synthesize", &q_synthesize)
       .function("roundtripError", &q_roundtripError)
+      .function("liftingSteps", &q_liftingSteps)
       .function("computeTheta", &q_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &q_thetaVolume)
       .function("fingerprint", &q_fingerprint)
