@@ -601,6 +601,8 @@ export interface QuadVolumeEditor {
   positions(): Float64Array;
   volume(): number;
   referenceVolume(): number;
+  setReferenceVolume(volume: number): void;
+  coefficients(): Float64Array;
   path(): 'tensor' | 'matrix-free';
   useTheta(theta: Theta): void;
   useMatrixFree(): void;

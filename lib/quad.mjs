@@ -45,6 +45,9 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     positions() { return call((r) => r.positions(), this.#live()); }
     volume() { return call((r) => r.volume(), this.#live()); }
     referenceVolume() { return call((r) => r.referenceVolume(), this.#live()); }
+    setReferenceVolume(volume) { call((r) => r.setReferenceVolume(volume), this.#live()); }
+    /** Level-e coefficients, hierarchy order (3 per vertex). */
+    coefficients() { return call((r) => r.coefficients(), this.#live()); }
     /** 'tensor' or 'matrix-free'. */
     path() { return call((r) => r.path(), this.#live()); }
     useTheta(theta) {

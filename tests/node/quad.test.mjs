@@ -129,6 +129,10 @@ describe('catmull-clark API', () => {
       assert.ok(report.converged);
       assert.ok(Math.abs(report.volumeTarget - volume) / volume > 1e-2, 'the move changes the volume');
       assert.ok(relErr(mrvol.quadVolume({ positions: editor.positions(), quads: mesh.quads }), volume) < 1e-5);
+      // A new reference: the next correction reaches it.
+      editor.setReferenceVolume(1.05 * volume);
+      assert.ok(editor.correct().converged);
+      assert.ok(relErr(mrvol.quadVolume({ positions: editor.positions(), quads: mesh.quads }), 1.05 * volume) < 1e-5);
       editor.delete();
     }
     theta.delete();

@@ -207,6 +207,8 @@ val q_editorCagePositions(const QuadVolumeEditor& e) { return guardedQuad([&] { 
 val q_editorPositions(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.positions()); }); }
 val q_editorVolume(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.volume()); }); }
 val q_editorReference(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.referenceVolume()); }); }
+bool q_editorSetReference(QuadVolumeEditor& e, double v) { return guardedQuad([&] { return e.setReferenceVolume(v), true; }); }
+val q_editorCoefficients(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.coefficients()); }); }
 
 EditOptions editOptions(const val& o) {
   EditOptions opts;
@@ -279,6 +281,8 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("positions", &q_editorPositions)
       .function("volume", &q_editorVolume)
       .function("referenceVolume", &q_editorReference)
+      .function("setReferenceVolume", &q_editorSetReference)
+      .function("coefficients", &q_editorCoefficients)
       .function("deformCage", &q_editorDeformCage)
       .function("correct", &q_editorCorrect);
 }
