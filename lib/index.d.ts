@@ -610,6 +610,8 @@ export interface QuadMultiresMesh {
   analyze(positions?: Float64Array, options?: { level?: number }): Float64Array;
   synthesize(coefficients: Float64Array, options?: { level?: number }): Float64Array;
   roundtripError(options?: { level?: number }): number;
+  /** Level l's synthesis steps (P_f, P_e, N_3k/P_3k per valence-3 layer, N_v, P_v), caller's indices. */
+  liftingSteps(options: { level: number }): LiftingStep[];
   computeTheta(options?: { level?: number; storage?: 'cage' | 'full' }): Theta;
   thetaVolume(theta: Theta, options?: { level?: number }): number;
   fingerprint(): string;
@@ -628,6 +630,8 @@ export interface QuadVolumeEditor {
   positions(): Float64Array;
   volume(): number;
   referenceVolume(): number;
+  setReferenceVolume(volume: number): void;
+  coefficients(): Float64Array;
   path(): 'tensor' | 'matrix-free';
   useTheta(theta: Theta): void;
   useMatrixFree(): void;

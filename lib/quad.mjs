@@ -45,6 +45,9 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     positions() { return call((r) => r.positions(), this.#live()); }
     volume() { return call((r) => r.volume(), this.#live()); }
     referenceVolume() { return call((r) => r.referenceVolume(), this.#live()); }
+    setReferenceVolume(volume) { call((r) => r.setReferenceVolume(volume), this.#live()); }
+    /** Level-e coefficients, hierarchy order (3 per vertex). */
+    coefficients() { return call((r) => r.coefficients(), this.#live()); }
     /** 'tensor' or 'matrix-free'. */
     path() { return call((r) => r.path(), this.#live()); }
     useTheta(theta) {
@@ -127,6 +130,15 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     }
     roundtripError(options = {}) {
       return call((r) => r.roundtripError(this.#positions, levelArg(options.level)), this.#live());
+    }
+    /**
+     * Level l's synthesis steps (l = 1..n) in order, caller's vertex indices: [{ name: 'P_f' | 'P_e' |
+     * 'N_3k' | 'P_3k' | 'N_v' | 'P_v', scaling, readsOnlyDetails, targets, offsets, sources, weights }]
+     * (a lift: x_t += sum w x_s over sources[offsets[r]..offsets[r+1]); a scaling: x_t *= weights[r]).
+     */
+    liftingSteps(options = {}) {
+      if (options.level === undefined) throw new MrvolError('level is required: level l (1..n) builds M^l from M^(l-1)');
+      return call((r) => r.liftingSteps(levelArg(options.level)), this.#live());
     }
     /** theta^e of the bilinear volume: { level, storage: 'cage' | 'full' }. */
     computeTheta(options = {}) {

@@ -320,6 +320,14 @@ TEST(QuadVolume, FormVolumeGradientAndCubic) {
     for (size_t i = 0; i < y.size(); ++i) y[i] += s * d[i];
     EXPECT_NEAR(fv.value(y.data(), nullptr), k[0] + s * (k[1] + s * (k[2] + s * k[3])), 1e-10);
   }
+  // The one-cross-product form of the same volume: value, gradient and cubic equal FormVolume's.
+  QuadPatchVolume qv(q.quads, N);
+  std::vector<double> g2(3 * (N + 1));
+  EXPECT_NEAR(qv.value(x.data(), g2.data()), v0, 1e-12);
+  for (size_t i = 0; i < g.size(); ++i) EXPECT_NEAR(g2[i], g[i], 1e-12) << i;
+  double k2[4];
+  qv.alongDirection(x.data(), d.data(), k2);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(k2[i], k[i], 1e-10) << i;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -129,9 +129,37 @@ describe('catmull-clark API', () => {
       assert.ok(report.converged);
       assert.ok(Math.abs(report.volumeTarget - volume) / volume > 1e-2, 'the move changes the volume');
       assert.ok(relErr(mrvol.quadVolume({ positions: editor.positions(), quads: mesh.quads }), volume) < 1e-5);
+      // A new reference: the next correction reaches it.
+      editor.setReferenceVolume(1.05 * volume);
+      assert.ok(editor.correct().converged);
+      assert.ok(relErr(mrvol.quadVolume({ positions: editor.positions(), quads: mesh.quads }), 1.05 * volume) < 1e-5);
       editor.delete();
     }
     theta.delete();
+    mr.delete();
+  });
+
+  test('the lifting steps, applied here one by one, are the synthesis of a level', () => {
+    // The cube's level-1 mesh as base: its valence-3 vertices take the layer steps N_31, P_31.
+    const built = mrvol.subdivide(toQuadMesh(cube()), { levels: 3 });
+    const mr = mrvol.openMesh(noisyShuffled(built, 3));
+    built.delete();
+    const c = mr.analyze(undefined, { level: 1 });
+    const steps = mr.liftingSteps({ level: 2 });
+    assert.deepEqual(steps.map((s) => s.name), ['P_f', 'P_e', 'N_31', 'P_31', 'N_v', 'P_v']);
+    const x = c.slice();
+    for (const st of steps) {
+      st.targets.forEach((t, r) => {
+        for (let k = 0; k < 3; ++k) {
+          if (st.scaling) { x[3 * t + k] *= st.weights[r]; continue; }
+          let acc = 0;
+          for (let e = st.offsets[r]; e < st.offsets[r + 1]; ++e) acc += st.weights[e] * x[3 * st.sources[e] + k];
+          x[3 * t + k] += acc;
+        }
+      });
+    }
+    assert.ok(maxDiff(x, mr.analyze(undefined, { level: 2 })) < 1e-12);
+    throwsMrvol(() => mr.liftingSteps({ level: 0 }), /level 0 has no lifting steps/);
     mr.delete();
   });
 

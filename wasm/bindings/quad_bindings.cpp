@@ -136,6 +136,23 @@ val q_synthesize(const QuadMultiresMesh& m, val c, int level) {
 val q_roundtripError(const QuadMultiresMesh& m, val p, int level) {
   return guardedQuad([&] { return val(m.roundtripError(vectorOf<double>(p, "positions"), level)); });
 }
+val q_liftingSteps(const QuadMultiresMesh& m, int level) {
+  return guardedQuad([&] {
+    val out = val::array();
+    for (const LiftingStep& step : m.liftingSteps(level)) {
+      val s = val::object();
+      s.set("name", step.name);
+      s.set("scaling", step.scaling);
+      s.set("readsOnlyDetails", step.readsOnlyDetails);
+      s.set("targets", typed(step.targets));
+      s.set("offsets", typed(step.offsets));
+      s.set("sources", typed(step.sources));
+      s.set("weights", typed(step.weights));
+      out.call<void>("push", s);
+    }
+    return out;
+  });
+}
 Theta* q_computeTheta(const QuadMultiresMesh& m, int level, std::string storage) {
   return guardedQuad([&]() -> Theta* {
     if (storage != "cage" && storage != "full") throw Error("unknown tensor storage '" + storage + "' (expected cage or full)");
@@ -190,6 +207,8 @@ val q_editorCagePositions(const QuadVolumeEditor& e) { return guardedQuad([&] { 
 val q_editorPositions(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.positions()); }); }
 val q_editorVolume(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.volume()); }); }
 val q_editorReference(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.referenceVolume()); }); }
+bool q_editorSetReference(QuadVolumeEditor& e, double v) { return guardedQuad([&] { return e.setReferenceVolume(v), true; }); }
+val q_editorCoefficients(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.coefficients()); }); }
 
 EditOptions editOptions(const val& o) {
   EditOptions opts;
@@ -244,6 +263,7 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("analyze", &q_analyze)
       .function("synthesize", &q_synthesize)
       .function("roundtripError", &q_roundtripError)
+      .function("liftingSteps", &q_liftingSteps)
       .function("computeTheta", &q_computeTheta, allow_raw_pointers())
       .function("thetaVolume", &q_thetaVolume)
       .function("fingerprint", &q_fingerprint)
@@ -261,6 +281,8 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("positions", &q_editorPositions)
       .function("volume", &q_editorVolume)
       .function("referenceVolume", &q_editorReference)
+      .function("setReferenceVolume", &q_editorSetReference)
+      .function("coefficients", &q_editorCoefficients)
       .function("deformCage", &q_editorDeformCage)
       .function("correct", &q_editorCorrect);
 }

@@ -42,9 +42,8 @@ QuadVolumeEditor::QuadVolumeEditor(const QuadHierarchy& hierarchy, const Wavelet
                                    const double* positions)
     : hierarchy_(&hierarchy),
       level_(checkedLevel(hierarchy, level)),
-      form_(bilinearPatchForm(hierarchy.fineQuads())),
       session_(startSession(hierarchy, transform, level, positions)),
-      fineVolume_(form_, uint32_t(hierarchy.h.fineVertexCount())),
+      fineVolume_(hierarchy.fineQuads(), uint32_t(hierarchy.h.fineVertexCount())),
       fineConstraints_(transform, level, session_) {
   fineConstraints_.setRows(fineVolume_, {}, false);
   reference_ = volume();

@@ -93,6 +93,18 @@ std::vector<uint32_t> QuadMultiresMesh::levelQuads(int level) const {
   return out;
 }
 
+std::vector<LiftingStep> QuadMultiresMesh::liftingSteps(int level) const {
+  if (level < 1 || level > levels())
+    throw Error("level " + std::to_string(level) + " has no lifting steps: levels 1.." + std::to_string(levels()) +
+                " build M^l from M^(l-1)");
+  std::vector<LiftingStep> out = transform_->synthesisSteps(level);
+  for (auto& step : out) {
+    for (auto& t : step.targets) t = hierarchy_->h.inputIndex[t];
+    for (auto& s : step.sources) s = hierarchy_->h.inputIndex[s];
+  }
+  return out;
+}
+
 std::vector<double> QuadMultiresMesh::analyze(const std::vector<double>& positions, int level) const {
   checkPositions(positions);
   checkLevel(level, true);

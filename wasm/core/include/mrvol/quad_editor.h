@@ -56,9 +56,8 @@ class QuadVolumeEditor {
 
   const QuadHierarchy* hierarchy_;
   int level_;
-  FineForm form_;
   mutable SessionCoefficients session_;
-  FormVolume fineVolume_;
+  QuadPatchVolume fineVolume_;
   mutable FineVolumeConstraints fineConstraints_;
   double reference_ = 0;
   bool allFree_ = false;

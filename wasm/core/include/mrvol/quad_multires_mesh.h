@@ -37,6 +37,10 @@ class QuadMultiresMesh {
   // Quads of level l in the caller's indices (l = n: the caller's quads as the hierarchy orders them).
   std::vector<uint32_t> levelQuads(int level) const;
 
+  // Level l's synthesis steps (1 <= l <= n: "P_f", "P_e", "N_3k"/"P_3k" per valence-3 layer, "N_v",
+  // "P_v"; quad_lifting.h) with targets and sources in the caller's vertex indices, for teaching views.
+  std::vector<LiftingStep> liftingSteps(int level) const;
+
   std::vector<double> analyze(const std::vector<double>& positions, int level) const;
   std::vector<double> synthesize(const std::vector<double>& coefficients, int level) const;
   double roundtripError(const std::vector<double>& positions, int level) const;

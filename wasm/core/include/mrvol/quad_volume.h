@@ -2,7 +2,9 @@
 // the cone volume of the patch through p0 p1 p2 p3 is exactly
 //   (det(p0,p1,p2) + det(p0,p2,p3) + det(p0,p1,p3) + det(p1,p2,p3)) / 12,
 // the mean of its two triangulations: a trilinear form of the corners, so theta^n stays a
-// trilinear tensor (a FineForm of four weighted triangles per quad).
+// trilinear tensor (a FineForm of four weighted triangles per quad). The same sum is
+// (p0 + p1 + p2 + p3) . ((p2 - p0) x (p3 - p1)) / 24: a third of the centroid against the vector
+// area, one cross product per quad (QuadPatchVolume, the matrix-free path's pass).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -22,5 +24,19 @@ FineForm bilinearPatchForm(const std::vector<uint32_t>& quads);
 Vec3 quadReferencePoint(const QuadMesh& mesh);
 // Signed volume enclosed by the bilinear patches (cone volume to the reference point when open).
 double bilinearVolume(const QuadMesh& mesh);
+
+// The bilinear patches' volume over N + 1 positions (as FormVolume), one cross product per quad.
+class QuadPatchVolume final : public VolumeFunction {
+ public:
+  // `quads` (4 per face) must outlive this; its indices are in [0, vertexCount).
+  QuadPatchVolume(const std::vector<uint32_t>& quads, uint32_t vertexCount) : quads_(&quads), vertexCount_(vertexCount) {}
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+  void alongDirection(const double* x, const double* d, double* k, bool lowKnown = false) const override;
+
+ private:
+  const std::vector<uint32_t>* quads_;
+  uint32_t vertexCount_;
+};
 
 }  // namespace mrvol
