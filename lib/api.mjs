@@ -273,6 +273,17 @@ export function wrapModule(module) {
     normalsView() { return this.#updateSurface(true).normals(); }
     /** Changes whenever positionsView()'s values do (as of the last positionsView()/normalsView()). */
     get surfaceVersion() { return this.#surfaceVersion; }
+    /**
+     * The caller's vertices the last rewrite of each view changed, as { positions: { first, count },
+     * normals: { first, count } } (a range to upload; the whole mesh after a move of the whole cage,
+     * a few hundred vertices after a move of one vertex that needed no correction).
+     */
+    updatedRanges() {
+      this.#live();
+      const r = this.#surface ? call((s) => s.ranges(), this.#surface) : { positions: [0, 0], normals: [0, 0] };
+      const range = ([first, end]) => ({ first, count: end - first });
+      return { positions: range(r.positions), normals: range(r.normals) };
+    }
     delete() {
       this.#surface?.delete();
       this.#surface = null;

@@ -288,6 +288,8 @@ export interface VolumeEditor {
   normalsView(): Float32Array;
   /** Changes whenever positionsView()'s values do (as of the last view taken). */
   readonly surfaceVersion: number;
+  /** The caller's vertices the last rewrite of each view changed (a range to upload). */
+  updatedRanges(): { positions: { first: number; count: number }; normals: { first: number; count: number } };
   /** All level-e coefficients (3 N), hierarchy order: the cage, then the details. */
   coefficients(): Float64Array;
   /** The current (exact) volume. */

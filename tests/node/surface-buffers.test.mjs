@@ -121,6 +121,36 @@ describe('positionsView and normalsView follow the edits', () => {
   });
 });
 
+describe('updates of a few vertices', () => {
+  test('moves of one vertex of a fine cage rewrite only its stencil and the normals around it; the ranges cover every change', () => {
+    const mr = mrvol.subdivide(loadModel(mrvol, 'spiky-ball'), { levels: 1 });
+    const faces = mr.faces(), n = faces.length / 6 + 2;  // closed: V = F / 2 + 2
+    const ed = mr.createEditor({ level: mr.levels - 1 });
+    checkBuffers(mr, ed, faces, 'before');
+    const r = rng(11), cage = ed.cageVertices();
+    for (let d = 0; d < 12; ++d) {
+      const positions = ed.positionsView().slice(), normals = ed.normalsView().slice();
+      const vertex = cage[Math.floor(r() * cage.length)];
+      ed.moveVertices([{ vertex, offset: [0.01, -0.02, 0.015] }], { preserve: d % 4 === 3 });
+      checkBuffers(mr, ed, faces, `move ${d}`);
+      const ranges = ed.updatedRanges();
+      for (const [name, before, after] of [['positions', positions, ed.positionsView()], ['normals', normals, ed.normalsView()]]) {
+        const { first, count } = ranges[name];
+        let changed = 0;
+        for (let i = 0; i < after.length; ++i) {
+          if (after[i] === before[i]) continue;
+          ++changed;
+          const v = Math.floor(i / 3);
+          assert.ok(v >= first && v < first + count, `move ${d}: ${name} of vertex ${v} changed outside [${first}, ${first + count})`);
+        }
+        assert.ok(changed > 0, `move ${d}: ${name} changed`);
+        if (d % 4 !== 3) assert.ok(changed < after.length / 4, `move ${d}: a few ${name} rewritten (${changed / 3} of ${n} vertices)`);
+      }
+    }
+    mr.delete();
+  });
+});
+
 describe('views and versions', () => {
   test('the view is rewritten in place; the version changes only when the positions do', () => {
     const mesh = loadModel(mrvol, 'spiky-ball');

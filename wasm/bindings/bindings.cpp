@@ -497,9 +497,18 @@ SurfaceBuffers* js_createSurfaceBuffers(const MultiresMesh& m) {
 val js_surfaceUpdate(SurfaceBuffers& s, const VolumeEditor& e, bool normals) {
   return guarded([&] {
     const double* fine = e.finePositions().data();
-    s.update(fine, e.referencePoint(), e.finePositionsVersion(), normals);
+    FinePositions::Changes changes;
+    e.takeFinePositionChanges(changes);
+    s.update(fine, e.referencePoint(), e.finePositionsVersion(), changes, normals);
     return val(double(s.version()));
   });
+}
+// { positions: [first, end), normals: [first, end) }: the caller's vertices the last writes rewrote.
+val js_surfaceRanges(const SurfaceBuffers& s) {
+  val out = val::object();
+  out.set("positions", val::array(std::vector<double>{double(s.positionsFirst()), double(s.positionsEnd())}));
+  out.set("normals", val::array(std::vector<double>{double(s.normalsFirst()), double(s.normalsEnd())}));
+  return out;
 }
 val js_surfacePositions(const SurfaceBuffers& s) { return val(emscripten::typed_memory_view(3 * s.vertexCount(), s.positions())); }
 val js_surfaceNormals(const SurfaceBuffers& s) { return val(emscripten::typed_memory_view(3 * s.vertexCount(), s.normals())); }
@@ -582,5 +591,6 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   class_<SurfaceBuffers>("_SurfaceBuffers")
       .function("update", &js_surfaceUpdate)
       .function("positions", &js_surfacePositions)
-      .function("normals", &js_surfaceNormals);
+      .function("normals", &js_surfaceNormals)
+      .function("ranges", &js_surfaceRanges);
 }

@@ -36,11 +36,12 @@ size_t StencilTable::find(uint32_t c) {
   return vertex_.size() - 1;
 }
 
-void StencilTable::add(uint32_t c, const double* d, double* fine) {
+void StencilTable::add(uint32_t c, const double* d, double* fine, std::vector<uint32_t>* touched) {
   const size_t s = find(c);
   const uint32_t* v = fineVertex_.data();
   const double* w = weight_.data();
   for (size_t k = start_[s], end = start_[s + 1]; k < end; ++k) axpy(w[k], d, fine + 3 * size_t(v[k]));
+  if (touched) touched->insert(touched->end(), v + start_[s], v + start_[s + 1]);
 }
 
 void StencilTable::stencil(uint32_t c, std::vector<uint32_t>& vertices, std::vector<double>& weights) {
@@ -69,7 +70,9 @@ const std::vector<double>& FinePositions::of(const std::vector<double>& x) {
     for (uint32_t c : moved) {
       const size_t i = 3 * size_t(c);
       const double d[3] = {x[i] - cage_[i], x[i + 1] - cage_[i + 1], x[i + 2] - cage_[i + 2]};
-      stencils_.add(c, d, fine_.data());
+      // A follower is told the stencils' vertices, or everything once that is no shorter.
+      stencils_.add(c, d, fine_.data(), changes_.whole ? nullptr : &changes_.vertices);
+      if (changes_.vertices.size() > n3 / 24) changes_ = Changes{};
     }
     ++incrementalUpdates_;
   } else if (incremental) {
@@ -78,6 +81,7 @@ const std::vector<double>& FinePositions::of(const std::vector<double>& x) {
     transform_->synthesizeZeroDetails(delta_.data(), level_);
     for (size_t i = 0; i < n3; ++i) fine_[i] += delta_[i];
     ++incrementalUpdates_;
+    changes_ = Changes{};
   } else {
     // Synthesis commutes with translations of the cage: shifting the cage before synthesis gives the
     // fine positions relative to the origin without cancellation.
@@ -86,6 +90,7 @@ const std::vector<double>& FinePositions::of(const std::vector<double>& x) {
     for (size_t i = 0; i < cage3_; i += 3) fine_[i] -= origin_.x, fine_[i + 1] -= origin_.y, fine_[i + 2] -= origin_.z;
     transform_->synthesize(fine_.data(), level_);
     incrementalUpdates_ = 0;
+    changes_ = Changes{};
   }
   cage_.assign(x.begin(), x.begin() + cage3_);
   current_ = base_ = true;
@@ -96,6 +101,7 @@ const std::vector<double>& FinePositions::of(const std::vector<double>& x) {
 void FinePositions::followDirection(const std::vector<double>& x, double s, const std::vector<double>& q) {
   const size_t n3 = x.size();
   for (size_t i = 0; i < n3; ++i) fine_[i] += s * q[i];
+  changes_ = Changes{};
   cage_.assign(x.begin(), x.begin() + cage3_);
   ++incrementalUpdates_;
   ++version_;

@@ -18,21 +18,53 @@ SurfaceBuffers::SurfaceBuffers(const Hierarchy& hierarchy)
   normals_.assign(3 * vertexCount_, 0.0f);
 }
 
-void SurfaceBuffers::update(const double* fine, Vec3 origin, uint64_t version, bool withNormals) {
+void SurfaceBuffers::merge(FinePositions::Changes& into, const FinePositions::Changes& changes) {
+  if (into.whole) return;
+  if (changes.whole) {
+    into = FinePositions::Changes{};
+    return;
+  }
+  into.vertices.insert(into.vertices.end(), changes.vertices.begin(), changes.vertices.end());
+}
+
+void SurfaceBuffers::update(const double* fine, Vec3 origin, uint64_t version, const FinePositions::Changes& changes,
+                            bool withNormals) {
+  merge(pendingPositions_, changes);
+  merge(pendingNormals_, changes);
+  const size_t n = vertexCount_;
+  if (pendingPositions_.whole || pendingPositions_.vertices.size() > n / 8) pendingPositions_ = FinePositions::Changes{};
+  if (pendingNormals_.whole || pendingNormals_.vertices.size() > n / 8) pendingNormals_ = FinePositions::Changes{};
   if (positionsOf_ != version + 1) {
     writePositions(fine, origin);
     positionsOf_ = version + 1;
     ++writes_;
   }
+  pendingPositions_ = FinePositions::Changes{false, {}};
   if (withNormals && normalsOf_ != version + 1) {
-    writeNormals(fine);
+    if (pendingNormals_.whole || !normalsWritten_) writeNormals(fine);
+    else writeSomeNormals(fine);
+    normalsWritten_ = true;
     normalsOf_ = version + 1;
+    pendingNormals_ = FinePositions::Changes{false, {}};
   }
 }
 
 void SurfaceBuffers::writePositions(const double* fine, Vec3 o) {
   float* out = positions_.data();
   const size_t n = vertexCount_;
+  const uint32_t* caller = hierarchy_->inputIndex.data();
+  if (!pendingPositions_.whole) {  // the vertices the stencils touched
+    uint32_t first = UINT32_MAX, end = 0;
+    for (uint32_t h : pendingPositions_.vertices) {
+      const uint32_t v = caller[h];
+      float* p = out + 3 * size_t(v);
+      p[0] = float(fine[3 * size_t(h)] + o.x), p[1] = float(fine[3 * size_t(h) + 1] + o.y), p[2] = float(fine[3 * size_t(h) + 2] + o.z);
+      first = std::min(first, v), end = std::max(end, v + 1);
+    }
+    positionsRange_[0] = first == UINT32_MAX ? 0 : first, positionsRange_[1] = end;
+    return;
+  }
+  positionsRange_[0] = 0, positionsRange_[1] = uint32_t(n);
   if (callerIsHierarchyOrder_) {
     for (size_t i = 0; i < n; ++i) {  // contiguous: the compiler vectorizes it
       out[3 * i] = float(fine[3 * i] + o.x);
@@ -41,11 +73,60 @@ void SurfaceBuffers::writePositions(const double* fine, Vec3 o) {
     }
     return;
   }
-  const uint32_t* caller = hierarchy_->inputIndex.data();
   for (size_t h = 0; h < n; ++h) {
     float* p = out + 3 * size_t(caller[h]);
     p[0] = float(fine[3 * h] + o.x), p[1] = float(fine[3 * h + 1] + o.y), p[2] = float(fine[3 * h + 2] + o.z);
   }
+}
+
+void SurfaceBuffers::writeSomeNormals(const double* fine) {
+  const size_t n = vertexCount_;
+  const uint32_t* caller = hierarchy_->inputIndex.data();
+  if (vertexFaceStart_.empty()) {  // once: the faces around each vertex
+    vertexFaceStart_.assign(n + 1, 0);
+    for (uint32_t v : faces_) ++vertexFaceStart_[v + 1];
+    for (size_t v = 0; v < n; ++v) vertexFaceStart_[v + 1] += vertexFaceStart_[v];
+    vertexFaces_.resize(faces_.size());
+    std::vector<uint32_t> next(vertexFaceStart_.begin(), vertexFaceStart_.end() - 1);
+    for (size_t c = 0; c < faces_.size(); ++c) vertexFaces_[next[faces_[c]]++] = uint32_t(c / 3);
+    mark_.assign(n, 0);
+  }
+  if (++markRound_ == 0) std::fill(mark_.begin(), mark_.end(), 0), markRound_ = 1;
+  // The moved vertices' relative positions, then every vertex of a face around them is affected.
+  float* r = relative_.data();
+  for (uint32_t h : pendingNormals_.vertices) {
+    float* p = r + 4 * size_t(caller[h]);
+    p[0] = float(fine[3 * size_t(h)]), p[1] = float(fine[3 * size_t(h) + 1]), p[2] = float(fine[3 * size_t(h) + 2]);
+  }
+  affected_.clear();
+  for (uint32_t h : pendingNormals_.vertices) {
+    const uint32_t v = caller[h];
+    for (uint32_t k = vertexFaceStart_[v]; k < vertexFaceStart_[v + 1]; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t w = faces_[3 * size_t(vertexFaces_[k]) + c];
+        if (mark_[w] != markRound_) mark_[w] = markRound_, affected_.push_back(w);
+      }
+  }
+  // Each affected vertex's sum again from its faces (in doubles of the float positions), normalized.
+  uint32_t first = UINT32_MAX, end = 0;
+  for (uint32_t v : affected_) {
+    double sum[3] = {0, 0, 0};
+    for (uint32_t k = vertexFaceStart_[v]; k < vertexFaceStart_[v + 1]; ++k) {
+      const uint32_t* f = &faces_[3 * size_t(vertexFaces_[k])];
+      const float* a = r + 4 * size_t(f[0]);
+      const float* b = r + 4 * size_t(f[1]);
+      const float* c = r + 4 * size_t(f[2]);
+      const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+      const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+      sum[0] += uy * vz - uz * vy, sum[1] += uz * vx - ux * vz, sum[2] += ux * vy - uy * vx;
+    }
+    const double length = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    const double scale = length > 0 ? 1.0 / length : 0.0;
+    float* o = normals_.data() + 3 * size_t(v);
+    o[0] = float(sum[0] * scale), o[1] = float(sum[1] * scale), o[2] = float(sum[2] * scale);
+    first = std::min(first, v), end = std::max(end, v + 1);
+  }
+  normalsRange_[0] = first == UINT32_MAX ? 0 : first, normalsRange_[1] = end;
 }
 
 void SurfaceBuffers::writeNormals(const double* fine) {
@@ -109,6 +190,7 @@ void SurfaceBuffers::writeNormals(const double* fine) {
   }
 #endif
   // Unit length (a vertex of no area keeps zero, as three.js's computeVertexNormals leaves it).
+  normalsRange_[0] = 0, normalsRange_[1] = uint32_t(n);
   float* out = normals_.data();
   for (size_t v = 0; v < n; ++v) {
     const float x = sum[4 * v], y = sum[4 * v + 1], z = sum[4 * v + 2];

@@ -22,7 +22,8 @@ class StencilTable {
   static constexpr size_t kMaxStencils = 8;
   StencilTable(const WaveletTransform& transform, int level);
   // fine += sum over the stencil of cage vertex c of weight * delta (a 3-vector); fine has 3 per vertex.
-  void add(uint32_t cageVertex, const double* delta, double* fine);
+  // The fine vertices it wrote are appended to `touched` when given.
+  void add(uint32_t cageVertex, const double* delta, double* fine, std::vector<uint32_t>* touched = nullptr);
   size_t stencilCount() const { return vertex_.size(); }
   // The stencil of c: fine vertices and weights (for tests).
   void stencil(uint32_t cageVertex, std::vector<uint32_t>& vertices, std::vector<double>& weights);
@@ -64,6 +65,15 @@ class FinePositions {
   // zero): the positions follow by the same multiple, no synthesis needed.
   void followDirection(const std::vector<double>& x, double s, const std::vector<double>& synthesized);
 
+  // What changed in the positions since the last takeChanges(), for a follower such as a renderer's
+  // buffers: every vertex (whole), or the listed fine vertices (hierarchy order, repeats possible)
+  // when only stencils of a few cage vertices were added.
+  struct Changes {
+    bool whole = true;
+    std::vector<uint32_t> vertices;
+  };
+  void takeChanges(Changes& out) { out = std::move(changes_), changes_ = Changes{false, {}}; }
+
  private:
   const WaveletTransform* transform_;
   int level_;
@@ -76,6 +86,7 @@ class FinePositions {
   bool current_ = false, base_ = false;
   int incrementalUpdates_ = 0;  // since the last full synthesis
   uint64_t version_ = 0;
+  Changes changes_;
 };
 
 }  // namespace mrvol

@@ -97,6 +97,7 @@ class VolumeEditor {
   // to referencePoint()), brought up to date; their version changes whenever they do (SurfaceBuffers).
   const std::vector<double>& finePositions() const { return session_.fine.of(session_.x); }
   uint64_t finePositionsVersion() const { return session_.fine.version(); }
+  void takeFinePositionChanges(FinePositions::Changes& out) const { session_.fine.takeChanges(out); }
   Vec3 referencePoint() const { return session_.origin; }
 
   // Theta_tau for every coefficient at level e (3 * N, hierarchy order) by the matrix-free path,
