@@ -1,6 +1,6 @@
 // Types of mrvol/three (lib/three/index.mjs): volume-preserving cage editing as a three.js component.
 import * as THREE from 'three';
-import type { Mrvol, Mesh, MultiresMesh, VolumeEditor, Theta, EditReport, ThetaEstimate } from '../index.js';
+import type { Mrvol, Mesh, MultiresMesh, VolumeEditor, Theta, EditReport, ThetaEstimate, VolumeSurface } from '../index.js';
 
 export interface VolumeEditControlsOptions {
   /** Cage level e (0..levels of the mesh), default 0. */
@@ -107,6 +107,9 @@ export class EditingSession extends EventTarget {
   beta: number;
   preserve: boolean;
   tolerance: number;
+  /** Whose volume is kept ('limit': the Loop limit surface), and whether the centre of mass is kept too. */
+  readonly surface: VolumeSurface;
+  readonly keepCentroid: boolean;
   readonly cageSize: number;
   readonly cageVertices: Uint32Array | null;
   readonly cageIndex: Map<number, number> | null;
@@ -124,6 +127,12 @@ export class EditingSession extends EventTarget {
     own?: boolean }): NonNullable<EditingSession['model']>;
   setLevel(level: number): void;
   setScheme(scheme: string): void;
+  /** Rebuilds the editor for that surface (its reference: that surface's volume now); throws MrvolError, unchanged, for an open mesh. */
+  setSurface(surface: VolumeSurface): void;
+  /** Keeps the centre of mass where it is now, or stops (mesh surface only). */
+  setKeepCentroid(on: boolean): void;
+  centroid(): Float64Array | null;
+  referenceCentroid(): Float64Array | null;
   cageEdges(): Uint32Array;
   setFreeSet(freeSet: Partial<FreeSet>, options?: { quiet?: boolean }): void;
   partVolumes(): number[] | null;
@@ -143,7 +152,7 @@ export class EditingSession extends EventTarget {
   positions(): Float64Array;
   cagePositions(): Float64Array;
   approximation(level: number, positions?: Float64Array): Float64Array;
-  gradientChoice(): { path: 'tensor' | 'matrix-free'; estimate: ThetaEstimate | null };
+  gradientChoice(): { path: 'tensor' | 'matrix-free'; estimate: ThetaEstimate | null; reason?: string };
   storedTheta(): { theta: Theta; source: string } | null;
   /** The session owns an accepted theta until the model changes. */
   useTheta(theta: Theta, source?: string): { ok: true } | { ok: false; reason: string };

@@ -67,7 +67,8 @@ export async function mount({ mrvol, layout, el, stale }) {
     scene.add(plate, ring, body, cage, marker, line, foot);
     return { editor, body, cage, marker, line, foot };
   });
-  stage.frame(b.center, (isBunny ? 1.25 : 1.5) * b.radius, [0.15, 0.25, 1]);
+  // Room above for the pulled ears, the floor in view below.
+  stage.frame([b.center[0], b.center[1] + 0.3 * b.radius, b.center[2]], 1.6 * b.radius, [0.15, 0.25, 1]);
 
   layout.bottom.hidden = false;
   const chartRow = el('div', { class: 'learn-charts' });
