@@ -145,9 +145,13 @@ function nonManifoldFaces(faces, vertexCount) {
         }
         if (shared) parent[find(i)] = find(j);
       }
+    // One fan (the usual case): nothing to drop.
+    const root = find(0);
+    let one = true;
+    for (let i = 1; i < local.length && one; i++) one = find(i) === root;
+    if (one) continue;
     const sizes = new Map();
     for (let i = 0; i < local.length; i++) sizes.set(find(i), (sizes.get(find(i)) ?? 0) + 1);
-    if (sizes.size < 2) continue;
     const largest = [...sizes].reduce((x, y) => (y[1] > x[1] ? y : x))[0];
     for (let i = 0; i < local.length; i++) if (find(i) !== largest) drop[local[i]] = 1;
   }
