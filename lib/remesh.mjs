@@ -789,6 +789,12 @@ export async function remesh(mrvol, input, options = {}) {
 
   await MeshoptSimplifier.ready;
   const surface = new Surface(mesh);
+  const pieceSurfaces = new Map();
+  const surfaceOf = (i) => {
+    if (pieces.length === 1) return surface;
+    if (!pieceSurfaces.has(i)) pieceSurfaces.set(i, new Surface(pieces[i].mesh));
+    return pieceSurfaces.get(i);
+  };
   const features = options.features === false ? null : findFeatures(mesh, { angle: options.featureAngle });
   const featureKeys = { corners: new Set([...(features?.corners ?? [])].map((v) => positionKey(mesh.positions, v))),
                         features: new Set([...(features?.linesAt.keys() ?? [])].map((v) => positionKey(mesh.positions, v))) };
@@ -807,8 +813,9 @@ export async function remesh(mrvol, input, options = {}) {
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
-      const exact = [];
-      const bases = pieces.map((piece) => {
+      // Each piece on its own (its own surface: parts that touch or cross do not pull each other).
+      let done = 0;
+      const parts = pieces.map((piece, i) => {
         // A small piece (64 faces or fewer) is its own base: exact.
         let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
@@ -816,19 +823,22 @@ export async function remesh(mrvol, input, options = {}) {
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
         const b = simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
         simplifierProblems.push(...b.problems);
-        exact.push(!b.simplified);
-        return b.base;
+        const own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
+        const part = fitLevels(mrvol, own, b.base, levels, relaxIterations, withFeatures, !b.simplified,
+                               (f, stage) => progress(fraction + share * (done + weight * f), stage));
+        done += weight;
+        part.untangled = countFlipped(part.mesh, own, part.constraints);
+        part.flippedTriangles = part.untangled ? untangle(own, part.mesh.positions, part.mesh.faces, part.constraints) : 0;
+        if (part.flippedTriangles > 0)
+          part.flippedTriangles = untangle(own, part.mesh.positions, part.mesh.faces, part.constraints, 8, false);
+        return part;
       });
-      const base = bases.length === 1 ? bases[0] : concatenate(bases);
-      const firstVertex = [];
-      bases.reduce((n, b) => (firstVertex.push(n), n + b.positions.length / 3), 0);
-      const pieceOfBaseVertex = (v) => firstVertex.findLastIndex((n) => n <= v);
-      result = fitLevels(mrvol, surface, base, levels, relaxIterations, withFeatures, exact, pieceOfBaseVertex,
-                         (f, stage) => progress(fraction + share * f, stage));
-      result.untangled = countFlipped(result.mesh, surface, result.constraints);
-      result.flippedTriangles = result.untangled ? untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints) : 0;
-      if (result.flippedTriangles > 0)
-        result.flippedTriangles = untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints, 8, false);
+      const sum = (key) => parts.reduce((t, p) => t + p[key], 0);
+      result = parts.length === 1 ? parts[0] : {
+        mesh: concatenate(parts.map((p) => p.mesh)), baseVertices: sum('baseVertices'), baseFaces: sum('baseFaces'),
+        fallbacks: sum('fallbacks'), untangled: sum('untangled'), flippedTriangles: sum('flippedTriangles'),
+        constraints: { count: parts.reduce((t, p) => t + p.constraints.count, 0), corners: parts.reduce((t, p) => t + p.constraints.corners, 0) },
+      };
       if (result.flippedTriangles === 0 || options.allowFlipped) break;
     }
     return result;
@@ -1036,7 +1046,7 @@ function inputPieces(mrvol, mesh, keepLargest, repaired) {
  * level-l mesh is relaxed tangentially and reprojected. Output in the hierarchy order of the core
  * (base vertices first).
  */
-function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, pieceOfBaseVertex, onProgress = () => {}) {
+function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, onProgress = () => {}) {
   const mr = mrvol.subdivide(base, { levels, scheme: 'linear' });
   try {
     const positions = Float64Array.from(mr.positions());
@@ -1045,14 +1055,8 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
     const vertexCount = positions.length / 3;
     const constraints = new Constraints(features && features.edgeCount > 0 ? features : null, vertexCount);
     for (let m = 0; m < vertexCount; m++) if (depths[m] === 0) constraints.assignBase(positions, m);
-    // Pieces that are their own base: the linear subdivision is exact, every vertex stays.
-    if (exact.some((x) => x)) {
-      const { ofFace } = connectivity(faces, vertexCount).components;
-      const pieceOf = new Map();
-      for (let f = 0; f < ofFace.length; f++)
-        for (let j = 0; j < 3; j++) if (depths[faces[3 * f + j]] === 0 && !pieceOf.has(ofFace[f])) pieceOf.set(ofFace[f], pieceOfBaseVertex(faces[3 * f + j]));
-      for (let f = 0; f < ofFace.length; f++) if (exact[pieceOf.get(ofFace[f])]) for (let j = 0; j < 3; j++) constraints.hold(faces[3 * f + j]);
-    }
+    // A piece that is its own base: the linear subdivision is exact, every vertex stays.
+    if (exact) for (let m = 0; m < vertexCount; m++) constraints.hold(m);
     // Holding the base vertices (input vertices) keeps tips but folds the triangles around them:
     // every vertex relaxes (except corners).
     const held = new Uint8Array(vertexCount);
