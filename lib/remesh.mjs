@@ -773,15 +773,10 @@ export async function remesh(mrvol, input, options = {}) {
   const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
                                                    smooth: options.smooth }) : null;
   const welded = repaired ? repaired.mesh : weld(input);
-  let pieces, genus, droppedComponents, droppedPieces;
-  try {
-    ({ pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired));
-  } catch (e) {
-    // A one-sided surface cannot bound a solid: that is the reason, whatever the repair left.
-    if (e instanceof MrvolError && repaired?.report.oneSidedEdges > 0)
-      throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made (after the repair: ${e.message})`);
-    throw e;
-  }
+  // A one-sided surface bounds no solid: cutting it open and filling the cuts would make up a shape.
+  if (repaired?.report.oneSidedEdges > 0)
+    throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made of it`);
+  const { pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired);
   const mesh = pieces.length === 1 ? pieces[0].mesh : concatenate(pieces.map((p) => p.mesh));
   const inputVolume = mrvol.volume(mesh);
   const diagonal = boundingDiagonal(mesh.positions);
