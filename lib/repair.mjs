@@ -391,6 +391,25 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     report.foldedFaces += folds.count;
     keepFaces(folds.drop.map((d) => 1 - d));
   }
+  // A fill can repeat a face that is still there (a 3-edge hole closed by the face across it):
+  // such pairs cancel, and what they leave is cleaned and filled once more.
+  const again = cancelDuplicates(mesh.faces);
+  if (again.finFaces + again.duplicateFaces > 0) {
+    report.finFaces += again.finFaces;
+    report.duplicateFaces += again.duplicateFaces;
+    keepFaces(again.keep);
+    for (let round = 0; round < 16; round++) {
+      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3);
+      if (count === 0) break;
+      report.nonManifoldFaces += count;
+      keepFaces(drop.map((d) => 1 - d));
+    }
+    const filled = fillHoles(mesh, maxHoleEdges);
+    report.holesFilled += filled.holesFilled;
+    report.holeEdges += filled.holeEdges;
+    report.holesLeft = filled.holesLeft;
+    mesh = filled.mesh;
+  }
   report.reversedComponents = orientOutwards(mesh);
   report.smoothIterations = smooth;
   if (smooth > 0) taubinSmooth(mesh, smooth);
