@@ -237,6 +237,9 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
     }
     if (!problem) return { base, target, problems, simplified: true };
     problems.push(`${target} faces: ${problem}`);
+    // Tiny tunnels of a scan (genus 52 for the full dragon) close at any cage size: after two
+    // tries a closed, manifold, one-piece base of another genus is taken (reported).
+    if (attempt >= 2 && /^genus \d+ instead of/.test(problem)) return { base, target, problems, simplified: true, genusChanged: true };
   }
   // Nothing simpler passed: the component itself is the base (always valid).
   return { base: mesh, target, problems, simplified: false };
@@ -796,6 +799,7 @@ export async function remesh(mrvol, input, options = {}) {
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
 
+  const genusChanges = new Set();
   // Input vertices the base must keep: tips that a fit left too far away (see below).
   const tipKeys = new Set();
   // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
@@ -809,8 +813,7 @@ export async function remesh(mrvol, input, options = {}) {
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
       // Each piece on its own (its own surface: parts that touch or cross do not pull each other).
-      let done = 0;
-      const parts = pieces.map((piece, i) => {
+      const bases = pieces.map((piece, i) => {
         // A small piece (64 faces or fewer) is its own base: exact.
         let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
@@ -818,8 +821,17 @@ export async function remesh(mrvol, input, options = {}) {
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
         const b = simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
         simplifierProblems.push(...b.problems);
-        const own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
-        const part = fitLevels(mrvol, own, b.base, levels, relaxIterations, withFeatures, !b.simplified,
+        if (b.genusChanged) genusChanges.add(i);
+        return b;
+      });
+      // Default levels: no more than the vertex budget allows over the bases actually made.
+      const baseFaces = bases.reduce((t, b) => t + b.base.faces.length / 3, 0);
+      let used = levels;
+      while (auto && used > 0 && (baseFaces * 4 ** used) / 2 > budget) used--;
+      let done = 0;
+      const parts = pieces.map((piece, i) => {
+        const b = bases[i], own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
+        const part = fitLevels(mrvol, own, b.base, used, relaxIterations, withFeatures, !b.simplified,
                                (f, stage) => progress(fraction + share * (done + weight * f), stage));
         done += weight;
         part.untangled = countFlipped(part.mesh, own, part.constraints);
@@ -834,6 +846,7 @@ export async function remesh(mrvol, input, options = {}) {
         fallbacks: sum('fallbacks'), untangled: sum('untangled'), flippedTriangles: sum('flippedTriangles'),
         constraints: { count: parts.reduce((t, p) => t + p.constraints.count, 0), corners: parts.reduce((t, p) => t + p.constraints.corners, 0) },
       };
+      result.levelsUsed = used;
       if (result.flippedTriangles === 0 || options.allowFlipped) break;
     }
     return result;
@@ -854,7 +867,8 @@ export async function remesh(mrvol, input, options = {}) {
     progress(Math.min(0.9, fraction + 0.2), 'measuring the Hausdorff distance');
     const m = measure(attempt.mesh, mesh, surface, maxSamples);
     tried.at(-1).hausdorff = distance(m);
-    attempt.levels = levels;
+    attempt.levels = attempt.levelsUsed ?? levels;
+    tried.at(-1).levels = attempt.levels;
     if (!result || distance(m) < distance(measured)) result = attempt, measured = m;
     return true;
   };
@@ -867,7 +881,7 @@ export async function remesh(mrvol, input, options = {}) {
     const fits = (levels, scale) => (requested * scale * 4 ** levels) / 2 <= budget;
     let levels = 2;
     while (levels > 0 && !fits(levels, 1)) levels--;
-    for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1); levels++);
+    for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels; levels++);
     // Still far: the input vertices farthest from the result (tips the base cut off, a few
     // apart) are kept in the base, up to three times.
     for (let round = 0; round < 3 && distance(measured) > goal; round++) {
@@ -912,6 +926,8 @@ export async function remesh(mrvol, input, options = {}) {
              weldedVertices: repaired ? repaired.report.weldedVertices : welded.merged,
              droppedFaces: repaired ? repaired.report.degenerateFaces : welded.droppedFaces,
              droppedComponents: droppedComponents + (repaired?.report.droppedComponents ?? 0), droppedPieces, genus },
+    // Pieces whose base (and so the result) lost tiny tunnels the simplifier could not keep.
+    genusChangedPieces: genusChanges.size,
     repair: repaired?.report ?? null,
     simplifierRetries: simplifierProblems,
     ms: now() - started,

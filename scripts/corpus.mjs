@@ -145,7 +145,8 @@ function uvSphere(rows, columns, noise = 0, seed = 1) {
   const rnd = random(seed), positions = [0, 0, 1], polygons = [];
   for (let i = 1; i < rows; i++)
     for (let j = 0; j < columns; j++) {
-      const t = (Math.PI * i) / rows, p = (2 * Math.PI * j) / columns, s = 1 + noise * (rnd() - 0.5);
+      // Noise in proportion to the local spacing (sin t): the rows near a pole are short.
+      const t = (Math.PI * i) / rows, p = (2 * Math.PI * j) / columns, s = 1 + noise * Math.sin(t) * (rnd() - 0.5);
       positions.push(s * Math.sin(t) * Math.cos(p), s * Math.sin(t) * Math.sin(p), s * Math.cos(t));
     }
   positions.push(0, 0, -1);
