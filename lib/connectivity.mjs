@@ -97,20 +97,40 @@ class MeshConnectivity {
     return (this.#twins = twins);
   }
 
-  /** Faces around each undirected edge: Map(edgeKey(min, max) -> face indices, increasing). */
+  /**
+   * Faces around each undirected edge, grouped (counting sort by the smaller end, then the larger):
+   * { count, a (smaller end), b (larger end), offsets (count + 1), list (face indices, increasing
+   * within an edge) }.
+   */
   get edgeFaces() {
     if (this.#edgeFaces) return this.#edgeFaces;
-    const { faces } = this;
-    const map = new Map();
-    for (let f = 0; f < faces.length / 3; f++)
-      for (let j = 0; j < 3; j++) {
-        const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
-        const k = edgeKey(Math.min(a, b), Math.max(a, b));
-        const list = map.get(k);
-        if (list) list.push(f);
-        else map.set(k, [f]);
+    const { faces, vertexCount } = this;
+    const n = faces.length;
+    const low = (h) => Math.min(faces[h], faces[h - (h % 3) + ((h % 3) + 1) % 3]);
+    const high = (h) => Math.max(faces[h], faces[h - (h % 3) + ((h % 3) + 1) % 3]);
+    const start = new Uint32Array(vertexCount + 1);
+    for (let h = 0; h < n; h++) start[low(h) + 1]++;
+    for (let v = 0; v < vertexCount; v++) start[v + 1] += start[v];
+    const fill = start.slice(0, vertexCount), bucket = new Uint32Array(n);
+    for (let h = 0; h < n; h++) bucket[fill[low(h)]++] = h;
+    const a = new Uint32Array(n), b = new Uint32Array(n), offsets = new Uint32Array(n + 1), list = new Uint32Array(n);
+    const taken = new Uint8Array(n);
+    let count = 0, at = 0;
+    for (let v = 0; v < vertexCount; v++)
+      for (let i = start[v]; i < start[v + 1]; i++) {
+        const h = bucket[i];
+        if (taken[h]) continue;
+        const w = high(h);
+        a[count] = v, b[count] = w, offsets[count] = at;
+        // Half-edges of this bucket with the same other end, in increasing order (faces increase).
+        for (let j = i; j < start[v + 1]; j++) {
+          const g = bucket[j];
+          if (!taken[g] && high(g) === w) taken[g] = 1, list[at++] = (g / 3) | 0;
+        }
+        count++;
       }
-    return (this.#edgeFaces = map);
+    offsets[count] = at;
+    return (this.#edgeFaces = { count, a: a.subarray(0, count), b: b.subarray(0, count), offsets: offsets.subarray(0, count + 1), list });
   }
 
   /**

@@ -88,6 +88,8 @@ export interface RemeshResult {
   rayFallbacks: number;
   /** droppedPieces: closed pieces that enclose no volume (fewer than 4 faces, flat double sheets). */
   input: { vertices: number; faces: number; weldedVertices: number; droppedFaces: number; droppedComponents: number; droppedPieces: number; genus: number };
+  /** Pieces whose base lost tiny tunnels (a scan's genus 52) the simplifier could not keep. */
+  genusChangedPieces: number;
   /** What repair() did, when the repair option was given (else null). */
   repair: RepairReport | null;
   /** Simplifier outputs that failed validation (target faces: problem). */

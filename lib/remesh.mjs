@@ -237,6 +237,9 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
     }
     if (!problem) return { base, target, problems, simplified: true };
     problems.push(`${target} faces: ${problem}`);
+    // Tiny tunnels of a scan (genus 52 for the full dragon) close at any cage size: after two
+    // tries a closed, manifold, one-piece base of another genus is taken (reported).
+    if (attempt >= 2 && /^genus \d+ instead of/.test(problem)) return { base, target, problems, simplified: true, genusChanged: true };
   }
   // Nothing simpler passed: the component itself is the base (always valid).
   return { base: mesh, target, problems, simplified: false };
@@ -773,15 +776,10 @@ export async function remesh(mrvol, input, options = {}) {
   const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
                                                    smooth: options.smooth }) : null;
   const welded = repaired ? repaired.mesh : weld(input);
-  let pieces, genus, droppedComponents, droppedPieces;
-  try {
-    ({ pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired));
-  } catch (e) {
-    // A one-sided surface cannot bound a solid: that is the reason, whatever the repair left.
-    if (e instanceof MrvolError && repaired?.report.oneSidedEdges > 0)
-      throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made (after the repair: ${e.message})`);
-    throw e;
-  }
+  // A one-sided surface bounds no solid: cutting it open and filling the cuts would make up a shape.
+  if (repaired?.report.oneSidedEdges > 0)
+    throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made of it`);
+  const { pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired);
   const mesh = pieces.length === 1 ? pieces[0].mesh : concatenate(pieces.map((p) => p.mesh));
   const inputVolume = mrvol.volume(mesh);
   const diagonal = boundingDiagonal(mesh.positions);
@@ -789,12 +787,19 @@ export async function remesh(mrvol, input, options = {}) {
 
   await MeshoptSimplifier.ready;
   const surface = new Surface(mesh);
+  const pieceSurfaces = new Map();
+  const surfaceOf = (i) => {
+    if (pieces.length === 1) return surface;
+    if (!pieceSurfaces.has(i)) pieceSurfaces.set(i, new Surface(pieces[i].mesh));
+    return pieceSurfaces.get(i);
+  };
   const features = options.features === false ? null : findFeatures(mesh, { angle: options.featureAngle });
   const featureKeys = { corners: new Set([...(features?.corners ?? [])].map((v) => positionKey(mesh.positions, v))),
                         features: new Set([...(features?.linesAt.keys() ?? [])].map((v) => positionKey(mesh.positions, v))) };
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
 
+  const genusChanges = new Set();
   // Input vertices the base must keep: tips that a fit left too far away (see below).
   const tipKeys = new Set();
   // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
@@ -807,8 +812,8 @@ export async function remesh(mrvol, input, options = {}) {
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
-      const exact = [];
-      const bases = pieces.map((piece) => {
+      // Each piece on its own (its own surface: parts that touch or cross do not pull each other).
+      const bases = pieces.map((piece, i) => {
         // A small piece (64 faces or fewer) is its own base: exact.
         let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
@@ -816,19 +821,32 @@ export async function remesh(mrvol, input, options = {}) {
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
         const b = simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
         simplifierProblems.push(...b.problems);
-        exact.push(!b.simplified);
-        return b.base;
+        if (b.genusChanged) genusChanges.add(i);
+        return b;
       });
-      const base = bases.length === 1 ? bases[0] : concatenate(bases);
-      const firstVertex = [];
-      bases.reduce((n, b) => (firstVertex.push(n), n + b.positions.length / 3), 0);
-      const pieceOfBaseVertex = (v) => firstVertex.findLastIndex((n) => n <= v);
-      result = fitLevels(mrvol, surface, base, levels, relaxIterations, withFeatures, exact, pieceOfBaseVertex,
-                         (f, stage) => progress(fraction + share * f, stage));
-      result.untangled = countFlipped(result.mesh, surface, result.constraints);
-      result.flippedTriangles = result.untangled ? untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints) : 0;
-      if (result.flippedTriangles > 0)
-        result.flippedTriangles = untangle(surface, result.mesh.positions, result.mesh.faces, result.constraints, 8, false);
+      // Default levels: no more than the vertex budget allows over the bases actually made.
+      const baseFaces = bases.reduce((t, b) => t + b.base.faces.length / 3, 0);
+      let used = levels;
+      while (auto && used > 0 && (baseFaces * 4 ** used) / 2 > budget) used--;
+      let done = 0;
+      const parts = pieces.map((piece, i) => {
+        const b = bases[i], own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
+        const part = fitLevels(mrvol, own, b.base, used, relaxIterations, withFeatures, !b.simplified,
+                               (f, stage) => progress(fraction + share * (done + weight * f), stage));
+        done += weight;
+        part.untangled = countFlipped(part.mesh, own, part.constraints);
+        part.flippedTriangles = part.untangled ? untangle(own, part.mesh.positions, part.mesh.faces, part.constraints) : 0;
+        if (part.flippedTriangles > 0)
+          part.flippedTriangles = untangle(own, part.mesh.positions, part.mesh.faces, part.constraints, 8, false);
+        return part;
+      });
+      const sum = (key) => parts.reduce((t, p) => t + p[key], 0);
+      result = parts.length === 1 ? parts[0] : {
+        mesh: concatenate(parts.map((p) => p.mesh)), baseVertices: sum('baseVertices'), baseFaces: sum('baseFaces'),
+        fallbacks: sum('fallbacks'), untangled: sum('untangled'), flippedTriangles: sum('flippedTriangles'),
+        constraints: { count: parts.reduce((t, p) => t + p.constraints.count, 0), corners: parts.reduce((t, p) => t + p.constraints.corners, 0) },
+      };
+      result.levelsUsed = used;
       if (result.flippedTriangles === 0 || options.allowFlipped) break;
     }
     return result;
@@ -849,7 +867,8 @@ export async function remesh(mrvol, input, options = {}) {
     progress(Math.min(0.9, fraction + 0.2), 'measuring the Hausdorff distance');
     const m = measure(attempt.mesh, mesh, surface, maxSamples);
     tried.at(-1).hausdorff = distance(m);
-    attempt.levels = levels;
+    attempt.levels = attempt.levelsUsed ?? levels;
+    tried.at(-1).levels = attempt.levels;
     if (!result || distance(m) < distance(measured)) result = attempt, measured = m;
     return true;
   };
@@ -862,7 +881,7 @@ export async function remesh(mrvol, input, options = {}) {
     const fits = (levels, scale) => (requested * scale * 4 ** levels) / 2 <= budget;
     let levels = 2;
     while (levels > 0 && !fits(levels, 1)) levels--;
-    for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1); levels++);
+    for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels; levels++);
     // Still far: the input vertices farthest from the result (tips the base cut off, a few
     // apart) are kept in the base, up to three times.
     for (let round = 0; round < 3 && distance(measured) > goal; round++) {
@@ -907,6 +926,8 @@ export async function remesh(mrvol, input, options = {}) {
              weldedVertices: repaired ? repaired.report.weldedVertices : welded.merged,
              droppedFaces: repaired ? repaired.report.degenerateFaces : welded.droppedFaces,
              droppedComponents: droppedComponents + (repaired?.report.droppedComponents ?? 0), droppedPieces, genus },
+    // Pieces whose base (and so the result) lost tiny tunnels the simplifier could not keep.
+    genusChangedPieces: genusChanges.size,
     repair: repaired?.report ?? null,
     simplifierRetries: simplifierProblems,
     ms: now() - started,
@@ -1036,7 +1057,7 @@ function inputPieces(mrvol, mesh, keepLargest, repaired) {
  * level-l mesh is relaxed tangentially and reprojected. Output in the hierarchy order of the core
  * (base vertices first).
  */
-function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, pieceOfBaseVertex, onProgress = () => {}) {
+function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, onProgress = () => {}) {
   const mr = mrvol.subdivide(base, { levels, scheme: 'linear' });
   try {
     const positions = Float64Array.from(mr.positions());
@@ -1045,14 +1066,8 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
     const vertexCount = positions.length / 3;
     const constraints = new Constraints(features && features.edgeCount > 0 ? features : null, vertexCount);
     for (let m = 0; m < vertexCount; m++) if (depths[m] === 0) constraints.assignBase(positions, m);
-    // Pieces that are their own base: the linear subdivision is exact, every vertex stays.
-    if (exact.some((x) => x)) {
-      const { ofFace } = connectivity(faces, vertexCount).components;
-      const pieceOf = new Map();
-      for (let f = 0; f < ofFace.length; f++)
-        for (let j = 0; j < 3; j++) if (depths[faces[3 * f + j]] === 0 && !pieceOf.has(ofFace[f])) pieceOf.set(ofFace[f], pieceOfBaseVertex(faces[3 * f + j]));
-      for (let f = 0; f < ofFace.length; f++) if (exact[pieceOf.get(ofFace[f])]) for (let j = 0; j < 3; j++) constraints.hold(faces[3 * f + j]);
-    }
+    // A piece that is its own base: the linear subdivision is exact, every vertex stays.
+    if (exact) for (let m = 0; m < vertexCount; m++) constraints.hold(m);
     // Holding the base vertices (input vertices) keeps tips but folds the triangles around them:
     // every vertex relaxes (except corners).
     const held = new Uint8Array(vertexCount);

@@ -16,14 +16,25 @@ export function weld(mesh) {
   const { positions, faces } = mesh;
   const n = positions.length / 3;
   const quantum = (boundingDiagonal(positions) || 1) * 1e-9;
-  const key = new Map();
-  const remap = new Uint32Array(n);
+  // Rounded coordinates hashed to a number; equal hashes compared coordinate by coordinate
+  // (chains through `nextSame`), which strings as keys took several times as long for.
+  const q = new Float64Array(3 * n);
+  for (let i = 0; i < 3 * n; i++) q[i] = Math.round(positions[i] / quantum);
+  const first = new Map(), nextSame = new Int32Array(n).fill(-1), remap = new Uint32Array(n);
   let unique = 0;
   for (let i = 0; i < n; i++) {
-    const k = `${Math.round(positions[3 * i] / quantum)},${Math.round(positions[3 * i + 1] / quantum)},${Math.round(positions[3 * i + 2] / quantum)}`;
-    let j = key.get(k);
-    if (j === undefined) key.set(k, (j = unique++));
-    remap[i] = j;
+    const h = (Math.imul(q[3 * i] % 1e9 | 0, 73856093) ^ Math.imul(q[3 * i + 1] % 1e9 | 0, 19349663) ^ Math.imul(q[3 * i + 2] % 1e9 | 0, 83492791)) >>> 0;
+    let j = first.get(h), found = -1;
+    for (let c = j ?? -1; c >= 0; c = nextSame[c])
+      if (q[3 * c] === q[3 * i] && q[3 * c + 1] === q[3 * i + 1] && q[3 * c + 2] === q[3 * i + 2]) { found = c; break; }
+    if (found >= 0) {
+      remap[i] = remap[found];
+      continue;
+    }
+    // i represents a new position: first in its hash chain.
+    if (j !== undefined) nextSame[i] = j;
+    first.set(h, i);
+    remap[i] = unique++;
   }
   const kept = [];
   let droppedFaces = 0;
@@ -99,39 +110,50 @@ function cancelDuplicates(faces) {
  */
 function nonManifoldFaces(faces, vertexCount) {
   const drop = new Uint8Array(faces.length / 3);
-  const byEdge = connectivity(faces, vertexCount).edgeFaces;
-  for (const [key, list] of byEdge) {
-    let bad = list.length > 2;
-    if (list.length === 2) {
-      // The two faces must walk the edge in opposite directions.
-      const a = Math.floor(key / 0x100000000);
-      const dir = (f) => { for (let j = 0; j < 3; j++) if (faces[3 * f + j] === a) return faces[3 * f + (j + 1) % 3]; };
-      bad = dir(list[0]) === dir(list[1]);
-    }
-    if (bad) for (const f of list) drop[f] = 1;
+  const edges = connectivity(faces, vertexCount).edgeFaces;
+  const { offsets, list } = edges;
+  // The face's vertex after `a` (its direction along the edge a-b).
+  const after = (f, a) => { for (let j = 0; j < 3; j++) if (faces[3 * f + j] === a) return faces[3 * f + (j + 1) % 3]; };
+  for (let e = 0; e < edges.count; e++) {
+    const size = offsets[e + 1] - offsets[e];
+    let bad = size > 2;
+    // Two faces must walk the edge in opposite directions.
+    if (size === 2) bad = after(list[offsets[e]], edges.a[e]) === after(list[offsets[e] + 1], edges.a[e]);
+    if (bad) for (let i = offsets[e]; i < offsets[e + 1]; i++) drop[list[i]] = 1;
   }
-  // Fans: faces around a vertex, joined across the edges at it that two kept faces share.
-  const around = Array.from({ length: vertexCount }, () => []);
-  for (let f = 0; f < faces.length / 3; f++) if (!drop[f]) for (let j = 0; j < 3; j++) around[faces[3 * f + j]].push(f);
+  // Fans: the kept faces around a vertex, joined across the edges at it that two of them share
+  // (union-find over the few faces of one vertex).
+  const around = connectivity(faces, vertexCount).vertexFaces;
+  // The faces kept by the edge step (the fans of every vertex are taken from them).
+  const afterEdges = drop.slice();
+  const local = [], parent = [];
+  const find = (i) => { while (parent[i] !== i) i = parent[i] = parent[parent[i]]; return i; };
   for (let v = 0; v < vertexCount; v++) {
-    const list = around[v];
-    if (list.length < 2) continue;
-    const fan = new Map(list.map((f) => [f, f]));
-    const find = (f) => { while (fan.get(f) !== f) f = fan.get(f); return f; };
-    const byOther = new Map();
-    for (const f of list)
-      for (let j = 0; j < 3; j++) {
-        const w = faces[3 * f + j];
-        if (w === v) continue;
-        const g = byOther.get(w);
-        if (g === undefined) byOther.set(w, f);
-        else fan.set(find(f), find(g));
+    local.length = 0;
+    for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) if (!afterEdges[around.list[e]]) local.push(around.list[e]);
+    if (local.length < 2) continue;
+    parent.length = local.length;
+    for (let i = 0; i < local.length; i++) parent[i] = i;
+    for (let i = 0; i < local.length; i++)
+      for (let j = i + 1; j < local.length; j++) {
+        // Faces i and j share an edge at v if they share another vertex.
+        const f = 3 * local[i], g = 3 * local[j];
+        let shared = false;
+        for (let x = 0; x < 3 && !shared; x++) {
+          const w = faces[f + x];
+          if (w !== v && (faces[g] === w || faces[g + 1] === w || faces[g + 2] === w)) shared = true;
+        }
+        if (shared) parent[find(i)] = find(j);
       }
+    // One fan (the usual case): nothing to drop.
+    const root = find(0);
+    let one = true;
+    for (let i = 1; i < local.length && one; i++) one = find(i) === root;
+    if (one) continue;
     const sizes = new Map();
-    for (const f of list) sizes.set(find(f), (sizes.get(find(f)) ?? 0) + 1);
-    if (sizes.size < 2) continue;
+    for (let i = 0; i < local.length; i++) sizes.set(find(i), (sizes.get(find(i)) ?? 0) + 1);
     const largest = [...sizes].reduce((x, y) => (y[1] > x[1] ? y : x))[0];
-    for (const f of list) if (find(f) !== largest) drop[f] = 1;
+    for (let i = 0; i < local.length; i++) if (find(i) !== largest) drop[local[i]] = 1;
   }
   let count = 0;
   for (const d of drop) count += d;
@@ -220,39 +242,51 @@ function foldedFaces(mesh) {
  */
 function orientConsistently(faces, vertexCount) {
   const out = Uint32Array.from(faces);
-  const byEdge = connectivity(faces, vertexCount).edgeFaces;
+  const edges = connectivity(faces, vertexCount).edgeFaces;
   const faceCount = faces.length / 3, seen = new Uint8Array(faceCount);
-  const neighbours = Array.from({ length: faceCount }, () => []);
-  for (const list of byEdge.values()) if (list.length === 2) neighbours[list[0]].push(list[1]), neighbours[list[1]].push(list[0]);
-  const directed = (f) => [[out[3 * f], out[3 * f + 1]], [out[3 * f + 1], out[3 * f + 2]], [out[3 * f + 2], out[3 * f]]];
+  // Faces across the edges that exactly two faces share (CSR).
+  const degree = new Uint32Array(faceCount + 1);
+  for (let e = 0; e < edges.count; e++)
+    if (edges.offsets[e + 1] - edges.offsets[e] === 2) degree[edges.list[edges.offsets[e]] + 1]++, degree[edges.list[edges.offsets[e] + 1] + 1]++;
+  for (let f = 0; f < faceCount; f++) degree[f + 1] += degree[f];
+  const fill = degree.slice(0, faceCount), across = new Uint32Array(degree[faceCount]), edgeOf = new Uint32Array(degree[faceCount]);
+  for (let e = 0; e < edges.count; e++) {
+    if (edges.offsets[e + 1] - edges.offsets[e] !== 2) continue;
+    const f = edges.list[edges.offsets[e]], g = edges.list[edges.offsets[e] + 1];
+    edgeOf[fill[f]] = e, across[fill[f]++] = g;
+    edgeOf[fill[g]] = e, across[fill[g]++] = f;
+  }
+  // Whether face f (as it is now in `out`) walks the edge e from its smaller end to its larger.
+  const forward = (f, e) => {
+    for (let j = 0; j < 3; j++) if (out[3 * f + j] === edges.a[e]) return out[3 * f + (j + 1) % 3] === edges.b[e];
+    return false;
+  };
   let reversed = 0;
+  const stack = [];
   // The walk keeps its seed's orientation; orientOutwards() then turns inside-out components.
   for (let seed = 0; seed < faceCount; seed++) {
     if (seen[seed]) continue;
     seen[seed] = 1;
-    const queue = [seed];
-    while (queue.length) {
-      const f = queue.pop();
-      const mine = new Set(directed(f).map(([a, b]) => a * 0x100000000 + b));
-      for (const g of neighbours[f]) {
+    stack.push(seed);
+    while (stack.length) {
+      const f = stack.pop();
+      for (let i = degree[f]; i < degree[f + 1]; i++) {
+        const g = across[i];
         if (seen[g]) continue;
         seen[g] = 1;
-        if (directed(g).some(([a, b]) => mine.has(a * 0x100000000 + b))) {
+        if (forward(f, edgeOf[i]) === forward(g, edgeOf[i])) {
           const t = out[3 * g + 1];
           out[3 * g + 1] = out[3 * g + 2], out[3 * g + 2] = t;
           reversed++;
         }
-        queue.push(g);
+        stack.push(g);
       }
     }
   }
   // Edges still walked twice the same way: the surface is one-sided there (a Klein bottle).
   let conflicts = 0;
-  for (const list of byEdge.values()) {
-    if (list.length !== 2) continue;
-    const [f, g] = list, mine = new Set(directed(f).map(([a, b]) => a * 0x100000000 + b));
-    if (directed(g).some(([a, b]) => mine.has(a * 0x100000000 + b))) conflicts++;
-  }
+  for (let e = 0; e < edges.count; e++)
+    if (edges.offsets[e + 1] - edges.offsets[e] === 2 && forward(edges.list[edges.offsets[e]], e) === forward(edges.list[edges.offsets[e] + 1], e)) conflicts++;
   return { faces: out, reversed, conflicts };
 }
 
@@ -356,6 +390,25 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     if (folds.count === 0 || filled.holesLeft > 0 || pass === 5) break;
     report.foldedFaces += folds.count;
     keepFaces(folds.drop.map((d) => 1 - d));
+  }
+  // A fill can repeat a face that is still there (a 3-edge hole closed by the face across it):
+  // such pairs cancel, and what they leave is cleaned and filled once more.
+  const again = cancelDuplicates(mesh.faces);
+  if (again.finFaces + again.duplicateFaces > 0) {
+    report.finFaces += again.finFaces;
+    report.duplicateFaces += again.duplicateFaces;
+    keepFaces(again.keep);
+    for (let round = 0; round < 16; round++) {
+      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3);
+      if (count === 0) break;
+      report.nonManifoldFaces += count;
+      keepFaces(drop.map((d) => 1 - d));
+    }
+    const filled = fillHoles(mesh, maxHoleEdges);
+    report.holesFilled += filled.holesFilled;
+    report.holeEdges += filled.holeEdges;
+    report.holesLeft = filled.holesLeft;
+    mesh = filled.mesh;
   }
   report.reversedComponents = orientOutwards(mesh);
   report.smoothIterations = smooth;

