@@ -72,7 +72,7 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
   test('the default path is the cage polynomial (no θ computed); the chart plots λ of each drag step with round ticks', async () => {
     await waitGradient(page);
     assert.equal(await page.evaluate(() => window.mrvolDebug.gradientPath()), 'polynomial');
-    assert.match(await page.locator('[data-testid="theta-status"]').textContent(), /not needed: editing uses the cage polynomial/);
+    assert.match(await page.locator('[data-testid="theta-status"]').textContent(), /not needed: the cage polynomial is in use/);
     const { index } = (await visibleHandles(page))[0];
     await dragHandle(page, index, 50, -30, { steps: 15 });
     await settle(page);
