@@ -251,7 +251,7 @@ async function openModel(source, restore = null) {
       if (generation !== app.loadGeneration) return false;
       const big = read.bytes.byteLength > BIG_FILE_BYTES;
       if (big) {
-        showFileProgress(`Opening ${source.name}: finding its levels…`, null);
+        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB): finding its levels…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
       }
       try {
