@@ -10,7 +10,7 @@
 //   node bench/web.mjs [--runs 3] [--models spiky-ball,bunny-remeshed,dragon-remeshed] [--modes dev,preview]
 //                      [--big-levels 4,5] (extra levels of the spiky ball: 163,842 and 655,362 vertices; '' for none)
 import { readFileSync, writeFileSync } from 'node:fs';
-import { cpus, totalmem, platform, release } from 'node:os';
+import { cpus, totalmem, platform, release, loadavg } from 'node:os';
 import { join } from 'node:path';
 import { startTestServer, launchBrowser, waitReady, waitGradient, visibleHandles, settle, root } from '../tests/browser/harness.mjs';
 import { createMrvol } from '../lib/node.mjs';
@@ -98,6 +98,7 @@ async function measureModel(server, model) {
 const modeName = { dev: 'dev server (serve.mjs)', preview: 'production build (npm start)' };
 
 let version;
+const loadAtStart = loadavg()[0];
 const results = [];
 for (const mode of MODES) {
   const server = await startTestServer({ mode });
@@ -185,7 +186,8 @@ lines.push('# Web editor timings', '');
 lines.push(`Measured by \`node bench/web.mjs\` on ${new Date().toISOString().slice(0, 10)}: ${cpus()[0]?.model ?? 'unknown CPU'}, ` +
   `${cpus().length} cores, ${(totalmem() / 2 ** 30).toFixed(0)} GiB, ${platform()} ${release()}, Node ${process.version}, ` +
   `headless Chromium ${version} (WebGL on SwiftShader, software), server on 127.0.0.1, 1200 x 800 viewport, ${RUNS} runs. ` +
-  'Other jobs were running on the machine; medians over the runs.', '');
+  `Other jobs were running on the machine (1-minute load average ${loadAtStart.toFixed(0)} at the start, ${loadavg()[0].toFixed(0)} at the end, ` +
+  `on ${cpus().length} cores); medians over the runs.`, '');
 lines.push('Times in ms from navigation start (`performance.now()` in the page). "Drag-ready" is the first frame with',
   'the model and its cage drawn. "Fast path in use": the editor on its gradient path (the app\'s default: the',
   'cage polynomial, built from the fine mesh when the editor is made; no θ computed, cached or handed over).',
