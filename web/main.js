@@ -752,7 +752,7 @@ async function start() {
   }
   if (source.kind === 'sample') source.prefetch = fetchSample(source.name).catch((e) => e);
   let prefetch = null;
-  if (useStored && typeof stored.fingerprint === 'string') {
+  if (useStored && typeof stored.fingerprint === 'string' && app.settings.gradient === 'tensor') {
     // The stored session says which theta the editor will want: read it while the core loads.
     const key = thetaKey({ fingerprint: stored.fingerprint, ...DEFAULT_SCHEME, scheme: app.settings.scheme, level: app.settings.level });
     prefetch = { key, bytes: cacheOpening.then((cache) => cache.get(key)) };
