@@ -317,7 +317,7 @@ export class EditingSession extends EventTarget {
       this.#emit('error', { message: `This edit is not possible: ${error.message}`, error });
       return null;
     }
-    this.#volume = report.volumeResult; // the core's volume of the result (the same number)
+    this.#volume = null; // asked once per step (the report's volumeResult may come from the cage polynomial)
     this.lastReport = report;
     this.lastStepMs = globalThis.performance.now() - started;
     this.#emit('step', { report, ms: this.lastStepMs });
@@ -398,7 +398,7 @@ export class EditingSession extends EventTarget {
     this.#emit('change', { reason: 'reference' });
   }
 
-  /** The volume now: the last step's result, else the core's (a pass over the fine mesh) once per shape. */
+  /** The volume now: the core's (a pass over the fine mesh), asked once per shape and kept. */
   volume() {
     if (!this.editor) return null;
     this.#volume ??= this.editor.volume();
