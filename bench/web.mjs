@@ -238,12 +238,12 @@ if (bigResults.length) {
 lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles taken while writing this):', '',
   '- "main.js running": loading the page\'s modules (dev server: one request per module, three.js included;',
   '  preview: one bundle). "core loaded": compiling and instantiating mrvol-web.wasm, while the OBJ file is',
-  '  fetched and IndexedDB opens. "model opened": readObj, openMesh (hierarchy detection), the editor with',
+  '  fetched and IndexedDB opens (cold: compiled without a code cache, slow under this load). "model opened": readObj, openMesh (hierarchy detection), the editor with',
   '  its cage polynomial and the cage; the first frame follows (shaders are compiled while the core loads).',
   '- No θ on any sample: the dragon\'s θ⁰ (341 MB, 10 s, and a 5 s hand-off to the editor) is no longer',
   '  computed; `?gradient=tensor` (or the panel\'s "gradient from") brings the paper\'s path back.',
   '- Big files: between "opened" and "first frame" the page waits on the GPU process drawing the new mesh for',
-  '  the first time (WebGL on SwiftShader, software: seconds for 300k+ triangles; a profile shows it as',
+  '  the first time (WebGL on SwiftShader, software: 0.2-0.7 s in this run, seconds at a higher load; a profile shows it as',
   '  "(program)", and hiding the mesh removes it); the JS and WASM work is in "opened". A drag step reads',
   '  the fine positions back as a copy (the zero-copy buffer of the scale work removes that).');
 lines.push('');
