@@ -10,7 +10,7 @@
 //   node bench/web.mjs [--runs 3] [--models spiky-ball,bunny-remeshed,dragon-remeshed] [--modes dev,preview]
 //                      [--big-levels 4,5] (extra levels of the spiky ball: 163,842 and 655,362 vertices; '' for none)
 import { readFileSync, writeFileSync } from 'node:fs';
-import { cpus, totalmem, platform, release } from 'node:os';
+import { cpus, totalmem, platform, release, loadavg } from 'node:os';
 import { join } from 'node:path';
 import { startTestServer, launchBrowser, waitReady, waitGradient, visibleHandles, settle, root } from '../tests/browser/harness.mjs';
 import { createMrvol } from '../lib/node.mjs';
@@ -98,6 +98,7 @@ async function measureModel(server, model) {
 const modeName = { dev: 'dev server (serve.mjs)', preview: 'production build (npm start)' };
 
 let version;
+const loadAtStart = loadavg()[0];
 const results = [];
 for (const mode of MODES) {
   const server = await startTestServer({ mode });
@@ -185,7 +186,8 @@ lines.push('# Web editor timings', '');
 lines.push(`Measured by \`node bench/web.mjs\` on ${new Date().toISOString().slice(0, 10)}: ${cpus()[0]?.model ?? 'unknown CPU'}, ` +
   `${cpus().length} cores, ${(totalmem() / 2 ** 30).toFixed(0)} GiB, ${platform()} ${release()}, Node ${process.version}, ` +
   `headless Chromium ${version} (WebGL on SwiftShader, software), server on 127.0.0.1, 1200 x 800 viewport, ${RUNS} runs. ` +
-  'Other jobs were running on the machine; medians over the runs.', '');
+  `Other jobs were running on the machine (1-minute load average ${loadAtStart.toFixed(0)} at the start, ${loadavg()[0].toFixed(0)} at the end, ` +
+  `on ${cpus().length} cores); medians over the runs.`, '');
 lines.push('Times in ms from navigation start (`performance.now()` in the page). "Drag-ready" is the first frame with',
   'the model and its cage drawn. "Fast path in use": the editor on its gradient path (the app\'s default: the',
   'cage polynomial, built from the fine mesh when the editor is made; no θ computed, cached or handed over).',
@@ -236,12 +238,12 @@ if (bigResults.length) {
 lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles taken while writing this):', '',
   '- "main.js running": loading the page\'s modules (dev server: one request per module, three.js included;',
   '  preview: one bundle). "core loaded": compiling and instantiating mrvol-web.wasm, while the OBJ file is',
-  '  fetched and IndexedDB opens. "model opened": readObj, openMesh (hierarchy detection), the editor with',
+  '  fetched and IndexedDB opens (cold: compiled without a code cache, slow under this load). "model opened": readObj, openMesh (hierarchy detection), the editor with',
   '  its cage polynomial and the cage; the first frame follows (shaders are compiled while the core loads).',
   '- No θ on any sample: the dragon\'s θ⁰ (341 MB, 10 s, and a 5 s hand-off to the editor) is no longer',
   '  computed; `?gradient=tensor` (or the panel\'s "gradient from") brings the paper\'s path back.',
   '- Big files: between "opened" and "first frame" the page waits on the GPU process drawing the new mesh for',
-  '  the first time (WebGL on SwiftShader, software: seconds for 300k+ triangles; a profile shows it as',
+  '  the first time (WebGL on SwiftShader, software: 0.2-0.7 s in this run, seconds at a higher load; a profile shows it as',
   '  "(program)", and hiding the mesh removes it); the JS and WASM work is in "opened". A drag step reads',
   '  the fine positions back as a copy (the zero-copy buffer of the scale work removes that).');
 lines.push('');

@@ -252,7 +252,7 @@ async function openModel(source, restore = null) {
       if (generation !== app.loadGeneration) return false;
       const big = read.bytes.byteLength > BIG_FILE_BYTES;
       if (big) {
-        showFileProgress(`Opening ${source.name}: finding its levels…`, null);
+        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB): finding its levels…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
       }
       try {
@@ -753,7 +753,7 @@ async function start() {
   }
   if (source.kind === 'sample') source.prefetch = fetchSample(source.name).catch((e) => e);
   let prefetch = null;
-  if (useStored && typeof stored.fingerprint === 'string') {
+  if (useStored && typeof stored.fingerprint === 'string' && app.settings.gradient === 'tensor') {
     // The stored session says which theta the editor will want: read it while the core loads.
     const key = thetaKey({ fingerprint: stored.fingerprint, ...DEFAULT_SCHEME, scheme: app.settings.scheme, level: app.settings.level });
     prefetch = { key, bytes: cacheOpening.then((cache) => cache.get(key)) };

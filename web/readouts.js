@@ -70,7 +70,7 @@ export function showVolumes(session) {
   const editor = session.editor;
   if (!editor) return;
   const reference = editor.referenceVolume();
-  const current = editor.volume();
+  const current = session.volume();
   const error = Math.abs(current - reference) / Math.max(Math.abs(reference), 1e-300);
   set('volume-reference', formatVolume(reference), reference);
   set('volume-current', formatVolume(current), current);

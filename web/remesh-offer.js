@@ -46,7 +46,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     worker?.terminate();
     const running = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
     worker = running;
-    $('remesh-go').disabled = true;
+    // stays enabled: changed fields and a click run it again (the running job is replaced)
     $('remesh-progress').hidden = false;  // indeterminate: the stage text says where it is
     $('remesh-cancel').hidden = false;
     const started = performance.now();

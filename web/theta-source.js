@@ -76,7 +76,7 @@ export class ThetaSource {
     const choice = session.gradientChoice();
     if (session.editor.path() === 'polynomial') {
       // A coarse cage: the editor built the cage polynomial from the fine mesh (small, no hand-off).
-      this.#setState(null, `not needed: editing uses the cage polynomial (the volume as a cubic in the ${session.cageSize} handles, built from the mesh)`, false);
+      this.#setState(null, 'not needed: the cage polynomial is in use', false);
       this.stats.thetaReadyAt ??= performance.now();
       return;
     }

@@ -8,7 +8,7 @@ const CHART_POINTS = 240;
 const LAMBDA_POINTS = 300;
 const SVG = 'http://www.w3.org/2000/svg';
 const W = 280;
-const LEFT = 58, RIGHT = 4;
+const LEFT = 62, RIGHT = 4;
 // Two plots stacked: [top, bottom] of each one's drawing area, legend lines above each.
 const VOLUME = { legend: 10, top: 16, bottom: 70 };
 const LAMBDA = { legend: 88, top: 94, bottom: 138 };
@@ -60,11 +60,21 @@ class Plot {
     this.tickValues = axis.ticks;
     const { top, bottom } = this.area;
     const y = (v) => (bottom - (bottom - top) * (v - lo) / (hi - lo)).toFixed(1);
+    // A range tiny against the values (a preserved volume: 1e-9 of it) would need a dozen digits per
+    // label: the middle tick written once, the others as offsets from it (+2e-7).
+    const mid = axis.ticks[Math.floor(axis.ticks.length / 2)];
+    const offsets = axis.step < Math.abs(mid) * 1e-4;
+    const label = (t) => {
+      if (!offsets) return axis.format(t);
+      if (t === mid) return String(Number(mid.toFixed(Math.max(0, -axis.exponent))));
+      const d = Number((t - mid).toPrecision(2));
+      return `${d > 0 ? '+' : '−'}${Math.abs(d).toExponential()}`;
+    };
     for (const t of axis.ticks) {
       this.ticks.append(element('line', { x1: LEFT, x2: W - RIGHT, y1: y(t), y2: y(t) }, 'chart-grid'));
-      const label = element('text', { x: LEFT - 3, y: Number(y(t)) + 3, 'text-anchor': 'end' }, 'chart-label');
-      label.textContent = axis.format(t);
-      this.ticks.append(label);
+      const text = element('text', { x: LEFT - 3, y: Number(y(t)) + 3, 'text-anchor': 'end' }, 'chart-label');
+      text.textContent = label(t);
+      this.ticks.append(text);
     }
     const x = (i) => (LEFT + (W - LEFT - RIGHT) * (span <= 1 ? 1 : i / (span - 1))).toFixed(1);
     this.lines.forEach((line, s) => line.setAttribute('points', values[s].map((v, i) => `${x(i)},${y(v)}`).join(' ')));

@@ -57,6 +57,7 @@ export class EditingSession extends EventTarget {
   #drag = null;
   #heldAll = null;
   #thetas = new Map(); // `${scheme}/${level}` -> { theta, source }, this model's
+  #volume = null;      // the volume of the current shape, once known (null: ask the core)
 
   /**
    * @param {object} mrvol the API object (createMrvol)
@@ -130,6 +131,7 @@ export class EditingSession extends EventTarget {
     this.#thetas.clear();
     this.editor?.delete();
     this.editor = null;
+    this.#volume = null;
     if (this.model && this.#ownsMesh) this.model.mr.delete();
     this.model = null;
     this.thetaSource = null;
@@ -238,6 +240,7 @@ export class EditingSession extends EventTarget {
     if (reference !== null) editor.setReferenceVolume(reference);
     if (this.keepCentroid) editor.keepCentroid(true);
     this.editor = editor;
+    this.#volume = null;
     this.cageSize = editor.cageSize;
     this.cageVertices = editor.cageVertices();
     this.cageIndex = new Map(Array.from(this.cageVertices, (v, i) => [v, i]));
@@ -352,9 +355,11 @@ export class EditingSession extends EventTarget {
     try {
       report = this.editor.deformCage(target, held, { tolerance: this.tolerance, preserve });
     } catch (error) {
+      this.#volume = null;
       this.#emit('error', { message: `This edit is not possible: ${error.message}`, error });
       return null;
     }
+    this.#volume = null; // asked once per step (the report's volumeResult may come from the cage polynomial)
     this.lastReport = report;
     this.lastStepMs = globalThis.performance.now() - started;
     this.#emit('step', { report, ms: this.lastStepMs });
@@ -421,12 +426,13 @@ export class EditingSession extends EventTarget {
   /** Puts the cage where a snapshot had it (details unchanged: the shape comes back). */
   #restoreCage(cage, reason) {
     this.editor.deformCage(cage, this.#heldAll, { preserve: false });
+    this.#volume = null;
     this.lastReport = null;
     this.#emit('change', { reason });
   }
 
   /** The reference volume (default: the volume now); parts take theirs now too. */
-  setReferenceVolume(volume = this.editor.volume()) {
+  setReferenceVolume(volume = this.volume()) {
     const before = this.editor.referenceVolume();
     this.editor.setReferenceVolume(volume);
     if (volume !== before) this.history.push(before, volume, 'reference');
@@ -434,7 +440,12 @@ export class EditingSession extends EventTarget {
     this.#emit('change', { reason: 'reference' });
   }
 
-  volume() { return this.editor?.volume() ?? null; }
+  /** The volume now: the core's (a pass over the fine mesh), asked once per shape and kept. */
+  volume() {
+    if (!this.editor) return null;
+    this.#volume ??= this.editor.volume();
+    return this.#volume;
+  }
   referenceVolume() { return this.editor?.referenceVolume() ?? null; }
   /** Fine positions (caller's order) and cage positions (cage order), copies. */
   positions() { return this.editor.positions(); }

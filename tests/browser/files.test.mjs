@@ -72,7 +72,7 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
   test('the default path is the cage polynomial (no θ computed); the chart plots λ of each drag step with round ticks', async () => {
     await waitGradient(page);
     assert.equal(await page.evaluate(() => window.mrvolDebug.gradientPath()), 'polynomial');
-    assert.match(await page.locator('[data-testid="theta-status"]').textContent(), /not needed: editing uses the cage polynomial/);
+    assert.match(await page.locator('[data-testid="theta-status"]').textContent(), /not needed: the cage polynomial is in use/);
     const { index } = (await visibleHandles(page))[0];
     await dragHandle(page, index, 50, -30, { steps: 15 });
     await settle(page);
@@ -252,5 +252,29 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await dragHandle(page, index, 20, -20, { steps: 4 });
     assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
     await page.screenshot({ path: join(RESULTS_DIR, 'files-big-obj.png') });
+  });
+
+  test('phone (390x844): the bunny fills the view (its cage >= 60% of the width or height); no empty strip above the view', async () => {
+    await page.setViewportSize({ width: 390, height: 844 });
+    await page.locator('[data-testid="model-select"]').selectOption('bunny-remeshed');
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'bunny-remeshed' && window.mrvolDebug.ready());
+    await page.keyboard.press('f');
+    await settle(page);
+    const fill = await page.evaluate(() => {
+      const view = document.querySelector('#view canvas').getBoundingClientRect();
+      const points = window.mrvolDebug.cageScreenPositions();
+      const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
+      const strip = document.querySelector('.status-strip').getBoundingClientRect();
+      return {
+        width: (Math.max(...xs) - Math.min(...xs)) / view.width, height: (Math.max(...ys) - Math.min(...ys)) / view.height,
+        inside: xs.every((x) => x >= view.left && x <= view.right) && ys.every((y) => y >= view.top && y <= view.bottom),
+        strip: strip.height, viewTop: view.top,
+      };
+    });
+    assert.ok(Math.max(fill.width, fill.height) >= 0.6, JSON.stringify(fill));
+    assert.ok(fill.inside, 'every handle in the view');
+    assert.equal(fill.strip, 0, 'no empty status strip');
+    assert.equal(fill.viewTop, 0);
+    await page.screenshot({ path: join(RESULTS_DIR, 'files-phone-bunny.png') });
   });
 });

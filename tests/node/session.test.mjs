@@ -388,3 +388,25 @@ test('restoring the reference volume after preservation was off: one undoable st
   assert.deepEqual(session.cagePositions(), changed);
   session.dispose();
 });
+
+test("path 'auto' (the web app's): the cage polynomial wherever the rule takes it or theta^e, no tensor wanted", () => {
+  const { session } = openBall({ path: 'auto' });
+  assert.equal(session.editor.path(), 'polynomial', 'spiky ball, e = 0 (3 levels of details)');
+  assert.equal(session.gradientChoice().path, 'polynomial');
+  // e = 1: the rule's coarse path is matrix-free; theta^1 fits, so the polynomial stands in for it
+  const background = chooseGradientPath(session.model.mr, { level: 1, thetaInBackground: true, ...DEFAULT_SCHEME });
+  assert.equal(background.path, 'tensor');
+  session.setLevel(1);
+  assert.equal(session.editor.path(), 'polynomial');
+  const h = 0;
+  const report = session.moveHandles([h], outward(session, h, 0.2));
+  assert.equal(report.path, 'polynomial');
+  assert.ok(relative(session.volume(), session.referenceVolume()) <= 1e-8);
+  session.forgetTheta();
+  assert.equal(session.editor.path(), 'polynomial', 'forgetting theta keeps the polynomial');
+  // the default stays matrix-free until a tensor is handed over (the component, the demos)
+  const plain = openBall().session;
+  assert.equal(plain.editor.path(), 'matrix-free');
+  plain.dispose();
+  session.dispose();
+});
