@@ -128,19 +128,21 @@ struct PairKey {
 
 }  // namespace
 
-CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms)
-    : transform_(&transform), level_(level) {
-  const Hierarchy& h = transform.hierarchy();
+namespace {
+
+int checkedLevel(const Hierarchy& h, int level) {
   if (level < 0 || level > h.levels)
     throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(h.levels));
-  cageSize_ = h.vertexCount[level];
-  const size_t n = h.fineVertexCount();
-  const auto& faces = h.fineFaces();
-  const CageBasis basis = cageBasis(transform, level);
-  basisEntries_ = basis.index.size();
+  return level;
+}
 
-  // Fine triangles by region (counting sort).
+// The fine triangles with weight 1/6 by level-e face, each carried by its corner with x - y = 0
+// mod 3 in the face's lattice coordinates (x, y >= 0, x + y <= side: corners at (0, 0), (side, 0),
+// (0, side), a vertex born later at the midpoint of its ends): every fine triangle has one.
+RegionForm triangleRegions(const Hierarchy& h, int level) {
+  checkedLevel(h, level);
   const std::vector<uint32_t> regionOf = regionOfTriangles(h, level);
+  const auto& faces = h.fineFaces();
   const size_t regions = h.faces[level].size() / 3;
   std::vector<uint32_t> triangleStart(regions + 1, 0), triangles(regionOf.size());
   for (uint32_t r : regionOf) ++triangleStart[r + 1];
@@ -149,21 +151,99 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     std::vector<uint32_t> fill(triangleStart.begin(), triangleStart.end() - 1);
     for (size_t t = 0; t < regionOf.size(); ++t) triangles[fill[regionOf[t]]++] = uint32_t(t);
   }
-
+  const uint32_t cageSize = h.vertexCount[level];
   const int64_t side = int64_t(1) << (h.levels - level);  // lattice steps along a level-e edge
-  std::vector<uint32_t> localOf(n, kNone), slotOf(cageSize_, kNone);
+  RegionForm out;
+  out.regionCount = regions;
+  out.form.corners.reserve(faces.size());
+  out.form.weights.assign(regionOf.size(), 1.0 / 6.0);
+  out.region.reserve(regionOf.size());
+  std::vector<uint32_t> localOf(h.fineVertexCount(), kNone), vertices;
   std::vector<int64_t> coordX, coordY;
+  for (size_t r = 0; r < regions; ++r) {
+    // Its fine vertices, ascending: by depth, so that the ends of a vertex come before it.
+    vertices.clear();
+    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = faces[3 * size_t(triangles[p]) + k];
+        if (localOf[v] == kNone) localOf[v] = 0, vertices.push_back(v);
+      }
+    std::sort(vertices.begin(), vertices.end());
+    const uint32_t count = uint32_t(vertices.size());
+    for (uint32_t i = 0; i < count; ++i) localOf[vertices[i]] = i;
+    coordX.assign(count, 0), coordY.assign(count, 0);
+    const uint32_t* corner = &h.faces[level][3 * r];
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t v = vertices[i];
+      if (v < cageSize) {
+        const int k = v == corner[0] ? 0 : v == corner[1] ? 1 : v == corner[2] ? 2 : -1;
+        if (k < 0) throw Error("cage vertex " + std::to_string(v) + " lies inside level-" + std::to_string(level) + " face " + std::to_string(r));
+        coordX[i] = k == 1 ? side : 0, coordY[i] = k == 2 ? side : 0;
+      } else {
+        const uint32_t a = localOf[h.ends[2 * size_t(v)]], b = localOf[h.ends[2 * size_t(v) + 1]];
+        if (a == kNone || b == kNone || a >= i || b >= i)
+          throw Error("vertex " + std::to_string(v) + " has an end outside level-" + std::to_string(level) + " face " + std::to_string(r));
+        coordX[i] = (coordX[a] + coordX[b]) / 2, coordY[i] = (coordY[a] + coordY[b]) / 2;
+      }
+    }
+    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p) {
+      const uint32_t* t = &faces[3 * size_t(triangles[p])];
+      int k = 0;
+      while (k < 3 && ((coordX[localOf[t[k]]] - coordY[localOf[t[k]]]) % 3 + 3) % 3 != 0) ++k;
+      if (k == 3) throw Error("fine triangle " + std::to_string(triangles[p]) + " is not a lattice triangle of its level-" + std::to_string(level) + " face");
+      out.form.corners.insert(out.form.corners.end(), {t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
+      out.region.push_back(uint32_t(r));
+    }
+    for (uint32_t v : vertices) localOf[v] = kNone;
+  }
+  return out;
+}
+
+}  // namespace
+
+CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms)
+    : CagePolynomialBuilder(transform, level, triangleRegions(transform.hierarchy(), level), maxTerms) {}
+
+CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, const RegionForm& regionForm,
+                                             uint64_t maxTerms)
+    : transform_(&transform), level_(level) {
+  const Hierarchy& h = transform.hierarchy();
+  checkedLevel(h, level);
+  cageSize_ = h.vertexCount[level];
+  const size_t n = h.fineVertexCount();
+  const FineForm& form = regionForm.form;
+  if (form.corners.size() != 3 * form.size() || regionForm.region.size() != form.size())
+    throw Error("the volume form needs 3 corners and a region per term");
+  for (uint32_t v : form.corners)
+    if (v >= n) throw Error("the volume form names vertex " + std::to_string(v) + " of a mesh of " + std::to_string(n));
+  const CageBasis basis = cageBasis(transform, level);
+  basisEntries_ = basis.index.size();
+
+  // Terms by region (counting sort).
+  const size_t regions = regionForm.regionCount;
+  std::vector<uint32_t> termStart(regions + 1, 0), terms(form.size());
+  for (uint32_t r : regionForm.region) {
+    if (r >= regions) throw Error("the volume form names region " + std::to_string(r) + " of " + std::to_string(regions));
+    ++termStart[r + 1];
+  }
+  std::partial_sum(termStart.begin(), termStart.end(), termStart.begin());
+  {
+    std::vector<uint32_t> fill(termStart.begin(), termStart.end() - 1);
+    for (size_t t = 0; t < form.size(); ++t) terms[fill[regionForm.region[t]]++] = uint32_t(t);
+  }
+
+  std::vector<uint32_t> localOf(n, kNone), slotOf(cageSize_, kNone);
   std::vector<TripleKey> tripleKeys;
   std::vector<PairKey> pairKeys;
   regionCage_.assign(1, 0), regionVertex_.assign(1, 0), regionWeight_.assign(1, 0), regionRun_.assign(1, 0);
   regionTriple_.assign(1, 0), regionPair_.assign(1, 0);
   runStart_.assign(1, 0);
   for (size_t r = 0; r < regions; ++r) {
-    // Its fine vertices, ascending: by depth, so that the ends of a vertex come before it.
+    // Its fine vertices, ascending.
     const size_t vertexBegin = vertex_.size();
-    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p)
+    for (uint32_t p = termStart[r]; p < termStart[r + 1]; ++p)
       for (int k = 0; k < 3; ++k) {
-        const uint32_t v = faces[3 * size_t(triangles[p]) + k];
+        const uint32_t v = form.corners[3 * size_t(terms[p]) + k];
         if (localOf[v] == kNone) localOf[v] = 0, vertex_.push_back(v);
       }
     std::sort(vertex_.begin() + vertexBegin, vertex_.end());
@@ -189,42 +269,21 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
         weight_[weightBegin + size_t(i) * s + slotOf[basis.index[p]]] = basis.value[p];
     }
 
-    // Lattice coordinates in the face (x, y >= 0, x + y <= side): its corners at (0, 0), (side, 0),
-    // (0, side), a vertex born later at the midpoint of its ends. Every fine triangle has one
-    // corner with x - y = 0 mod 3: that corner carries it.
-    coordX.assign(count, 0), coordY.assign(count, 0);
-    const uint32_t* corner = &h.faces[level][3 * r];
-    for (uint32_t i = 0; i < count; ++i) {
-      const uint32_t v = vertex_[vertexBegin + i];
-      if (v < cageSize_) {
-        const int k = v == corner[0] ? 0 : v == corner[1] ? 1 : v == corner[2] ? 2 : -1;
-        if (k < 0) throw Error("cage vertex " + std::to_string(v) + " lies inside level-" + std::to_string(level) + " face " + std::to_string(r));
-        coordX[i] = k == 1 ? side : 0, coordY[i] = k == 2 ? side : 0;
-      } else {
-        const uint32_t a = localOf[h.ends[2 * size_t(v)]], b = localOf[h.ends[2 * size_t(v) + 1]];
-        if (a == kNone || b == kNone || a >= i || b >= i)
-          throw Error("vertex " + std::to_string(v) + " has an end outside level-" + std::to_string(level) + " face " + std::to_string(r));
-        coordX[i] = (coordX[a] + coordX[b]) / 2, coordY[i] = (coordY[a] + coordY[b]) / 2;
-      }
-    }
-    struct Carried { uint32_t a, b, c; };
+    // The terms in runs of one carrying vertex (their first corner).
+    struct Carried { uint32_t a, b, c; double w; };
     std::vector<Carried> carried;
-    carried.reserve(triangleStart[r + 1] - triangleStart[r]);
-    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p) {
-      uint32_t t[3];
-      for (int k = 0; k < 3; ++k) t[k] = localOf[faces[3 * size_t(triangles[p]) + k]];
-      int k = 0;
-      while (k < 3 && ((coordX[t[k]] - coordY[t[k]]) % 3 + 3) % 3 != 0) ++k;
-      if (k == 3) throw Error("fine triangle " + std::to_string(triangles[p]) + " is not a lattice triangle of its level-" + std::to_string(level) + " face");
-      carried.push_back({t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
+    carried.reserve(termStart[r + 1] - termStart[r]);
+    for (uint32_t p = termStart[r]; p < termStart[r + 1]; ++p) {
+      const uint32_t* t = &form.corners[3 * size_t(terms[p])];
+      carried.push_back({localOf[t[0]], localOf[t[1]], localOf[t[2]], form.weights[terms[p]]});
     }
-    std::sort(carried.begin(), carried.end(), [](const Carried& x, const Carried& y) { return x.a < y.a; });
+    std::stable_sort(carried.begin(), carried.end(), [](const Carried& x, const Carried& y) { return x.a < y.a; });
     for (size_t p = 0; p < carried.size(); ++p) {
       if (p == 0 || carried[p].a != carried[p - 1].a) {
         if (p > 0) runStart_.push_back(uint32_t(triangleB_.size()));
         runVertex_.push_back(carried[p].a);
       }
-      triangleB_.push_back(carried[p].b), triangleC_.push_back(carried[p].c);
+      triangleB_.push_back(carried[p].b), triangleC_.push_back(carried[p].c), triangleWeight_.push_back(carried[p].w);
     }
     if (!carried.empty()) runStart_.push_back(uint32_t(triangleB_.size()));
 
@@ -275,7 +334,7 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
 size_t CagePolynomialBuilder::bytes() const {
   auto b = [](const auto& v) { return v.size() * sizeof(v[0]); };
   return b(regionCage_) + b(regionVertex_) + b(regionWeight_) + b(regionRun_) + b(regionTriple_) + b(regionPair_) +
-         b(cage_) + b(vertex_) + b(weight_) + b(runVertex_) + b(runStart_) + b(triangleB_) + b(triangleC_) +
+         b(cage_) + b(vertex_) + b(weight_) + b(runVertex_) + b(runStart_) + b(triangleB_) + b(triangleC_) + b(triangleWeight_) +
          b(tripleSlot_) + b(pairSlot_) + b(tripleI_) + b(tripleJ_) + b(tripleK_) + b(pairI_) + b(pairJ_);
 }
 
@@ -300,16 +359,17 @@ CagePolynomial CagePolynomialBuilder::build(const double* coefficients) const {
       std::copy(weights + size_t(i) * s, weights + size_t(i + 1) * s, &w[size_t(i) * S]);
       std::copy(&detail[3 * size_t(vertex_[vertexBegin + i])], &detail[3 * size_t(vertex_[vertexBegin + i]) + 3], &w[size_t(i) * S + s]);
     }
-    // outer = sum over the carrying vertices a of w_a (x) G_a, G_a = sum of w_b ^ w_c (packed i < j).
+    // outer = sum over the carrying vertices a of w_a (x) G_a, G_a = sum of w_t w_b ^ w_c (packed i < j).
     outer.assign(S * P, 0.0);
     wedges.resize(P);
     for (uint32_t run = regionRun_[r]; run < regionRun_[r + 1]; ++run) {
       std::fill(wedges.begin(), wedges.end(), 0.0);
       for (uint32_t t = runStart_[run]; t < runStart_[run + 1]; ++t) {
         const double *wb = &w[size_t(triangleB_[t]) * S], *wc = &w[size_t(triangleC_[t]) * S];
+        const double weight = triangleWeight_[t];
         double* g = wedges.data();
         for (size_t i = 0; i + 1 < S; ++i) {
-          const double bi = wb[i], ci = wc[i];
+          const double bi = weight * wb[i], ci = weight * wc[i];
           const size_t len = S - i - 1;
           if (bi != 0.0 || ci != 0.0)
             for (size_t j = 0; j < len; ++j) g[j] += bi * wc[i + 1 + j] - ci * wb[i + 1 + j];
@@ -330,7 +390,7 @@ CagePolynomial CagePolynomialBuilder::build(const double* coefficients) const {
     const uint32_t* tripleSlot = &tripleSlot_[regionTriple_[r]];
     const uint32_t* pairSlot = &pairSlot_[regionPair_[r]];
     auto minor = [&](size_t i, size_t j, size_t k) {
-      return (outer[i * P + pairIndex(j, k, S)] - outer[j * P + pairIndex(i, k, S)] + outer[k * P + pairIndex(i, j, S)]) / 6.0;
+      return outer[i * P + pairIndex(j, k, S)] - outer[j * P + pairIndex(i, k, S)] + outer[k * P + pairIndex(i, j, S)];
     };
     size_t t = 0, p = 0;
     for (size_t i = 0; i < s; ++i) {

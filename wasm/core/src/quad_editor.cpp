@@ -41,12 +41,21 @@ double relative(double value, double reference) {
 QuadVolumeEditor::QuadVolumeEditor(const QuadHierarchy& hierarchy, const WaveletTransform& transform, int level,
                                    const double* positions)
     : hierarchy_(&hierarchy),
+      transform_(&transform),
       level_(checkedLevel(hierarchy, level)),
       session_(startSession(hierarchy, transform, level, positions)),
       fineVolume_(hierarchy.fineQuads(), uint32_t(hierarchy.h.fineVertexCount())),
       fineConstraints_(transform, level, session_) {
   fineConstraints_.setRows(fineVolume_, {}, false);
   reference_ = volume();
+}
+
+void QuadVolumeEditor::setFreeSet(FreeCage mode, std::vector<uint32_t> list, std::vector<int> detailLevels) {
+  FreeSet free{mode, std::move(list), std::move(detailLevels)};
+  free.check(hierarchy_->h, level_);
+  free_ = std::move(free);
+  fineConstraints_.setRows(fineVolume_, {}, !free_.detailLevels.empty());
+  solver_.reset();
 }
 
 std::vector<uint32_t> QuadVolumeEditor::cageVertices() const {
@@ -77,23 +86,68 @@ void QuadVolumeEditor::useTensor(const VolumeTensor& tensor) {
       tensor.rowCount != cageSize())
     throw Error("the tensor is not theta^" + std::to_string(level_) + " with cage storage for this mesh");
   CagePolynomial poly = contractCageRows(tensor, session_.x.data());
-  // The detail-only entries were never formed: the constant comes from the exact volume.
+  builder_.reset();
+  setPolynomial(std::move(poly));
+}
+
+bool QuadVolumeEditor::usePolynomial(uint64_t maxTerms) {
+  std::unique_ptr<CagePolynomialBuilder> builder;
+  try {
+    builder = std::make_unique<CagePolynomialBuilder>(*transform_, level_, bilinearPatchRegions(*hierarchy_, level_), maxTerms);
+  } catch (const Error&) {  // too many cage triples: no faster than the fine mesh
+    useMatrixFree();
+    return false;
+  }
+  setPolynomial(builder->build(session_.x.data()));
+  builder_ = std::move(builder);
+  return true;
+}
+
+void QuadVolumeEditor::setPolynomial(CagePolynomial poly) {
+  // Entries made of details only were never formed (tensor) or are summed in another order
+  // (builder): the constant comes from the exact volume, so the polynomial agrees with volume().
   std::vector<double> shifted;
   session_.shiftedCage(shifted);
   poly.constant = volume() - (poly.evaluate(shifted.data(), nullptr) - poly.constant);
   polynomial_ = std::make_unique<CagePolynomialVolume>(std::move(poly));
   cageConstraint_ = std::make_unique<CageVolumeConstraint>(*polynomial_, session_);
+  detailsMoved_ = false;
   solver_.reset();
 }
 
 void QuadVolumeEditor::useMatrixFree() {
+  builder_.reset();
   polynomial_.reset();
   cageConstraint_.reset();
   solver_.reset();
 }
 
+double QuadVolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const {
+  const std::vector<double>& p = session_.fine.of(session_.x);
+  gradient.resize(p.size());
+  const double v = fineVolume_.value(p.data(), gradient.data());
+  transform_->synthesisAdjoint(gradient.data(), level_);
+  gradient.resize(session_.x.size());
+  return v;
+}
+
+double QuadVolumeEditor::gradientPolynomial(std::vector<double>& gradient) const {
+  if (!polynomial_) throw Error("this editor has no cage polynomial (use a theta or the polynomial path)");
+  std::vector<double> shifted;
+  session_.shiftedCage(shifted);
+  gradient.assign(shifted.size(), 0.0);
+  return polynomial_->value(shifted.data(), gradient.data());
+}
+
+void QuadVolumeEditor::startEdit(const EditOptions& o) {
+  checkEditOptions(o);
+  // Back on the polynomial after corrections moved the details: build it for the new details.
+  if (usesPolynomial() && builder_ && detailsMoved_) setPolynomial(builder_->build(session_.x.data()));
+  if (o.preserve && !free_.detailLevels.empty()) detailsMoved_ = true;  // this correction moves details
+}
+
 VolumeConstraints& QuadVolumeEditor::constraints() {
-  if (polynomial_) {
+  if (usesPolynomial()) {
     cageConstraint_->referenceVolume = reference_;
     return *cageConstraint_;
   }
@@ -102,15 +156,13 @@ VolumeConstraints& QuadVolumeEditor::constraints() {
 }
 
 double QuadVolumeEditor::currentVolume(bool withGradient) {
-  if (polynomial_) return cageConstraint_->value();
+  if (usesPolynomial()) return cageConstraint_->value();
   return withGradient ? fineConstraints_.valueWithGradient() : fineConstraints_.value();
 }
 
 VolumeSolver& QuadVolumeEditor::solver(const std::vector<uint8_t>& held) {
   VolumeConstraints& c = constraints();
-  std::vector<uint32_t> free;
-  for (uint32_t v = 0; v < cageSize(); ++v)
-    if (!hierarchy_->h.boundary[v] && (allFree_ || !(v < held.size() && held[v]))) free.push_back(v);
+  std::vector<uint32_t> free = free_.coefficients(hierarchy_->h, level_, held);
   if (!solver_ || solverConstraints_ != &c || solver_->free() != free) {
     solver_ = std::make_unique<VolumeSolver>(c, std::move(free));
     solverConstraints_ = &c;
@@ -124,9 +176,9 @@ void QuadVolumeEditor::setCage(const double* cage) {
 }
 
 EditReport QuadVolumeEditor::correct(const std::vector<uint8_t>& held, const EditOptions& o) {
-  checkEditOptions(o);
+  startEdit(o);
   EditReport report;
-  report.path = path();
+  report.path = activePath();
   report.volumeReference = reference_;
   report.volumeTarget = volume();
   report.substeps = 1;
@@ -138,24 +190,13 @@ EditReport QuadVolumeEditor::correct(const std::vector<uint8_t>& held, const Edi
 
 EditReport QuadVolumeEditor::deformCage(const std::vector<double>& target, const std::vector<uint8_t>& held,
                                         const EditOptions& o) {
-  const size_t cage3 = 3 * size_t(cageSize());
-  if (target.size() != cage3)
-    throw Error("the cage target needs " + std::to_string(cage3) + " coordinates, got " + std::to_string(target.size()));
+  const std::vector<double> move = checkedCageMove(hierarchy_->h, session_, target);
   checkEditOptions(o);
-  std::vector<double> move(cage3);
-  for (uint32_t c = 0; c < cageSize(); ++c)
-    for (int k = 0; k < 3; ++k) {
-      const double t = target[3 * c + k];
-      if (!std::isfinite(t)) throw Error("the cage target has a non-finite coordinate");
-      move[3 * c + k] = t - session_.x[3 * c + k];
-      if (hierarchy_->h.boundary[c] && move[3 * c + k] != 0.0)
-        throw Error("vertex " + std::to_string(hierarchy_->h.inputIndex[c]) +
-                    " is on the boundary: boundary vertices stay fixed so that the volume stays meaningful");
-    }
+  startEdit(o);
   EditReport report;
-  report.path = path();
+  report.path = activePath();
   report.volumeReference = reference_;
-  const std::vector<double> start(session_.x.begin(), session_.x.begin() + cage3);
+  const std::vector<double> start = cagePositions();
   setCage(target.data());
   report.volumeTarget = currentVolume(o.preserve);
   if (!o.preserve) {
@@ -163,39 +204,10 @@ EditReport QuadVolumeEditor::deformCage(const std::vector<double>& target, const
     report.relativeError = relative(report.volumeResult, reference_);
     return report;
   }
-  // Large moves are split so that the linearization holds (as the triangle editor).
-  const int substeps = std::clamp(int(std::ceil(relative(report.volumeTarget, reference_) / o.substepError)), 1, o.maxSubsteps);
-  report.substeps = substeps;
+  report.substeps = substepCount(relative(report.volumeTarget, reference_), o);
   VolumeSolver& solve = solver(held);
-  if (substeps > 1) setCage(start.data());
-  for (int s = 1; s <= substeps; ++s) {
-    if (substeps > 1) {
-      for (size_t i = 0; i < cage3; ++i) session_.x[i] += move[i] / substeps;
-      session_.fine.cageChanged();
-    }
-    EditReport step;
-    solve.solve(o, step);
-    report.iterations += step.iterations;
-    report.volumeResult = step.volumeResult;
-    if (!step.converged) {
-      report.converged = false;
-      report.message = step.message;
-      break;
-    }
-  }
-  // Held vertices end exactly at the target (sub-steps add up with rounding).
-  const auto& free = solve.free();
-  bool snapped = false;
-  for (uint32_t c = 0; c < cageSize(); ++c)
-    if (c < held.size() && held[c] && !std::binary_search(free.begin(), free.end(), c))
-      for (int k = 0; k < 3; ++k) {
-        snapped = snapped || session_.x[3 * c + k] != target[3 * c + k];
-        session_.x[3 * c + k] = target[3 * c + k];
-      }
-  if (snapped) {
-    session_.fine.cageChanged();
-    report.volumeResult = currentVolume(false);
-  }
+  solveInSubsteps(session_, start, move, report.substeps, solve, o, report);
+  if (snapHeldToTarget(session_, target, held, solve.free())) report.volumeResult = currentVolume(false);
   report.relativeError = relative(report.volumeResult, reference_);
   return report;
 }

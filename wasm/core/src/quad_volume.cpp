@@ -1,6 +1,9 @@
 #include "mrvol/quad_volume.h"
 
 #include <algorithm>
+#include <string>
+
+#include "mrvol/error.h"
 
 namespace mrvol {
 
@@ -14,6 +17,20 @@ FineForm bilinearPatchForm(const std::vector<uint32_t>& quads) {
     form.weights.insert(form.weights.end(), 4, 1.0 / 12.0);
   }
   return form;
+}
+
+RegionForm bilinearPatchRegions(const QuadHierarchy& q, int level) {
+  if (level < 0 || level > q.levels())
+    throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(q.levels()));
+  RegionForm out;
+  out.form = bilinearPatchForm(q.fineQuads());
+  const int shift = 2 * (q.levels() - level);
+  out.regionCount = q.quads[level].size() / 4;
+  out.region.resize(out.form.size());
+  for (size_t t = 0; t < out.region.size(); ++t) out.region[t] = uint32_t((t / 4) >> shift);
+  // (b, c, d) -> (c, d, b): the face point carries it, orientation kept.
+  for (size_t t = 3; t < out.region.size(); t += 4) std::rotate(&out.form.corners[3 * t], &out.form.corners[3 * t + 1], &out.form.corners[3 * t + 3]);
+  return out;
 }
 
 Vec3 quadReferencePoint(const QuadMesh& mesh) {

@@ -185,34 +185,10 @@ void VolumeEditor::useMatrixFree() {
 }
 
 void VolumeEditor::setFreeSet(FreeCage mode, std::vector<uint32_t> list, std::vector<int> detailLevels) {
-  for (uint32_t c : list)
-    if (c >= cageSize()) throw Error("free-set index " + std::to_string(c) + " is not a cage vertex");
-  for (int l : detailLevels)
-    if (l < level_ || l >= hierarchy_->levels)
-      throw Error("free detail level " + std::to_string(l) + " is out of range " + std::to_string(level_) + ".." +
-                  std::to_string(hierarchy_->levels - 1));
-  freeMode_ = mode;
-  freeCage_ = std::move(list);
-  freeDetailLevels_ = std::move(detailLevels);
+  FreeSet free{mode, std::move(list), std::move(detailLevels)};
+  free.check(*hierarchy_, level_);
+  free_ = std::move(free);
   configureFineRows();
-}
-
-std::vector<uint32_t> VolumeEditor::freeCoefficients(const std::vector<uint8_t>& held) const {
-  std::vector<uint32_t> free;
-  const auto& boundary = hierarchy_->boundary;
-  if (freeMode_ == FreeCage::List) {
-    for (uint32_t c : freeCage_)
-      if (!boundary[c]) free.push_back(c);
-  } else {
-    for (uint32_t c = 0; c < cageSize(); ++c)
-      if (!boundary[c] && (freeMode_ == FreeCage::All || !(c < held.size() && held[c]))) free.push_back(c);
-  }
-  for (int l : freeDetailLevels_)
-    for (uint32_t v = hierarchy_->vertexCount[l]; v < hierarchy_->vertexCount[l + 1]; ++v)
-      if (!boundary[v]) free.push_back(v);
-  std::sort(free.begin(), free.end());
-  free.erase(std::unique(free.begin(), free.end()), free.end());
-  return free;
 }
 
 void VolumeEditor::setParts(const std::vector<std::vector<uint32_t>>& parts, const std::vector<double>& references) {
@@ -265,7 +241,7 @@ void VolumeEditor::configureFineRows() {
   if (parts_.empty() && keepCentroid_)
     for (const auto& m : moments_) more.push_back(&m);
   for (size_t p = 1; p < parts_.size(); ++p) more.push_back(&parts_[p]);
-  fineConstraints_.setRows(parts_.empty() ? surfaceVolume() : parts_[0], std::move(more), !freeDetailLevels_.empty());
+  fineConstraints_.setRows(parts_.empty() ? surfaceVolume() : parts_[0], std::move(more), !free_.detailLevels.empty());
   solver_.reset();
 }
 
@@ -290,7 +266,7 @@ double VolumeEditor::constrainedVolume(bool withGradient) {
 
 VolumeSolver& VolumeEditor::solver(const std::vector<uint8_t>& held) {
   VolumeConstraints& c = constraints();
-  std::vector<uint32_t> free = freeCoefficients(held);
+  std::vector<uint32_t> free = free_.coefficients(*hierarchy_, level_, held);
   if (!solver_ || solverConstraints_ != &c || solver_->free() != free) {
     solver_ = std::make_unique<VolumeSolver>(c, std::move(free));
     solverConstraints_ = &c;
@@ -307,7 +283,7 @@ void VolumeEditor::startEdit(const EditOptions& o) {
   checkEditOptions(o);
   // Back on the polynomial after corrections moved the details: build it for the new details.
   if (usesTensor() && builder_ && detailsMoved_) setPolynomial(builder_->build(session_.x.data()));
-  if (o.preserve && !freeDetailLevels_.empty()) detailsMoved_ = true;  // this correction moves details
+  if (o.preserve && !free_.detailLevels.empty()) detailsMoved_ = true;  // this correction moves details
 }
 
 void VolumeEditor::finishReport(EditReport& report) const {
@@ -337,25 +313,13 @@ EditReport VolumeEditor::correct(const std::vector<uint8_t>& held, const EditOpt
 
 EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std::vector<uint8_t>& held,
                                     const EditOptions& o) {
-  const size_t cage3 = 3 * size_t(cageSize());
-  if (target.size() != cage3)
-    throw Error("the cage target needs " + std::to_string(cage3) + " coordinates, got " + std::to_string(target.size()));
+  const std::vector<double> move = checkedCageMove(*hierarchy_, session_, target);
   checkEditOptions(o);
-  std::vector<double> move(cage3);
-  for (uint32_t c = 0; c < cageSize(); ++c)
-    for (int k = 0; k < 3; ++k) {
-      const double t = target[3 * c + k];
-      if (!std::isfinite(t)) throw Error("the cage target has a non-finite coordinate");
-      move[3 * c + k] = t - session_.x[3 * c + k];
-      if (hierarchy_->boundary[c] && move[3 * c + k] != 0.0)
-        throw Error("vertex " + std::to_string(hierarchy_->inputIndex[c]) +
-                    " is on the boundary: boundary vertices stay fixed so that the volume stays meaningful");
-    }
   startEdit(o);
   EditReport report;
   report.path = activePath();
   report.volumeReference = reference_;
-  const std::vector<double> start(session_.x.begin(), session_.x.begin() + cage3);
+  const std::vector<double> start = cagePositions();
   // The cage takes the target as given (x + (t - x) need not round to t). On the matrix-free path the
   // pass that gives the target's volume gives the solver's first gradient too.
   setCage(target.data());
@@ -365,41 +329,12 @@ EditReport VolumeEditor::deformCage(const std::vector<double>& target, const std
     finishReport(report);
     return report;
   }
-  // Large moves are split so that the linearization holds.
   const double rawChange = std::max(relative(report.volumeTarget, reference_), keepCentroid_ ? momentChange() : 0.0);
-  const int substeps = std::clamp(int(std::ceil(rawChange / o.substepError)), 1, o.maxSubsteps);
-  report.substeps = substeps;
+  report.substeps = substepCount(rawChange, o);
   VolumeSolver& solve = solver(held);
-  if (substeps > 1) setCage(start.data());
-  for (int s = 1; s <= substeps; ++s) {
-    if (substeps > 1) {
-      for (size_t i = 0; i < cage3; ++i) session_.x[i] += move[i] / substeps;
-      session_.fine.cageChanged();
-    }
-    EditReport stepReport;
-    solve.solve(o, stepReport);
-    report.iterations += stepReport.iterations;
-    report.relativeError = stepReport.relativeError;
-    report.volumeResult = stepReport.volumeResult;
-    if (!stepReport.converged) {
-      report.converged = false;
-      report.message = stepReport.message;
-      break;
-    }
-  }
-  // Held vertices end exactly where the target puts them (sub-steps add up with rounding).
-  bool snapped = false;
-  const auto& free = solve.free();
-  for (uint32_t c = 0; c < cageSize(); ++c)
-    if (c < held.size() && held[c] && !std::binary_search(free.begin(), free.end(), c))
-      for (int k = 0; k < 3; ++k) {
-        snapped = snapped || session_.x[3 * c + k] != target[3 * c + k];
-        session_.x[3 * c + k] = target[3 * c + k];
-      }
-  if (snapped) {  // rounding of the sub-steps: re-evaluate
-    session_.fine.cageChanged();
-    if (parts_.empty()) report.volumeResult = constrainedVolume(false);
-  }
+  solveInSubsteps(session_, start, move, report.substeps, solve, o, report);
+  if (snapHeldToTarget(session_, target, held, solve.free()) && parts_.empty())
+    report.volumeResult = constrainedVolume(false);  // rounding of the sub-steps: re-evaluate
   finishReport(report);
   return report;
 }

@@ -1,21 +1,25 @@
 // The volume as a cubic polynomial of the level-e cage (CagePolynomial), built directly from the
-// fine triangles and the cage's basis functions instead of from theta^e: O(N) time and memory.
+// fine mesh's volume form and the cage's basis functions instead of from theta^e: O(N) time and
+// memory.
 //
 // Fine position (relative to the origin) p_v = sum_c B_c(v) x_c + D_v, with B_c the zero-detail
 // synthesis of a unit at cage vertex c (sparse), x_c = cage coefficient - origin and D the
-// synthesis of the fixed details with a zero cage. Per fine triangle, det(p_a, p_b, p_c) / 6 is,
-// by Cauchy-Binet, the 3 x 3 minors of w_a, w_b, w_c in R^(s + 3) (the s cage weights of a vertex
-// followed by its D) against the minors of [x_1 .. x_s | I_3]. The fine triangles are grouped by
-// level-e face (their s influencing cage vertices are few and fixed per face), and per face the
-// minors are summed as sum_a w_a (x) G_a, G_a = sum of w_b ^ w_c over the triangles given to a:
-// each triangle goes to the one corner of a 3-colouring class of the face's lattice, so about a
-// third of the vertices carry the outer products. Cost per fine vertex ~ (s + 3)^3 / 2.
+// synthesis of the fixed details with a zero cage. The volume is a trilinear form of the fine
+// positions, sum_t w_t det(p_a, p_b, p_c) (FineForm: the triangles with weight 1/6, or the four
+// triangles of weight 1/12 of each bilinear quad patch). Per term, by Cauchy-Binet, det is the
+// 3 x 3 minors of w_a, w_b, w_c in R^(s + 3) (the s cage weights of a vertex followed by its D)
+// against the minors of [x_1 .. x_s | I_3]. The terms are grouped by level-e face (their s
+// influencing cage vertices are few and fixed per face), and per face the minors are summed as
+// sum_a w_a (x) G_a, G_a = sum of w_t w_b ^ w_c over the terms given to a (their first corner):
+// the fewer corners carry terms the cheaper (for triangles one corner of a 3-colouring class of the
+// face's lattice, about a third of the vertices). Cost per carrying vertex ~ (s + 3)^3 / 2.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "mrvol/lifting.h"
 #include "mrvol/cage_polynomial.h"
+#include "mrvol/volume_tensor.h"
 
 namespace mrvol {
 
@@ -29,6 +33,14 @@ struct CageBasis {
 };
 CageBasis cageBasis(const WaveletTransform& transform, int level);
 
+// A volume form grouped by level-e face: term t of `form` (hierarchy numbering) lies in region
+// region[t] < regionCount, and its first corner carries it (any choice is exact; see above).
+struct RegionForm {
+  FineForm form;
+  std::vector<uint32_t> region;
+  size_t regionCount = 0;
+};
+
 class CagePolynomialBuilder {
  public:
   // Precomputes what depends on connectivity and scheme only: the cage basis functions at the
@@ -36,6 +48,8 @@ class CagePolynomialBuilder {
   // Throws Error when the faces would touch more than maxTerms cage triples in all (a fine cage:
   // about 220 per level-e face for Loop; such a polynomial is no faster than the matrix-free path).
   CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms = 8'000'000);
+  // The same for any volume form grouped by regions (quad meshes: bilinearPatchRegions, quad_volume.h).
+  CagePolynomialBuilder(const WaveletTransform& transform, int level, const RegionForm& form, uint64_t maxTerms = 8'000'000);
 
   // coefficients: 3 N level-e coefficients in hierarchy order; only the details are read. The
   // polynomial's variables are the cage coefficients minus any point o (VolumeEditor's origin),
@@ -67,7 +81,8 @@ class CagePolynomialBuilder {
   std::vector<double> weight_;
   std::vector<uint32_t> runVertex_;        // local vertex a of each run
   std::vector<uint32_t> runStart_;         // -> triangleB_ / triangleC_ (one more than the runs)
-  std::vector<uint32_t> triangleB_, triangleC_;  // local (b, c): the triangle (a, b, c), orientation kept
+  std::vector<uint32_t> triangleB_, triangleC_;  // local (b, c): the term (a, b, c), orientation kept
+  std::vector<double> triangleWeight_;           // its weight w_t
   std::vector<uint32_t> tripleSlot_, pairSlot_;
   // The polynomial's terms, ascending (i < j < k, i < j), before the exact zeros are dropped.
   std::vector<uint32_t> tripleI_, tripleJ_, tripleK_, pairI_, pairJ_;

@@ -1,15 +1,19 @@
 // Volume-preserving editing of a quad mesh's level-e cage (docs/catmull-clark.md, section 5): the
-// volume is the bilinear patches' (quad_volume.h), the solver and its two gradient paths are the
-// triangle editor's (volume_solver.h, coefficient_volumes.h): the cage polynomial contracted from
-// the quad theta^e, or the bilinear volume of the fine positions with the adjoint of synthesis.
-// One global volume; the free set is the cage minus the held vertices (or all of it); boundary
+// volume is the bilinear patches' (quad_volume.h), the solver and its gradient paths are the
+// triangle editor's (volume_solver.h, coefficient_volumes.h, cage_edit.h): the cage polynomial
+// contracted from the quad theta^e (tensor) or built from the fine quads (polynomial,
+// CagePolynomialBuilder over bilinearPatchRegions), or the bilinear volume of the fine positions
+// with the adjoint of synthesis (matrix-free). One global volume; the free set as the triangle
+// editor's (cage minus the held vertices, all, a list; details of chosen levels); boundary
 // vertices stay fixed.
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <vector>
 
+#include "mrvol/cage_edit.h"
 #include "mrvol/cage_polynomial.h"
+#include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/coefficient_volumes.h"
 #include "mrvol/quad_hierarchy.h"
 #include "mrvol/quad_volume.h"
@@ -36,10 +40,23 @@ class QuadVolumeEditor {
   double volume() const;  // bilinear volume of the current fine positions
 
   void useTensor(const VolumeTensor& tensor);  // theta^e with cage storage of the bilinear form
+  // The same cage polynomial built from the fine quads (no tensor); rebuilt when a correction has
+  // moved free details. Returns false, and runs matrix-free, when the builder refuses (more than
+  // maxTerms cage triples).
+  bool usePolynomial(uint64_t maxTerms = 8'000'000);
   void useMatrixFree();
-  GradientPath path() const { return polynomial_ ? GradientPath::Tensor : GradientPath::MatrixFree; }
+  GradientPath path() const {
+    return !polynomial_ ? GradientPath::MatrixFree : builder_ ? GradientPath::Polynomial : GradientPath::Tensor;
+  }
+  // Free set (cage_edit.h). Free details run on the matrix-free path whatever the path chosen.
+  void setFreeSet(FreeCage mode, std::vector<uint32_t> list = {}, std::vector<int> detailLevels = {});
   // false: only the held vertices' complement is free (default); true: every non-boundary cage vertex.
-  void setAllFree(bool all) { allFree_ = all, solver_.reset(); }
+  void setAllFree(bool all) { setFreeSet(all ? FreeCage::All : FreeCage::MinusHeld); }
+
+  // Theta_tau for every coefficient at level e (3 * N, hierarchy order) by the matrix-free path,
+  // and for the cage (3 * cageSize) by the polynomial in use (throws Error without one).
+  double gradientMatrixFree(std::vector<double>& gradient) const;
+  double gradientPolynomial(std::vector<double>& gradient) const;
 
   EditReport deformCage(const std::vector<double>& target, const std::vector<uint8_t>& held, const EditOptions& options);
   EditReport correct(const std::vector<uint8_t>& held, const EditOptions& options);
@@ -49,19 +66,26 @@ class QuadVolumeEditor {
   std::vector<double> coefficients() const { return session_.x; }
 
  private:
+  bool usesPolynomial() const { return polynomial_ && free_.detailLevels.empty(); }
+  GradientPath activePath() const { return usesPolynomial() ? path() : GradientPath::MatrixFree; }
   VolumeConstraints& constraints();
   VolumeSolver& solver(const std::vector<uint8_t>& held);
   void setCage(const double* cage);
+  void setPolynomial(CagePolynomial polynomial);  // its constant from volume()
+  void startEdit(const EditOptions& options);     // checks the options, brings the polynomial up to date
   double currentVolume(bool withGradient);
 
   const QuadHierarchy* hierarchy_;
+  const WaveletTransform* transform_;
   int level_;
   mutable SessionCoefficients session_;
   QuadPatchVolume fineVolume_;
   mutable FineVolumeConstraints fineConstraints_;
   double reference_ = 0;
-  bool allFree_ = false;
+  FreeSet free_;
   std::unique_ptr<CagePolynomialVolume> polynomial_;
+  std::unique_ptr<CagePolynomialBuilder> builder_;  // on the polynomial path
+  bool detailsMoved_ = false;                       // since the polynomial was built
   std::unique_ptr<CageVolumeConstraint> cageConstraint_;
   std::unique_ptr<VolumeSolver> solver_;
   const VolumeConstraints* solverConstraints_ = nullptr;

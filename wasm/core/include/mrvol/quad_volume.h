@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/mesh.h"
 #include "mrvol/quad_hierarchy.h"
 #include "mrvol/volume_function.h"
@@ -16,8 +17,14 @@
 
 namespace mrvol {
 
-// The four triangles of weight 1/12 of every quad.
+// The four triangles of weight 1/12 of every quad: (a, b, c), (a, c, d), (a, b, d), (b, c, d).
 FineForm bilinearPatchForm(const std::vector<uint32_t>& quads);
+
+// The fine quads' bilinearPatchForm grouped by level-e quad, for CagePolynomialBuilder: the fine
+// quads of level-e quad r are 4^(n-e) r .. 4^(n-e) (r + 1) - 1 (the splits keep child quads
+// together). Carried by the fine quads' corner 0 (born before the last split) and, for the term
+// without it, corner 2 (the face point): about half the vertices carry terms.
+RegionForm bilinearPatchRegions(const QuadHierarchy& hierarchy, int level);
 
 // The reference point of volumeReferencePoint for the quads' triangulation (bounding-box centre of
 // a closed mesh, centroid of the boundary vertices otherwise).

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "mrvol/cage_edit.h"
 #include "mrvol/cage_polynomial.h"
 #include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/coefficient_volumes.h"
@@ -74,7 +75,7 @@ class VolumeEditor {
   // Free set: which cage vertices may absorb the correction (the ones not held in a deformation,
   // all of them, or a list in cage order), and optionally the details of chosen levels (e <= l < n:
   // d^l, the vertices born at level l + 1; matrix-free path only). Boundary vertices are never free.
-  enum class FreeCage { MinusHeld, All, List };
+  using FreeCage = mrvol::FreeCage;  // cage_edit.h
   void setFreeSet(FreeCage mode, std::vector<uint32_t> list = {}, std::vector<int> detailLevels = {});
 
   // Localized preservation: parts of the cage (cage order indices), each keeping its own volume
@@ -108,7 +109,7 @@ class VolumeEditor {
  private:
   // The one choice of what the solver works on: the polynomial when a tensor is in use and
   // neither details nor parts call for the fine mesh.
-  bool usesTensor() const { return polynomial_ && freeDetailLevels_.empty() && parts_.empty() && !keepCentroid_; }
+  bool usesTensor() const { return polynomial_ && free_.detailLevels.empty() && parts_.empty() && !keepCentroid_; }
   const VolumeFunction& surfaceVolume() const;  // the mesh's or the limit surface's
   double meshMoments(double moments[3]) const;  // the mesh volume, and its first moments about the moments' centre
   double momentChange() const;                  // the moments' largest relative deviation now
@@ -117,7 +118,6 @@ class VolumeEditor {
   // path, its gradient is computed in the same pass and kept for the solver's first iteration.
   double constrainedVolume(bool withGradient);
   void configureFineRows();  // the matrix-free rows for the current parts and free details
-  std::vector<uint32_t> freeCoefficients(const std::vector<uint8_t>& held) const;
   VolumeSolver& solver(const std::vector<uint8_t>& held);  // precomputed for this free set
   void setCage(const double* cage);  // the cage coefficients take these values
   void setPolynomial(CagePolynomial polynomial);  // the cage polynomial in use (its constant from volume())
@@ -141,9 +141,7 @@ class VolumeEditor {
   bool detailsMoved_ = false;
   std::unique_ptr<CageVolumeConstraint> cageConstraint_;
   mutable FineVolumeConstraints fineConstraints_;
-  FreeCage freeMode_ = FreeCage::MinusHeld;
-  std::vector<uint32_t> freeCage_;
-  std::vector<int> freeDetailLevels_;
+  FreeSet free_;
   std::vector<TriangleSetVolume> parts_;
   std::vector<double> partReference_;
   // The precomputed solver, kept while the constraints and the free set stay the same.
