@@ -1,8 +1,10 @@
 #!/usr/bin/env node
 // Catmull-Clark quad multiresolution (issue 16, docs/catmull-clark.md) through the JS API and the
 // WASM module, beside Loop on triangle meshes of about the same size: a full analysis to level 0
-// plus synthesis (roundtripError), theta^e with cage storage, and one drag step (a cage vertex
-// moved, the volume restored to 1e-5) on the matrix-free and tensor paths.
+// plus synthesis (roundtripError), theta^e with cage storage, the cage polynomial built from the
+// fine mesh, and one drag step (a cage vertex moved, the volume restored to 1e-5) on the
+// matrix-free, tensor and polynomial paths; and, on the largest quad mesh, the drag step per
+// level on the matrix-free and polynomial paths (where 'auto' switches).
 // Quad meshes: the Catmull-Clark split of an octahedron (26 vertices, valences 3 and 4; the cube's
 // split, so detection finds the cube as level 0 and analysis stops at level 1) subdivided;
 // triangle meshes: the icosahedron subdivided n times (Loop). Median (minimum) in ms.
@@ -56,6 +58,38 @@ const icosahedron = () => {
   };
 };
 
+// One drag step: a cage vertex moved by 0.01 (back and forth), the volume restored to 1e-5.
+function dragStep(editor) {
+  const vertex = editor.cageVertices()[0];
+  let sign = 1;
+  return time(() => {
+    const r = editor.moveVertices([{ vertex, offset: [0.01 * sign, 0, 0] }]);
+    if (!r.converged || r.relativeError > 1e-5) throw new Error('drag step did not converge');
+    sign = -sign;
+  }, { min: 9, ms: 300 });
+}
+
+// The drag step at every level analysis reaches, matrix-free against the polynomial.
+function perLevel(levels) {
+  const built = mrvol.subdivide(quadSphereBase(), { levels, scheme: 'catmull-clark' });
+  const mr = mrvol.openMesh(built.toMesh());
+  built.delete();
+  const out = [];
+  for (let level = mr.lowestLevel; level < mr.levels; ++level) {
+    const row = { levels: mr.levels, vertices: mr.vertexCount, level };
+    for (const path of ['matrix-free', 'polynomial']) {
+      const editor = mr.createEditor({ level, path });
+      row.cage = editor.cageSize;
+      row[path] = dragStep(editor);
+      editor.delete();
+    }
+    out.push(row);
+    process.stdout.write(JSON.stringify(row) + '\n');
+  }
+  mr.delete();
+  return out;
+}
+
 function measure(kind, levels) {
   const built = kind === 'quad' ? mrvol.subdivide(quadSphereBase(), { levels, scheme: 'catmull-clark' })
     : mrvol.subdivide(icosahedron(), { levels });
@@ -73,15 +107,11 @@ function measure(kind, levels) {
   const theta = mr.computeTheta({ level: thetaLevel });
   row.thetaMs = performance.now() - t0;
   row.thetaEntries = theta.info().nnzStored;
-  for (const path of ['matrix-free', 'tensor']) {
-    const editor = mr.createEditor({ level: thetaLevel, ...(path === 'tensor' ? { theta } : { path: 'matrix-free' }) });
-    const vertex = editor.cageVertices()[0];
-    let sign = 1;
-    row[path] = time(() => {
-      const r = editor.moveVertices([{ vertex, offset: [0.01 * sign, 0, 0] }]);
-      if (!r.converged || r.relativeError > 1e-5) throw new Error('drag step did not converge');
-      sign = -sign;
-    }, { min: 9, ms: 300 });
+  for (const path of ['matrix-free', 'tensor', 'polynomial']) {
+    const t1 = performance.now();
+    const editor = mr.createEditor({ level: thetaLevel, ...(path === 'tensor' ? { theta } : { path }) });
+    if (path === 'polynomial') row.polynomialMs = performance.now() - t1;
+    row[path] = dragStep(editor);
     editor.delete();
   }
   theta.delete();
@@ -98,6 +128,8 @@ for (const levels of [3, 4, 5]) {
   }
 }
 
+const levelRows = perLevel(5);
+
 if (write) {
   let commit = 'unknown';
   try { commit = execFileSync('git', ['rev-parse', '--short', 'HEAD'], { encoding: 'utf8' }).trim(); } catch {}
@@ -111,16 +143,26 @@ if (write) {
     'the icosahedron subdivided n times, Loop scheme, for comparison. Cells: median (minimum) in ms.',
     '*transform*: `roundtripError` to the lowest level (0; 1 for the quads: analysis there and synthesis back, with',
     'the API\'s copies); *theta*: theta^e with cage storage, e = n - 2, computed once; *drag*: one `moveVertices`',
-    'of a cage vertex by 0.01 with the volume restored to 1e-5 at level e = n - 2.',
+    'of a cage vertex by 0.01 with the volume restored to 1e-5 at level e = n - 2; *polynomial build*: the cage',
+    'polynomial built from the fine mesh (`createEditor({ path: \'polynomial\' })`, no theta) at that level.',
     '',
     `- Machine: ${cpus().length} CPUs (${cpus()[0]?.model ?? '?'}), ${(totalmem() / 2 ** 30).toFixed(1)} GiB, Node ${process.version}`,
     `- Date: ${new Date().toISOString()}, commit ${commit}; load average (1 min) at the end: ${loadavg()[0].toFixed(2)}`,
     '- The machine was shared with other jobs (parallel helpers building and testing): minima are the better estimate.',
     '',
-    '| scheme | n | vertices | transform | theta^e (e) | theta entries | drag matrix-free | drag tensor |',
-    '| --- | --- | --- | --- | --- | --- | --- | --- |',
+    '| scheme | n | vertices | transform | theta^e (e) | theta entries | polynomial build | drag matrix-free | drag tensor | drag polynomial |',
+    '| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |',
     ...rows.map((r) => `| ${r.kind === 'quad' ? 'catmull-clark' : 'loop'} | ${r.levels} | ${r.vertices} | ${cell(r.transform)} | ` +
-      `${r.thetaMs.toFixed(1)} (${r.thetaLevel}) | ${r.thetaEntries} | ${cell(r['matrix-free'])} | ${cell(r.tensor)} |`),
+      `${r.thetaMs.toFixed(1)} (${r.thetaLevel}) | ${r.thetaEntries} | ${r.polynomialMs.toFixed(1)} | ${cell(r['matrix-free'])} | ` +
+      `${cell(r.tensor)} | ${cell(r.polynomial)} |`),
+    '',
+    `Drag step per cage level on the largest quad mesh (n = ${levelRows[0]?.levels}, ${levelRows[0]?.vertices} vertices): the`,
+    'matrix-free pass over the fine quads against the cage polynomial. `createEditor` under \'auto\' takes the polynomial',
+    'from n - e = 3 levels of details on (`quadGradientPath` in lib/quad.mjs).',
+    '',
+    '| e | cage vertices | n - e | drag matrix-free | drag polynomial |',
+    '| --- | --- | --- | --- | --- |',
+    ...levelRows.map((r) => `| ${r.level} | ${r.cage} | ${r.levels - r.level} | ${cell(r['matrix-free'])} | ${cell(r.polynomial)} |`),
     '',
   ];
   writeFileSync(new URL('RESULTS-quad.md', import.meta.url), lines.join('\n'));

@@ -582,7 +582,7 @@ COMMANDS.theta = async (mrvol, values, positionals) =>
 
 // What the catmull-clark commands (bin/quad-commands.mjs) share with the others.
 const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, describeTensor,
-                   loadMesh };
+                   loadMesh, parseList };
 
 export async function main(argv) {
   let values, positionals;

@@ -2,6 +2,7 @@
 // docs/catmull-clark.md). Quad meshes are read from and written to OBJ with their quads kept.
 // bin/mrvol.mjs sends these commands here and passes its helpers in `cli`.
 import { MrvolError } from '../lib/node.mjs';
+import { quadGradientPath } from '../lib/quad.mjs';
 
 async function loadQuads(mrvol, path, cli) {
   if (!/\.obj$/i.test(path)) throw new cli.UsageError(`--scheme catmull-clark reads quad meshes from OBJ files, not ${path}`);
@@ -102,19 +103,24 @@ export const QUAD_COMMANDS = {
     const tolerance = values.tolerance === undefined ? 1e-5 : cli.number(values.tolerance, 'tolerance');
     if (!(tolerance > 0 && tolerance < 1)) throw new cli.UsageError('--tolerance must be between 0 and 1');
     const gradientPath = values.path ?? 'auto';
-    if (!['auto', 'tensor', 'matrix-free'].includes(gradientPath))
-      throw new cli.UsageError(`--path for catmull-clark must be auto, tensor or matrix-free, got '${gradientPath}'`);
+    if (!['auto', 'polynomial', 'tensor', 'matrix-free'].includes(gradientPath))
+      throw new cli.UsageError(`--path must be auto, polynomial, tensor or matrix-free, got '${gradientPath}'`);
     const free = values.free ?? 'cage';
-    if (free !== 'cage' && free !== 'all') throw new cli.UsageError(`--free for catmull-clark must be cage or all, got '${free}'`);
-    if (values['free-details']) throw new cli.UsageError('--free-details is not available for catmull-clark');
+    const freeList = free === 'cage' || free === 'all' ? null : cli.parseList(free, 'free');
+    const detailLevels = values['free-details'] ? cli.parseList(values['free-details'], 'free-details') : [];
+    for (const unsupported of ['surface', 'keep'])
+      if (values[unsupported] !== undefined && values[unsupported] !== (unsupported === 'surface' ? 'mesh' : 'volume'))
+        throw new cli.UsageError(`--${unsupported} ${values[unsupported]} is not available for catmull-clark (the bilinear patches' volume is kept)`);
     const mr = await openQuads(mrvol, path, cli);
     let theta, editor;
     try {
       const level = levelIn(mr, cli.integer(values.level, 'level', mr.lowestLevel), path);
       const preserve = values['no-preserve'] === undefined;
-      editor = mr.createEditor({ level });
-      editor.setFreeSet({ cage: free === 'all' ? 'all' : 'minus-held' });
-      if (preserve && (values.theta || gradientPath === 'tensor')) {
+      // auto: the polynomial built from the fine quads on a coarse cage, else matrix-free (quadGradientPath).
+      const chosen = values.theta ? 'tensor' : quadGradientPath(mr, { level, path: gradientPath });
+      editor = mr.createEditor({ level, path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });
+      editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
+      if (preserve && chosen === 'tensor') {
         try {
           theta = values.theta ? mrvol.readTheta(cli.readBytes(values.theta)) : mr.computeTheta({ level });
           editor.useTheta(theta);

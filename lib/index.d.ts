@@ -617,7 +617,8 @@ export interface QuadMultiresMesh {
   computeTheta(options?: { level?: number; storage?: 'cage' | 'full' }): Theta;
   thetaVolume(theta: Theta, options?: { level?: number }): number;
   fingerprint(): string;
-  createEditor(options?: { level?: number; path?: 'auto' | 'tensor' | 'matrix-free'; theta?: Theta }): QuadVolumeEditor;
+  /** path 'auto' (default): the cage polynomial when the cage is 3 or more levels below the mesh, else matrix-free. */
+  createEditor(options?: { level?: number; path?: 'auto' | 'polynomial' | 'tensor' | 'matrix-free'; theta?: Theta }): QuadVolumeEditor;
   delete(): void;
 }
 
@@ -634,10 +635,23 @@ export interface QuadVolumeEditor {
   referenceVolume(): number;
   setReferenceVolume(volume: number): void;
   coefficients(): Float64Array;
-  path(): 'tensor' | 'matrix-free';
+  path(): 'tensor' | 'polynomial' | 'matrix-free';
   useTheta(theta: Theta): void;
+  /** The cage polynomial built from the fine quads; returns the path in use ('matrix-free' on a cage too fine for it). */
+  usePolynomial(): 'polynomial' | 'matrix-free';
   useMatrixFree(): void;
-  setFreeSet(options?: { cage?: 'minus-held' | 'all' }): void;
+  /** As VolumeEditor.setFreeSet: cage 'minus-held' (default), 'all' or caller vertex indices; free detail levels run matrix-free. */
+  setFreeSet(options?: { cage?: 'minus-held' | 'all' | ArrayLike<number>; detailLevels?: number[] }): void;
+  /** Theta_tau: 'matrix-free' (3N, hierarchy order) or 'tensor' / 'polynomial' (the cage). */
+  gradient(path?: 'matrix-free' | 'tensor' | 'polynomial'): Float64Array;
+  /** VolumeEditor's surface: quads keep the bilinear patches' volume, one global constraint. */
+  surface(): 'mesh';
+  keepsCentroid(): false;
+  /** Throws unless keep is false: not available for quad meshes yet. */
+  keepCentroid(keep?: boolean): void;
+  partVolumes(): Float64Array;
+  /** Throws unless parts is empty: not available for quad meshes yet. */
+  setParts(parts: ArrayLike<number>[], references?: ArrayLike<number>): void;
   deformCage(target: Float64Array, held: ArrayLike<number>, options?: EditOptions): EditReport;
   moveVertices(moves: VertexMove[], options?: EditOptions): EditReport;
   correct(held?: ArrayLike<number>, options?: EditOptions): EditReport;

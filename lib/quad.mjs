@@ -11,6 +11,18 @@ function checkQuadMesh(mesh, MrvolError) {
 }
 
 /**
+ * The gradient path a quad editor uses under 'auto' (a path asked for is taken as is): the cage
+ * polynomial built from the fine quads when the cage is at least QUAD_COARSE_CAGE_LEVELS levels
+ * below the mesh, else the matrix-free pass over the fine quads (bench/RESULTS-quad.md: a drag step
+ * on the polynomial is faster from there on).
+ */
+export function quadGradientPath(mr, { level = 0, path = 'auto' } = {}) {
+  if (path !== 'auto') return path;
+  return mr.levels - level >= QUAD_COARSE_CAGE_LEVELS ? 'polynomial' : 'matrix-free';
+}
+const QUAD_COARSE_CAGE_LEVELS = 3;
+
+/**
  * @param {object} module the instantiated emscripten module
  * @param {{ MrvolError, Theta, levelArg }} shared what lib/api.mjs shares (its error and Theta classes)
  */
@@ -48,18 +60,50 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     setReferenceVolume(volume) { call((r) => r.setReferenceVolume(volume), this.#live()); }
     /** Level-e coefficients, hierarchy order (3 per vertex). */
     coefficients() { return call((r) => r.coefficients(), this.#live()); }
-    /** 'tensor' or 'matrix-free'. */
+    /** 'tensor', 'polynomial' or 'matrix-free'. */
     path() { return call((r) => r.path(), this.#live()); }
     useTheta(theta) {
       if (!(theta instanceof Theta)) throw new MrvolError('useTheta expects a Theta');
       call((r) => r.useTheta(this.#mesh, theta.raw), this.#live());
     }
+    /**
+     * The cage polynomial built from the fine quads (no theta; rebuilt when free details moved).
+     * Returns the path in use: 'polynomial', or 'matrix-free' on a cage too fine for it.
+     */
+    usePolynomial() {
+      call((r) => r.usePolynomial(), this.#live());
+      return this.path();
+    }
     useMatrixFree() { call((r) => r.useMatrixFree(), this.#live()); }
-    /** Free set: 'minus-held' (default) or 'all' non-boundary cage vertices. */
-    setFreeSet({ cage = 'minus-held' } = {}) {
-      if (cage !== 'minus-held' && cage !== 'cage' && cage !== 'all')
-        throw new MrvolError(`unknown free set '${cage}' (minus-held or all)`);
-      call((r) => r.setAllFree(cage === 'all'), this.#live());
+    /**
+     * Free set: cage 'minus-held' (default), 'all', or a list of caller vertex indices; plus the
+     * details of chosen levels (matrix-free path), as VolumeEditor.setFreeSet.
+     */
+    setFreeSet({ cage = 'minus-held', detailLevels = [] } = {}) {
+      const levels = Int32Array.from(detailLevels, (l) => levelArg(l, 'detail level'));
+      if (typeof cage === 'string') {
+        const mode = cage === 'cage' ? 'minus-held' : cage;  // 'cage': this API's earlier name
+        if (mode !== 'minus-held' && mode !== 'all')
+          throw new MrvolError(`unknown free set '${cage}' (minus-held, all or a list of vertices)`);
+        call((r) => r.setFreeSet(mode, undefined, levels), this.#live());
+      } else {
+        const list = Uint32Array.from(cage, (v) => this.cageIndexOf(v));
+        call((r) => r.setFreeSet('list', list, levels), this.#live());
+      }
+    }
+    /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor'/'polynomial' (cage). */
+    gradient(path = 'matrix-free') { return call((r) => r.gradient(path), this.#live()); }
+    // VolumeEditor's surface, for callers that take either editor: quads keep the bilinear patches'
+    // volume as one global constraint (no limit surface, parts or centre of mass yet).
+    /** 'mesh': the bilinear patches' volume is kept. */
+    surface() { return 'mesh'; }
+    keepsCentroid() { return false; }
+    keepCentroid(keep = true) {
+      if (keep) throw new MrvolError('keeping the centre of mass is not available for quad meshes yet');
+    }
+    partVolumes() { return new Float64Array(0); }
+    setParts(parts) {
+      if (parts?.length) throw new MrvolError('localized preservation (parts) is not available for quad meshes yet');
     }
     deformCage(target, held, options = {}) {
       if (!(target instanceof Float64Array)) throw new MrvolError('target must be a Float64Array');
@@ -151,21 +195,27 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
       return call((r) => r.thetaVolume(theta.raw, levelArg(options.level ?? theta.info().level), this.#positions), this.#live());
     }
     fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
-    /** { level, path: 'matrix-free' (default) | 'tensor', theta } */
+    /**
+     * { level, path: 'auto' (default) | 'polynomial' | 'tensor' | 'matrix-free', theta } as
+     * MultiresMesh.createEditor: a theta is used as given; 'tensor' computes theta^e; 'auto' builds
+     * the cage polynomial when the cage is coarse against the mesh (quadGradientPath).
+     */
     createEditor(options = {}) {
+      const path = options.path ?? 'auto';
+      if (!['auto', 'polynomial', 'tensor', 'matrix-free'].includes(path))
+        throw new MrvolError(`gradient path must be auto, polynomial, tensor or matrix-free, got '${path}'`);
       const raw = call((r) => r.createEditor(levelArg(options.level), this.#positions), this.#live());
       const editor = new QuadVolumeEditor(raw, this.#live());
       try {
         if (options.theta) editor.useTheta(options.theta);
-        else if (options.path === 'tensor') {
+        else if (path === 'tensor') {
           const theta = this.computeTheta({ level: editor.level });
           try {
             editor.useTheta(theta);
           } finally {
             theta.delete();
           }
-        } else if (options.path !== undefined && options.path !== 'matrix-free' && options.path !== 'auto')
-          throw new MrvolError(`gradient path for quads must be tensor or matrix-free, got '${options.path}'`);
+        } else if (quadGradientPath(this, { level: editor.level, path }) === 'polynomial') editor.usePolynomial();
       } catch (e) {
         editor.delete();
         throw e;

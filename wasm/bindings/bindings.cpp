@@ -16,47 +16,22 @@
 #include "mrvol/multires_mesh.h"
 #include "mrvol/surface_buffers.h"
 #include "mrvol/volume_editor.h"
+#include "edit_options.h"
+#include "guard.h"
+#include "typed_arrays.h"
 
 using emscripten::val;
 using namespace mrvol;
+using namespace mrvol::bindings;
 
 namespace {
 
-std::string lastError;
-
-template <class T>
-T failed() { return T{}; }
-template <>
-val failed<val>() { return val::undefined(); }
+ErrorSlot errors("the input");
 
 template <class F>
-auto guarded(F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const std::bad_alloc&) {
-    lastError = "out of memory: the input is too large for this WebAssembly module";
-  } catch (const std::length_error&) {
-    lastError = "out of memory: the input is too large for this WebAssembly module";
-  } catch (const std::exception& e) {
-    lastError = e.what();
-  } catch (...) {
-    lastError = "unknown error";
-  }
-  return failed<decltype(f())>();
-}
+auto guarded(F&& f) -> decltype(f()) { return errors.guarded(std::forward<F>(f)); }
 
-std::string takeError() { return std::exchange(lastError, std::string()); }
-
-template <class T>
-std::vector<T> toVector(const val& v, const char* what) {
-  if (v.isUndefined() || v.isNull()) throw Error(std::string(what) + " is missing");
-  return emscripten::convertJSArrayToNumberVector<T>(v);
-}
-
-template <class T>
-val toTyped(const std::vector<T>& v) {
-  return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
-}
+std::string takeError() { return errors.take(); }
 
 TriangleMesh toMesh(const val& positions, const val& faces) {
   TriangleMesh m;
@@ -413,10 +388,8 @@ bool js_editorSetReference(VolumeEditor& e, double v) { return guarded([&] { ret
 bool js_editorSetFreeSet(VolumeEditor& e, std::string mode, val list, val detailLevels) {
   return guarded([&] {
     std::vector<int> levels = detailLevels.isUndefined() ? std::vector<int>{} : toVector<int>(detailLevels, "detail levels");
-    if (mode == "minus-held") e.setFreeSet(VolumeEditor::FreeCage::MinusHeld, {}, levels);
-    else if (mode == "all") e.setFreeSet(VolumeEditor::FreeCage::All, {}, levels);
-    else if (mode == "list") e.setFreeSet(VolumeEditor::FreeCage::List, toVector<uint32_t>(list, "free set"), levels);
-    else throw Error("unknown free-set mode '" + mode + "'");
+    const FreeCage cage = freeCageMode(mode);
+    e.setFreeSet(cage, cage == FreeCage::List ? toVector<uint32_t>(list, "free set") : std::vector<uint32_t>{}, levels);
     return true;
   });
 }
@@ -440,36 +413,6 @@ val vec3ToJs(Vec3 v) { return toTyped(std::vector<double>{v.x, v.y, v.z}); }
 val js_editorCentroid(const VolumeEditor& e) { return guarded([&] { return vec3ToJs(e.centroid()); }); }
 val js_editorReferenceCentroid(const VolumeEditor& e) { return guarded([&] { return vec3ToJs(e.referenceCentroid()); }); }
 val js_editorPartVolumes(const VolumeEditor& e) { return guarded([&] { return toTyped(e.partVolumes()); }); }
-
-EditOptions toEditOptions(const val& o) {
-  EditOptions opts;
-  if (o.isUndefined() || o.isNull()) return opts;
-  if (!o["tolerance"].isUndefined()) opts.tolerance = o["tolerance"].as<double>();
-  if (!o["maxIterations"].isUndefined()) opts.maxIterations = o["maxIterations"].as<int>();
-  if (!o["maxSubsteps"].isUndefined()) opts.maxSubsteps = o["maxSubsteps"].as<int>();
-  if (!o["preserve"].isUndefined()) opts.preserve = o["preserve"].as<bool>();
-  return opts;
-}
-
-val reportToJs(const EditReport& r) {
-  val out = val::object();
-  out.set("volumeReference", r.volumeReference);
-  out.set("volumeTarget", r.volumeTarget);
-  out.set("volumeResult", r.volumeResult);
-  out.set("relativeError", r.relativeError);
-  out.set("iterations", r.iterations);
-  out.set("substeps", r.substeps);
-  out.set("converged", r.converged);
-  out.set("message", r.message);
-  out.set("path", std::string(gradientPathName(r.path)));
-  out.set("partVolumes", toTyped(r.partVolumes));
-  out.set("partReferences", toTyped(r.partReferences));
-  if (!r.centroidResult.empty()) {
-    out.set("centroidReference", toTyped(r.centroidReference));
-    out.set("centroidResult", toTyped(r.centroidResult));
-  }
-  return out;
-}
 
 val js_editorDeformCage(VolumeEditor& e, val target, val held, val options) {
   return guarded([&] {

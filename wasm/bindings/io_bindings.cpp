@@ -11,31 +11,21 @@
 
 #include "mrvol/error.h"
 #include "mrvol/io_formats.h"
+#include "guard.h"
+#include "typed_arrays.h"
 
 using emscripten::val;
 using namespace mrvol;
+using namespace mrvol::bindings;
 
 namespace {
 
-std::string lastIoError;
+ErrorSlot ioErrors("the file");
 
 template <class F>
-val guardedIo(F&& f) {
-  try {
-    return f();
-  } catch (const std::bad_alloc&) {
-    lastIoError = "out of memory: the file is too large for this WebAssembly module";
-  } catch (const std::length_error&) {
-    lastIoError = "out of memory: the file is too large for this WebAssembly module";
-  } catch (const std::exception& e) {
-    lastIoError = e.what();
-  } catch (...) {
-    lastIoError = "unknown error";
-  }
-  return val::undefined();
-}
+val guardedIo(F&& f) { return ioErrors.guarded(std::forward<F>(f)); }
 
-std::string takeIoError() { return std::exchange(lastIoError, std::string()); }
+std::string takeIoError() { return ioErrors.take(); }
 
 // One copy from the JS Uint8Array into the heap: TypedArray.prototype.set onto a view of the string.
 std::string bytesOf(const val& array, const char* what) {
@@ -43,11 +33,6 @@ std::string bytesOf(const val& array, const char* what) {
   std::string out(array["length"].as<size_t>(), '\0');
   val(emscripten::typed_memory_view(out.size(), reinterpret_cast<uint8_t*>(out.data()))).call<void>("set", array);
   return out;
-}
-
-template <class T>
-val toTyped(const std::vector<T>& v) {
-  return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
 }
 
 // [[uri, Uint8Array], ...] (or undefined): the bytes copied into `storage`, viewed by the result.

@@ -17,50 +17,25 @@
 #include "mrvol/quad_editor.h"
 #include "mrvol/quad_multires_mesh.h"
 #include "mrvol/quad_obj.h"
+#include "edit_options.h"
+#include "guard.h"
+#include "typed_arrays.h"
 
 using emscripten::val;
 using namespace mrvol;
+using namespace mrvol::bindings;
 
 namespace {
 
-std::string lastQuadError;
-
-template <class T>
-T failedQuad() { return T{}; }
-template <>
-val failedQuad<val>() { return val::undefined(); }
+ErrorSlot quadErrors("the input");
 
 template <class F>
-auto guardedQuad(F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const std::bad_alloc&) {
-    lastQuadError = "out of memory: the input is too large for this WebAssembly module";
-  } catch (const std::length_error&) {
-    lastQuadError = "out of memory: the input is too large for this WebAssembly module";
-  } catch (const std::exception& e) {
-    lastQuadError = e.what();
-  } catch (...) {
-    lastQuadError = "unknown error";
-  }
-  return failedQuad<decltype(f())>();
-}
+auto guarded(F&& f) -> decltype(f()) { return quadErrors.guarded(std::forward<F>(f)); }
 
-std::string takeQuadError() { return std::exchange(lastQuadError, std::string()); }
-
-template <class T>
-std::vector<T> vectorOf(const val& v, const char* what) {
-  if (v.isUndefined() || v.isNull()) throw Error(std::string(what) + " is missing");
-  return emscripten::convertJSArrayToNumberVector<T>(v);
-}
-
-template <class T>
-val typed(const std::vector<T>& v) {
-  return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
-}
+std::string takeQuadError() { return quadErrors.take(); }
 
 QuadMesh quadMesh(const val& positions, const val& quads) {
-  return QuadMesh{vectorOf<double>(positions, "positions"), vectorOf<uint32_t>(quads, "quads")};
+  return QuadMesh{toVector<double>(positions, "positions"), toVector<uint32_t>(quads, "quads")};
 }
 
 std::string textOf(const val& bytes) {
@@ -71,19 +46,19 @@ std::string textOf(const val& bytes) {
 }
 
 val q_readObjQuads(val bytes) {
-  return guardedQuad([&] {
+  return guarded([&] {
     QuadMesh m = readObjQuads(textOf(bytes));
     val out = val::object();
-    out.set("positions", typed(m.positions));
-    out.set("quads", typed(m.quads));
+    out.set("positions", toTyped(m.positions));
+    out.set("quads", toTyped(m.quads));
     return out;
   });
 }
 val q_writeObjQuads(val positions, val quads) {
-  return guardedQuad([&] { return val(writeObjQuads(quadMesh(positions, quads))); });
+  return guarded([&] { return val(writeObjQuads(quadMesh(positions, quads))); });
 }
 val q_volume(val positions, val quads) {
-  return guardedQuad([&] {
+  return guarded([&] {
     QuadMesh m = quadMesh(positions, quads);
     validateQuadMesh(m);
     return val(bilinearVolume(m));
@@ -91,24 +66,24 @@ val q_volume(val positions, val quads) {
 }
 
 QuadMultiresMesh* q_open(val positions, val quads, int maxLevels) {
-  return guardedQuad([&] { return new QuadMultiresMesh(quadMesh(positions, quads), maxLevels); });
+  return guarded([&] { return new QuadMultiresMesh(quadMesh(positions, quads), maxLevels); });
 }
 QuadMultiresMesh* q_subdivide(val positions, val quads, int levels) {
-  return guardedQuad([&] { return new QuadMultiresMesh(QuadMultiresMesh::subdivide(quadMesh(positions, quads), levels)); });
+  return guarded([&] { return new QuadMultiresMesh(QuadMultiresMesh::subdivide(quadMesh(positions, quads), levels)); });
 }
 val q_subdivisionPositions(const QuadMultiresMesh& m, val base) {
-  return guardedQuad([&] { return typed(m.subdivisionPositions(vectorOf<double>(base, "base positions"))); });
+  return guarded([&] { return toTyped(m.subdivisionPositions(toVector<double>(base, "base positions"))); });
 }
 val q_info(const QuadMultiresMesh& m, val positions) {
-  return guardedQuad([&] {
-    MeshInfo i = m.info(vectorOf<double>(positions, "positions"));
+  return guarded([&] {
+    MeshInfo i = m.info(toVector<double>(positions, "positions"));
     val out = val::object();
     out.set("vertices", double(i.vertices));
     out.set("faces", double(i.faces));
     out.set("levels", i.levels);
     out.set("lowestLevel", m.lowestLevel());
     out.set("baseVertices", double(i.baseVertices));
-    out.set("baseVertexIndices", typed(i.baseVertexIndices));
+    out.set("baseVertexIndices", toTyped(i.baseVertexIndices));
     out.set("closed", i.closed);
     out.set("boundaryEdges", double(i.boundaryEdges));
     out.set("genus", double(i.genus));
@@ -117,44 +92,44 @@ val q_info(const QuadMultiresMesh& m, val positions) {
     return out;
   });
 }
-val q_quads(const QuadMultiresMesh& m) { return guardedQuad([&] { return typed(m.quads()); }); }
-val q_levelQuads(const QuadMultiresMesh& m, int level) { return guardedQuad([&] { return typed(m.levelQuads(level)); }); }
+val q_quads(const QuadMultiresMesh& m) { return guarded([&] { return toTyped(m.quads()); }); }
+val q_levelQuads(const QuadMultiresMesh& m, int level) { return guarded([&] { return toTyped(m.levelQuads(level)); }); }
 val q_depths(const QuadMultiresMesh& m) {
-  return guardedQuad([&] {
+  return guarded([&] {
     const Hierarchy& h = m.hierarchy().h;
     std::vector<uint8_t> d(h.fineVertexCount());
     for (uint32_t v = 0; v < d.size(); ++v) d[h.inputIndex[v]] = uint8_t(h.depth(v));
-    return typed(d);
+    return toTyped(d);
   });
 }
 val q_analyze(const QuadMultiresMesh& m, val p, int level) {
-  return guardedQuad([&] { return typed(m.analyze(vectorOf<double>(p, "positions"), level)); });
+  return guarded([&] { return toTyped(m.analyze(toVector<double>(p, "positions"), level)); });
 }
 val q_synthesize(const QuadMultiresMesh& m, val c, int level) {
-  return guardedQuad([&] { return typed(m.synthesize(vectorOf<double>(c, "coefficients"), level)); });
+  return guarded([&] { return toTyped(m.synthesize(toVector<double>(c, "coefficients"), level)); });
 }
 val q_roundtripError(const QuadMultiresMesh& m, val p, int level) {
-  return guardedQuad([&] { return val(m.roundtripError(vectorOf<double>(p, "positions"), level)); });
+  return guarded([&] { return val(m.roundtripError(toVector<double>(p, "positions"), level)); });
 }
 val q_liftingSteps(const QuadMultiresMesh& m, int level) {
-  return guardedQuad([&] {
+  return guarded([&] {
     val out = val::array();
     for (const LiftingStep& step : m.liftingSteps(level)) {
       val s = val::object();
       s.set("name", step.name);
       s.set("scaling", step.scaling);
       s.set("readsOnlyDetails", step.readsOnlyDetails);
-      s.set("targets", typed(step.targets));
-      s.set("offsets", typed(step.offsets));
-      s.set("sources", typed(step.sources));
-      s.set("weights", typed(step.weights));
+      s.set("targets", toTyped(step.targets));
+      s.set("offsets", toTyped(step.offsets));
+      s.set("sources", toTyped(step.sources));
+      s.set("weights", toTyped(step.weights));
       out.call<void>("push", s);
     }
     return out;
   });
 }
 Theta* q_computeTheta(const QuadMultiresMesh& m, int level, std::string storage) {
-  return guardedQuad([&]() -> Theta* {
+  return guarded([&]() -> Theta* {
     if (storage != "cage" && storage != "full") throw Error("unknown tensor storage '" + storage + "' (expected cage or full)");
     auto theta = std::make_unique<Theta>();
     theta->tensor = m.computeTensor(level, storage == "full" ? TensorStorage::Full : TensorStorage::Cage);
@@ -163,13 +138,13 @@ Theta* q_computeTheta(const QuadMultiresMesh& m, int level, std::string storage)
   });
 }
 val q_thetaVolume(const QuadMultiresMesh& m, const Theta& t, int level, val positions) {
-  return guardedQuad([&] {
+  return guarded([&] {
     m.checkTheta(t.header, level);
-    return val(m.tensorVolume(t.tensor, vectorOf<double>(positions, "positions")));
+    return val(m.tensorVolume(t.tensor, toVector<double>(positions, "positions")));
   });
 }
 val q_fingerprint(const QuadMultiresMesh& m) {
-  return guardedQuad([&] {
+  return guarded([&] {
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(m.fingerprint()));
     return val(std::string(hex));
@@ -177,8 +152,8 @@ val q_fingerprint(const QuadMultiresMesh& m) {
 }
 
 QuadVolumeEditor* q_createEditor(const QuadMultiresMesh& m, int level, val positions) {
-  return guardedQuad([&]() -> QuadVolumeEditor* {
-    const std::vector<double> p = vectorOf<double>(positions, "positions");
+  return guarded([&]() -> QuadVolumeEditor* {
+    const std::vector<double> p = toVector<double>(positions, "positions");
     m.checkPositions(p);
     if (level >= 0 && level < m.lowestLevel())
       throw Error("analysis cannot reach level " + std::to_string(level) +
@@ -187,59 +162,55 @@ QuadVolumeEditor* q_createEditor(const QuadMultiresMesh& m, int level, val posit
   });
 }
 bool q_editorUseTheta(QuadVolumeEditor& e, const QuadMultiresMesh& m, const Theta& t) {
-  return guardedQuad([&] {
+  return guarded([&] {
     m.checkTheta(t.header, e.level());
     e.useTensor(t.tensor);
     return true;
   });
 }
-bool q_editorUseMatrixFree(QuadVolumeEditor& e) { return guardedQuad([&] { return e.useMatrixFree(), true; }); }
-val q_editorPath(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(std::string(gradientPathName(e.path()))); }); }
-bool q_editorSetAllFree(QuadVolumeEditor& e, bool all) { return guardedQuad([&] { return e.setAllFree(all), true; }); }
-val q_editorCageVertices(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.cageVertices()); }); }
+bool q_editorUseMatrixFree(QuadVolumeEditor& e) { return guarded([&] { return e.useMatrixFree(), true; }); }
+val q_editorPath(const QuadVolumeEditor& e) { return guarded([&] { return val(std::string(gradientPathName(e.path()))); }); }
+bool q_editorUsePolynomial(QuadVolumeEditor& e) { return guarded([&] { return e.usePolynomial(); }); }
+bool q_editorSetAllFree(QuadVolumeEditor& e, bool all) { return guarded([&] { return e.setAllFree(all), true; }); }
+bool q_editorSetFreeSet(QuadVolumeEditor& e, std::string mode, val list, val detailLevels) {
+  return guarded([&] {
+    std::vector<int> levels = detailLevels.isUndefined() ? std::vector<int>{} : toVector<int>(detailLevels, "detail levels");
+    const FreeCage cage = freeCageMode(mode);
+    e.setFreeSet(cage, cage == FreeCage::List ? toVector<uint32_t>(list, "free set") : std::vector<uint32_t>{}, levels);
+    return true;
+  });
+}
+val q_editorGradient(const QuadVolumeEditor& e, std::string path) {
+  return guarded([&] {
+    std::vector<double> g;
+    if (path == "tensor" || path == "polynomial") e.gradientPolynomial(g);
+    else if (path == "matrix-free") e.gradientMatrixFree(g);
+    else throw Error("unknown gradient path '" + path + "' (tensor, polynomial or matrix-free)");
+    return toTyped(g);
+  });
+}
+val q_editorCageVertices(const QuadVolumeEditor& e) { return guarded([&] { return toTyped(e.cageVertices()); }); }
 val q_editorCageIndexOf(const QuadVolumeEditor& e, double v) {
-  return guardedQuad([&] {
+  return guarded([&] {
     if (!(v >= 0) || v != std::floor(v) || v > 4294967295.0) throw Error("vertex index must be a non-negative integer");
     return val(double(e.cageIndexOf(uint32_t(v))));
   });
 }
-val q_editorCagePositions(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.cagePositions()); }); }
-val q_editorPositions(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.positions()); }); }
-val q_editorVolume(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.volume()); }); }
-val q_editorReference(const QuadVolumeEditor& e) { return guardedQuad([&] { return val(e.referenceVolume()); }); }
-bool q_editorSetReference(QuadVolumeEditor& e, double v) { return guardedQuad([&] { return e.setReferenceVolume(v), true; }); }
-val q_editorCoefficients(const QuadVolumeEditor& e) { return guardedQuad([&] { return typed(e.coefficients()); }); }
+val q_editorCagePositions(const QuadVolumeEditor& e) { return guarded([&] { return toTyped(e.cagePositions()); }); }
+val q_editorPositions(const QuadVolumeEditor& e) { return guarded([&] { return toTyped(e.positions()); }); }
+val q_editorVolume(const QuadVolumeEditor& e) { return guarded([&] { return val(e.volume()); }); }
+val q_editorReference(const QuadVolumeEditor& e) { return guarded([&] { return val(e.referenceVolume()); }); }
+bool q_editorSetReference(QuadVolumeEditor& e, double v) { return guarded([&] { return e.setReferenceVolume(v), true; }); }
+val q_editorCoefficients(const QuadVolumeEditor& e) { return guarded([&] { return toTyped(e.coefficients()); }); }
 
-EditOptions editOptions(const val& o) {
-  EditOptions opts;
-  if (o.isUndefined() || o.isNull()) return opts;
-  if (!o["tolerance"].isUndefined()) opts.tolerance = o["tolerance"].as<double>();
-  if (!o["maxIterations"].isUndefined()) opts.maxIterations = o["maxIterations"].as<int>();
-  if (!o["maxSubsteps"].isUndefined()) opts.maxSubsteps = o["maxSubsteps"].as<int>();
-  if (!o["preserve"].isUndefined()) opts.preserve = o["preserve"].as<bool>();
-  return opts;
-}
-val reportOf(const EditReport& r) {
-  val out = val::object();
-  out.set("volumeReference", r.volumeReference);
-  out.set("volumeTarget", r.volumeTarget);
-  out.set("volumeResult", r.volumeResult);
-  out.set("relativeError", r.relativeError);
-  out.set("iterations", r.iterations);
-  out.set("substeps", r.substeps);
-  out.set("converged", r.converged);
-  out.set("message", r.message);
-  out.set("path", std::string(gradientPathName(r.path)));
-  return out;
-}
 val q_editorDeformCage(QuadVolumeEditor& e, val target, val held, val options) {
-  return guardedQuad([&] {
-    return reportOf(e.deformCage(vectorOf<double>(target, "cage target"), vectorOf<uint8_t>(held, "held flags"),
-                                 editOptions(options)));
+  return guarded([&] {
+    return reportToJs(e.deformCage(toVector<double>(target, "cage target"), toVector<uint8_t>(held, "held flags"),
+                                 toEditOptions(options)));
   });
 }
 val q_editorCorrect(QuadVolumeEditor& e, val held, val options) {
-  return guardedQuad([&] { return reportOf(e.correct(vectorOf<uint8_t>(held, "held flags"), editOptions(options))); });
+  return guarded([&] { return reportToJs(e.correct(toVector<uint8_t>(held, "held flags"), toEditOptions(options))); });
 }
 
 }  // namespace
@@ -272,8 +243,11 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("level", &QuadVolumeEditor::level)
       .function("cageSize", &QuadVolumeEditor::cageSize)
       .function("useTheta", &q_editorUseTheta)
+      .function("usePolynomial", &q_editorUsePolynomial)
       .function("useMatrixFree", &q_editorUseMatrixFree)
       .function("setAllFree", &q_editorSetAllFree)
+      .function("setFreeSet", &q_editorSetFreeSet)
+      .function("gradient", &q_editorGradient)
       .function("path", &q_editorPath)
       .function("cageVertices", &q_editorCageVertices)
       .function("cageIndexOf", &q_editorCageIndexOf)

@@ -6,6 +6,7 @@
 
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
+#include "mrvol/step_builder.h"
 
 namespace mrvol {
 
@@ -121,61 +122,6 @@ SchemeKind parseSchemeName(const std::string& name) {
 // Building the steps of one level from the hierarchy.
 
 namespace {
-
-// Collects (target, source, weight) triplets and compiles them into a lift step (rows sorted by
-// target, duplicate sources merged) or a scaling step.
-struct StepBuilder {
-  struct Triplet { uint32_t t, s; double w; };
-  std::vector<Triplet> triplets;
-  bool compiled = false;
-  void add(uint32_t t, uint32_t s, double w) { triplets.push_back({t, s, w}); compiled = false; }
-  void touch(uint32_t t) { triplets.push_back({t, kNone, 0.0}); compiled = false; }
-  // Sorted by (target, source), duplicates summed in insertion order (as the std::map did).
-  void compile() {
-    if (compiled) return;
-    std::stable_sort(triplets.begin(), triplets.end(), [](const Triplet& a, const Triplet& b) {
-      return a.t != b.t ? a.t < b.t : a.s < b.s;
-    });
-    size_t out = 0;
-    for (size_t i = 0; i < triplets.size();) {
-      Triplet acc = triplets[i];
-      size_t j = i + 1;
-      if (acc.s == kNone) acc.w = 0.0;
-      for (; j < triplets.size() && triplets[j].t == acc.t && triplets[j].s == acc.s; ++j) acc.w += triplets[j].w;
-      triplets[out++] = acc;
-      i = j;
-    }
-    triplets.resize(out);
-    compiled = true;
-  }
-  template <class F> void forEach(F&& f) {
-    compile();
-    for (auto& x : triplets) if (x.s != kNone) f(x.t, x.s, x.w);
-  }
-  LiftingStep lift(const std::string& name) {
-    compile();
-    LiftingStep st;
-    st.name = name;
-    st.offsets.push_back(0);
-    for (size_t i = 0; i < triplets.size();) {
-      uint32_t t = triplets[i].t;
-      st.targets.push_back(t);
-      for (; i < triplets.size() && triplets[i].t == t; ++i)
-        if (triplets[i].s != kNone && triplets[i].w != 0.0) st.sources.push_back(triplets[i].s), st.weights.push_back(triplets[i].w);
-      st.offsets.push_back(uint32_t(st.sources.size()));
-    }
-    return st;
-  }
-};
-
-LiftingStep scalingStep(const std::string& name, std::vector<std::pair<uint32_t, double>> factors) {
-  LiftingStep st;
-  st.name = name;
-  st.scaling = true;
-  std::sort(factors.begin(), factors.end());
-  for (auto& [t, f] : factors) st.targets.push_back(t), st.weights.push_back(f);
-  return st;
-}
 
 // Local connectivity of level l seen from the coarse level l-1.
 struct LevelView {

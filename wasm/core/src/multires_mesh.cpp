@@ -37,27 +37,34 @@ std::vector<double> MultiresMesh::subdivisionPositions(const std::vector<double>
   return x;
 }
 
-void MultiresMesh::checkPositions(const std::vector<double>& positions) const {
-  if (positions.size() != 3 * vertexCount())
-    throw Error("expected " + std::to_string(3 * vertexCount()) + " coordinates (3 per vertex), got " +
+void checkPositionArray(const std::vector<double>& positions, size_t vertexCount) {
+  if (positions.size() != 3 * vertexCount)
+    throw Error("expected " + std::to_string(3 * vertexCount) + " coordinates (3 per vertex), got " +
                 std::to_string(positions.size()));
   for (size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i])) throw Error("vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
 }
 
+MeshInfo hierarchyInfo(const Hierarchy& h, const MeshTopology& topology, size_t faces) {
+  MeshInfo info;
+  info.vertices = h.fineVertexCount();
+  info.faces = faces;
+  info.levels = h.levels;
+  info.baseVertices = h.vertexCount[0];
+  info.baseVertexIndices.assign(h.inputIndex.begin(), h.inputIndex.begin() + info.baseVertices);
+  std::sort(info.baseVertexIndices.begin(), info.baseVertexIndices.end());
+  info.closed = topology.closed;
+  info.boundaryEdges = topology.boundaryEdges;
+  info.genus = topology.genus;
+  info.components = topology.components;
+  return info;
+}
+
+void MultiresMesh::checkPositions(const std::vector<double>& positions) const { checkPositionArray(positions, vertexCount()); }
+
 MeshInfo MultiresMesh::info(const std::vector<double>& positions) const {
   checkPositions(positions);
-  MeshInfo info;
-  info.vertices = vertexCount();
-  info.faces = faces_.size() / 3;
-  info.levels = hierarchy_.levels;
-  info.baseVertices = hierarchy_.vertexCount[0];
-  info.baseVertexIndices.assign(hierarchy_.inputIndex.begin(), hierarchy_.inputIndex.begin() + info.baseVertices);
-  std::sort(info.baseVertexIndices.begin(), info.baseVertexIndices.end());
-  info.closed = topology_.closed;
-  info.boundaryEdges = topology_.boundaryEdges;
-  info.genus = topology_.genus;
-  info.components = topology_.components;
+  MeshInfo info = hierarchyInfo(hierarchy_, topology_, faces_.size() / 3);
   info.volume = meshVolume(TriangleMesh{positions, faces_});
   return info;
 }

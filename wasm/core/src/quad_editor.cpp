@@ -85,9 +85,8 @@ void QuadVolumeEditor::useTensor(const VolumeTensor& tensor) {
   if (tensor.storage != TensorStorage::Cage || tensor.level != level_ || tensor.vertexCount != session_.x.size() / 3 ||
       tensor.rowCount != cageSize())
     throw Error("the tensor is not theta^" + std::to_string(level_) + " with cage storage for this mesh");
-  CagePolynomial poly = contractCageRows(tensor, session_.x.data());
-  builder_.reset();
-  setPolynomial(std::move(poly));
+  polynomial_.useTensor(tensor, volume());
+  solver_.reset();
 }
 
 bool QuadVolumeEditor::usePolynomial(uint64_t maxTerms) {
@@ -98,27 +97,13 @@ bool QuadVolumeEditor::usePolynomial(uint64_t maxTerms) {
     useMatrixFree();
     return false;
   }
-  setPolynomial(builder->build(session_.x.data()));
-  builder_ = std::move(builder);
+  polynomial_.useBuilder(std::move(builder), volume());
+  solver_.reset();
   return true;
 }
 
-void QuadVolumeEditor::setPolynomial(CagePolynomial poly) {
-  // Entries made of details only were never formed (tensor) or are summed in another order
-  // (builder): the constant comes from the exact volume, so the polynomial agrees with volume().
-  std::vector<double> shifted;
-  session_.shiftedCage(shifted);
-  poly.constant = volume() - (poly.evaluate(shifted.data(), nullptr) - poly.constant);
-  polynomial_ = std::make_unique<CagePolynomialVolume>(std::move(poly));
-  cageConstraint_ = std::make_unique<CageVolumeConstraint>(*polynomial_, session_);
-  detailsMoved_ = false;
-  solver_.reset();
-}
-
 void QuadVolumeEditor::useMatrixFree() {
-  builder_.reset();
   polynomial_.reset();
-  cageConstraint_.reset();
   solver_.reset();
 }
 
@@ -131,32 +116,26 @@ double QuadVolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const
   return v;
 }
 
-double QuadVolumeEditor::gradientPolynomial(std::vector<double>& gradient) const {
-  if (!polynomial_) throw Error("this editor has no cage polynomial (use a theta or the polynomial path)");
-  std::vector<double> shifted;
-  session_.shiftedCage(shifted);
-  gradient.assign(shifted.size(), 0.0);
-  return polynomial_->value(shifted.data(), gradient.data());
-}
+double QuadVolumeEditor::gradientPolynomial(std::vector<double>& gradient) const { return polynomial_.gradient(gradient); }
 
 void QuadVolumeEditor::startEdit(const EditOptions& o) {
   checkEditOptions(o);
   // Back on the polynomial after corrections moved the details: build it for the new details.
-  if (usesPolynomial() && builder_ && detailsMoved_) setPolynomial(builder_->build(session_.x.data()));
-  if (o.preserve && !free_.detailLevels.empty()) detailsMoved_ = true;  // this correction moves details
+  if (usesPolynomial() && polynomial_.stale()) {
+    polynomial_.rebuild(volume());
+    solver_.reset();
+  }
+  if (o.preserve && !free_.detailLevels.empty()) polynomial_.detailsMoved();  // this correction moves details
 }
 
 VolumeConstraints& QuadVolumeEditor::constraints() {
-  if (usesPolynomial()) {
-    cageConstraint_->referenceVolume = reference_;
-    return *cageConstraint_;
-  }
+  if (usesPolynomial()) return polynomial_.constraint(reference_);
   fineConstraints_.references = {reference_};
   return fineConstraints_;
 }
 
 double QuadVolumeEditor::currentVolume(bool withGradient) {
-  if (usesPolynomial()) return cageConstraint_->value();
+  if (usesPolynomial()) return polynomial_.value();
   return withGradient ? fineConstraints_.valueWithGradient() : fineConstraints_.value();
 }
 

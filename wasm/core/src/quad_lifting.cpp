@@ -5,48 +5,9 @@
 
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
+#include "mrvol/step_builder.h"
 
 namespace mrvol {
-
-namespace {
-
-// (target, source, weight) triplets compiled into a lift: rows by target, sources merged.
-struct Lift {
-  struct Triplet { uint32_t t, s; double w; };
-  std::vector<Triplet> triplets;
-  void add(uint32_t t, uint32_t s, double w) { triplets.push_back({t, s, w}); }
-  LiftingStep build(const std::string& name) {
-    std::stable_sort(triplets.begin(), triplets.end(), [](const Triplet& a, const Triplet& b) {
-      return a.t != b.t ? a.t < b.t : a.s < b.s;
-    });
-    LiftingStep st;
-    st.name = name;
-    st.offsets.push_back(0);
-    for (size_t i = 0; i < triplets.size();) {
-      const uint32_t t = triplets[i].t;
-      st.targets.push_back(t);
-      while (i < triplets.size() && triplets[i].t == t) {
-        const uint32_t s = triplets[i].s;
-        double w = 0;
-        for (; i < triplets.size() && triplets[i].t == t && triplets[i].s == s; ++i) w += triplets[i].w;
-        if (w != 0.0) st.sources.push_back(s), st.weights.push_back(w);
-      }
-      st.offsets.push_back(uint32_t(st.sources.size()));
-    }
-    return st;
-  }
-};
-
-LiftingStep scaling(const std::string& name, std::vector<std::pair<uint32_t, double>> factors) {
-  LiftingStep st;
-  st.name = name;
-  st.scaling = true;
-  std::sort(factors.begin(), factors.end());
-  for (auto& [t, f] : factors) st.targets.push_back(t), st.weights.push_back(f);
-  return st;
-}
-
-}  // namespace
 
 std::vector<LiftingStep> catmullClarkLevel(const QuadHierarchy& q, int l, bool* invertible) {
   if (l < 1 || l > q.levels()) throw Error("level " + std::to_string(l) + " is out of range 1.." + std::to_string(q.levels()));
@@ -63,7 +24,7 @@ std::vector<LiftingStep> catmullClarkLevel(const QuadHierarchy& q, int l, bool* 
   for (const auto& e : split.edges)
     if (e.face1 == kNone) onBoundary[e.a] = onBoundary[e.b] = 1;
 
-  Lift faces, edges;
+  StepBuilder faces, edges;
   for (uint32_t f = 0; f < split.facePoint.size(); ++f)
     for (int k = 0; k < 4; ++k) faces.add(split.facePoint[f], coarse[4 * f + k], 0.25);
   for (const auto& e : split.edges) {
@@ -104,13 +65,13 @@ std::vector<LiftingStep> catmullClarkLevel(const QuadHierarchy& q, int l, bool* 
   }
 
   std::vector<LiftingStep> steps;
-  steps.push_back(faces.build("P_f"));
-  steps.push_back(edges.build("P_e"));
+  steps.push_back(faces.lift("P_f"));
+  steps.push_back(edges.lift("P_e"));
   // Valence-3 layers, deepest first: each reads the coarse values of the layer before it, which
   // later steps overwrite.
   for (int k = layers; k >= 1; --k) {
     std::vector<std::pair<uint32_t, double>> factors;
-    Lift lift;
+    StepBuilder vertices;
     for (uint32_t v = 0; v < V; ++v) {
       if (layer[v] != k) continue;
       // x_v = (4/9) sum_j (1 - lambda_j) E_j + (1/9) c_v + (1/9) sum_j lambda_j (c_wj + F_j + F'_j)
@@ -126,38 +87,38 @@ std::vector<LiftingStep> catmullClarkLevel(const QuadHierarchy& q, int l, bool* 
         const auto& e = split.edges[i];
         const uint32_t w = e.a == v ? e.b : e.a;
         const double lj = layer[w] == k - 1 ? lambda : 0.0;
-        lift.add(v, e.point, 4.0 / 9.0 * (1.0 - lj));
+        vertices.add(v, e.point, 4.0 / 9.0 * (1.0 - lj));
         if (lj != 0.0) {
-          lift.add(v, w, lj / 9.0);
-          lift.add(v, e.face0, lj / 9.0);
-          lift.add(v, e.face1, lj / 9.0);
+          vertices.add(v, w, lj / 9.0);
+          vertices.add(v, e.face0, lj / 9.0);
+          vertices.add(v, e.face1, lj / 9.0);
         }
       }
-      for (uint32_t f : facesAt[v]) lift.add(v, f, -1.0 / 9.0);
+      for (uint32_t f : facesAt[v]) vertices.add(v, f, -1.0 / 9.0);
     }
-    steps.push_back(scaling("N_3" + std::to_string(k), std::move(factors)));
-    steps.push_back(lift.build("P_3" + std::to_string(k)));
+    steps.push_back(scalingStep("N_3" + std::to_string(k), std::move(factors)));
+    steps.push_back(vertices.lift("P_3" + std::to_string(k)));
   }
   // The other old vertices: x_v = (n-3)/n c_v + 4/n^2 sum E - 1/n^2 sum F (interior, the
   // Catmull-Clark vertex rule written with the new points); x_v = c_v / 2 + (E_1 + E_2) / 4 on the
   // boundary (the rule 1/8, 3/4, 1/8 with the boundary edge points).
   std::vector<std::pair<uint32_t, double>> factors;
-  Lift lift;
+  StepBuilder vertices;
   for (uint32_t v = 0; v < V; ++v) {
     if (layer[v] != 0) continue;
     if (onBoundary[v]) {
       factors.emplace_back(v, 0.5);
       for (uint32_t i : edgesAt[v])
-        if (split.edges[i].face1 == kNone) lift.add(v, split.edges[i].point, 0.25);
+        if (split.edges[i].face1 == kNone) vertices.add(v, split.edges[i].point, 0.25);
       continue;
     }
     const double n = double(edgesAt[v].size());
     factors.emplace_back(v, (n - 3.0) / n);
-    for (uint32_t i : edgesAt[v]) lift.add(v, split.edges[i].point, 4.0 / (n * n));
-    for (uint32_t f : facesAt[v]) lift.add(v, f, -1.0 / (n * n));
+    for (uint32_t i : edgesAt[v]) vertices.add(v, split.edges[i].point, 4.0 / (n * n));
+    for (uint32_t f : facesAt[v]) vertices.add(v, f, -1.0 / (n * n));
   }
-  steps.push_back(scaling("N_v", std::move(factors)));
-  steps.push_back(lift.build("P_v"));
+  steps.push_back(scalingStep("N_v", std::move(factors)));
+  steps.push_back(vertices.lift("P_v"));
   return steps;
 }
 

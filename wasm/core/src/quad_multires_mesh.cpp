@@ -48,13 +48,7 @@ std::vector<double> QuadMultiresMesh::subdivisionPositions(const std::vector<dou
   return out;
 }
 
-void QuadMultiresMesh::checkPositions(const std::vector<double>& positions) const {
-  if (positions.size() != 3 * vertexCount())
-    throw Error("expected " + std::to_string(3 * vertexCount()) + " coordinates (3 per vertex), got " +
-                std::to_string(positions.size()));
-  for (size_t i = 0; i < positions.size(); ++i)
-    if (!std::isfinite(positions[i])) throw Error("vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
-}
+void QuadMultiresMesh::checkPositions(const std::vector<double>& positions) const { checkPositionArray(positions, vertexCount()); }
 
 void QuadMultiresMesh::checkLevel(int level, bool analysis) const {
   if (level < 0 || level > levels())
@@ -71,18 +65,9 @@ double QuadMultiresMesh::volume(const std::vector<double>& positions) const {
 }
 
 MeshInfo QuadMultiresMesh::info(const std::vector<double>& positions) const {
-  MeshInfo info;
-  info.volume = volume(positions);
-  info.vertices = vertexCount();
-  info.faces = quads_.size() / 4;
-  info.levels = levels();
-  info.baseVertices = hierarchy_->h.vertexCount[0];
-  info.baseVertexIndices.assign(hierarchy_->h.inputIndex.begin(), hierarchy_->h.inputIndex.begin() + info.baseVertices);
-  std::sort(info.baseVertexIndices.begin(), info.baseVertexIndices.end());
-  info.closed = topology_.closed;
-  info.boundaryEdges = topology_.boundaryEdges;
-  info.genus = topology_.genus;
-  info.components = topology_.components;
+  const double v = volume(positions);  // checks the positions
+  MeshInfo info = hierarchyInfo(hierarchy_->h, topology_, quads_.size() / 4);
+  info.volume = v;
   return info;
 }
 

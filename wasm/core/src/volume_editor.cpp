@@ -144,8 +144,8 @@ void VolumeEditor::useTensor(const VolumeTensor& tensor) {
       tensor.rowCount != cageSize())
     throw Error("the tensor is not theta^" + std::to_string(level_) + " with cage storage for this mesh");
   // Translation only moves the cage coefficients: the details contract as they are.
-  builder_.reset();
-  setPolynomial(contractCageRows(tensor, session_.x.data()));
+  polynomial_.useTensor(tensor, volume());
+  solver_.reset();
 }
 
 bool VolumeEditor::usePolynomial(uint64_t maxTerms) {
@@ -160,27 +160,13 @@ bool VolumeEditor::usePolynomial(uint64_t maxTerms) {
     useMatrixFree();
     return false;
   }
-  setPolynomial(builder->build(session_.x.data()));
-  builder_ = std::move(builder);
+  polynomial_.useBuilder(std::move(builder), volume());
+  solver_.reset();
   return true;
 }
 
-void VolumeEditor::setPolynomial(CagePolynomial poly) {
-  // Entries made of details only fold into the constant: it is set from the exact fine volume, so
-  // both ways of forming the polynomial agree with volume() at the current shape.
-  std::vector<double> shifted;
-  session_.shiftedCage(shifted);
-  poly.constant = volume() - (poly.evaluate(shifted.data(), nullptr) - poly.constant);
-  polynomial_ = std::make_unique<CagePolynomialVolume>(std::move(poly));
-  cageConstraint_ = std::make_unique<CageVolumeConstraint>(*polynomial_, session_);
-  detailsMoved_ = false;
-  solver_.reset();
-}
-
 void VolumeEditor::useMatrixFree() {
-  builder_.reset();
   polynomial_.reset();
-  cageConstraint_.reset();
   solver_.reset();
 }
 
@@ -246,10 +232,7 @@ void VolumeEditor::configureFineRows() {
 }
 
 VolumeConstraints& VolumeEditor::constraints() {
-  if (usesTensor()) {
-    cageConstraint_->referenceVolume = reference_;
-    return *cageConstraint_;
-  }
+  if (usesTensor()) return polynomial_.constraint(reference_);
   fineConstraints_.references = parts_.empty() ? std::vector<double>{reference_} : partReference_;
   fineConstraints_.scales.clear();
   if (parts_.empty() && keepCentroid_) {
@@ -260,7 +243,7 @@ VolumeConstraints& VolumeEditor::constraints() {
 }
 
 double VolumeEditor::constrainedVolume(bool withGradient) {
-  if (usesTensor()) return cageConstraint_->value();
+  if (usesTensor()) return polynomial_.value();
   return withGradient ? fineConstraints_.valueWithGradient() : fineConstraints_.value();
 }
 
@@ -282,8 +265,11 @@ void VolumeEditor::setCage(const double* cage) {
 void VolumeEditor::startEdit(const EditOptions& o) {
   checkEditOptions(o);
   // Back on the polynomial after corrections moved the details: build it for the new details.
-  if (usesTensor() && builder_ && detailsMoved_) setPolynomial(builder_->build(session_.x.data()));
-  if (o.preserve && !free_.detailLevels.empty()) detailsMoved_ = true;  // this correction moves details
+  if (usesTensor() && polynomial_.stale()) {
+    polynomial_.rebuild(volume());
+    solver_.reset();
+  }
+  if (o.preserve && !free_.detailLevels.empty()) polynomial_.detailsMoved();  // this correction moves details
 }
 
 void VolumeEditor::finishReport(EditReport& report) const {
@@ -363,12 +349,6 @@ double VolumeEditor::gradientMatrixFree(std::vector<double>& gradient) const {
   return v;
 }
 
-double VolumeEditor::gradientTensor(std::vector<double>& gradient) const {
-  if (!polynomial_) throw Error("no tensor is in use");
-  std::vector<double> cage;
-  session_.shiftedCage(cage);
-  gradient.assign(cage.size(), 0.0);
-  return polynomial_->value(cage.data(), gradient.data());
-}
+double VolumeEditor::gradientTensor(std::vector<double>& gradient) const { return polynomial_.gradient(gradient); }
 
 }  // namespace mrvol

@@ -27,6 +27,12 @@ struct MeshInfo {
   double volume = 0;
 };
 
+// What MultiresMesh and QuadMultiresMesh share. Throws Error unless `positions` are 3 finite
+// numbers per vertex of a mesh of vertexCount vertices.
+void checkPositionArray(const std::vector<double>& positions, size_t vertexCount);
+// The counts, levels, base vertices and topology of a hierarchy's fine mesh (volume left 0).
+MeshInfo hierarchyInfo(const Hierarchy& hierarchy, const MeshTopology& topology, size_t faces);
+
 class MultiresMesh {
  public:
   // Validates the mesh and detects its hierarchy (at most maxLevels levels); keeps its faces.

@@ -14,6 +14,7 @@
 #include "mrvol/cage_edit.h"
 #include "mrvol/cage_polynomial.h"
 #include "mrvol/cage_polynomial_builder.h"
+#include "mrvol/cage_polynomial_path.h"
 #include "mrvol/coefficient_volumes.h"
 #include "mrvol/quad_hierarchy.h"
 #include "mrvol/quad_volume.h"
@@ -45,9 +46,7 @@ class QuadVolumeEditor {
   // maxTerms cage triples).
   bool usePolynomial(uint64_t maxTerms = 8'000'000);
   void useMatrixFree();
-  GradientPath path() const {
-    return !polynomial_ ? GradientPath::MatrixFree : builder_ ? GradientPath::Polynomial : GradientPath::Tensor;
-  }
+  GradientPath path() const { return polynomial_.path(); }
   // Free set (cage_edit.h). Free details run on the matrix-free path whatever the path chosen.
   void setFreeSet(FreeCage mode, std::vector<uint32_t> list = {}, std::vector<int> detailLevels = {});
   // false: only the held vertices' complement is free (default); true: every non-boundary cage vertex.
@@ -66,12 +65,11 @@ class QuadVolumeEditor {
   std::vector<double> coefficients() const { return session_.x; }
 
  private:
-  bool usesPolynomial() const { return polynomial_ && free_.detailLevels.empty(); }
+  bool usesPolynomial() const { return polynomial_.active() && free_.detailLevels.empty(); }
   GradientPath activePath() const { return usesPolynomial() ? path() : GradientPath::MatrixFree; }
   VolumeConstraints& constraints();
   VolumeSolver& solver(const std::vector<uint8_t>& held);
   void setCage(const double* cage);
-  void setPolynomial(CagePolynomial polynomial);  // its constant from volume()
   void startEdit(const EditOptions& options);     // checks the options, brings the polynomial up to date
   double currentVolume(bool withGradient);
 
@@ -83,10 +81,7 @@ class QuadVolumeEditor {
   mutable FineVolumeConstraints fineConstraints_;
   double reference_ = 0;
   FreeSet free_;
-  std::unique_ptr<CagePolynomialVolume> polynomial_;
-  std::unique_ptr<CagePolynomialBuilder> builder_;  // on the polynomial path
-  bool detailsMoved_ = false;                       // since the polynomial was built
-  std::unique_ptr<CageVolumeConstraint> cageConstraint_;
+  CagePolynomialPath polynomial_{session_};
   std::unique_ptr<VolumeSolver> solver_;
   const VolumeConstraints* solverConstraints_ = nullptr;
 };

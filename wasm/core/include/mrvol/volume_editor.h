@@ -14,6 +14,7 @@
 #include "mrvol/cage_edit.h"
 #include "mrvol/cage_polynomial.h"
 #include "mrvol/cage_polynomial_builder.h"
+#include "mrvol/cage_polynomial_path.h"
 #include "mrvol/coefficient_volumes.h"
 #include "mrvol/lifting.h"
 #include "mrvol/mesh.h"
@@ -69,7 +70,7 @@ class VolumeEditor {
   bool usePolynomial(uint64_t maxTerms = 8'000'000);
   void useMatrixFree();
   GradientPath path() const {
-    return !polynomial_ ? GradientPath::MatrixFree : builder_ ? GradientPath::Polynomial : GradientPath::Tensor;
+    return polynomial_.path();
   }
 
   // Free set: which cage vertices may absorb the correction (the ones not held in a deformation,
@@ -109,7 +110,7 @@ class VolumeEditor {
  private:
   // The one choice of what the solver works on: the polynomial when a tensor is in use and
   // neither details nor parts call for the fine mesh.
-  bool usesTensor() const { return polynomial_ && free_.detailLevels.empty() && parts_.empty() && !keepCentroid_; }
+  bool usesTensor() const { return polynomial_.active() && free_.detailLevels.empty() && parts_.empty() && !keepCentroid_; }
   const VolumeFunction& surfaceVolume() const;  // the mesh's or the limit surface's
   double meshMoments(double moments[3]) const;  // the mesh volume, and its first moments about the moments' centre
   double momentChange() const;                  // the moments' largest relative deviation now
@@ -120,7 +121,6 @@ class VolumeEditor {
   void configureFineRows();  // the matrix-free rows for the current parts and free details
   VolumeSolver& solver(const std::vector<uint8_t>& held);  // precomputed for this free set
   void setCage(const double* cage);  // the cage coefficients take these values
-  void setPolynomial(CagePolynomial polynomial);  // the cage polynomial in use (its constant from volume())
   GradientPath activePath() const { return usesTensor() ? path() : GradientPath::MatrixFree; }
   void startEdit(const EditOptions& options);  // checks the options, brings the polynomial up to date
   void finishReport(EditReport& report) const;
@@ -135,11 +135,8 @@ class VolumeEditor {
   bool keepCentroid_ = false;
   double momentScale_ = 1;
   double reference_ = 0;
-  std::unique_ptr<CagePolynomialVolume> polynomial_;
+  CagePolynomialPath polynomial_{session_};
   // Set on the polynomial path: the builder, and whether the details moved since the build.
-  std::unique_ptr<CagePolynomialBuilder> builder_;
-  bool detailsMoved_ = false;
-  std::unique_ptr<CageVolumeConstraint> cageConstraint_;
   mutable FineVolumeConstraints fineConstraints_;
   FreeSet free_;
   std::vector<TriangleSetVolume> parts_;

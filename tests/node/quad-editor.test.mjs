@@ -1,0 +1,175 @@
+// The quad editor beside the triangle editor, through the real WASM module and the command line:
+// the cage polynomial built from the fine quads (its gradient equals theta^e's and the matrix-free
+// one's cage part), 'auto' choosing it on a coarse cage, free lists and free details, and the same
+// JS surface as VolumeEditor.
+import { test, describe, before } from 'node:test';
+import assert from 'node:assert/strict';
+import { writeFileSync, readFileSync } from 'node:fs';
+import { createMrvol } from '../../lib/node.mjs';
+import { tempFolder, runCliSync, json, usageError, rng, relErr, maxAbs, throwsMrvol, icosahedron } from './helpers.mjs';
+
+let mrvol;
+const file = tempFolder('mrvol-quad-editor-test-');
+const cli = (...args) => runCliSync(args, { timeout: 60000 });
+
+// A closed quad base with valences 3, 4 and 5: the Catmull-Clark split of a pentagonal bipyramid
+// (apexes valence 5), written as quads directly (vertex, edge point, face point, edge point).
+function bipyramidQuads() {
+  const p = [], tris = [];
+  for (let i = 0; i < 5; ++i) p.push([Math.cos(2 * Math.PI * i / 5), Math.sin(2 * Math.PI * i / 5), 0.1 * (i % 2)]);
+  p.push([0.05, 0, 1.3], [0, -0.05, -1.2]);
+  for (let i = 0; i < 5; ++i) tris.push([i, (i + 1) % 5, 5], [(i + 1) % 5, i, 6]);
+  const mid = (...vs) => [0, 1, 2].map((k) => vs.reduce((s, v) => s + p[v][k], 0) / vs.length);
+  const edge = new Map(), quads = [];
+  const edgePoint = (a, b) => {
+    const key = a < b ? `${a},${b}` : `${b},${a}`;
+    if (!edge.has(key)) edge.set(key, p.push(mid(a, b)) - 1);
+    return edge.get(key);
+  };
+  for (const t of tris) {
+    const f = p.push(mid(...t)) - 1;
+    t.forEach((v, i) => quads.push(v, edgePoint(v, t[(i + 1) % 3]), f, edgePoint(t[(i + 2) % 3], v)));
+  }
+  return { positions: Float64Array.from(p.flat()), quads: Uint32Array.from(quads) };
+}
+
+// Subdivided `levels` times, then every vertex moved a little (details at every level).
+function detailedQuads(levels, seed) {
+  const built = mrvol.subdivide(bipyramidQuads(), { levels, scheme: 'catmull-clark' });
+  const m = built.toMesh();
+  built.delete();
+  const r = rng(seed);
+  for (let i = 0; i < m.positions.length; ++i) m.positions[i] += 0.02 * (r() - 0.5);
+  return m;
+}
+
+const bilinear = (editor, mesh) => mrvol.quadVolume({ positions: editor.positions(), quads: mesh.quads });
+
+before(async () => {
+  mrvol = await createMrvol();
+});
+
+describe('quad editor: the cage polynomial', () => {
+  test("the polynomial's gradient is theta^e's and the matrix-free one's; 'auto' takes it on a coarse cage", () => {
+    const mesh = detailedQuads(3, 5);
+    const mr = mrvol.openMesh(mesh);
+    assert.equal(mr.levels, 3);
+    const auto = mr.createEditor({ level: 0 });
+    assert.equal(auto.path(), 'polynomial');
+    assert.equal(mr.createEditor({ level: 1 }).path(), 'matrix-free');  // two levels of details: the fine pass
+    const theta = mr.computeTheta({ level: 0 });
+    const tensor = mr.createEditor({ level: 0, theta });
+    assert.equal(tensor.path(), 'tensor');
+    const gp = auto.gradient('polynomial'), gt = tensor.gradient('tensor'), gm = auto.gradient('matrix-free');
+    assert.equal(gp.length, 3 * auto.cageSize);
+    assert.equal(gm.length, 3 * mr.vertexCount);
+    const scale = maxAbs(gt);
+    assert.ok(scale > 0);
+    for (let i = 0; i < gp.length; ++i) {
+      assert.ok(Math.abs(gp[i] - gt[i]) <= 1e-12 * scale, `polynomial vs theta at ${i}: ${gp[i]} ${gt[i]}`);
+      assert.ok(Math.abs(gp[i] - gm[i]) <= 1e-12 * scale, `polynomial vs matrix-free at ${i}`);
+    }
+    // A drag keeps the bilinear volume on the polynomial path.
+    const volume = mrvol.quadVolume(mesh);
+    const vertex = auto.cageVertices()[5];
+    const report = auto.moveVertices([{ vertex, offset: [0, 0, 0.5] }]);
+    assert.ok(report.converged, report.message);
+    assert.equal(report.path, 'polynomial');
+    assert.ok(relErr(report.volumeTarget, volume) > 1e-2, 'the move changes the volume');
+    assert.ok(relErr(bilinear(auto, mesh), volume) < 1e-5);
+    // Explicit paths; a wrong one is named.
+    const explicit = mr.createEditor({ level: 1, path: 'polynomial' });
+    assert.equal(explicit.path(), 'polynomial');
+    assert.equal(mr.createEditor({ level: 0, path: 'matrix-free' }).path(), 'matrix-free');
+    throwsMrvol(() => mr.createEditor({ level: 0, path: 'fast' }), /gradient path must be auto, polynomial, tensor or matrix-free, got 'fast'/);
+    theta.delete();
+    mr.delete();
+  });
+
+  test('free lists and free details as for triangles', () => {
+    const mesh = detailedQuads(2, 9);
+    const mr = mrvol.openMesh(mesh);
+    const volume = mrvol.quadVolume(mesh);
+    const editor = mr.createEditor({ level: 0, path: 'polynomial' });
+    const cageVertices = editor.cageVertices();
+    // Only the listed cage vertices absorb the correction.
+    const free = [cageVertices[2], cageVertices[3]];
+    editor.setFreeSet({ cage: free });
+    const before = editor.cagePositions();
+    let report = editor.moveVertices([{ vertex: cageVertices[0], offset: [0.3, 0, 0] }]);
+    assert.ok(report.converged, report.message);
+    assert.equal(report.path, 'polynomial');
+    const after = editor.cagePositions();
+    for (let c = 1; c < editor.cageSize; ++c) {
+      const moved = [0, 1, 2].some((k) => after[3 * c + k] !== before[3 * c + k]);
+      assert.equal(moved, c === 2 || c === 3, `cage vertex ${c}`);
+    }
+    assert.ok(relErr(bilinear(editor, mesh), volume) < 1e-5);
+    // Details only: the cage stays where the move puts it, the correction runs on the fine mesh.
+    editor.setFreeSet({ cage: [], detailLevels: [0, 1] });
+    const cageBefore = editor.cagePositions();
+    report = editor.moveVertices([{ vertex: cageVertices[0], offset: [0.2, 0, 0] }]);
+    assert.ok(report.converged, report.message);
+    assert.equal(report.path, 'matrix-free');
+    const cageAfter = editor.cagePositions();
+    cageBefore[0] += 0.2;
+    assert.deepEqual(Array.from(cageAfter.slice(3)), Array.from(cageBefore.slice(3)));
+    assert.ok(relErr(bilinear(editor, mesh), volume) < 1e-5);
+    // Back on the cage: the polynomial rebuilt for the moved details agrees with the mesh.
+    editor.setFreeSet({ cage: 'minus-held' });
+    editor.setReferenceVolume(1.02 * volume);
+    report = editor.correct();
+    assert.equal(report.path, 'polynomial');
+    assert.ok(relErr(bilinear(editor, mesh), 1.02 * volume) < 1e-5);
+    throwsMrvol(() => editor.setFreeSet({ cage: 'some' }), /unknown free set 'some'/);
+    throwsMrvol(() => editor.setFreeSet({ detailLevels: [2] }), /free detail level 2 is out of range 0..1/);
+    throwsMrvol(() => editor.setFreeSet({ cage: [mr.vertexCount - 1] }), /is not a vertex of the level-0 cage/);
+    editor.delete();
+    mr.delete();
+  });
+
+  test('the quad editor offers what the triangle editor offers (or names what quads lack)', () => {
+    const tri = mrvol.subdivide(icosahedron(), { levels: 1 });
+    const quad = mrvol.openMesh(detailedQuads(1, 3));
+    const te = tri.createEditor({ level: 0 }), qe = quad.createEditor({ level: 0 });
+    const methods = (o) => Object.getOwnPropertyNames(Object.getPrototypeOf(o)).filter((n) => n !== 'constructor');
+    // Renderer views over WASM memory and the centre of mass are triangle-only so far.
+    const triangleOnly = ['centroid', 'referenceCentroid', 'positionsView', 'normalsView', 'surfaceVersion', 'updatedRanges'];
+    const missing = methods(te).filter((m) => !methods(qe).includes(m) && !triangleOnly.includes(m));
+    assert.deepEqual(missing, []);
+    assert.equal(qe.surface(), 'mesh');
+    assert.equal(qe.keepsCentroid(), false);
+    assert.equal(qe.partVolumes().length, 0);
+    qe.setParts([]);
+    throwsMrvol(() => qe.keepCentroid(true), /centre of mass is not available for quad meshes/);
+    throwsMrvol(() => qe.setParts([[0]]), /parts\) is not available for quad meshes/);
+    te.delete();
+    qe.delete();
+    tri.delete();
+    quad.delete();
+  });
+});
+
+describe('mrvol edit --scheme catmull-clark --path', () => {
+  test('polynomial (auto on a coarse cage), free lists and details', () => {
+    const mesh = detailedQuads(3, 11);
+    writeFileSync(file('bi3.obj'), mrvol.writeObjQuads(mesh));
+    const volume = mrvol.quadVolume(mesh);
+    const edited = (name) => mrvol.quadVolume(mrvol.readObjQuads(readFileSync(file(name))));
+    const auto = json(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--move', '5:0,0,0.4', '-o', file('auto.obj'), '--json'));
+    assert.equal(auto.path, 'polynomial');
+    assert.ok(relErr(edited('auto.obj'), volume) < 1e-5);
+    const asked = json(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--level', '1', '--path', 'polynomial',
+      '--move', '5:0,0,0.4', '-o', file('poly1.obj'), '--json'));
+    assert.equal(asked.path, 'polynomial');
+    assert.ok(relErr(edited('poly1.obj'), volume) < 1e-5);
+    const details = json(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--free', '1,2', '--free-details', '0',
+      '--move', '5:0,0,0.4', '-o', file('details.obj'), '--json'));
+    assert.equal(details.path, 'matrix-free');
+    assert.ok(relErr(edited('details.obj'), volume) < 1e-5);
+    usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--path', 'fast', '--move', '5:0,0,1', '-o', file('x.obj')),
+      /--path must be auto, polynomial, tensor or matrix-free/);
+    usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--keep', 'volume,centroid', '--move', '5:0,0,1', '-o', file('x.obj')),
+      /--keep volume,centroid is not available for catmull-clark/);
+  });
+});
