@@ -55,14 +55,14 @@ function cubeSphereQuads(n) {
 
 // The critter's bumps: direction c (normalised), height a, width w (radians).
 const BUMPS = [
-  { c: [0.42, 0.2, 0.88], a: 0.42, w: 0.22, what: 'ear' },
-  { c: [-0.42, 0.2, 0.88], a: 0.42, w: 0.22, what: 'ear' },
-  { c: [0, 0.97, 0.25], a: 0.18, w: 0.2, what: 'nose' },
-  { c: [0.55, 0.45, -0.7], a: 0.22, w: 0.24, what: 'foot' },
-  { c: [-0.55, 0.45, -0.7], a: 0.22, w: 0.24, what: 'foot' },
-  { c: [0.55, -0.45, -0.7], a: 0.22, w: 0.24, what: 'foot' },
-  { c: [-0.55, -0.45, -0.7], a: 0.22, w: 0.24, what: 'foot' },
-  { c: [0, -0.95, -0.3], a: 0.16, w: 0.2, what: 'tail' },
+  { c: [0.38, 0.15, 0.91], a: 0.75, w: 0.17, what: 'ear' },
+  { c: [-0.38, 0.15, 0.91], a: 0.75, w: 0.17, what: 'ear' },
+  { c: [0, 0.97, 0.25], a: 0.3, w: 0.2, what: 'nose' },
+  { c: [0.5, 0.5, -0.7], a: 0.45, w: 0.18, what: 'foot' },
+  { c: [-0.5, 0.5, -0.7], a: 0.45, w: 0.18, what: 'foot' },
+  { c: [0.5, -0.5, -0.7], a: 0.45, w: 0.18, what: 'foot' },
+  { c: [-0.5, -0.5, -0.7], a: 0.45, w: 0.18, what: 'foot' },
+  { c: [0, -0.95, -0.3], a: 0.3, w: 0.16, what: 'tail' },
 ];
 const STRETCH = [1, 1.1, 0.9]; // a slightly long, low body
 
@@ -81,7 +81,9 @@ function critter(levels) {
       const angle = Math.acos(Math.max(-1, Math.min(1, (d[0] * c[0] + d[1] * c[1] + d[2] * c[2]) / n)));
       radius += a * Math.exp(-(angle * angle) / (2 * w * w));
     }
-    for (let k = 0; k < 3; k++) p[i + k] = radius * d[k] * STRETCH[k];
+    const q = [0, 1, 2].map((k) => radius * d[k] * STRETCH[k]);
+    // turned (a rotation) to three.js's axes: up +y (the ears), front +z (the nose)
+    p[i] = -q[0], p[i + 1] = q[2], p[i + 2] = q[1];
   }
   return mesh;
 }
@@ -100,7 +102,8 @@ const models = [
       '56 vertices (the 8 corners of valence 3, the others of valence 4), 54 quads (not a multiple of 4: not itself a split).',
       '3 levels of Catmull-Clark subdivision (`mrvol subdivide --scheme catmull-clark --levels 3`); every vertex',
       'then projected on the unit sphere (direction p), moved to radius 1 + Σ a_k exp(-θ_k² / (2 w_k²)) (θ_k the',
-      'angle between p and c_k) and scaled by (1, 1.1, 0.9):',
+      'angle between p and c_k), scaled by (1, 1.1, 0.9) and turned so that the ears point up (+y) and the nose',
+      'to +z: (x, y, z) -> (-x, z, y):',
       ...BUMPS.map(({ c, a, w, what }) => `${what}: c = (${c.join(', ')}) normalised, a = ${a}, w = ${w}`),
     ],
   },

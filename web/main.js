@@ -16,7 +16,7 @@ import { loadSession, saveSession, clearSession, decodeFloat64 } from './session
 import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
-import { fetchSample, sourceText, openParsed, openQuadObj, baseNameOf } from './models.js';
+import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
 import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
@@ -190,7 +190,9 @@ function openModelMesh(model, mesh, restore = null) {
     ({ mr, info } = openQuadObj(app.mrvol, model, mesh) ?? openParsed(app.mrvol, mesh));
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
-    if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true });
+    // a file of quads is remeshed into quads (Catmull-Clark), unless the offer's field says otherwise
+    const quads = model.format === 'obj' && firstFaceCorners(model.text ?? model.bytes ?? '') === 4;
+    if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true, quads });
     return false;
   }
   clearError();

@@ -169,11 +169,18 @@ describe('quad models in the app', { timeout: 240_000 }, () => {
     await dragHandle(page, index, 30, 25);
     const r = await readouts(page);
     assert.ok(r.error <= 1e-8, `relative error ${r.error}`);
-    // a 9 x 9 quad torus: no Catmull-Clark split, 81 vertices: not semi-regular, the triangle way (remesh offered)
-    await openFile('grid-torus.obj', Buffer.from(torusGrid(9, 9)));
+    // a 25 x 11 quad torus: 275 quads, no Catmull-Clark split: not semi-regular, the triangle way, which
+    // offers remeshing, into quads for a file of quads (lib/remesh-quad.mjs), and opens the result as quads
+    await openFile('grid-torus.obj', Buffer.from(torusGrid(25, 11)));
     await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
     assert.match(await page.locator('[data-testid="error-text"]').textContent(), /grid-torus\.obj.*not semi-regular/s);
-    await page.locator('[data-testid="remesh-cancel"]').click().catch(() => {});
+    assert.equal(await page.locator('[data-testid="remesh-into"]').inputValue(), 'quads');
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'grid-torus-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    assert.match(await page.locator('[data-testid="notice"]').textContent(), /^Remeshed into quads in [\d.]+ s: 2 Catmull-Clark levels/);
+    assert.equal((await debug(() => window.mrvolDebug.settings())).scheme, 'catmull-clark');
+    const cage = await debug(() => ({ size: window.mrvolDebug.cageSize(), edges: window.mrvolDebug.cageEdges().length / 2 }));
+    assert.ok(cage.size > 8 && cage.edges === 2 * cage.size, `a genus-1 quad cage: E = 2V (${JSON.stringify(cage)})`);
+    await shot('remeshed-quads');
   });
 
   test('#learn/levels shows the quad levels; #learn/lifting the Catmull-Clark steps', async () => {
