@@ -614,6 +614,14 @@ export interface QuadMultiresMesh {
   roundtripError(options?: { level?: number }): number;
   /** Level l's synthesis steps (P_f, P_e, N_3k/P_3k per valence-3 layer, N_v, P_v), caller's indices. */
   liftingSteps(options: { level: number }): LiftingStep[];
+  /** The first `steps` lifting steps of level l (default all) on level-(l-1) coefficients (in JS over liftingSteps). */
+  synthesizeSteps(coefficients: Float64Array, options: { level: number; steps?: number }): Float64Array;
+  /** Undoes the last `steps` lifting steps of level l, in reverse order. */
+  analyzeSteps(coefficients: Float64Array, options: { level: number; steps?: number }): Float64Array;
+  /** The transposed last `steps` steps of level l, in reverse order (masks applied outwards). */
+  transposeSteps(covector: Float64Array, options: { level: number; steps?: number }): Float64Array;
+  /** The level-l approximation: analysis at l, the details of vertices born after l zeroed, synthesis. */
+  approximation(positions: Float64Array, options: { level: number }): Float64Array;
   computeTheta(options?: { level?: number; storage?: 'cage' | 'full' }): Theta;
   thetaVolume(theta: Theta, options?: { level?: number }): number;
   fingerprint(): string;

@@ -2,6 +2,7 @@
 // typed arrays in and out, errors as MrvolError. A quad mesh is { positions: Float64Array,
 // quads: Uint32Array (4 per face, counter-clockwise) }. wrapModule (lib/api.mjs) mixes these
 // calls into its API and sends openMesh / subdivide with scheme 'catmull-clark' here.
+import { applyQuadSteps } from './quad-steps.mjs';
 
 function checkQuadMesh(mesh, MrvolError) {
   if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a quad mesh { positions, quads }');
@@ -184,6 +185,38 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
       if (options.level === undefined) throw new MrvolError('level is required: level l (1..n) builds M^l from M^(l-1)');
       return call((r) => r.liftingSteps(levelArg(options.level)), this.#live());
     }
+    /**
+     * The first `steps` lifting steps of level l (all by default) on level-(l-1) coefficients; the
+     * teaching views' phase-by-phase synthesis (lib/quad-steps.mjs, in JS over liftingSteps).
+     */
+    synthesizeSteps(coefficients, options = {}) { return this.#steps('synthesize', coefficients, options); }
+    /** Undoes the last `steps` lifting steps of level l (all by default), in reverse order. */
+    analyzeSteps(coefficients, options = {}) { return this.#steps('analyze', coefficients, options); }
+    /** The transposes of the last `steps` steps of level l, in reverse order, on a covector. */
+    transposeSteps(covector, options = {}) { return this.#steps('transpose', covector, options); }
+    #stepCache = new Map(); // level -> its lifting steps
+    #steps(direction, x, options) {
+      if (!(x instanceof Float64Array)) throw new MrvolError('coefficients must be a Float64Array');
+      if (x.length !== 3 * this.vertexCount) throw new MrvolError(`expected ${3 * this.vertexCount} coefficients (3 per vertex), got ${x.length}`);
+      const level = levelArg(options.level);
+      if (!this.#stepCache.has(level)) this.#stepCache.set(level, this.liftingSteps({ level }));
+      const steps = this.#stepCache.get(level);
+      return applyQuadSteps(steps, x, direction, options.steps === undefined ? steps.length : levelArg(options.steps, 'steps'));
+    }
+    /**
+     * The level-l approximation of `positions`: analysis at level l, the details of the vertices
+     * born after level l set to zero, synthesis (as MultiresMesh.approximation).
+     */
+    approximation(positions, options = {}) {
+      const level = levelArg(options.level);
+      if (level < 0 || level > this.levels) throw new MrvolError(`level ${level} is outside 0..${this.levels}`);
+      const coefficients = this.analyze(positions, { level });
+      this.#depths ??= this.depths();
+      for (let i = 0; i < this.#depths.length; i++)
+        if (this.#depths[i] > level) coefficients.fill(0, 3 * i, 3 * i + 3);
+      return this.synthesize(coefficients, { level });
+    }
+    #depths = null;
     /** theta^e of the bilinear volume: { level, storage: 'cage' | 'full' }. */
     computeTheta(options = {}) {
       const started = performance.now();

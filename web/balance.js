@@ -45,8 +45,12 @@ export function setUpBalance({ session, viewer, onChanged = () => {} }) {
   function sync() {
     keep.checked = session.keepCentroid;
     surface.value = session.surface;
-    keep.disabled = session.surface === 'limit';
-    keep.parentElement.title = keep.disabled ? 'The centre of mass is kept for the mesh surface only'
+    keep.disabled = session.surface === 'limit' || (session.editor !== null && !session.canKeepCentroid);
+    surface.disabled = session.model !== null && !session.canKeepLimit;
+    surface.parentElement.title = surface.disabled ? 'A quad mesh keeps the volume of its bilinear patches (the limit surface is that of Loop triangle meshes)'
+      : 'Whose volume is kept: the triangle mesh, or the smooth Loop limit surface it stands for (closed meshes)';
+    keep.parentElement.title = session.surface !== 'limit' && keep.disabled ? 'The quad editor keeps the volume only, not the centre of mass'
+      : keep.disabled ? 'The centre of mass is kept for the mesh surface only'
       : 'Keep the centre of mass where it is while dragging (four constraints: the volume and the three first moments)';
   }
 
@@ -59,6 +63,12 @@ export function setUpBalance({ session, viewer, onChanged = () => {} }) {
     } catch {
       marker.visible = false;  // a solid of zero volume has no centre of mass
       readout.textContent = 'no centre of mass (zero volume)';
+      return;
+    }
+    if (!c) {  // an editor without centroids (a quad model's)
+      marker.visible = false;
+      readout.textContent = 'centre of mass: not computed for quad meshes';
+      viewer.requestRender();
       return;
     }
     marker.visible = true;

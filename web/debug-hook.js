@@ -27,6 +27,10 @@ export function installDebugHook(app) {
       const report = app.session?.lastReport;
       return report ? { ...report, partVolumes: undefined, partReferences: undefined } : null;
     },
+    /** The cage's edges as the view draws them: pairs of handle (cage) indices, flat. */
+    cageEdges: () => Array.from(app.viewer.cage?.lines.geometry.index.array ?? []),
+    /** The model's vertex of each handle (cage order). */
+    cageVertices: () => Array.from(app.session?.cageVertices ?? []),
     /** Cage positions (world), 3 per handle, cage order. */
     cagePositions: () => (editor() ? Array.from(editor().cagePositions()) : []),
     selection: () => [...app.selection],

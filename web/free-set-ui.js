@@ -30,8 +30,12 @@ export class FreeSetTools {
   /** After a new cage: the settings keep only its vertices; the panel shows the mode's controls. */
   keepCageMarks() {
     const { settings, session } = this;
-    if (!TOOL_NAMES.includes(settings.tool)) settings.tool = this.defaults.tool;
-    if (!FREE_SET_MODES.includes(settings.freeSet)) settings.freeSet = this.defaults.freeSet;
+    // A quad editor may take fewer free sets (session.freeSetModes): the panel offers those only.
+    const modes = session.freeSetModes ?? FREE_SET_MODES;
+    this.panel.setFreeSets?.(modes);
+    if (!TOOL_NAMES.includes(settings.tool) || (settings.tool === 'paint' && !modes.includes('painted')) ||
+        (settings.tool === 'assign' && !modes.includes('parts'))) settings.tool = this.defaults.tool;
+    if (!modes.includes(settings.freeSet)) settings.freeSet = this.defaults.freeSet;
     this.apply();
     Object.assign(settings, { painted: session.freeSet.painted, parts: session.freeSet.parts });
     this.panel.showModeControls();

@@ -16,7 +16,7 @@ import { loadSession, saveSession, clearSession, decodeFloat64 } from './session
 import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
-import { fetchSample, sourceText, openParsed, baseNameOf } from './models.js';
+import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
 import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
@@ -186,10 +186,13 @@ function openModelMesh(model, mesh, restore = null) {
   const { name } = model;
   let mr, info;
   try {
-    ({ mr, info } = openParsed(app.mrvol, mesh));
+    // a semi-regular quad OBJ opens as quads (Catmull-Clark); anything else as triangles
+    ({ mr, info } = openQuadObj(app.mrvol, model, mesh) ?? openParsed(app.mrvol, mesh));
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
-    if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true });
+    // a file of quads is remeshed into quads (Catmull-Clark), unless the offer's field says otherwise
+    const quads = model.format === 'obj' && firstFaceCorners(model.text ?? model.bytes ?? '') === 4;
+    if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true, quads });
     return false;
   }
   clearError();
@@ -295,6 +298,7 @@ function followSessionInView(session) {
     frameNext = true;
     app.viewer.setMesh(session.model.mr.positions(), session.model.faces);
     applyViewLayers();
+    app.panel.setQuad(session.quad);
     app.panel.setLevels(session.model.info.levels);
     app.panel.update();
   });
@@ -541,7 +545,8 @@ function exportObj() {
       data = app.mrvol.writeObjLike(own, positions);
     } catch { /* a plain OBJ below */ }
   }
-  data ??= app.mrvol.writeObj({ positions, faces: session.model.faces });
+  const { quads, faces } = session.model;
+  data ??= quads ? app.mrvol.writeObjQuads({ positions, quads }) : app.mrvol.writeObj({ positions, faces });
   download(data instanceof Uint8Array ? new Blob([data], { type: 'text/plain' }) : data, `${baseName()}-edited.obj`, 'export-link');
 }
 
@@ -564,12 +569,13 @@ function exportGlb() {
   download(new Blob([glb], { type: 'model/gltf-binary' }), `${baseName()}-edited.glb`, 'export-glb-link');
 }
 
-/** The level-e cage as its own OBJ: cage positions in cage order, the level-e triangles. */
+/** The level-e cage as its own OBJ: cage positions in cage order, the level-e triangles (or quads). */
 function exportCage() {
   const { session } = app;
   if (!session.editor) return;
-  const faces = Uint32Array.from(session.model.mr.levelFaces(session.level), (v) => session.cageIndex.get(v));
-  const text = app.mrvol.writeObj({ positions: session.cagePositions(), faces });
+  const { corners, faces } = session.cageFaces();
+  const positions = session.cagePositions();
+  const text = corners === 4 ? app.mrvol.writeObjQuads({ positions, quads: faces }) : app.mrvol.writeObj({ positions, faces });
   download(text, `${baseName()}-cage-level${session.level}.obj`, 'export-cage-link');
 }
 

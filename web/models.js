@@ -62,6 +62,49 @@ export function openParsed(mrvol, mesh) {
   }
 }
 
+/**
+ * A semi-regular quad OBJ (every face a quad; Catmull-Clark levels found, or a base small enough to
+ * edit vertex by vertex) opened as a quad model (lib/quad.mjs): { mr, info }. null when the file is
+ * not one: it then opens as triangles (each polygon split), with the remesh offer when that fails.
+ * model: { format, text? | bytes? } (the file), mesh: what readObj / readMesh made of it.
+ */
+export function openQuadObj(mrvol, model, mesh) {
+  const source = model.text ?? model.bytes;
+  // a triangle file is not read twice: its first face line decides
+  if (model.format !== 'obj' || source === undefined || mesh.faces.length % 6 !== 0 || firstFaceCorners(source) !== 4) return null;
+  let quads, mr = null;
+  try {
+    quads = mrvol.readObjQuads(source);
+  } catch {
+    return null; // not all quads
+  }
+  try {
+    mr = mrvol.openQuadMesh(quads);
+    const info = mr.info();
+    if (info.levels > 0 || info.vertices <= MAX_FLAT_VERTICES) return { mr, info };
+  } catch { /* not a valid quad mesh: the triangle way says why */ }
+  mr?.delete();
+  return null;
+}
+
+/** The corner count of an OBJ's first face line (`f a b c d`), 0 when it has none. */
+export function firstFaceCorners(source) {
+  const bytes = typeof source === 'string' ? null : source;
+  const at = typeof source === 'string' ? source.search(/^f[ \t]/m) : faceLineStart(bytes);
+  if (at < 0) return 0;
+  const end = typeof source === 'string' ? source.indexOf('\n', at) : bytes.indexOf(10, at);
+  const line = typeof source === 'string' ? source.slice(at, end < 0 ? undefined : end)
+    : new TextDecoder().decode(bytes.subarray(at, end < 0 ? undefined : end));
+  return line.split('#')[0].trim().split(/\s+/).length - 1;
+}
+
+// Where the first line starting with `f ` begins in OBJ bytes, or -1.
+function faceLineStart(bytes) {
+  for (let i = 0; i + 1 < bytes.length; i++)
+    if (bytes[i] === 102 && (bytes[i + 1] === 32 || bytes[i + 1] === 9) && (i === 0 || bytes[i - 1] === 10)) return i;
+  return -1;
+}
+
 /** A file's name without its mesh extension (the base of the names of its exports and remeshed copy). */
 export function baseNameOf(name) {
   return name.replace(/\.(obj|stl|ply|off|coff|noff|gltf|glb|json)$/i, '').replace(/\.mrvol$/i, '');

@@ -11,7 +11,8 @@ const hierarchyIndices = new WeakMap(); // model -> cage index -> hierarchy inde
  */
 export function stepMultiplier(session, before, held) {
   const editor = session.editor;
-  if (!editor) return null;
+  // a quad editor has no gradient readout (lib/quad.mjs): no multiplier then
+  if (!editor || typeof editor.gradient !== 'function') return null;
   const after = editor.cagePositions();
   const path = editor.path();
   let gradient, index = null;

@@ -5,6 +5,8 @@ import { FREE_SET_MODES, MAX_PARTS } from '../lib/three/session.mjs';
 
 export { MAX_PARTS };
 const SCHEMES = ['loop', 'butterfly', 'linear'];
+// A quad model's one scheme (lib/three/session.mjs QUAD_SCHEME).
+const QUAD_SCHEMES = ['catmull-clark'];
 // The session's free-set modes (lib/three/session.mjs) under their names in the panel.
 const FREE_SET_NAMES = { 'minus-held': 'cage minus held', all: 'all cage', painted: 'painted region', parts: 'parts' };
 const FREE_SETS = Object.fromEntries(FREE_SET_MODES.map((mode) => [FREE_SET_NAMES[mode], mode]));
@@ -101,10 +103,11 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
   recentFolder.$children.appendChild(recentList);
 
   const edit = gui.addFolder('Editing');
-  tag(edit.add(settings, 'scheme', SCHEMES).onChange(() => actions.changeScheme()), 'scheme');
+  const scheme = tag(edit.add(settings, 'scheme', SCHEMES).onChange(() => actions.changeScheme()), 'scheme');
   const level = tag(edit.add(settings, 'level', [0]).name('cage level e').onChange(() => actions.changeLevel()), 'level');
   const preserve = tag(edit.add(settings, 'preserve').name('preserve volume').onChange(() => actions.changePreserve()), 'preserve');
-  tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set (what moves)').onChange(() => actions.changeFreeSet()), 'free-set');
+  const freeSet = tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set (what moves)').onChange(() => actions.changeFreeSet()), 'free-set');
+  let freeSetModes = FREE_SET_MODES;
   tag(edit.add(settings, 'tool', TOOLS).name('pointer').onChange(() => actions.changeTool()), 'tool');
   const part = tag(edit.add(settings, 'part', 1, MAX_PARTS, 1).name('part to assign'), 'part-number');
   const clearPainted = tag(edit.add({ clear: () => actions.clearPainted() }, 'clear').name('clear painted region'), 'clear-painted');
@@ -168,6 +171,20 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
       level.updateDisplay();
       approxLevel.max(Math.max(n, 1));
       approxLevel.updateDisplay();
+    },
+    /** The schemes the model takes: Catmull-Clark for a quad model, else Loop, Butterfly, linear. */
+    setQuad(quad) {
+      scheme.options(quad ? QUAD_SCHEMES : SCHEMES);
+      tag(scheme, 'scheme');
+      scheme.updateDisplay();
+    },
+    /** The free-set modes the editor takes (the session's freeSetModes). */
+    setFreeSets(modes) {
+      if (modes.length === freeSetModes.length && modes.every((m, i) => m === freeSetModes[i])) return;
+      freeSetModes = modes;
+      freeSet.options(Object.fromEntries(modes.map((mode) => [FREE_SET_NAMES[mode], mode])));
+      tag(freeSet, 'free-set');
+      freeSet.updateDisplay();
     },
     /** Shows the controls of the painted region and of the parts when they apply. */
     showModeControls() {

@@ -146,10 +146,17 @@ export function showCacheStatus(text) {
 
 /** The model line: name, counts, the cage's size. */
 export function showModel(session) {
-  const { name, info } = session.model;
+  const { name, info, quads } = session.model;
   $('model-name').textContent = name;
-  $('model-info').textContent = `${info.vertices} vertices, ${info.faces} faces, ${info.levels} levels, cage ${session.cageSize} vertices` +
+  $('model-info').textContent = `${info.vertices} vertices, ${info.faces} ${quads ? 'quads' : 'faces'}, ${info.levels} levels` +
+    `${quads ? ' (Catmull-Clark)' : ''}, cage ${session.cageSize} vertices` +
     (info.closed ? '' : ' (open: the volume is that of the cone to the boundary centroid)');
+  // A quad mesh's volume: each quad counts as the bilinear patch through its corners (docs/catmull-clark.md).
+  const kind = $('volume-kind');
+  if (kind) {
+    kind.textContent = quads ? '(bilinear patches)' : '';
+    kind.title = quads ? 'Each quad counts as the bilinear patch through its four corners' : '';
+  }
 }
 
 /** Subscribes the readouts to a session: volumes on every change, the model line on model and editor. */

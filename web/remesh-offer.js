@@ -1,7 +1,8 @@
 // The offer to remesh a mesh file that read but cannot be edited: not semi-regular (remeshing), or
 // not a closed 2-manifold (repair first). Runs lib/remesh.mjs in a worker (started at once with
 // `auto`; the fields change it and run it again, cancel stops it); the result goes to `open` as a
-// new model named after the file, and the notice says what was done.
+// new model named after the file, and the notice says what was done. Into triangles, or into quads
+// (lib/remesh-quad.mjs: Catmull-Clark levels; the default for a file of quads).
 import { baseNameOf } from './models.js';
 
 const $ = (id) => document.getElementById(id);
@@ -30,10 +31,11 @@ export function cancelRemesh() {
  * repair stage checked; auto: start at once. open({ name, kind, text }) resolves true when the
  * result opened; notice(text) shows the outcome.
  */
-export function offerRemesh(source, { repair = false, open, notice, auto = false }) {
+export function offerRemesh(source, { repair = false, open, notice, auto = false, quads = false }) {
   cancelRemesh();
   $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
   $('remesh-repair').checked = repair;
+  $('remesh-into').value = quads ? 'quads' : 'triangles';
   $('remesh-smooth').disabled = !repair;
   $('remesh-repair').onchange = () => { $('remesh-smooth').disabled = !$('remesh-repair').checked; };
   $('remesh-offer').hidden = false;
@@ -43,6 +45,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
   $('remesh-go').onclick = () => {
     const levels = Number($('remesh-levels').value), base = Number($('remesh-base').value);
     const repairing = $('remesh-repair').checked, smooth = Number($('remesh-smooth').value);
+    const intoQuads = $('remesh-into').value === 'quads';
     worker?.terminate();
     const running = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
     worker = running;
@@ -74,7 +77,11 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
         ? `Repaired (${r.repair.finFaces + r.repair.duplicateFaces + r.repair.nonManifoldFaces + r.repair.foldedFaces} faces ` +
           `dropped, ${r.repair.droppedComponents} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
         : 'Remeshed';
-      if (ok)
+      if (ok && r.quads)
+        notice(`${fixes} into quads in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} Catmull-Clark levels, ` +
+          `${r.vertices} vertices, ${r.faces} quads, farthest vertex ${(100 * r.distanceToInput).toFixed(2)}% of the diagonal ` +
+          `from the input, volume change ${(100 * r.volumeChange).toFixed(2)}%`);
+      else if (ok)
         notice(`${fixes} in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
           `${r.vertices} vertices, Hausdorff ${(100 * r.hausdorff).toFixed(2)}% of the diagonal, ` +
           `${r.flippedTriangles} flipped triangles, volume change ${(100 * r.volumeChange).toFixed(2)}%`);
@@ -85,7 +92,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     };
     const mesh = source.mesh ? { positions: source.mesh.positions, faces: source.mesh.faces } : undefined;
     running.postMessage({ text: source.text, mesh, levels, baseFaces: base > 0 ? base : undefined,
-      repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined });
+      repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined, quads: intoQuads });
   };
   $('remesh-cancel').onclick = cancelRemesh;
   if (auto) $('remesh-go').onclick();

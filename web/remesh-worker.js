@@ -1,21 +1,22 @@
-// Module worker that turns an ordinary closed mesh into a semi-regular one (lib/remesh.mjs) off
-// the page's thread.
-// Message in:   { mesh: { positions, faces } | text (OBJ), levels, baseFaces?, repair?, smooth? } (repair also keeps the largest piece)
+// Module worker that turns an ordinary closed mesh into a semi-regular one (lib/remesh.mjs; with
+// `quads`, a semi-regular quad mesh: lib/remesh-quad.mjs, written with quad faces) off the page's thread.
+// Message in:   { mesh: { positions, faces } | text (OBJ), levels, baseFaces?, repair?, smooth?, quads? } (repair also keeps the largest piece)
 // Messages out: { type: 'stage', stage }, { type: 'done', text, report }, { type: 'error', message }
 import { loadMrvol } from './mrvol.js';
 import { remesh } from '../lib/remesh.mjs';
+import { remeshQuads } from '../lib/remesh-quad.mjs';
 
 self.onmessage = async (event) => {
   const job = event.data;
   try {
     self.postMessage({ type: 'stage', stage: 'loading the core' });
     const mrvol = await loadMrvol();
-    self.postMessage({ type: 'stage', stage: `${job.repair ? 'repairing and remeshing' : 'remeshing'} (${job.levels} levels)` });
-    const result = await remesh(mrvol, job.mesh ?? mrvol.readObj(job.text), {
+    self.postMessage({ type: 'stage', stage: `${job.repair ? 'repairing and remeshing' : 'remeshing'}${job.quads ? ' into quads' : ''} (${job.levels} levels)` });
+    const result = await (job.quads ? remeshQuads : remesh)(mrvol, job.mesh ?? mrvol.readObj(job.text), {
       levels: job.levels, baseFaces: job.baseFaces, repair: !!job.repair, keepLargest: !!job.repair, smooth: job.smooth,
     });
     const { mesh, ...report } = result;
-    self.postMessage({ type: 'done', text: mrvol.writeObj(mesh), report });
+    self.postMessage({ type: 'done', text: job.quads ? mrvol.writeObjQuads(mesh) : mrvol.writeObj(mesh), report: { ...report, quads: !!job.quads } });
   } catch (e) {
     self.postMessage({ type: 'error', message: e?.message ?? String(e) });
   }

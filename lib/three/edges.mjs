@@ -1,5 +1,5 @@
-// Unique edges of a triangle list (for drawing cages and wireframes). No three.js: the editing
-// session and the drawing helpers share it.
+// Unique edges of a triangle or quad list (for drawing cages and wireframes), and the triangles a
+// quad mesh is drawn with. No three.js: the editing session and the drawing helpers share it.
 
 /**
  * Unique edges of triangles as pairs of indices; with `index` (a Map), the face's vertices are
@@ -9,11 +9,34 @@
  * @returns {Uint32Array}
  */
 export function edgesOf(faces, index = null) {
+  return polygonEdges(faces, 3, index);
+}
+
+/** Unique edges of quads (4 indices each, the quads' sides: no diagonals), as edgesOf. */
+export function quadEdgesOf(quads, index = null) {
+  return polygonEdges(quads, 4, index);
+}
+
+/**
+ * The triangles a quad mesh is drawn with: each quad (a, b, c, d) split along a-c into (a, b, c)
+ * and (a, c, d), keeping its orientation. Triangle t belongs to quad floor(t / 2).
+ */
+export function trianglesOfQuads(quads) {
+  const triangles = new Uint32Array(quads.length / 4 * 6);
+  for (let q = 0, t = 0; q < quads.length; q += 4, t += 6) {
+    const a = quads[q], b = quads[q + 1], c = quads[q + 2], d = quads[q + 3];
+    triangles[t] = a, triangles[t + 1] = b, triangles[t + 2] = c;
+    triangles[t + 3] = a, triangles[t + 4] = c, triangles[t + 5] = d;
+  }
+  return triangles;
+}
+
+function polygonEdges(faces, corners, index) {
   const seen = new Set();
   const edges = [];
-  for (let f = 0; f < faces.length; f += 3)
-    for (let k = 0; k < 3; k++) {
-      let a = faces[f + k], b = faces[f + (k + 1) % 3];
+  for (let f = 0; f < faces.length; f += corners)
+    for (let k = 0; k < corners; k++) {
+      let a = faces[f + k], b = faces[f + (k + 1) % corners];
       if (index) {
         a = index.get(a);
         b = index.get(b);

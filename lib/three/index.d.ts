@@ -1,12 +1,13 @@
 // Types of mrvol/three (lib/three/index.mjs): volume-preserving cage editing as a three.js component.
 import * as THREE from 'three';
-import type { Mrvol, Mesh, MultiresMesh, VolumeEditor, Theta, EditReport, ThetaEstimate, VolumeSurface } from '../index.js';
+import type { Mrvol, Mesh, MultiresMesh, VolumeEditor, Theta, EditReport, ThetaEstimate, VolumeSurface,
+  QuadMesh, QuadMultiresMesh, QuadVolumeEditor } from '../index.js';
 
 export interface VolumeEditControlsOptions {
   /** Cage level e (0..levels of the mesh), default 0. */
   level?: number;
-  /** Wavelet scheme: 'loop' (default), 'butterfly', 'linear'. */
-  scheme?: 'loop' | 'butterfly' | 'linear';
+  /** Wavelet scheme: 'loop' (default), 'butterfly', 'linear'; a quad mesh always uses 'catmull-clark'. */
+  scheme?: 'loop' | 'butterfly' | 'linear' | 'catmull-clark';
   /** Keep the volume on every move (default true). */
   preserve?: boolean;
   /** Relative volume error the correction stops at (default 1e-6). */
@@ -46,7 +47,7 @@ export interface VolumeEditControlsEventMap {
  */
 export class VolumeEditControls extends THREE.EventDispatcher<VolumeEditControlsEventMap> {
   constructor(mrvol: Mrvol, camera: THREE.Camera, element: HTMLElement | { domElement: HTMLElement },
-    mesh: Mesh | MultiresMesh, options?: VolumeEditControlsOptions);
+    mesh: Mesh | MultiresMesh | QuadMesh | QuadMultiresMesh, options?: VolumeEditControlsOptions);
   readonly object: THREE.Group;
   readonly surface: SurfaceMesh;
   readonly cage: CageObject;
@@ -79,9 +80,12 @@ export class VolumeEditControls extends THREE.EventDispatcher<VolumeEditControls
 /** The free-set modes of an EditingSession. */
 export const FREE_SET_MODES: readonly ['minus-held', 'all', 'painted', 'parts'];
 export const MAX_PARTS: 8;
+/** The scheme of quad models. */
+export const QUAD_SCHEME: 'catmull-clark';
+export type FreeSetMode = 'minus-held' | 'all' | 'painted' | 'parts';
 
 export interface FreeSet {
-  mode: 'minus-held' | 'all' | 'painted' | 'parts';
+  mode: FreeSetMode;
   /** Caller's cage vertices free for the correction (mode 'painted'). */
   painted: number[];
   /** MAX_PARTS lists of caller's cage vertices; each non-empty one keeps its volume (mode 'parts'). */
@@ -98,9 +102,16 @@ export class EditingSession extends EventTarget {
   constructor(mrvol: Mrvol, options?: { level?: number; scheme?: string; alpha?: number; beta?: number;
     preserve?: boolean; tolerance?: number; historyLimit?: number });
   readonly mrvol: Mrvol;
-  model: { name: string; mr: MultiresMesh; info: ReturnType<MultiresMesh['info']>; fingerprint: string;
-    faces: Uint32Array; depths: Uint32Array } | null;
-  editor: VolumeEditor | null;
+  /** faces: triangles (a quad model's quads split in two for drawing); quads: a quad model's quads, else null. */
+  model: { name: string; mr: MultiresMesh | QuadMultiresMesh; info: ReturnType<MultiresMesh['info']>; fingerprint: string;
+    faces: Uint32Array; quads: Uint32Array | null; depths: Uint32Array } | null;
+  editor: VolumeEditor | QuadVolumeEditor | null;
+  /** A quad model (catmull-clark scheme, bilinear-patch volume, a cage of quads). */
+  readonly quad: boolean;
+  /** The free-set modes the editor takes (a quad editor: fewer). */
+  readonly freeSetModes: readonly FreeSetMode[];
+  readonly canKeepCentroid: boolean;
+  readonly canKeepLimit: boolean;
   level: number;
   scheme: string;
   alpha: number;
@@ -123,7 +134,7 @@ export class EditingSession extends EventTarget {
   readonly history: { readonly size: { undo: number; redo: number }; readonly canUndo: boolean; readonly canRedo: boolean };
   readonly schemeOptions: { scheme: string; alpha: number; beta: number };
   /** Opens a mesh (owned) or a MultiresMesh (the caller's unless own); throws MrvolError, keeping the current model. */
-  open(source: Mesh | MultiresMesh, options?: { name?: string; restore?: { positions?: Float64Array | null; reference?: number } | null;
+  open(source: Mesh | MultiresMesh | QuadMesh | QuadMultiresMesh, options?: { name?: string; restore?: { positions?: Float64Array | null; reference?: number } | null;
     own?: boolean }): NonNullable<EditingSession['model']>;
   setLevel(level: number): void;
   setScheme(scheme: string): void;
@@ -133,7 +144,10 @@ export class EditingSession extends EventTarget {
   setKeepCentroid(on: boolean): void;
   centroid(): Float64Array | null;
   referenceCentroid(): Float64Array | null;
+  /** The level-e cage's edges (pairs of cage indices; a quad cage: the quads' sides, no diagonals). */
   cageEdges(): Uint32Array;
+  /** The level-e faces in cage indices: triangles or quads. */
+  cageFaces(): { corners: 3 | 4; faces: Uint32Array };
   setFreeSet(freeSet: Partial<FreeSet>, options?: { quiet?: boolean }): void;
   partVolumes(): number[] | null;
   beginDrag(handles: number[]): void;
@@ -188,6 +202,10 @@ export class CageObject extends THREE.Group {
 }
 
 export function edgesOf(faces: ArrayLike<number>, index?: Map<number, number> | null): Uint32Array;
+/** Unique sides of quads (4 indices each): no diagonals. */
+export function quadEdgesOf(quads: ArrayLike<number>, index?: Map<number, number> | null): Uint32Array;
+/** Each quad (a, b, c, d) as triangles (a, b, c), (a, c, d), for drawing. */
+export function trianglesOfQuads(quads: ArrayLike<number>): Uint32Array;
 export function arrows(from: ArrayLike<number>, vectors: ArrayLike<number>, options?: { color?: THREE.ColorRepresentation; scale?: number }): THREE.LineSegments;
 export function bounds(positions: ArrayLike<number>): { center: [number, number, number]; radius: number };
 export function frameSphere(camera: THREE.PerspectiveCamera, sphere: { center: number[]; radius: number },

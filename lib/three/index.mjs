@@ -4,6 +4,10 @@
 //   scene.add(editor.object);
 //   editor.addEventListener('change', () => renderer.render(scene, camera));
 //
+// The mesh may be a quad mesh ({ positions, quads } or a QuadMultiresMesh): the surface is drawn as
+// triangles (each quad split in two), the cage as quads (their sides), the volume kept is the
+// bilinear patches' (Catmull-Clark, docs/catmull-clark.md).
+//
 // It builds an Object3D (the fine surface, the level-e cage's edges and handles), drags handles
 // with the pointer (mouse, pen, touch) on the plane facing the camera, restores the volume on every
 // move (the mrvol editor), keeps undo/redo, and emits events as three.js controls do. It decides
@@ -14,8 +18,8 @@ import { EditingSession } from './session.mjs';
 import { SurfaceMesh, CageObject, CAGE_COLOR } from './objects.mjs';
 import { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
 
-export { EditingSession, FREE_SET_MODES, MAX_PARTS } from './session.mjs';
-export { SurfaceMesh, CageObject, arrows, bounds, frameSphere, edgesOf } from './objects.mjs';
+export { EditingSession, FREE_SET_MODES, MAX_PARTS, QUAD_SCHEME } from './session.mjs';
+export { SurfaceMesh, CageObject, arrows, bounds, frameSphere, edgesOf, quadEdgesOf, trianglesOfQuads } from './objects.mjs';
 export { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
 
 const HOVER_COLOR = new THREE.Color(0x3fb950);
@@ -26,7 +30,8 @@ export class VolumeEditControls extends THREE.EventDispatcher {
    * @param {object} mrvol the API object (createMrvol)
    * @param {THREE.Camera} camera the camera the scene is rendered with
    * @param {HTMLElement | { domElement: HTMLElement }} element the element the pointer acts on (or a renderer)
-   * @param {{ positions: Float64Array, faces: Uint32Array } | object} mesh a mesh, or a MultiresMesh (stays the caller's)
+   * @param {{ positions: Float64Array, faces: Uint32Array } | { positions: Float64Array, quads: Uint32Array } | object} mesh
+   *   a triangle or quad mesh, or a MultiresMesh / QuadMultiresMesh (stays the caller's)
    * @param {object} [options] { level = 0, scheme = 'loop', preserve = true, tolerance = 1e-6,
    *   theta: 'matrix-free' (default) | 'auto' (compute theta^e now when it fits) | a Theta,
    *   pickRadius = 10 (CSS px), surfaceColor, cageColor, handleSize = 13, flat = true }

@@ -3,7 +3,7 @@
 // hidden, round handle dots with a colour each), arrows, bounds. They draw arrays they are given.
 import * as THREE from 'three';
 
-export { edgesOf } from './edges.mjs';
+export { edgesOf, quadEdgesOf, trianglesOfQuads } from './edges.mjs';
 
 export const SURFACE_COLOR = 0xc9b8a0;
 export const CAGE_COLOR = 0x1f6feb;

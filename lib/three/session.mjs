@@ -17,9 +17,20 @@
 //   theta   the gradient path or the tensor in use changed: { source, path }
 //   dragend a drag ended (its undo step recorded when the cage moved)
 //   error   an edit was refused and undone: { message, error }
+//
+// Quad models (a QuadMultiresMesh, or a mesh { positions, quads }: lib/quad.mjs) edit the same way
+// with the catmull-clark scheme and the bilinear-patch volume: model.quads holds the quads,
+// model.faces the triangles they are drawn with (each quad split in two), the cage's edges are the
+// level-e quads' sides. What the quad editor lacks (limit surface, centre of mass; painted regions
+// and parts until it has them) is refused with a message; `freeSetModes` says which free sets work.
 import { DEFAULT_SCHEME, chooseGradientPath } from '../api.mjs';
 import { History } from './history.mjs';
-import { edgesOf } from './edges.mjs';
+import { edgesOf, quadEdgesOf, trianglesOfQuads } from './edges.mjs';
+
+/** The scheme of quad models (Catmull-Clark, docs/catmull-clark.md). */
+export const QUAD_SCHEME = 'catmull-clark';
+// Levels of details from which the cage polynomial beats a pass over the fine mesh (as lib/api.mjs).
+const COARSE_CAGE_LEVELS = 3;
 
 /**
  * Free-set modes: the cage minus the held handles, all the cage, a painted region (a list of cage
@@ -31,7 +42,7 @@ export const MAX_PARTS = 8;
 const emptyParts = () => Array.from({ length: MAX_PARTS }, () => []);
 
 export class EditingSession extends EventTarget {
-  /** The model: { name, mr, info, fingerprint, faces, depths }, or null. */
+  /** The model: { name, mr, info, fingerprint, faces (triangles), quads (quad models) or null, depths }, or null. */
   model = null;
   /** The mrvol VolumeEditor, or null. */
   editor = null;
@@ -58,6 +69,7 @@ export class EditingSession extends EventTarget {
   #heldAll = null;
   #thetas = new Map(); // `${scheme}/${level}` -> { theta, source }, this model's
   #volume = null;      // the volume of the current shape, once known (null: ask the core)
+  #freeSetModes = FREE_SET_MODES;
 
   /**
    * @param {object} mrvol the API object (createMrvol)
@@ -84,6 +96,13 @@ export class EditingSession extends EventTarget {
   get dragging() { return this.#drag !== null; }
   /** { scheme, alpha, beta }: what the analysis and theta depend on besides the mesh and level. */
   get schemeOptions() { return { scheme: this.scheme, alpha: this.alpha, beta: this.beta }; }
+  /** Whether the model is a quad mesh (catmull-clark scheme, bilinear-patch volume). */
+  get quad() { return Boolean(this.model?.quads); }
+  /** The free-set modes the current editor takes (FREE_SET_MODES for triangle models). */
+  get freeSetModes() { return this.#freeSetModes; }
+  /** Whether the centre of mass can be kept and the limit surface's volume be kept (triangle models). */
+  get canKeepCentroid() { return typeof this.editor?.keepCentroid === 'function'; }
+  get canKeepLimit() { return Boolean(this.model) && !this.quad; }
 
   #emit(type, detail = {}) {
     this.dispatchEvent(new CustomEvent(type, { detail }));
@@ -102,7 +121,8 @@ export class EditingSession extends EventTarget {
     let model;
     try {
       const info = mr.info();
-      model = { name, mr, info, fingerprint: mr.fingerprint(), faces: mr.faces(), depths: mr.depths() };
+      const quads = mr.scheme === QUAD_SCHEME ? mr.quads() : null;
+      model = { name, mr, info, fingerprint: mr.fingerprint(), faces: quads ? trianglesOfQuads(quads) : mr.faces(), quads, depths: mr.depths() };
     } catch (e) {
       if (opened) mr.delete();
       throw e;
@@ -112,6 +132,14 @@ export class EditingSession extends EventTarget {
     this.model = model;
     this.#ownsMesh = opened || own;
     this.level = Math.max(0, Math.min(this.level, model.info.levels));
+    // A quad model has one scheme; a triangle model opened after one goes back to the default.
+    if (model.quads) {
+      this.scheme = QUAD_SCHEME;
+      this.surface = 'mesh';
+      this.keepCentroid = false;
+    } else if (this.scheme === QUAD_SCHEME) {
+      this.scheme = DEFAULT_SCHEME.scheme;
+    }
     let reference = null;
     if (restore?.positions?.length === 3 * model.info.vertices) {
       mr.setPositions(restore.positions);
@@ -147,6 +175,10 @@ export class EditingSession extends EventTarget {
 
   /** The wavelet scheme (loop, butterfly, linear); the editor is rebuilt as for setLevel. */
   setScheme(scheme) {
+    if (this.model && (scheme === QUAD_SCHEME) !== this.quad)
+      throw new this.#mrvol.MrvolError(this.quad
+        ? `a quad mesh uses the ${QUAD_SCHEME} scheme, not ${scheme} (loop, butterfly and linear are for triangle meshes)`
+        : `the ${QUAD_SCHEME} scheme is for quad meshes; this is a triangle mesh (loop, butterfly or linear)`);
     this.#changeCage({ level: this.level, scheme });
   }
 
@@ -176,6 +208,8 @@ export class EditingSession extends EventTarget {
    */
   setSurface(surface) {
     if (surface !== 'mesh' && surface !== 'limit') throw new this.#mrvol.MrvolError(`surface must be 'mesh' or 'limit', got ${surface}`);
+    if (surface === 'limit' && this.quad)
+      throw new this.#mrvol.MrvolError('the limit surface is that of Loop triangle meshes: a quad mesh keeps its bilinear-patch volume');
     if (surface === this.surface || !this.editor) {
       this.surface = surface;
       return;
@@ -197,14 +231,16 @@ export class EditingSession extends EventTarget {
     on = Boolean(on);
     if (on && this.surface === 'limit')
       throw new this.#mrvol.MrvolError('the centre of mass is kept for the mesh surface only: switch the surface to mesh first');
+    if (on && this.editor && !this.canKeepCentroid)
+      throw new this.#mrvol.MrvolError('the quad editor keeps the volume only, not the centre of mass');
     this.keepCentroid = on;
-    this.editor?.keepCentroid(on);
+    if (this.canKeepCentroid) this.editor.keepCentroid(on);
     this.#emit('change', { reason: 'keep' });
   }
 
   /** The mesh solid's centre of mass now, and the one kept (the current one when it is not kept). */
-  centroid() { return this.editor?.centroid() ?? null; }
-  referenceCentroid() { return this.editor?.referenceCentroid() ?? null; }
+  centroid() { return this.canKeepCentroid ? this.editor.centroid() : null; }
+  referenceCentroid() { return this.canKeepCentroid ? this.editor.referenceCentroid() : null; }
 
   /**
    * Brings the volume back to the reference with every handle free to move (the minimal
@@ -227,7 +263,7 @@ export class EditingSession extends EventTarget {
     if (this.editor) {
       mr.setPositions(this.editor.positions());
       // Another surface has another volume: its reference is its volume now.
-      if (this.editor.surface() === this.surface) reference ??= this.editor.referenceVolume();
+      if ((this.editor.surface?.() ?? 'mesh') === this.surface) reference ??= this.editor.referenceVolume();
       this.editor.delete();
       this.editor = null;
     }
@@ -236,10 +272,11 @@ export class EditingSession extends EventTarget {
     const path = this.path === 'auto' ? this.gradientChoice().path : 'matrix-free';
     // created matrix-free, then the polynomial: the same editor, measured faster than createEditor's own path
     const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free', surface: this.surface });
-    if (path === 'polynomial') editor.usePolynomial();
+    if (path === 'polynomial' && typeof editor.usePolynomial === 'function') editor.usePolynomial();
     if (reference !== null) editor.setReferenceVolume(reference);
-    if (this.keepCentroid) editor.keepCentroid(true);
+    if (this.keepCentroid && typeof editor.keepCentroid === 'function') editor.keepCentroid(true);
     this.editor = editor;
+    this.#freeSetModes = this.quad ? quadFreeSetModes(editor) : FREE_SET_MODES;
     this.#volume = null;
     this.cageSize = editor.cageSize;
     this.cageVertices = editor.cageVertices();
@@ -261,9 +298,17 @@ export class EditingSession extends EventTarget {
     this.#emit('theta', { source: this.thetaSource, path: this.editor.path() });
   }
 
-  /** The level-e cage's edges, pairs of cage indices. */
+  /** The level-e cage's edges, pairs of cage indices (a quad cage: the quads' sides). */
   cageEdges() {
-    return edgesOf(this.model.mr.levelFaces(this.level), this.cageIndex);
+    const { mr, quads } = this.model;
+    return quads ? quadEdgesOf(mr.levelQuads(this.level), this.cageIndex) : edgesOf(mr.levelFaces(this.level), this.cageIndex);
+  }
+
+  /** The level-e cage's faces in cage indices: { corners: 3 | 4, faces: Uint32Array }. */
+  cageFaces() {
+    const { mr, quads } = this.model;
+    const faces = quads ? mr.levelQuads(this.level) : mr.levelFaces(this.level);
+    return { corners: quads ? 4 : 3, faces: Uint32Array.from(faces, (v) => this.cageIndex.get(v)) };
   }
 
   // ---- free set and parts -------------------------------------------------------------------------
@@ -277,7 +322,7 @@ export class EditingSession extends EventTarget {
     const inCage = (v) => Number.isInteger(v) && this.cageIndex?.has(v);
     const seen = new Set();
     this.freeSet = {
-      mode: FREE_SET_MODES.includes(mode) ? mode : 'minus-held',
+      mode: this.#freeSetModes.includes(mode) ? mode : 'minus-held',
       painted: Array.isArray(painted) ? [...new Set(painted.filter(inCage))] : [],
       parts: Array.from({ length: MAX_PARTS }, (_, p) => {
         const list = Array.isArray(parts?.[p]) ? parts[p] : [];
@@ -291,7 +336,7 @@ export class EditingSession extends EventTarget {
       ? this.freeSet.parts.map((vertices, p) => ({ number: p + 1, vertices })).filter((part) => part.vertices.length > 0) : [];
     try {
       editor.setFreeSet({ cage: m === 'painted' ? region : m === 'all' ? 'all' : 'minus-held' });
-      editor.setParts(active.map((part) => part.vertices));
+      if (typeof editor.setParts === 'function') editor.setParts(active.map((part) => part.vertices));
       this.parts = active.map((part) => part.number);
       this.partReferences = active.length ? Array.from(editor.partVolumes()) : null;
     } catch (error) {
@@ -476,6 +521,14 @@ export class EditingSession extends EventTarget {
   gradientChoice() {
     // A mesh theta is no use for the limit surface's volume (its own theta is not computed here).
     if (this.surface === 'limit') return { path: 'matrix-free', estimate: null, reason: "not used: the limit surface's volume runs matrix-free" };
+    // Quads: theta^e is not computed in the background (the app's worker builds triangle tensors);
+    // the cage polynomial where the quad editor has it and the cage is coarse, else matrix-free.
+    if (this.quad) {
+      const polynomial = !this.editor || typeof this.editor.usePolynomial === 'function';
+      const coarse = polynomial && this.path === 'auto' && this.model.info.levels - this.level >= COARSE_CAGE_LEVELS;
+      return coarse ? { path: 'polynomial', estimate: null }
+        : { path: 'matrix-free', estimate: null, reason: 'not used: a quad mesh edits matrix-free (the bilinear-patch volume of the fine quads)' };
+    }
     const options = { level: this.level, ...this.schemeOptions };
     // a coarse cage needs no estimate of theta^e (a second or more on a big mesh)
     if (this.path === 'auto' && chooseGradientPath(this.model.mr, options).path === 'polynomial') return { path: 'polynomial', estimate: null };
@@ -508,7 +561,8 @@ export class EditingSession extends EventTarget {
   /** Drops the tensor of the current level and scheme; the editor runs matrix-free (with path 'auto': its choice). */
   forgetTheta() {
     const slot = this.#thetaSlot();
-    if (this.path === 'auto' && this.gradientChoice().path === 'polynomial') this.editor?.usePolynomial();
+    if (this.path === 'auto' && this.gradientChoice().path === 'polynomial' && typeof this.editor?.usePolynomial === 'function')
+      this.editor.usePolynomial();
     else this.editor?.useMatrixFree();
     this.#thetas.get(slot)?.theta.delete();
     this.#thetas.delete(slot);
@@ -528,4 +582,19 @@ export class EditingSession extends EventTarget {
   dispose() {
     this.#closeModel();
   }
+}
+
+/**
+ * The free sets a quad editor takes: the cage minus the held handles and all of it; a painted list
+ * and parts once lib/quad.mjs's editor has them (tried with an empty list, which changes nothing).
+ */
+function quadFreeSetModes(editor) {
+  const modes = ['minus-held', 'all'];
+  try {
+    editor.setFreeSet({ cage: [] });
+    modes.push('painted');
+  } catch { /* the cage minus held and all only */ }
+  editor.setFreeSet({ cage: 'minus-held' });
+  if (typeof editor.setParts === 'function' && typeof editor.partVolumes === 'function') modes.push('parts');
+  return Object.freeze(modes);
 }

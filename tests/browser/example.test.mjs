@@ -146,6 +146,40 @@ describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 
+  test('a quad mesh: triangles drawn, a cage of quad sides, a drag keeps the bilinear-patch volume', async () => {
+    await page.goto(`${server.url}minimal.html?model=quad-critter`);
+    await page.waitForFunction(() => window.minimalEditor?.session.model?.name === 'mesh', null, { timeout: 60_000 });
+    const drawn = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const quads = editor.session.model.quads;
+      return {
+        quad: editor.session.quad, scheme: editor.session.scheme, quads: quads.length / 4,
+        triangles: editor.surface.geometry.index.count / 3, handles: editor.handleCount,
+        cageEdges: editor.cage.lines.geometry.index.count / 2, baseQuads: editor.session.model.mr.levelQuads(0).length / 4,
+      };
+    });
+    assert.deepEqual(drawn, { quad: true, scheme: 'catmull-clark', quads: 3456, triangles: 6912, handles: 56, cageEdges: 108, baseQuads: 54 });
+    const start = await state();
+    const handle = await handleOnScreen();
+    await page.mouse.move(handle.x, handle.y);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) await page.mouse.move(handle.x + 5 * i, handle.y + 3 * i);
+    await page.mouse.up();
+    await settle(page);
+    const end = await state();
+    const moved = Math.hypot(...[0, 1, 2].map((k) => end.cage[3 * handle.index + k] - start.cage[3 * handle.index + k]));
+    assert.ok(moved > 0.05, `the handle moved (${moved})`);
+    // the volume kept is the bilinear patches' of the quads (computed here from the edited positions)
+    const bilinear = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      return editor.session.mrvol.quadVolume({ positions: editor.positions(), quads: editor.session.model.quads });
+    });
+    assert.ok(Math.abs(bilinear - start.reference) / start.reference < 1e-6, `bilinear volume ${bilinear} vs ${start.reference}`);
+    assert.ok(Math.abs(end.volume - bilinear) <= 1e-12 * bilinear, 'the editor\'s volume is the bilinear patches\'');
+    await page.screenshot({ path: join(RESULTS_DIR, 'example-minimal-quad.png') });
+    assert.deepEqual(page.problems, []);
+  });
+
   test('dispose() removes the object and its listeners', async () => {
     const result = await page.evaluate(() => {
       const editor = window.minimalEditor;

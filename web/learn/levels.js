@@ -1,12 +1,15 @@
 // #learn/levels: the filterbank of Figure 1 (paper section 2). Level by level, the coarse
 // approximation (synthesis with every detail of level >= l set to zero), the level-l mesh M^l
 // (coarse coefficients c^l on levelFaces(l)), and the details d^l as arrows or as a colour map of
-// their size; the three schemes side by side. Analysis and synthesis come from the core.
+// their size; the three schemes side by side. Analysis and synthesis come from the core. A quad
+// model (quad-critter, or the editor's quad mesh) shows its Catmull-Clark levels: quad cages, the
+// bilinear-patch volume.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, THREE, surface, wire, arrows, edgesOf, bounds, ramp, diverging, colorbar, fetchSample, editorModel, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, arrows, edgesOf, quadEdgesOf, bounds, ramp, diverging, colorbar, fetchSample, editorModel, openText, explain, control, select, button, readoutTable } from './stage.js';
 
-const SCHEMES = ['loop', 'butterfly', 'linear'];
-const MODELS = ['spiky-ball', 'blob', 'torus'];
+const TRIANGLE_SCHEMES = ['loop', 'butterfly', 'linear'];
+const QUAD_SCHEMES = ['catmull-clark'];
+const MODELS = ['spiky-ball', 'blob', 'torus', 'quad-critter'];
 
 export async function mount({ mrvol, layout, el, stale }) {
   explain(layout.text, 'Levels: analysis and synthesis (Figure 1, section 2)', [
@@ -23,7 +26,10 @@ export async function mount({ mrvol, layout, el, stale }) {
     '<b>Single wavelet</b>: every coefficient 0 but one detail of level l, set to 1; the synthesis of that vector is the ' +
       'wavelet (basis function) of the vertex, drawn as a bump over the smooth level-0 surface and coloured by its value. ' +
       'Compare its support and shape across schemes. The faint wires behind the blue one are the coarser meshes M<sup>0</sup> … M<sup>l−1</sup>.',
-    'The model list starts with the editor\'s model as you left it (your edits included), then the samples.',
+    'The model list starts with the editor\'s model as you left it (your edits included), then the samples. ' +
+      'A quad model (quad-critter) shows its <b>Catmull-Clark</b> levels: each split puts a face point in every quad and an ' +
+      'edge point on every edge, M<sup>l</sup> is a mesh of quads, and the volume is that of the bilinear patches through ' +
+      'the quads\' corners (docs/catmull-clark.md).',
   ]);
   const models = [...MODELS.filter((m) => sampleModels.includes(m)), ...sampleModels.filter((m) => !MODELS.includes(m) && m !== 'icosahedron')];
   // The model on the editor's screen (its stored session, with the edits) comes first.
@@ -32,7 +38,8 @@ export async function mount({ mrvol, layout, el, stale }) {
   const options = [...(editor ? [[EDITOR, `editor: ${editor.name}`]] : []), ...models.map((m) => [m, m])];
   const s = { model: options[0][0], scheme: 'loop', compare: false, level: 0, details: 'arrows' };
   const modelSelect = control(layout.controls, 'model', select(options, s.model, 'levels-model'));
-  const schemeSelect = control(layout.controls, 'scheme', select(SCHEMES.map((m) => [m, m]), s.scheme, 'levels-scheme'));
+  const schemeSelect = control(layout.controls, 'scheme', select(TRIANGLE_SCHEMES.map((m) => [m, m]), s.scheme, 'levels-scheme'));
+  let modelSchemes = TRIANGLE_SCHEMES; // the model's schemes (a quad model: Catmull-Clark alone)
   const compare = document.createElement('input');
   compare.type = 'checkbox';
   compare.dataset.testid = 'levels-compare';
@@ -63,19 +70,20 @@ export async function mount({ mrvol, layout, el, stale }) {
   let legend = null;
 
   const stage = new Stage(layout.stage, [s.scheme]);
-  let model = null; // { name, mr, faces, positions, depths, n, perScheme: Map(scheme -> { coefficients, approx: [], cage: [] }) }
+  let model = null; // { name, mr, faces, quads, positions, depths, n, perScheme: Map(scheme -> { coefficients, approx: [], cage: [] }) }
   let timer = null;
 
   function loadScheme(scheme) {
     if (model.perScheme.has(scheme)) return model.perScheme.get(scheme);
-    const { mr, positions, depths, n, faces } = model;
+    const { mr, positions, depths, n, faces, quads } = model;
     const coefficients = mr.analyze(positions, { level: 0, scheme }); // c^0 and every detail d^0..d^{n-1}
     const levels = [];
     for (let l = 0; l <= n; l++) {
       // The details of the vertices born after level l set to zero (the core's approximation).
       const approx = mr.approximation(positions, { level: l, scheme });
       const coarse = mr.analyze(positions, { level: l, scheme }); // c^l on the vertices of depth <= l
-      levels.push({ approx, coarse, volume: mrvol.volume({ positions: approx, faces }) });
+      // a quad model's volume: the bilinear patches through its quads' corners
+      levels.push({ approx, coarse, volume: quads ? mrvol.quadVolume({ positions: approx, quads }) : mrvol.volume({ positions: approx, faces }) });
     }
     let dmax = 0;
     for (let i = 0; i < depths.length; i++)
@@ -89,21 +97,28 @@ export async function mount({ mrvol, layout, el, stale }) {
     const name = choice === EDITOR ? editor.name : choice;
     const text = choice === EDITOR ? editor.text : await fetchSample(name);
     if (stale()) return;
-    const mesh = mrvol.readObj(text);
-    if (choice === EDITOR && editor.positions?.length === mesh.positions.length) mesh.positions = editor.positions;
-    const mr = mrvol.openMesh(mesh);
+    const { mesh, mr, quad } = openText(mrvol, text, { positions: choice === EDITOR ? editor.positions : null, quads: true });
     const n = mr.levels;
-    if (n === 0) {
+    if (n === 0 || mr.lowestLevel > 0) {
       mr.delete();
-      throw new Error(`${name} has no subdivision level to step through`);
+      throw new Error(n === 0 ? `${name} has no subdivision level to step through` : `${name}'s analysis stops at level ${mr.lowestLevel} (a cube's first split)`);
     }
     model?.mr.delete();
-    model = { name, mr, faces: mesh.faces, positions: mesh.positions, depths: mr.depths(), n, perScheme: new Map(), fineVolume: mr.info().volume };
-    model.levelFaces = Array.from({ length: n + 1 }, (_, l) => mr.levelFaces(l));
+    model = { name, mr, faces: mesh.faces, quads: mesh.quads, positions: mesh.positions, depths: mr.depths(), n, perScheme: new Map(), fineVolume: mr.info().volume };
+    // the schemes this model takes; the scheme select follows
+    modelSchemes = quad ? QUAD_SCHEMES : TRIANGLE_SCHEMES;
+    if (!modelSchemes.includes(s.scheme)) s.scheme = modelSchemes[0];
+    schemeSelect.replaceChildren(...modelSchemes.map((m) => new Option(m, m)));
+    schemeSelect.value = s.scheme;
+    compare.disabled = quad;
+    if (quad) s.compare = compare.checked = false;
+    // M^l's faces (triangles or quads) and the cage's edges (a quad cage: the quads' sides)
+    model.levelFaces = Array.from({ length: n + 1 }, (_, l) => (quad ? mr.levelQuads(l) : mr.levelFaces(l)));
     model.cages = model.levelFaces.map((levelFaces, l) => {
       const vertices = [];
       for (let i = 0; i < model.depths.length; i++) if (model.depths[i] <= l) vertices.push(i);
-      return { vertices, edges: edgesOf(levelFaces, new Map(vertices.map((v, k) => [v, k]))) };
+      const index = new Map(vertices.map((v, k) => [v, k]));
+      return { vertices, edges: quad ? quadEdgesOf(levelFaces, index) : edgesOf(levelFaces, index) };
     });
     s.wavelet = null;
     s.level = Math.min(s.level, n);
@@ -112,7 +127,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     model.radius = b.radius;
     model.bounds = b;
     stage.frame(b.center, b.radius);
-    set('levels-model-info', `${name}: ${mr.vertexCount} vertices, n = ${n}`);
+    set('levels-model-info', `${name}: ${mr.vertexCount} vertices, ${quad ? `${mr.faceCount} quads (Catmull-Clark)` : `${mr.faceCount ?? mesh.faces.length / 3} triangles`}, n = ${n}`);
     buildBank();
     draw();
   }
@@ -129,7 +144,7 @@ export async function mount({ mrvol, layout, el, stale }) {
 
   function draw() {
     if (!model) return;
-    const schemes = s.compare ? SCHEMES : [s.scheme];
+    const schemes = s.compare ? modelSchemes : [s.scheme];
     const reframe = stage.panels.length !== schemes.length;
     stage.setPanels(schemes.map((x) => `${x}: level ${s.level}`));
     stage.resize();
@@ -207,7 +222,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     set('levels-zeroed', l === n ? 'none: the finest level keeps every detail' : `${zeroed} vertices: d${sup(l)}${l < n - 1 ? ` … d${sup(n - 1)}` : ''}`, zeroed);
     set('levels-dmax', l < n ? dmax.toPrecision(4) + (s.details === 'arrows' && model.arrowScale > 1 ? ` (arrows ×${model.arrowScale.toFixed(1)})` : '') : '– (finest level)', dmax);
     set('levels-volume', schemes.map((x) => `${x} ${loadScheme(x).levels[l].volume.toFixed(6)}`).join('\n'), main.levels[l].volume);
-    set('levels-volume-fine', model.fineVolume.toFixed(6), model.fineVolume);
+    set('levels-volume-fine', model.fineVolume.toFixed(6) + (model.quads ? ' (bilinear patches)' : ''), model.fineVolume);
     stage.requestRender();
   }
 
@@ -322,7 +337,9 @@ export async function mount({ mrvol, layout, el, stale }) {
     },
     actions: { setLevel, wavelet: (vertex) => { s.wavelet = vertex; draw(); } },
     debug: () => ({
-      model: model?.name, levels: model?.n, level: s.level, compare: s.compare, details: s.details,
+      model: model?.name, levels: model?.n, level: s.level, compare: s.compare, details: s.details, scheme: s.scheme,
+      quad: Boolean(model?.quads), cageEdges: model?.cages[s.level].edges.length / 2, cageVertices: model?.cages[s.level].vertices.length,
+      cageFaces: model ? model.levelFaces[s.level].length / (model.quads ? 4 : 3) : 0,
       panels: stage.panels.map((p) => p.label), frames: stage.frames ?? 0,
       volumes: Object.fromEntries([...model.perScheme].map(([k, v]) => [k, v.levels.map((x) => x.volume)])),
       fineVolume: model.fineVolume, ghosts: s.ghosts ? s.level : 0, wavelets: model.wavelets,

@@ -6,9 +6,12 @@
 // run by the core (mr.synthesizeSteps / mr.analyzeSteps with steps = k): what it has reached.
 // Analysis plays the inverse phases in reverse order; "transposed" plays the transposed phases in
 // reverse order (paper Figure 5, section 3.2: each mask applied outwards, mr.transposeSteps), as
-// the volume tensors of coarser levels are computed.
+// the volume tensors of coarser levels are computed. A quad model (quad-critter, or the editor's
+// quad mesh) plays the Catmull-Clark steps of docs/catmull-clark.md: face points, edge points, the
+// valence-3 layers, the vertex rule (QuadMultiresMesh.liftingSteps, applied by lib/quad-steps.mjs).
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, THREE, surface, wire, edgesOf, bounds, fetchSample, openEditorModel, explain, control, select, button, readoutTable } from './stage.js';
+import { trianglesOfQuads } from '../../lib/three/edges.mjs';
+import { Stage, THREE, surface, wire, edgesOf, quadEdgesOf, bounds, fetchSample, openEditorModel, openText, explain, control, select, button, readoutTable } from './stage.js';
 
 const WRITTEN = new THREE.Color(0xe36209), READ = new THREE.Color(0x1f6feb), PICKED = new THREE.Color(0x1a7f37);
 const IDLE = new THREE.Color(0x6e7781), REACHED = new THREE.Color(0xb392f0);
@@ -22,6 +25,19 @@ const PHASES = {
   P_e: 'predict even: each even vertex reads its odd neighbours (μ = (1 − K)/v each)',
   P: 'predict: each odd vertex reads the even vertices of its stencil',
 };
+// Catmull-Clark's (docs/catmull-clark.md section 2).
+const QUAD_PHASES = {
+  P_f: 'face points: each face point reads the four corners of its quad (1/4 each)',
+  P_e: 'edge points: each edge point reads its two ends and the two face points beside it (1/4 each; on a boundary its ends, 1/2 each)',
+  N_3k: 'valence-3 layer, normalize: an old vertex of valence 3 is scaled by 1/9 (the vertex rule alone would forget it)',
+  P_3k: 'valence-3 layer, predict: it reads its edge points, face points and the coarse neighbours of the layer before',
+  N_v: 'normalize old vertices: each old vertex of valence n is scaled by (n − 3)/n (boundary: 1/2)',
+  P_v: 'vertex rule: each old vertex reads its n edge points (4/n² each) and its face points (−1/n² each)',
+};
+// The valence-3 layers' steps are numbered by layer: N_31, P_31, ...
+const phaseText = (name, quad) => (quad ? QUAD_PHASES[name.replace(/^([NP])_3\d+$/, '$1_3k')] : PHASES[name]) ?? name;
+const TRIANGLE_SCHEMES = ['loop', 'butterfly', 'linear'];
+const QUAD_MODEL = 'quad-critter';
 const PLAY_MS = 900;
 
 export async function mount({ mrvol, layout, el, stale }) {
@@ -44,27 +60,56 @@ export async function mount({ mrvol, layout, el, stale }) {
       'not read its neighbours, it adds its own value times the same weights to them (x<sub>s</sub> += w x<sub>t</sub>). ' +
       'In this direction the picked vertex and its neighbours push (blue, “reads”) to the vertices their inward masks would ' +
       'read (orange, “writes”); a unit covector at the picked vertex spreads to one row of [S<sup>l</sup> C<sup>l</sup>].',
-    'The mesh is the editor\'s model as you left it, when it has a subdivision level; else the spiky ball.',
+    '<b>Quads</b> (the quad-critter, or the editor\'s quad model): one Catmull-Clark level runs <b>P<sub>f</sub></b> (face points: ' +
+      'the mean of the quad\'s corners), <b>P<sub>e</sub></b> (edge points: ends and the face points beside, 1/4 each), then the old ' +
+      'vertices: <b>N<sub>v</sub></b> scales each by (n − 3)/n and <b>P<sub>v</sub></b> adds 4/n² of its edge points and −1/n² of its face ' +
+      'points, which is Catmull-Clark\'s vertex rule (Q + 2R + (n − 3)v)/n rewritten with the new points. At a valence-3 vertex ' +
+      '(n − 3)/n is 0, so it gets its own steps N<sub>3k</sub>, P<sub>3k</sub> (docs/catmull-clark.md).',
+    'The mesh is the editor\'s model as you left it, when it has a subdivision level; else the spiky ball. The model list offers the quad-critter too.',
   ]);
   // The editor's model as it was left (edits included) when it has a level to play, else a sample.
-  let { name, mesh, mr } = (await openEditorModel(mrvol, (m) => m.levels >= 1 && m.vertexCount <= 200_000)) ?? {};
+  const fits = (m) => m.levels >= 1 && m.vertexCount <= 200_000 && !(m.lowestLevel > 0);
+  let opened = await openEditorModel(mrvol, fits, { quads: true });
   if (stale()) {
-    mr?.delete();
+    opened?.mr.delete();
     return null;
   }
-  if (!mr) {
-    name = sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0];
-    const text = await fetchSample(name);
-    if (stale()) return null;
-    mesh = mrvol.readObj(text);
-    mr = mrvol.openMesh(mesh);
+  const samples = [sampleModels.includes('spiky-ball') ? 'spiky-ball' : sampleModels[0], ...(sampleModels.includes(QUAD_MODEL) ? [QUAD_MODEL] : [])];
+  const modelOptions = [...(opened ? [[EDITOR, `editor: ${opened.name}`]] : []), ...samples.map((m) => [m, m])];
+  const editorOpened = opened;
+  // The model on screen; `mesh`: { positions, faces (triangles), quads (a quad model) }.
+  let name, mesh, mr, quad, depths, N, n;
+  async function load(choice) {
+    if (choice === EDITOR) opened = editorOpened;
+    else {
+      const text = await fetchSample(choice);
+      if (stale()) return false;
+      opened = { name: choice, ...openText(mrvol, text, { quads: true }) };
+    }
+    if (mr && mr !== opened.mr && mr !== editorOpened?.mr) mr.delete();
+    ({ name, mesh, mr, quad } = opened);
+    depths = mr.depths();
+    N = mr.vertexCount;
+    n = mr.levels;
+    if (n < 1) throw new Error(`${name} has no subdivision level`);
+    return true;
   }
-  const depths = mr.depths();
-  const N = mr.vertexCount, n = mr.levels;
-  if (n < 1) throw new Error(`${name} has no subdivision level`);
-  const s = { level: 1, scheme: 'loop', mode: 'synthesis', vertex: 0, phase: 0 };
-  const levelSelect = control(layout.controls, 'level l', select([...Array(n).keys()].map((k) => [String(k + 1), `${k + 1}: M${k} → M${k + 1}`]), '1', 'lifting-level'));
-  const schemeSelect = control(layout.controls, 'scheme', select(['loop', 'butterfly', 'linear'].map((k) => [k, k]), s.scheme, 'lifting-scheme'));
+  if (!(await load(modelOptions[0][0]))) return null;
+  const s = { level: 1, scheme: quad ? 'catmull-clark' : 'loop', mode: 'synthesis', vertex: 0, phase: 0 };
+  const modelSelect = control(layout.controls, 'model', select(modelOptions, modelOptions[0][0], 'lifting-model'));
+  const levelSelect = control(layout.controls, 'level l', select([], '1', 'lifting-level'));
+  const schemeSelect = control(layout.controls, 'scheme', select([], s.scheme, 'lifting-scheme'));
+  /** The level and scheme selects for the model on screen (a quad model: Catmull-Clark alone). */
+  function fillSelects() {
+    levelSelect.replaceChildren(...[...Array(n).keys()].map((k) => new Option(`${k + 1}: M${k} → M${k + 1}`, String(k + 1))));
+    s.level = Math.min(s.level, n);
+    levelSelect.value = String(s.level);
+    const schemes = quad ? ['catmull-clark'] : TRIANGLE_SCHEMES;
+    if (!schemes.includes(s.scheme)) s.scheme = schemes[0];
+    schemeSelect.replaceChildren(...schemes.map((k) => new Option(k, k)));
+    schemeSelect.value = s.scheme;
+  }
+  fillSelects();
   const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis: the phases in order'], ['analysis', 'analysis: inverse phases, reverse order'], ['transposed', 'transposed: masks outwards, reverse order (Figure 5)']], s.mode, 'lifting-mode'));
   const vertexInput = document.createElement('input');
   vertexInput.type = 'number';
@@ -87,7 +132,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   layout.readouts.append(weightsBox);
 
   const stage = new Stage(layout.stage, ['']);
-  const b = bounds(mesh.positions);
+  let b = bounds(mesh.positions);
   stage.frame(b.center, b.radius);
   // The level on screen: { vertices (indices of M^l), index Map, positions, points, lines, ring, steps }.
   let current = null;
@@ -105,10 +150,12 @@ export async function mount({ mrvol, layout, el, stale }) {
     const index = new Map(vertices.map((u, k) => [u, k]));
     const positions = new Float64Array(3 * vertices.length);
     vertices.forEach((u, k) => positions.set(coarse.subarray(3 * u, 3 * u + 3), 3 * k));
-    const levelFaces = mr.levelFaces(l);
+    // M^l: triangles, or quads (drawn as two triangles each, wired along their sides)
+    const levelFaces = quad ? mr.levelQuads(l) : mr.levelFaces(l);
+    const corners = quad ? 4 : 3;
     const faces = Uint32Array.from(levelFaces, (u) => index.get(u));
-    scene.add(surface(positions, faces, { color: 0xe8e2d8 }));
-    scene.add(wire(positions, edgesOf(faces), { color: 0x8c959f, points: false }));
+    scene.add(surface(positions, quad ? trianglesOfQuads(faces) : faces, { color: 0xe8e2d8 }));
+    scene.add(wire(positions, quad ? quadEdgesOf(faces) : edgesOf(faces), { color: 0x8c959f, points: false }));
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
     geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * vertices.length), 3));
@@ -117,14 +164,16 @@ export async function mount({ mrvol, layout, el, stale }) {
     const lines = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false, transparent: true, opacity: 0.9 }));
     lines.renderOrder = 2;
     scene.add(lines);
-    // Neighbours in M^l (connectivity only, for choosing which rows of a phase to show).
+    // Neighbours in M^l (connectivity only, for choosing which rows of a phase to show): along the
+    // triangles' edges; for quads every corner of the quads around (a face point and its quad's corners).
     const ring = new Map(vertices.map((u) => [u, new Set()]));
-    for (let f = 0; f < levelFaces.length; f += 3)
-      for (let e = 0; e < 3; e++) {
-        const a = levelFaces[f + e], c = levelFaces[f + (e + 1) % 3];
-        ring.get(a).add(c);
-        ring.get(c).add(a);
-      }
+    for (let f = 0; f < levelFaces.length; f += corners)
+      for (let e = 0; e < corners; e++)
+        for (let g = 1; g < (quad ? corners : 2); g++) {
+          const a = levelFaces[f + e], c = levelFaces[f + (e + g) % corners];
+          ring.get(a).add(c);
+          ring.get(c).add(a);
+        }
     // The core's steps of level l, with each step's row of a target vertex.
     const steps = mr.liftingSteps({ level: l, scheme: s.scheme }).map((step) => ({ ...step, rowOf: new Map([...step.targets].map((t, r) => [t, r])) }));
     current = { vertices, index, positions, points, lines, ring, steps };
@@ -133,6 +182,10 @@ export async function mount({ mrvol, layout, el, stale }) {
   }
 
   const phaseCount = () => current.steps.length;
+  // A vertex of M^l: even or odd; on a quad mesh a face point (P_f writes it), an edge point (P_e) or an old vertex.
+  const written = (name, u) => current.steps.find((step) => step.name === name)?.rowOf.has(u);
+  const kindOf = (u) => (!quad ? (depths[u] === s.level ? 'odd' : 'even')
+    : depths[u] < s.level ? 'old vertex, even' : written('P_f', u) ? 'face point, odd' : written('P_e', u) ? 'edge point, odd' : 'odd');
   // The step run by phase k (1-based) in the current direction, and whether it runs inverted.
   const stepOfPhase = (k) => (s.mode === 'synthesis' ? current.steps[k - 1] : current.steps[phaseCount() - k]);
   const phaseName = (k) => (k === 0 ? 'start' : s.mode === 'synthesis' ? stepOfPhase(k).name
@@ -210,10 +263,10 @@ export async function mount({ mrvol, layout, el, stale }) {
       ? `${odd ? 'd' : 'c'}${sup(s.level - 1)}${sub(s.vertex)} → c${sup(s.level)}`
       : s.mode === 'analysis' ? `c${sup(s.level)}${sub(s.vertex)} → c${sup(s.level - 1)}, d${sup(s.level - 1)}`
         : `covector at c${sup(s.level)}${sub(s.vertex)} → (c${sup(s.level - 1)}, d${sup(s.level - 1)}), outwards`;
-    set('lifting-picked', `vertex ${s.vertex} (${odd ? 'odd' : 'even'}, depth ${depths[s.vertex]}): ${what}`, s.vertex);
+    set('lifting-picked', `vertex ${s.vertex} (${kindOf(s.vertex)}, depth ${depths[s.vertex]}): ${what}`, s.vertex);
     const phase = phaseName(k);
     const about = k === 0 ? 'before the first phase'
-      : (s.mode === 'analysis' ? 'undoes ' : s.mode === 'transposed' ? 'applied outwards: ' : '') + PHASES[stepOfPhase(k).name];
+      : (s.mode === 'analysis' ? 'undoes ' : s.mode === 'transposed' ? 'applied outwards: ' : '') + phaseText(stepOfPhase(k).name, quad);
     set('lifting-phase', `${k} / ${phaseCount()}: ${phase} — ${about}`, k);
     set('lifting-written', `${mask.written.length} vertices near the picked one`, mask.written.length);
     set('lifting-read', `${mask.read.length} vertices`, mask.read.length);
@@ -227,7 +280,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     if (mask.weights.length > 40) weightsBox.append(el('div', { class: 'muted', text: `… and ${mask.weights.length - 40} more` }));
     if (k > 0 && mask.written.length === 0) weightsBox.append(el('div', { class: 'muted', text: `${phase} writes no vertex next to this one` }));
     result = {
-      model: name, level: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, odd, phase: k, phaseCount: phaseCount(), phaseName: phase,
+      model: name, quad, kind: kindOf(s.vertex), level: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, odd, phase: k, phaseCount: phaseCount(), phaseName: phase,
       phases: Array.from({ length: phaseCount() }, (_, i) => phaseName(i + 1)),
       written: mask.written.length, read: mask.read.length, writtenVertices: mask.written, readVertices: mask.read,
       weights: mask.weights.slice(0, 60), touched: reached.length, reached: reached.slice(0, 60),
@@ -305,6 +358,16 @@ export async function mount({ mrvol, layout, el, stale }) {
     if (hits.length) pick(current.vertices[hits[0].index], false);
   });
 
+  modelSelect.addEventListener('change', async () => {
+    stop();
+    if (!(await load(modelSelect.value))) return;
+    fillSelects();
+    b = bounds(mesh.positions);
+    raycaster.params.Points.threshold = 0.05 * b.radius;
+    s.vertex = 0;
+    buildLevel();
+    pick(0);
+  });
   levelSelect.addEventListener('change', () => { s.level = Number(levelSelect.value); buildLevel(); reset(); });
   schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; buildLevel(); reset(); });
   modeSelect.addEventListener('change', () => { s.mode = modeSelect.value; reset(); });
@@ -315,7 +378,8 @@ export async function mount({ mrvol, layout, el, stale }) {
     dispose() {
       stop();
       stage.dispose();
-      mr.delete();
+      if (mr !== editorOpened?.mr) mr.delete();
+      editorOpened?.mr.delete();
     },
     actions: {
       pick,
@@ -335,6 +399,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   };
 }
 
+const EDITOR = '(editor)';
 const SUP = '⁰¹²³⁴⁵⁶⁷⁸⁹', SUB = '₀₁₂₃₄₅₆₇₈₉';
 function sup(n) {
   return String(n).replace(/\d/g, (d) => SUP[d]);

@@ -4,7 +4,7 @@
 // every number comes from the core through the API.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { SurfaceMesh, CageObject, frameSphere } from '../../lib/three/objects.mjs';
+import { SurfaceMesh, CageObject, frameSphere, trianglesOfQuads } from '../../lib/three/objects.mjs';
 import { storedModel } from '../session.js';
 import { fetchSample } from '../models.js';
 import { niceTicks } from '../ticks.js';
@@ -12,7 +12,7 @@ import { niceTicks } from '../ticks.js';
 export { niceTicks }; // the views' charts and tests import it from here
 
 export { THREE };
-export { arrows, bounds, edgesOf } from '../../lib/three/objects.mjs';
+export { arrows, bounds, edgesOf, quadEdgesOf } from '../../lib/three/objects.mjs';
 export { fetchSample };
 
 export class Stage {
@@ -347,20 +347,42 @@ export async function editorModel() {
 }
 
 /**
- * The editor's model opened as a MultiresMesh ({ name, mesh, mr }) when it `fits` (mr => bool),
- * else null (no session, unreadable, or not fitting; nothing is left open).
+ * An OBJ text opened for a view: { mesh: { positions, faces (triangles), quads (or null) }, mr, quad }.
+ * With `quads`, a semi-regular quad OBJ opens as a QuadMultiresMesh (Catmull-Clark levels; faces:
+ * its quads split in two for drawing); else, and for any other file, as a triangle MultiresMesh.
+ * `positions` (edited ones of the same vertices) replace the file's.
  */
-export async function openEditorModel(mrvol, fits = () => true) {
+export function openText(mrvol, text, { positions = null, quads = false } = {}) {
+  const mesh = mrvol.readObj(text);
+  if (positions?.length === mesh.positions.length) mesh.positions = positions;
+  if (quads && mesh.polygons > 0) {
+    let mr = null;
+    try {
+      const read = mrvol.readObjQuads(text);
+      if (read.positions.length === mesh.positions.length) {
+        mr = mrvol.openQuadMesh({ positions: mesh.positions, quads: read.quads });
+        if (mr.levels > 0) return { mesh: { positions: mesh.positions, faces: trianglesOfQuads(read.quads), quads: read.quads }, mr, quad: true };
+      }
+    } catch { /* not a semi-regular quad mesh: triangles */ }
+    mr?.delete();
+  }
+  return { mesh: { ...mesh, quads: null }, mr: mrvol.openMesh(mesh), quad: false };
+}
+
+/**
+ * The editor's model opened as a MultiresMesh ({ name, mesh, mr, quad }) when it `fits` (mr => bool),
+ * else null (no session, unreadable, or not fitting; nothing is left open). With `quads`, a quad
+ * model opens as quads (openText).
+ */
+export async function openEditorModel(mrvol, fits = () => true, { quads = false } = {}) {
   const editor = await editorModel();
   if (!editor) return null;
-  let mr = null;
+  let opened = null;
   try {
-    const mesh = mrvol.readObj(editor.text);
-    if (editor.positions?.length === mesh.positions.length) mesh.positions = editor.positions;
-    mr = mrvol.openMesh(mesh);
-    if (fits(mr)) return { name: editor.name, mesh, mr };
+    opened = openText(mrvol, editor.text, { positions: editor.positions, quads });
+    if (fits(opened.mr)) return { name: editor.name, ...opened };
   } catch { /* shown as a sample instead */ }
-  mr?.delete();
+  opened?.mr.delete();
   return null;
 }
 
