@@ -1,7 +1,8 @@
 // Keep balance: the editor's switches for what is kept besides the volume (the centre of mass,
 // "keep balance") and whose volume it is (the mesh, or its Loop limit surface), and the centre of
 // mass drawn as a marker (seen through the surface: it is inside). The core computes the centroid
-// (VolumeEditor.centroid); this module only moves it to the screen, once per frame at most.
+// (VolumeEditor.centroid); this module only moves it to the screen, once per frame at most. Both
+// switches are undo steps of the session and settings of the app (kept, shared, in project files).
 import * as THREE from 'three';
 import { showError } from './readouts.js';
 
@@ -99,12 +100,15 @@ export function setUpBalance({ session, viewer, onChanged = () => {} }) {
     drawSoon();
   });
   session.addEventListener('editor', () => { sync(); drawSoon(); });
-  session.addEventListener('change', drawSoon);
+  session.addEventListener('change', ({ detail }) => {
+    if (detail.reason === 'undo' || detail.reason === 'redo') sync(); // a keep or surface step undone
+    drawSoon();
+  });
   viewer.controls?.addEventListener('change', () => marker.quaternion.copy(viewer.camera.quaternion));
 
   keep.addEventListener('change', () => {
     try {
-      session.setKeepCentroid(keep.checked);
+      session.setKeepCentroid(keep.checked); // one undo step
       if (keep.checked) baseline = Array.from(session.referenceCentroid());
     } catch (e) {
       showError(`Balance could not be kept: ${e.message}`);

@@ -35,6 +35,32 @@ export function installDebugHook(app) {
     cagePositions: () => (editor() ? Array.from(editor().cagePositions()) : []),
     selection: () => [...app.selection],
     settings: () => ({ ...app.settings }),
+    /**
+     * The floor shadow (web/floor-shadow.js): { visible, updates, darkened } where darkened is the
+     * share of the view's pixels the shadow darkens (two frames drawn now, with and without the floor;
+     * the view is left as it was).
+     */
+    floorShadow() {
+      const viewer = app.viewer;
+      if (!viewer?.mesh) return null;
+      const { floor } = viewer.shadow;
+      const pixels = () => {
+        viewer.renderer.render(viewer.scene, viewer.camera); // the drawing buffer holds this frame now
+        const { width, height } = viewer.canvas;
+        const copy = Object.assign(document.createElement('canvas'), { width, height }).getContext('2d', { willReadFrequently: true });
+        copy.drawImage(viewer.canvas, 0, 0);
+        return copy.getImageData(0, 0, width, height).data;
+      };
+      const shown = floor.visible;
+      const withFloor = pixels();
+      floor.visible = false;
+      const without = pixels();
+      floor.visible = shown;
+      viewer.renderer.render(viewer.scene, viewer.camera);
+      let darkened = 0;
+      for (let i = 0; i < without.length; i += 4) if (without[i] + without[i + 1] + without[i + 2] - withFloor[i] - withFloor[i + 1] - withFloor[i + 2] > 15) darkened++;
+      return { visible: shown, updates: viewer.shadow.updates, darkened: darkened / (without.length / 4) };
+    },
     ready: () => app.ready,
     /** ms the room lighting took to prefilter (null until done). */
     environmentMs: () => app.viewer?.environmentMs ?? null,

@@ -27,7 +27,7 @@ import { stepMultiplier } from './multiplier.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
 import { findSelfIntersection } from './self-intersection.js';
 import { setUpBalance } from './balance.js';
-import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject } from './share.js';
+import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject, SHARE_PARAMS } from './share.js';
 import { VIEWS } from './learn/router.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
 
@@ -42,6 +42,7 @@ const DEFAULT_SETTINGS = Object.freeze({
   flat: true, showMesh: true, showCage: true,
   tool: 'drag', part: 1, painted: Object.freeze([]), parts: Object.freeze([]),
   showApprox: false, approxLevel: 0, showDetails: false,
+  keepBalance: false, surface: 'mesh', // web/balance.js: the centre of mass kept too; whose volume (mesh or limit)
 });
 
 const app = {
@@ -95,14 +96,16 @@ function pushStat(list, value) {
 
 // ---- the stored session ---------------------------------------------------------------------------
 
-let saveTimer = null;
+let saveTimer = null, savePending = false;
 function saveSoon() {
   clearTimeout(saveTimer);
+  savePending = true;
   saveTimer = setTimeout(saveNow, 150);
 }
 
 function saveNow() {
   clearTimeout(saveTimer);
+  savePending = false;
   const { session } = app;
   if (!app.model || !session.editor) return;
   const stored = {
@@ -209,8 +212,12 @@ function openModelMesh(model, mesh, restore = null) {
   session.level = app.settings.level;
   session.scheme = app.settings.scheme;
   session.preserve = app.settings.preserve;
+  session.surface = app.settings.surface === 'limit' ? 'limit' : 'mesh';
+  session.keepCentroid = app.settings.keepBalance;
   session.open(mr, { name, own: true, restore: fits ? restore : null });  // emits model, editor
   app.settings.level = session.level;
+  app.settings.surface = session.surface;        // the mesh's own when it has no limit volume
+  app.settings.keepBalance = session.keepCentroid;
   const history = fits ? restore.history : null;
   if (history?.steps && history.level === session.level && history.scheme === session.scheme) {
     session.history.load(history.steps);
@@ -335,13 +342,16 @@ function rebuildEditor() {
   else session.setLevel(settings.level);
 }
 
-/** The panel follows what undo and redo changed in the session: level, scheme, preservation. */
+/** The settings and panel follow what undo and redo changed in the session: level, scheme, preservation, balance, surface. */
 function syncSettings() {
   const { session, settings } = app;
-  if (settings.level === session.level && settings.scheme === session.scheme && settings.preserve === session.preserve) return;
+  if (settings.level === session.level && settings.scheme === session.scheme && settings.preserve === session.preserve &&
+      settings.keepBalance === session.keepCentroid && settings.surface === session.surface) return;
   settings.level = session.level;
   settings.scheme = session.scheme;
   settings.preserve = session.preserve;
+  settings.keepBalance = session.keepCentroid;
+  settings.surface = session.surface;
   app.panel.update();
   saveSoon();
 }
@@ -749,7 +759,8 @@ async function start() {
 
   let restore = null, source;
   if (shared) {
-    Object.assign(app.settings, { level: shared.level, preserve: shared.preserve }, shared.scheme ? { scheme: shared.scheme } : {});
+    Object.assign(app.settings, { level: shared.level, preserve: shared.preserve, keepBalance: shared.keepBalance, surface: shared.surface },
+      shared.scheme ? { scheme: shared.scheme } : {});
     source = { kind: 'sample', name: shared.name };
   } else if (useStored) {
     restore = restoreOfStored(stored);
@@ -798,7 +809,7 @@ async function start() {
   session.addEventListener('model', () => chart.reset());
   session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
   followSessionInView(session);
-  app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: saveSoon });
+  app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: () => { syncSettings(); saveSoon(); } });
   const cache = await cacheOpening;
   app.theta.cache = cache;
   app.stats.cacheAt = performance.now();
@@ -826,11 +837,13 @@ async function start() {
   if (shared) {
     // applied: a reload opens the stored session (which now holds these edits)
     const url = new URL(location.href);
-    for (const key of ['edits', 'level', 'scheme', 'preserve', 'reference']) url.searchParams.delete(key);
+    for (const key of SHARE_PARAMS) url.searchParams.delete(key);
     history.replaceState(null, '', url);
     saveSoon();
   }
-  window.addEventListener('pagehide', saveNow);
+  // Only a save still waiting: a needless one would give the localStorage copy (no undo history) a
+  // newer time than the IndexedDB record, whose write the unload cuts short, and it would win on reload.
+  window.addEventListener('pagehide', () => savePending && saveNow());
 }
 
 // #learn/... and #demo/...: the teaching views (web/learn/) instead of the editor.

@@ -53,19 +53,25 @@ export async function shareUrl({ name, positions, original, reference, settings 
   url.searchParams.set('level', String(settings.level));
   url.searchParams.set('scheme', settings.scheme);
   if (!settings.preserve) url.searchParams.set('preserve', '0');
+  if (settings.keepBalance) url.searchParams.set('balance', '1');
+  if (settings.surface === 'limit') url.searchParams.set('surface', 'limit');
   url.searchParams.set('reference', String(reference));
   url.searchParams.set('edits', await encodeEdits(positions, original));
   return url.href;
 }
 
-/** The shared state in a URL's parameters, or null: { name, level, scheme, preserve, reference, edits }. */
+/** The parameters a share link sets besides `model` (dropped once applied). */
+export const SHARE_PARAMS = Object.freeze(['edits', 'level', 'scheme', 'preserve', 'balance', 'surface', 'reference']);
+
+/** The shared state in a URL's parameters, or null: { name, level, scheme, preserve, keepBalance, surface, reference, edits }. */
 export function sharedState(params) {
   const edits = params.get('edits'), name = params.get('model');
   if (!edits || !name) return null;
   const level = Number(params.get('level') ?? 0), reference = Number(params.get('reference'));
   return {
     name, edits, level: Number.isInteger(level) && level >= 0 ? level : 0, scheme: params.get('scheme') ?? undefined,
-    preserve: params.get('preserve') !== '0', reference: Number.isFinite(reference) ? reference : null,
+    preserve: params.get('preserve') !== '0', keepBalance: params.get('balance') === '1',
+    surface: params.get('surface') === 'limit' ? 'limit' : 'mesh', reference: Number.isFinite(reference) ? reference : null,
   };
 }
 

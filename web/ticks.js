@@ -18,7 +18,11 @@ export function niceTicks(lo, hi, count = 5) {
   // Multiples of the step, rounded to its decimals (no 0.30000000000000004).
   const ticks = [];
   for (let t = first; t <= last; t++) ticks.push(Number((t * step).toFixed(decimals)));
-  const scientific = decimals > 6 || Math.abs(exponent) > 6;
-  const format = (v) => (scientific ? v.toExponential(Math.max(0, Math.round(Math.log10(Math.max(Math.abs(v), step) / step)))) : v.toFixed(decimals));
+  // Plain decimals while they stay short (1.0000005 rather than 1.0000005e+0); else scientific with
+  // the digits down to the step's (each label distinct: 9.999995e-1, 1.0000005e+0).
+  const largest = Math.max(...ticks.map(Math.abs));
+  const scientific = decimals > 9 || largest >= 1e7 || (largest > 0 && largest < 1e-4);
+  const digits = (v) => Math.max(0, Math.floor(Math.log10(Math.max(Math.abs(v), step)) + 1e-9) - exponent);
+  const format = (v) => (scientific ? v.toExponential(Math.min(20, digits(v))) : v.toFixed(decimals));
   return { step, mantissa: mantissa === 10 ? 1 : mantissa, exponent, ticks, format };
 }

@@ -6,6 +6,7 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
+import { FloorShadow } from './floor-shadow.js';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
 
 const MESH_COLOR = 0xc9b8a0;
@@ -110,6 +111,10 @@ export class Viewer {
     key.position.set(2, 3, 4);
     this.camera.add(key); // the light follows the view
 
+    // a soft shadow on a floor under the model (web/floor-shadow.js)
+    this.shadow = new FloorShadow(this.renderer, this.scene);
+    this.shadow.onLate = () => this.requestRender();
+
     this.controls = new OrbitControls(this.camera, this.canvas);
     this.controls.addEventListener('change', () => this.requestRender());
 
@@ -182,6 +187,7 @@ export class Viewer {
     this.camera.fov = w >= h ? FOV_DEG : THREE.MathUtils.radToDeg(2 * Math.atan(Math.tan(THREE.MathUtils.degToRad(FOV_DEG / 2)) * h / w));
     this.camera.updateProjectionMatrix();
     // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
+    this.shadow?.beforeRender();
     this.renderer.render(this.scene, this.camera);
   }
 
@@ -191,6 +197,7 @@ export class Viewer {
     requestAnimationFrame(() => {
       this.frameRequested = false;
       const started = performance.now();
+      this.shadow.beforeRender(started);
       this.renderer.render(this.scene, this.camera);
       this.onFrame?.(performance.now() - started);
     });
@@ -208,7 +215,9 @@ export class Viewer {
     geometry.setIndex(new THREE.BufferAttribute(faces.length > 0 ? new Uint32Array(faces) : new Uint32Array(0), 1));
     this.mesh = new THREE.Mesh(geometry, this.meshMaterial);
     this.mesh.frustumCulled = false;
+    this.mesh.castShadow = true;
     this.scene.add(this.mesh);
+    this.shadow.fit(positions, faces.length / 3);
     // The layers: same faces; filled in by updateApprox / updateDetails.
     const approxGeometry = new THREE.BufferGeometry();
     approxGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
@@ -254,6 +263,7 @@ export class Viewer {
     attribute.array.set(positions);
     attribute.needsUpdate = true;
     if (!this.flat) this.mesh.geometry.computeVertexNormals();
+    this.shadow.changed();
     this.requestRender();
   }
 
@@ -267,6 +277,7 @@ export class Viewer {
 
   setLayers({ mesh, cage, approx = this.overlay.approx, details = this.overlay.details }) {
     if (this.mesh) this.mesh.visible = mesh;
+    if (this.shadow.floor.visible !== mesh) this.shadow.setVisible(mesh);
     this.cageGroup.visible = cage;
     this.overlay = { approx, details };
     this.#showOverlay();

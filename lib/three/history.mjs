@@ -1,7 +1,8 @@
 // Undo/redo of the editing session (lib/three/session.mjs). A step is { before, after, label }: a drag
 // ('drag': Float64Array cage positions; the details never change while editing, so the cage alone
 // gives the shape back), a level or scheme change ('editor': { level, scheme }), a reference volume
-// ('reference': numbers) or a preservation toggle ('preserve': booleans).
+// ('reference': numbers), a preservation toggle ('preserve': booleans), a keep-balance toggle ('keep':
+// booleans) or a surface change ('surface': { surface, keepCentroid, reference }).
 export class History {
   #undo = [];
   #redo = [];

@@ -12,6 +12,7 @@
 //
 // Undo/redo covers every change of the shape or the reference: drags (cage positions before and
 // after, at the level and scheme they were made), reference volume changes, preservation toggles,
+// keep-balance toggles, surface changes (mesh / limit, with each one's reference volume),
 // and level and scheme changes themselves (undoing one goes back to the earlier cage, so the
 // earlier drags undo at the level they were made). Opening a model starts a new history.
 //   theta   the gradient path or the tensor in use changed: { source, path }
@@ -146,7 +147,15 @@ export class EditingSession extends EventTarget {
       if (Number.isFinite(restore.reference)) reference = restore.reference;
     }
     // model first (views replace the mesh), then the new cage.
-    this.#buildEditor(reference, { announce: false });
+    if (this.surface === 'limit') this.keepCentroid = false;
+    try {
+      this.#buildEditor(reference, { announce: false });
+    } catch (error) {
+      // a stored 'limit' setting on a mesh without a limit volume (an open one): the mesh's volume
+      if (this.surface !== 'limit') throw error;
+      this.surface = 'mesh';
+      this.#buildEditor(null, { announce: false });
+    }
     this.#emit('model', { model });
     this.#announceEditor();
     this.#emit('change', { reason: 'model' });
@@ -212,27 +221,40 @@ export class EditingSession extends EventTarget {
       throw new this.#mrvol.MrvolError('the limit surface is that of Loop triangle meshes: a quad mesh keeps its bilinear-patch volume');
     if (surface === this.surface || !this.editor) {
       this.surface = surface;
+      if (surface === 'limit') this.keepCentroid = false;
       return;
     }
-    const before = { surface: this.surface, keepCentroid: this.keepCentroid }, reference = this.editor.referenceVolume();
+    const before = this.#surfaceState();
     this.surface = surface;
     if (surface === 'limit') this.keepCentroid = false;
     try {
       this.#buildEditor();
     } catch (error) {
-      Object.assign(this, before);
-      this.#buildEditor(reference);
+      this.surface = before.surface;
+      this.keepCentroid = before.keepCentroid;
+      this.#buildEditor(before.reference);
       throw error;
     }
+    this.history.push(before, this.#surfaceState(), 'surface');
   }
 
-  /** Keeps the centre of mass where it is now (with the volume), or stops; mesh surface only. */
+  /** What a surface change changes: the surface, whether the centre of mass is kept, the reference volume. */
+  #surfaceState() {
+    return { surface: this.surface, keepCentroid: this.keepCentroid, reference: this.editor.referenceVolume() };
+  }
+
+  /**
+   * Keeps the centre of mass where it is now (with the volume), or stops; mesh surface only. One undo
+   * step when it changes.
+   */
   setKeepCentroid(on) {
     on = Boolean(on);
     if (on && this.surface === 'limit')
       throw new this.#mrvol.MrvolError('the centre of mass is kept for the mesh surface only: switch the surface to mesh first');
     if (on && this.editor && !this.canKeepCentroid)
       throw new this.#mrvol.MrvolError('the quad editor keeps the volume only, not the centre of mass');
+    if (on === this.keepCentroid) return;
+    if (this.editor) this.history.push(this.keepCentroid, on, 'keep');
     this.keepCentroid = on;
     if (this.canKeepCentroid) this.editor.keepCentroid(on);
     this.#emit('change', { reason: 'keep' });
@@ -462,6 +484,16 @@ export class EditingSession extends EventTarget {
       this.#emit('change', { reason });
     } else if (step.label === 'preserve') {
       this.preserve = state;
+      this.#emit('change', { reason });
+    } else if (step.label === 'keep') {
+      this.keepCentroid = state;
+      this.editor.keepCentroid(state);
+      this.#emit('change', { reason });
+    } else if (step.label === 'surface') {
+      // the surface's own reference volume comes back with it
+      this.surface = state.surface;
+      this.keepCentroid = state.keepCentroid;
+      this.#buildEditor(state.reference);
       this.#emit('change', { reason });
     } else {
       this.#restoreCage(state, reason);

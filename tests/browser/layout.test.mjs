@@ -146,6 +146,35 @@ describe('web editor layout at desktop and phone sizes', { timeout: 400_000 }, (
     });
   });
 
+  for (const [sizeName, viewport] of Object.entries({ ...SIZES, wide: { width: 1920, height: 1080 } })) {
+    test(`${sizeName} ${viewport.width}x${viewport.height}: no empty strip above the view; progress shows above it, not over it`, { timeout: 120_000 }, async () => {
+      await withBrowser(viewport, async (page) => {
+        await page.goto(server.url);
+        await waitReady(page);
+        const layout = () => page.evaluate(() => ({
+          strip: document.querySelector('.status-strip').getBoundingClientRect().height,
+          stageTop: document.querySelector('.stage').getBoundingClientRect().top,
+          canvas: document.querySelector('#view canvas').getBoundingClientRect().toJSON(),
+        }));
+        const idle = await layout();
+        assert.equal(idle.strip, 0, 'an empty status strip');
+        assert.equal(idle.canvas.top, idle.stageTop, 'the view starts at the top');
+        await page.screenshot({ path: join(RESULTS_DIR, `layout-${sizeName}-no-strip.png`) });
+        // θ's progress as the app shows it (web/readouts.js unhides the box): the strip comes, above the view
+        await page.evaluate(() => { document.getElementById('theta-progress').hidden = false; });
+        await settle(page);
+        const busy = await layout();
+        assert.ok(busy.strip >= 30, `the progress strip is ${busy.strip}px`);
+        assert.ok(busy.canvas.top >= busy.stageTop + busy.strip - 0.5, 'the progress is above the canvas, not over it');
+        assert.deepEqual(await unreachableHandles(page), []);
+        await page.evaluate(() => { document.getElementById('theta-progress').hidden = true; });
+        await settle(page);
+        assert.equal((await layout()).strip, 0, 'the strip goes with the progress');
+        assert.deepEqual(page.problems, []);
+      });
+    });
+  }
+
   for (const [sizeName, viewport] of Object.entries(SIZES)) {
     test(`${sizeName}: the remesh offer's text, fields, button and close button do not overlap`, { timeout: 120_000 }, async () => {
       await withBrowser(viewport, async (page) => {

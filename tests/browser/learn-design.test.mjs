@@ -200,6 +200,9 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
 
   test('#demo/ball: one floor per ball, inside its panel (no V where two grids meet); round chart ticks', async () => {
     await open('demo/ball');
+    // at the start both volumes are the reference: a range of 1e-6 around 1, labelled without repeats
+    const first = await page.evaluate(() => JSON.parse(document.querySelector('[data-testid="volume-chart"]').dataset.tickLabels ?? '[]'));
+    assert.ok(first.length >= 3 && new Set(first).size === first.length, `tick labels at the start: ${first}`);
     await page.click('[data-testid="demo-play"]');
     await act('runUntilSquashed', 0.2, 1 / 120);
     for (const [p, f] of (await act('floorScreen')).entries())

@@ -410,3 +410,55 @@ test("path 'auto' (the web app's): the cage polynomial wherever the rule takes i
   plain.dispose();
   session.dispose();
 });
+
+test('keep balance and the surface are undo steps; undoing a surface change brings its reference volume back', () => {
+  const { session } = openBall();
+  const meshReference = session.referenceVolume();
+  session.setKeepCentroid(true);
+  const kept = session.referenceCentroid();
+  session.moveHandles([0], outward(session, 0, 0.3));
+  const centroid = session.centroid();
+  assert.ok(Math.hypot(...centroid.map((c, k) => c - kept[k])) < 1e-7, 'the centre of mass stayed');
+  session.setKeepCentroid(true); // no change, no step
+  session.setSurface('limit');
+  assert.equal(session.keepCentroid, false, 'the limit surface does not keep the centre of mass');
+  const limitReference = session.referenceVolume();
+  assert.notEqual(limitReference, meshReference);
+  session.moveHandles([2], outward(session, 2, 0.2));
+  assert.ok(relative(session.volume(), limitReference) < 1e-6);
+  assert.deepEqual(session.history.size, { undo: 4, redo: 0 });
+
+  assert.ok(session.undo()); // the limit drag
+  assert.ok(session.undo()); // back to the mesh surface
+  assert.equal(session.surface, 'mesh');
+  assert.equal(session.keepCentroid, true);
+  assert.equal(session.editor.surface(), 'mesh');
+  assert.equal(session.referenceVolume(), meshReference);
+  assert.ok(session.undo()); // the drag with balance kept
+  assert.ok(session.undo()); // balance off again
+  assert.equal(session.keepCentroid, false);
+  assert.equal(session.undo(), false);
+
+  for (let i = 0; i < 4; i++) assert.ok(session.redo());
+  assert.equal(session.surface, 'limit');
+  assert.equal(session.keepCentroid, false);
+  assert.equal(session.referenceVolume(), limitReference);
+  assert.ok(relative(session.volume(), limitReference) < 1e-6);
+  session.dispose();
+});
+
+test('a stored limit surface on a mesh without a limit volume opens on the mesh surface', () => {
+  // an open mesh (semi-regular still): the spiky ball with its first face dropped
+  const mesh = sample('spiky-ball');
+  const open = { positions: mesh.positions, faces: mesh.faces.slice(3) };
+  const session = new EditingSession(mrvol);
+  session.surface = 'limit';
+  session.keepCentroid = true;
+  session.open(open, { name: 'open' });
+  assert.throws(() => session.setSurface('limit'), /closed mesh/);
+  assert.equal(session.surface, 'mesh');
+  assert.equal(session.keepCentroid, false);
+  assert.equal(session.editor.surface(), 'mesh');
+  assert.deepEqual(session.history.size, { undo: 0, redo: 0 }, 'a refused surface change is no step');
+  session.dispose();
+});

@@ -296,6 +296,7 @@ export class Chart {
     lo = axis.ticks[0];
     hi = axis.ticks[axis.ticks.length - 1];
     const labels = axis.ticks.map((v) => axis.format(v));
+    c.dataset.tickLabels = JSON.stringify(labels);
     g.font = '11px system-ui, sans-serif';
     const left = 12 + Math.max(...labels.map((t) => g.measureText(t).width)), right = 10, bottom = 8;
     // The legend beside the title, or on a line of its own when the chart is narrow (phones).
