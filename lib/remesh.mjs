@@ -919,7 +919,10 @@ export async function remesh(mrvol, input, options = {}) {
     for (let round = 0; round < 3 && distance(measured) > goal; round++) {
       const added = addTips(mesh, measured.surface, goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
       if (added === 0) break;
+      const before = distance(measured);
       tryFit(result.levels, 1);
+      // A round that gained less than 5% leaves little for the next one.
+      if (distance(measured) > 0.95 * before) break;
     }
     for (const scale of [2, 4]) {
       if (distance(measured) <= goal || requested * scale > 1250) break;
