@@ -540,9 +540,14 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     for (let f = 0; f < faces.length / 3; f++)
       if (near[faces[3 * f]] || near[faces[3 * f + 1]] || near[faces[3 * f + 2]]) nearFaces.push(f);
     // Triangles already flipped before the round (there should be none) are not its doing.
-    const flippedBefore = new Set(flippedFaces({ positions: before, faces }, surface, nearFaces));
+    // (Found only when something is flipped after it: usually nothing is.)
+    let flippedBefore = null;
     for (let pass = 0; pass < 6; pass++) {
-      const flipped = flippedFaces({ positions, faces }, surface, nearFaces).filter((f) => !flippedBefore.has(f));
+      let flipped = flippedFaces({ positions, faces }, surface, nearFaces);
+      if (flipped.length > 0) {
+        flippedBefore ??= new Set(flippedFaces({ positions: before, faces }, surface, nearFaces));
+        flipped = flipped.filter((f) => !flippedBefore.has(f));
+      }
       if (flipped.length === 0) break;
       const back = (w) => {
         if (weight[w] > 0) noMore[w] = 1;
@@ -611,21 +616,12 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
 }
 
 /**
- * Triangles of `mesh` whose normal points against the surface's (smoothed) normal at the closest
- * point to their centroid (cosine below `against`) and against an edge neighbour's, or that are
- * degenerate.
- */
-function countFlipped(mesh, surface, constraints) {
-  return resultFlipped(mesh, surface, constraints).length;
-}
-
-/**
  * The result's flipped triangles, but for those whose corners are all held (a piece that is its
  * own base: exact, even where another piece's surface is closer to it than its own).
  */
-function resultFlipped(mesh, surface, constraints) {
+function resultFlipped(mesh, surface, constraints, onlyFaces = null) {
   const kind = constraints?.kind, f = mesh.faces;
-  return flippedFaces(mesh, surface, null, RESULT_AGAINST)
+  return flippedFaces(mesh, surface, onlyFaces, RESULT_AGAINST)
     .filter((t) => !(kind && kind[f[3 * t]] === 2 && kind[f[3 * t + 1]] === 2 && kind[f[3 * t + 2]] === 2));
 }
 
@@ -635,6 +631,11 @@ function resultFlipped(mesh, surface, constraints) {
  */
 const RESULT_AGAINST = -0.25;
 
+/**
+ * Triangles of `mesh` (or of `onlyFaces`) whose normal points against the surface's (smoothed)
+ * normal at the closest point to their centroid (cosine below `against`) and against an edge
+ * neighbour's, or that are degenerate.
+ */
 export function flippedFaces(mesh, surface, onlyFaces = null, against = 0) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3;
@@ -694,11 +695,12 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0) {
  * `project` they stay at the mean (a crumpled input re-creates the fold on it; the Hausdorff
  * distance measured after says what that cost). Returns the flipped triangles left.
  */
-function untangle(surface, positions, faces, constraints, rounds = 6, project = true) {
+function untangle(surface, positions, faces, constraints, rounds = 6, project = true, flippedNow = null) {
   const vertexCount = positions.length / 3;
   const adjacency = connectivity(faces, vertexCount).neighbours;
   const { offsets, list } = adjacency;
-  let flipped = resultFlipped({ positions, faces }, surface, constraints);
+  const around = connectivity(faces, vertexCount).vertexFaces;
+  let flipped = flippedNow ?? resultFlipped({ positions, faces }, surface, constraints);
   for (let round = 0; round < rounds && flipped.length > 0; round++) {
     const near = new Uint8Array(vertexCount);
     let front = [];
@@ -727,7 +729,17 @@ function untangle(surface, positions, faces, constraints, rounds = 6, project = 
       });
       region.forEach((v, r) => positions.set(next.subarray(3 * r, 3 * r + 3), 3 * v));
     }
-    flipped = resultFlipped({ positions, faces }, surface, constraints);
+    // Only faces with a corner in the region or a ring around it (their edge neighbours turned)
+    // can have changed: those are checked again, the others keep their state.
+    const recheck = new Uint8Array(faces.length / 3), faceList = [];
+    for (const v of region)
+      for (let e = offsets[v]; e <= offsets[v + 1]; e++) {
+        const w = e < offsets[v + 1] ? list[e] : v;
+        for (let k = around.offsets[w]; k < around.offsets[w + 1]; k++)
+          if (!recheck[around.list[k]]) recheck[around.list[k]] = 1, faceList.push(around.list[k]);
+      }
+    faceList.sort((a, b) => a - b);
+    flipped = [...flipped.filter((f) => !recheck[f]), ...resultFlipped({ positions, faces }, surface, constraints, faceList)].sort((a, b) => a - b);
   }
   return flipped.length;
 }
@@ -804,10 +816,13 @@ export async function remesh(mrvol, input, options = {}) {
   const tipKeys = new Set();
   // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
   const simplifierProblems = [];
+  let featuresFolded = false;
+  // Fitted pieces by base (a retry often makes some pieces' bases again).
+  const fitted = new Map();
   const fit = (levels, fraction, share, baseScale = 1) => {
     // Folds left after untangling: once more without the feature constraints (if any), then
     // (unless the base size is given) with a base twice and four times as large.
-    const useFeatures = features && features.edgeCount > 0;
+    const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
     const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]])];
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
@@ -831,13 +846,23 @@ export async function remesh(mrvol, input, options = {}) {
       let done = 0;
       const parts = pieces.map((piece, i) => {
         const b = bases[i], own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
+        // The same base at the same levels fits the same (deterministic): done once.
+        const key = `${i} ${used} ${withFeatures ? 1 : 0} ${b.simplified ? 1 : 0}`;
+        const known = (fitted.get(key) ?? []).find((k) => sameMesh(k.base, b.base));
+        if (known) {
+          done += weight;
+          return known.part;
+        }
         const part = fitLevels(mrvol, own, b.base, used, relaxIterations, withFeatures, !b.simplified,
                                (f, stage) => progress(fraction + share * (done + weight * f), stage));
         done += weight;
-        part.untangled = countFlipped(part.mesh, own, part.constraints);
-        part.flippedTriangles = part.untangled ? untangle(own, part.mesh.positions, part.mesh.faces, part.constraints) : 0;
+        const flippedNow = resultFlipped(part.mesh, own, part.constraints);
+        part.untangled = flippedNow.length;
+        part.flippedTriangles = part.untangled ? untangle(own, part.mesh.positions, part.mesh.faces, part.constraints, 6, true, flippedNow) : 0;
         if (part.flippedTriangles > 0)
           part.flippedTriangles = untangle(own, part.mesh.positions, part.mesh.faces, part.constraints, 8, false);
+        if (!fitted.has(key)) fitted.set(key, []);
+        fitted.get(key).push({ base: b.base, part });
         return part;
       });
       const sum = (key) => parts.reduce((t, p) => t + p[key], 0);
@@ -847,13 +872,17 @@ export async function remesh(mrvol, input, options = {}) {
         constraints: { count: parts.reduce((t, p) => t + p.constraints.count, 0), corners: parts.reduce((t, p) => t + p.constraints.corners, 0) },
       };
       result.levelsUsed = used;
+      result.parts = parts;
       if (result.flippedTriangles === 0 || options.allowFlipped) break;
+      // Features that fold a fit (a ridge the fit cannot follow, held corners on a thin tip) fold
+      // the fits of more levels on the same base too: those go without them.
+      if (withFeatures) featuresFolded = true;
     }
     return result;
   };
 
   let result = null, measured = null;
-  const tried = [];
+  const tried = [], measures = [];
   const distance = (m) => Math.max(m.toInput, m.fromInput) / diagonal;
   // One fit, kept if it is the first or closer to the input; false if it folded.
   const tryFit = (levels, baseScale) => {
@@ -865,7 +894,10 @@ export async function remesh(mrvol, input, options = {}) {
       throw new MrvolError(`the remeshed surface folds over: ${attempt.flippedTriangles} flipped triangles after untangling (base of ${attempt.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
     }
     progress(Math.min(0.9, fraction + 0.2), 'measuring the Hausdorff distance');
-    const m = measure(attempt.mesh, mesh, surface, maxSamples);
+    // The same pieces as an earlier fit: the same distances.
+    const same = measures.find((k) => k.parts.length === attempt.parts.length && k.parts.every((p, i) => p === attempt.parts[i]));
+    const m = same ? same.m : measure(attempt.mesh, mesh, surface, maxSamples);
+    if (!same) measures.push({ parts: attempt.parts, m });
     tried.at(-1).hausdorff = distance(m);
     attempt.levels = attempt.levelsUsed ?? levels;
     tried.at(-1).levels = attempt.levels;
@@ -887,7 +919,10 @@ export async function remesh(mrvol, input, options = {}) {
     for (let round = 0; round < 3 && distance(measured) > goal; round++) {
       const added = addTips(mesh, measured.surface, goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
       if (added === 0) break;
+      const before = distance(measured);
       tryFit(result.levels, 1);
+      // A round that gained less than 5% leaves little for the next one.
+      if (distance(measured) > 0.95 * before) break;
     }
     for (const scale of [2, 4]) {
       if (distance(measured) <= goal || requested * scale > 1250) break;
@@ -932,6 +967,14 @@ export async function remesh(mrvol, input, options = {}) {
     simplifierRetries: simplifierProblems,
     ms: now() - started,
   };
+}
+
+/** Whether two meshes have the same faces and positions. */
+function sameMesh(a, b) {
+  if (a.faces.length !== b.faces.length || a.positions.length !== b.positions.length) return false;
+  for (let i = 0; i < a.faces.length; i++) if (a.faces[i] !== b.faces[i]) return false;
+  for (let i = 0; i < a.positions.length; i++) if (a.positions[i] !== b.positions[i]) return false;
+  return true;
 }
 
 const positionKey = (p, v) => `${p[3 * v]},${p[3 * v + 1]},${p[3 * v + 2]}`;

@@ -59,6 +59,19 @@ export function weld(mesh) {
   return { positions: outPositions, faces: outFaces, merged: n - unique, droppedFaces };
 }
 
+/** The mesh with the vertices no face uses dropped, the others in order of first use (as weld() orders them). */
+function withoutUnusedVertices(positions, faces) {
+  const order = new Int32Array(positions.length / 3).fill(-1), out = new Uint32Array(faces.length);
+  let used = 0;
+  for (let i = 0; i < faces.length; i++) {
+    if (order[faces[i]] < 0) order[faces[i]] = used++;
+    out[i] = order[faces[i]];
+  }
+  const kept = new Float64Array(3 * used);
+  for (let v = 0; v < order.length; v++) if (order[v] >= 0) for (let k = 0; k < 3; k++) kept[3 * order[v] + k] = positions[3 * v + k];
+  return { positions: kept, faces: out };
+}
+
 function keepLargestComponent(mesh) {
   const { ofFace, count } = connectivity(mesh.faces, mesh.positions.length / 3).components;
   const sizes = new Uint32Array(count);
@@ -78,26 +91,49 @@ function keepLargestComponent(mesh) {
  * @returns {{ keep: Uint8Array, finFaces: number, duplicateFaces: number }}
  */
 function cancelDuplicates(faces) {
-  const groups = new Map();
-  for (let f = 0; f < faces.length / 3; f++) {
+  const faceCount = faces.length / 3;
+  // Faces grouped by their sorted vertex triple in an open-addressing table (typed arrays: a
+  // string key per face took most of a large scan's repair): each group is named by its first face.
+  let size = 1;
+  while (size < 2 * faceCount) size *= 2;
+  const slots = new Int32Array(size).fill(-1), sorted = new Uint32Array(faces.length);
+  const plus = new Uint32Array(faceCount), minus = new Uint32Array(faceCount);
+  const firstPlus = new Int32Array(faceCount).fill(-1), firstMinus = new Int32Array(faceCount).fill(-1);
+  for (let f = 0; f < faceCount; f++) {
     const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
-    const s = [a, b, c].sort((x, y) => x - y);
-    const key = `${s[0]},${s[1]},${s[2]}`;
+    const lo = Math.min(a, b, c), hi = Math.max(a, b, c), mid = a + b + c - lo - hi;
+    sorted[3 * f] = lo, sorted[3 * f + 1] = mid, sorted[3 * f + 2] = hi;
     // Same cyclic order as the sorted triple: one orientation; otherwise the other.
-    const even = (a === s[0] && b === s[1]) || (b === s[0] && c === s[1]) || (c === s[0] && a === s[1]);
-    let g = groups.get(key);
-    if (!g) groups.set(key, (g = [[], []]));
-    g[even ? 0 : 1].push(f);
+    const even = (a === lo && b === mid) || (b === lo && c === mid) || (c === lo && a === mid);
+    let h = (Math.imul(lo, 73856093) ^ Math.imul(mid, 19349663) ^ Math.imul(hi, 83492791)) & (size - 1);
+    let group;
+    for (;; h = (h + 1) & (size - 1)) {
+      const g = slots[h];
+      if (g < 0) {
+        slots[h] = group = f;
+        break;
+      }
+      if (sorted[3 * g] === lo && sorted[3 * g + 1] === mid && sorted[3 * g + 2] === hi) {
+        group = g;
+        break;
+      }
+    }
+    if (even) {
+      if (plus[group]++ === 0) firstPlus[group] = f;
+    } else if (minus[group]++ === 0) {
+      firstMinus[group] = f;
+    }
   }
-  const keep = new Uint8Array(faces.length / 3);
+  const keep = new Uint8Array(faceCount);
   let finFaces = 0, duplicateFaces = 0;
-  for (const [plus, minus] of groups.values()) {
-    const pairs = Math.min(plus.length, minus.length);
-    const rest = plus.length > minus.length ? plus : minus;
+  for (let g = 0; g < faceCount; g++) {
+    const p = plus[g], m = minus[g];
+    if (p + m === 0) continue;
+    const pairs = Math.min(p, m), rest = p > m ? p : m;
     finFaces += 2 * pairs;
-    if (rest.length > pairs) {
-      keep[rest[0]] = 1;
-      duplicateFaces += rest.length - pairs - 1;
+    if (rest > pairs) {
+      keep[p > m ? firstPlus[g] : firstMinus[g]] = 1;
+      duplicateFaces += rest - pairs - 1;
     }
   }
   return { keep, finFaces, duplicateFaces };
@@ -353,10 +389,14 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   const report = { weldedVertices: welded.merged, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
                    nonManifoldFaces: 0, droppedComponents: 0, holesFilled: 0, holeEdges: 0, holesLeft: 0 };
   let mesh = welded;
+  // The mesh stays welded as faces go: only the vertices no face uses are dropped.
   const keepFaces = (keep) => {
-    const kept = [];
-    for (let f = 0; f < keep.length; f++) if (keep[f]) kept.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
-    mesh = weld({ positions: mesh.positions, faces: Uint32Array.from(kept) });
+    let count = 0;
+    for (let f = 0; f < keep.length; f++) count += keep[f] ? 1 : 0;
+    if (count === keep.length) return;
+    const faces = new Uint32Array(3 * count);
+    for (let f = 0, i = 0; f < keep.length; f++) if (keep[f]) for (let j = 0; j < 3; j++) faces[i++] = mesh.faces[3 * f + j];
+    mesh = withoutUnusedVertices(mesh.positions, faces);
   };
   const duplicates = cancelDuplicates(mesh.faces);
   report.finFaces = duplicates.finFaces;
