@@ -32,10 +32,10 @@ export class FreeSetTools {
     const { settings, session } = this;
     // A quad editor may take fewer free sets (session.freeSetModes): the panel offers those only.
     const modes = session.freeSetModes ?? FREE_SET_MODES;
-    this.panel.setFreeSets?.(modes);
     if (!TOOL_NAMES.includes(settings.tool) || (settings.tool === 'paint' && !modes.includes('painted')) ||
         (settings.tool === 'assign' && !modes.includes('parts'))) settings.tool = this.defaults.tool;
     if (!modes.includes(settings.freeSet)) settings.freeSet = this.defaults.freeSet;
+    this.panel.setFreeSets?.(modes);
     this.apply();
     Object.assign(settings, { painted: session.freeSet.painted, parts: session.freeSet.parts });
     this.panel.showModeControls();

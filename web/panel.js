@@ -108,7 +108,7 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
   const preserve = tag(edit.add(settings, 'preserve').name('preserve volume').onChange(() => actions.changePreserve()), 'preserve');
   const freeSet = tag(edit.add(settings, 'freeSet', FREE_SETS).name('free set (what moves)').onChange(() => actions.changeFreeSet()), 'free-set');
   let freeSetModes = FREE_SET_MODES;
-  tag(edit.add(settings, 'tool', TOOLS).name('pointer').onChange(() => actions.changeTool()), 'tool');
+  const tool = tag(edit.add(settings, 'tool', TOOLS).name('pointer').onChange(() => actions.changeTool()), 'tool');
   const part = tag(edit.add(settings, 'part', 1, MAX_PARTS, 1).name('part to assign'), 'part-number');
   const clearPainted = tag(edit.add({ clear: () => actions.clearPainted() }, 'clear').name('clear painted region'), 'clear-painted');
   const clearParts = tag(edit.add({ clear: () => actions.clearParts() }, 'clear').name('clear parts'), 'clear-parts');
@@ -178,13 +178,15 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
       tag(scheme, 'scheme');
       scheme.updateDisplay();
     },
-    /** The free-set modes the editor takes (the session's freeSetModes). */
+    /** The free-set modes the editor takes (the session's freeSetModes), and the pointer tools that go with them. */
     setFreeSets(modes) {
       if (modes.length === freeSetModes.length && modes.every((m, i) => m === freeSetModes[i])) return;
       freeSetModes = modes;
       freeSet.options(Object.fromEntries(modes.map((mode) => [FREE_SET_NAMES[mode], mode])));
       tag(freeSet, 'free-set');
-      freeSet.updateDisplay();
+      const needs = { paint: 'painted', assign: 'parts' };
+      tool.options(Object.fromEntries(Object.entries(TOOLS).filter(([, t]) => !needs[t] || modes.includes(needs[t]))));
+      tag(tool, 'tool');
     },
     /** Shows the controls of the painted region and of the parts when they apply. */
     showModeControls() {

@@ -91,6 +91,9 @@ describe('quad models in the app', { timeout: 240_000 }, () => {
     assert.equal(settings.level, 0);
     const schemes = await page.locator('[data-testid="scheme"] option').allTextContents();
     assert.deepEqual(schemes, ['catmull-clark']);
+    // the quad editor's free sets (painted regions and parts are for triangle models) and their pointer tools
+    assert.deepEqual(await page.locator('[data-testid="free-set"] option').allTextContents(), ['cage minus held', 'all cage']);
+    assert.deepEqual(await page.locator('[data-testid="tool"] option').allTextContents(), ['drag handles']);
     assert.match(await page.textContent('#model-info'), /3458 vertices, 3456 quads, 3 levels \(Catmull-Clark\), cage 56 vertices/);
     assert.equal(await page.textContent('[data-testid="volume-kind"]'), '(bilinear patches)');
     // the cage drawn: the base quads' sides (54 quads, 108 sides), no diagonal
@@ -146,11 +149,17 @@ describe('quad models in the app', { timeout: 240_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 
-  test('phone layout: the quad sample and its cage', async () => {
+  test('phone layout: the quad sample and its cage; a triangle sample after it gets its schemes back', async () => {
     await page.setViewportSize({ width: 390, height: 844 });
     await openSample(SAMPLE);
     await shot('app-390');
     await page.setViewportSize({ width: 1280, height: 800 });
+    await openSample('spiky-ball');
+    assert.equal((await debug(() => window.mrvolDebug.settings())).scheme, 'loop');
+    assert.deepEqual(await page.locator('[data-testid="scheme"] option').allTextContents(), ['loop', 'butterfly', 'linear']);
+    assert.equal(await page.locator('[data-testid="free-set"] option').count(), 4);
+    assert.equal(await page.locator('[data-testid="tool"] option').count(), 3);
+    assert.equal(await page.textContent('[data-testid="volume-kind"]'), '');
     assert.deepEqual(page.problems, []);
   });
 
