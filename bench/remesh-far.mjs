@@ -1,11 +1,11 @@
 #!/usr/bin/env node
 // Where the input→result side of the remeshing's Hausdorff distance comes from (issue 12's goal of
 // 0.5% of the diagonal): remeshes corpus models as bench/remesh.mjs does (defaults, repair), then
-// lists the input vertices (of the repaired input) farther than 0.5% of the diagonal from the
-// result, grouped into regions (2% of the diagonal across), each with how sharp the input is there
-// (the largest angle between the normals of two faces at one of its vertices: over 90° is a spike
-// or a thin lip) and how long the result's edges are there (the closest result triangle's mean
-// edge). Writes bench/RESULTS-remesh-far.md (machine, date) unless --no-write.
+// lists the samples of the repaired input (its vertices, each face's centroid and three interior
+// points: the measure's) farther than 0.5% of the diagonal from the result, grouped into regions
+// (2% of the diagonal across), each with how sharp the input is there (the largest angle between
+// the normals of two faces at a vertex: over 90° is a spike or a thin lip) and how long the
+// result's edges are there (the closest result triangle's mean edge). Writes bench/RESULTS-remesh-far.md (machine, date) unless --no-write.
 //
 //   node bench/remesh-far.mjs [--no-write] [NAME...]   (default: teapot dragon-11k-decimated)
 import { execFileSync } from 'node:child_process';
@@ -59,37 +59,46 @@ for (const name of chosen) {
   const result = new Surface(r.mesh, { normals: false });
   const { angle, degree } = sharpness(repaired);
   const p = repaired.positions, rp = r.mesh.positions, rf = r.mesh.faces, diagonal = r.diagonal;
-  const far = [];
-  for (let i = 0; i < p.length / 3; i++) {
-    const hit = result.closest(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-    if (hit.distance > GOAL * diagonal) far.push({ i, d: hit.distance / diagonal, face: hit.faceIndex });
+  // The measure's samples: the vertices, then each face's centroid and three interior points (a
+  // face sample is as sharp as its sharpest corner, and has the degree of that corner).
+  const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]];
+  const f = repaired.faces, vertexCount = p.length / 3, far = [];
+  for (let s = 0; s < vertexCount + 4 * f.length / 3; s++) {
+    let at = [p[3 * s], p[3 * s + 1], p[3 * s + 2]], vertex = s;
+    if (s >= vertexCount) {
+      const t = Math.floor((s - vertexCount) / 4), w = BARY[(s - vertexCount) % 4];
+      at = [0, 1, 2].map((k) => w[0] * p[3 * f[3 * t] + k] + w[1] * p[3 * f[3 * t + 1] + k] + w[2] * p[3 * f[3 * t + 2] + k]);
+      vertex = [f[3 * t], f[3 * t + 1], f[3 * t + 2]].reduce((a, b) => (angle[b] > angle[a] ? b : a));
+    }
+    const hit = result.closest(at[0], at[1], at[2]);
+    if (hit.distance > GOAL * diagonal) far.push({ at, vertex, d: hit.distance / diagonal, face: hit.faceIndex });
   }
   far.sort((a, b) => b.d - a.d);
-  // Regions: the farthest vertex not yet in one starts one; the far vertices within REGION join it.
+  // Regions: the farthest sample not yet in one starts one; the far samples within REGION join it.
   const regions = [];
   for (const v of far) {
-    const at = (k) => p[3 * v.i + k];
+    const at = (k) => v.at[k];
     const region = regions.find((g) => Math.hypot(at(0) - g.at[0], at(1) - g.at[1], at(2) - g.at[2]) < REGION * diagonal);
     if (region) {
-      region.count++, region.sharpest = Math.max(region.sharpest, angle[v.i]);
+      region.count++, region.sharpest = Math.max(region.sharpest, angle[v.vertex]);
       continue;
     }
-    const f = v.face, corner = (j) => 3 * rf[3 * f + j];
+    const corner = (j) => 3 * rf[3 * v.face + j];
     let edge = 0;
     for (let j = 0; j < 3; j++) {
       const a = corner(j), b = corner((j + 1) % 3);
       edge += Math.hypot(rp[a] - rp[b], rp[a + 1] - rp[b + 1], rp[a + 2] - rp[b + 2]) / 3;
     }
-    regions.push({ at: [at(0), at(1), at(2)], d: v.d, count: 1, degree: degree[v.i], angle: angle[v.i], sharpest: angle[v.i], edge: edge / diagonal });
+    regions.push({ at: v.at, d: v.d, count: 1, degree: degree[v.vertex], angle: angle[v.vertex], sharpest: angle[v.vertex], edge: edge / diagonal });
   }
-  const spikes = far.filter((v) => angle[v.i] > 90).length;
+  const spikes = far.filter((v) => angle[v.vertex] > 90).length;
   const line = `${name}: Hausdorff ${(100 * r.hausdorff).toFixed(3)}% (input→result ${(100 * r.hausdorffFromInput).toFixed(3)}%), ` +
-               `${r.vertices} result vertices at ${r.levels} levels; ${far.length} of ${p.length / 3} input vertices beyond 0.5%, ` +
+               `${r.vertices} result vertices at ${r.levels} levels; ${far.length} of ${vertexCount + (4 * f.length) / 3} input samples beyond 0.5%, ` +
                `in ${regions.length} regions; ${spikes} of them where the input's normals turn by more than 90°`;
   process.stdout.write(line + '\n');
   sections.push([
     `### ${name}`, '', line + '.', '',
-    '| region (farthest vertex) | distance | far vertices | its degree | its normals turn | sharpest in region | result edge there |',
+    '| region (farthest sample) | distance | far samples | degree | normals turn | sharpest in region | result edge there |',
     '|---|---:|---:|---:|---:|---:|---:|',
     ...regions.slice(0, SHOWN).map((g) => `| ${g.at.map((x) => x.toFixed(3)).join(', ')} | ${(100 * g.d).toFixed(3)}% | ${g.count} | ${g.degree} | ` +
                                           `${g.angle.toFixed(0)}° | ${g.sharpest.toFixed(0)}° | ${(100 * g.edge).toFixed(2)}% |`),
@@ -105,11 +114,12 @@ try {
 const text = `# Where the remeshing misses the input
 
 Written by \`node bench/remesh-far.mjs ${names.join(' ')}\`: each model remeshed as in bench/remesh.mjs (defaults,
-\`repair: true\`), then the input vertices (of the repaired input) farther than 0.5% of the bounding-box diagonal from
+\`repair: true\`), then the samples of the repaired input (vertices, face centroids and three interior points per face,
+as the measure takes them) farther than 0.5% of the bounding-box diagonal from
 the result (the input→result side of issue 12's Hausdorff goal), grouped into regions ${100 * REGION}% of the diagonal
 across, the ${SHOWN} farthest shown. "Normals turn": the largest angle between the normals of two faces at the vertex
-(over 90°: a spike tip or a thin lip). "Result edge there": the mean edge of the result triangle closest to the
-region's farthest vertex. Distances and edges in % of the diagonal.
+(for a face sample: its sharpest corner; over 90°: a spike tip or a thin lip). "Result edge there": the mean edge of the result triangle closest to the
+region's farthest sample. Distances and edges in % of the diagonal.
 
 Machine: ${cpus().length} x ${cpus()[0]?.model ?? 'unknown'}, Node ${process.version}, load average ${loadavg()[0].toFixed(2)}
 (shared with other jobs); sources: commit ${commit}; date: ${new Date().toISOString()}.
