@@ -819,7 +819,8 @@ export async function remesh(mrvol, input, options = {}) {
   let featuresFolded = false;
   // Fitted pieces by base (a retry often makes some pieces' bases again).
   const fitted = new Map();
-  const fit = (levels, fraction, share, baseScale = 1) => {
+  // baseScale: one factor, or one per piece; keep: fitted parts to reuse as they are (at `levels`).
+  const fit = (levels, fraction, share, baseScale = 1, keep = null) => {
     // Folds left after untangling: once more without the feature constraints (if any), then
     // (unless the base size is given) with a base twice and four times as large.
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
@@ -829,8 +830,10 @@ export async function remesh(mrvol, input, options = {}) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
       // Each piece on its own (its own surface: parts that touch or cross do not pull each other).
       const bases = pieces.map((piece, i) => {
+        if (keep?.[i]) return null;
         // A small piece (64 faces or fewer) is its own base: exact.
-        let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * baseScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
+        const pieceScale = Array.isArray(baseScale) ? baseScale[i] : baseScale;
+        let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * pieceScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
@@ -840,11 +843,14 @@ export async function remesh(mrvol, input, options = {}) {
         return b;
       });
       // Default levels: no more than the vertex budget allows over the bases actually made.
-      const baseFaces = bases.reduce((t, b) => t + b.base.faces.length / 3, 0);
+      const baseFaces = bases.reduce((t, b, i) => t + (b ? b.base.faces.length / 3 : keep[i].baseFaces), 0);
       let used = levels;
       while (auto && used > 0 && (baseFaces * 4 ** used) / 2 > budget) used--;
+      // Kept parts need the same levels (else no fit of this size).
+      if (keep && used !== levels) return null;
       let done = 0;
       const parts = pieces.map((piece, i) => {
+        if (keep?.[i]) return keep[i];
         const b = bases[i], own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
         // The same base at the same levels fits the same (deterministic): done once.
         const key = `${i} ${used} ${withFeatures ? 1 : 0} ${b.simplified ? 1 : 0}`;
@@ -885,9 +891,10 @@ export async function remesh(mrvol, input, options = {}) {
   const tried = [], measures = [];
   const distance = (m) => Math.max(m.toInput, m.fromInput) / diagonal;
   // One fit, kept if it is the first or closer to the input; false if it folded.
-  const tryFit = (levels, baseScale) => {
+  const tryFit = (levels, baseScale, keep = null) => {
     const fraction = Math.min(0.8, 0.05 + (auto ? 0.25 * tried.length : 0));
-    const attempt = fit(levels, fraction, auto ? 0.25 : 0.75, baseScale);
+    const attempt = fit(levels, fraction, auto ? 0.25 : 0.75, baseScale, keep);
+    if (!attempt) return false;
     tried.push({ levels, baseFaces: attempt.baseFaces, flipped: attempt.flippedTriangles });
     if (attempt.flippedTriangles > 0 && !options.allowFlipped) {
       if (result) return false;  // a fit without folds is kept
@@ -924,11 +931,18 @@ export async function remesh(mrvol, input, options = {}) {
       // A round that gained less than 5% leaves little for the next one.
       if (distance(measured) > 0.95 * before) break;
     }
+    // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
     for (const scale of [2, 4]) {
-      if (distance(measured) <= goal || requested * scale > 1250) break;
+      if (distance(measured) <= goal) break;
+      const far = farPieces(pieces, measured.surface, goal * diagonal);
+      const scales = far.map((f) => (f ? scale : 1));
+      const overall = pieces.reduce((t, p, i) => t + scales[i] * p.mesh.faces.length / 3, 0) / inputFaces;
+      if (requested * overall > 1250) break;
       let l = result.levels;
-      while (l > 0 && !fits(l, scale)) l--;
-      tryFit(l, scale);
+      while (l > 0 && !fits(l, overall)) l--;
+      // The near pieces as in the best fit (at its levels).
+      const keep = pieces.length > 1 && l === result.levels && far.some((f) => !f) ? far.map((f, i) => (f ? null : result.parts[i])) : null;
+      if (!tryFit(l, scales, keep) && keep) tryFit(l, scales);
     }
   }
 
@@ -1030,6 +1044,14 @@ function addTips(input, resultSurface, limit, spacing, count, keys) {
   let added = 0;
   for (const i of chosen) if (!keys.has(positionKey(p, i))) keys.add(positionKey(p, i)), added++;
   return added;
+}
+
+/** For each piece: whether one of its vertices is farther than `limit` from the result. */
+function farPieces(pieces, resultSurface, limit) {
+  return pieces.map(({ mesh: { positions: p } }) => {
+    for (let i = 0; i < p.length / 3; i++) if (resultSurface.closest(p[3 * i], p[3 * i + 1], p[3 * i + 2]).distance > limit) return true;
+    return false;
+  });
 }
 
 /** `lock` (or none) with the vertices of `mesh` at the positions of `keys` added, if they fit the target. */
