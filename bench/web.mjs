@@ -139,7 +139,7 @@ async function measureBig(server, levels, mrvol) {
       window.benchWatch = w;
       const busy = document.querySelector('[data-testid="busy"]');
       const tick = (now) => {
-        if (/finding its levels/.test(busy.textContent)) {
+        if (/making the editor/.test(busy.textContent)) {
           w.handed ??= now;
           w.running = false;
         }

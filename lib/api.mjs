@@ -410,6 +410,11 @@ export function wrapModule(module) {
     roundtripError(options = {}) {
       return call((r) => r.roundtripError(this.#positions, levelArg(options.level), schemeArgs(options)), this.#live());
     }
+    /**
+     * The hierarchy as flat typed arrays (plus the topology validation found), for
+     * openMeshWithHierarchy in another instance of the module: a worker detects, the page opens.
+     */
+    hierarchyArrays() { return call((r) => r.hierarchyArrays(), this.#live()); }
     /** Connectivity fingerprint (hex): what theta depends on besides scheme and level. */
     fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
     /**
@@ -587,6 +592,23 @@ export function wrapModule(module) {
       checkMesh(mesh);
       const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
       return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels, linesOf(mesh)), mesh.positions.slice());
+    },
+    /**
+     * Opens a mesh whose hierarchy another instance found (MultiresMesh.hierarchyArrays() of the same
+     * faces): no validation or detection again, a few linear passes. Throws MrvolError when the
+     * arrays do not fit the mesh.
+     */
+    openMeshWithHierarchy(mesh, arrays) {
+      checkMesh(mesh);
+      const typed = { vertexCount: Uint32Array, coarseFaces: Uint32Array, ends: Uint32Array, wings: Uint32Array, boundary: Uint8Array, inputIndex: Uint32Array };
+      const t = arrays?.topology;
+      if (!arrays || typeof arrays !== 'object' || !Number.isInteger(arrays.levels) || !t || typeof t.closed !== 'boolean' ||
+          ['edges', 'boundaryEdges', 'components', 'genus'].some((k) => !Number.isInteger(t[k])) ||
+          Object.entries(typed).some(([key, type]) => !(arrays[key] instanceof type)))
+        throw new MrvolError('openMeshWithHierarchy expects the arrays of MultiresMesh.hierarchyArrays()');
+      if (arrays.inputIndex.length * 3 !== mesh.positions.length)
+        throw new MrvolError(`the hierarchy arrays are for ${arrays.inputIndex.length} vertices, the mesh has ${mesh.positions.length / 3}`);
+      return new MultiresMesh(call(module._openWithHierarchy, mesh.faces, arrays), mesh.positions.slice());
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {

@@ -32,7 +32,8 @@ export function cancelFileRead() {
 
 /**
  * Reads a mesh file: { file } (a File) or { bytes } (Uint8Array, e.g. a stored session's), with its
- * name. Resolves to { mesh, bytes: Uint8Array, format }; rejects with a message naming what is
+ * name. Resolves to { mesh, bytes: Uint8Array, format, hierarchy?, openError? } (a worker's: the
+ * hierarchy it found, or why the mesh does not open: { message, offer }); rejects with a message naming what is
  * wrong (`size`: true when the file is too big, `cancelled` when cancelled).
  */
 export async function readMeshFile(mrvol, { file = null, bytes = null, name }) {
@@ -60,7 +61,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name }) {
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
         finish();
-        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format });
+        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format, hierarchy: data.hierarchy, openError: data.openError });
       } else if (data.type === 'error') {
         finish();
         reject(Object.assign(new Error(data.message), { size: Boolean(data.size) }));

@@ -181,12 +181,14 @@ function openModelText({ name, kind, text }, restore = null) {
  * (false). model: { name, kind, format, text? (OBJ text) | bytes? (the file) }; restore:
  * { positions: Float64Array, reference, fingerprint } from a stored session.
  */
-function openModelMesh(model, mesh, restore = null) {
+function openModelMesh(model, mesh, restore = null, found = null) {
   const { session } = app;
   const { name } = model;
   let mr, info;
   try {
-    ({ mr, info } = openParsed(app.mrvol, mesh));
+    // found: what the file's worker found (file-open.js): the hierarchy, or why it does not open
+    if (found?.openError) throw Object.assign(new Error(found.openError.message), { offer: found.openError.offer });
+    ({ mr, info } = openParsed(app.mrvol, mesh, found?.hierarchy));
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
     if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true });
@@ -252,11 +254,11 @@ async function openModel(source, restore = null) {
       if (generation !== app.loadGeneration) return false;
       const big = read.bytes.byteLength > BIG_FILE_BYTES;
       if (big) {
-        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB): finding its levels…`, null);
+        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB): making the editor…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
       }
       try {
-        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes }, read.mesh, restore);
+        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes }, read.mesh, restore, read);
       } finally {
         if (big) showFileProgress(null);
       }
@@ -284,7 +286,7 @@ async function openModel(source, restore = null) {
   }
   return opened;
 }
-// Opening a file this big blocks the page while the hierarchy is found: say so first.
+// Opening a file this big keeps the page busy while the editor is made: say so first.
 const BIG_FILE_BYTES = 2_000_000;
 
 // ---- the session's events: the view follows ---------------------------------------------------------
@@ -293,7 +295,7 @@ function followSessionInView(session) {
   let frameNext = false;
   session.addEventListener('model', () => {
     frameNext = true;
-    app.viewer.setMesh(session.model.mr.positions(), session.model.faces);
+    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true });
     applyViewLayers();
     app.panel.setLevels(session.model.info.levels);
     app.panel.update();
@@ -301,7 +303,7 @@ function followSessionInView(session) {
   session.addEventListener('editor', () => {
     app.selection.clear();
     app.viewer.setCage(session.cagePositions(), session.cageEdges());
-    app.viewer.updateMesh(session.positions());
+    app.viewer.updateMeshFrom(session.editor);
     app.freeSet.keepCageMarks();
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
@@ -311,7 +313,7 @@ function followSessionInView(session) {
   });
   session.addEventListener('change', ({ detail }) => {
     if (detail.reason === 'step') return; // the drag handler draws and times its steps
-    app.viewer.updateMesh(session.positions());
+    app.viewer.updateMeshFrom(session.editor);
     app.viewer.updateCage(session.cagePositions());
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
@@ -364,7 +366,7 @@ function askRestore(off) {
     if (restore) {
       if (!app.session.restoreReferenceVolume()) return;
       // a step outside a drag: the view draws it here (the change listener leaves steps to the drag)
-      app.viewer.updateMesh(app.session.positions());
+      app.viewer.updateMeshFrom(app.session.editor);
       app.viewer.updateCage(app.session.cagePositions());
       app.layers.update();
     } else {
@@ -419,7 +421,7 @@ const dragHandlers = {
       return;
     }
     const drawing = performance.now();
-    app.viewer.updateMesh(session.positions());
+    app.viewer.updateMeshFrom(session.editor);
     app.viewer.updateCage(session.cagePositions());
     app.layers.afterStep();
     // The step as bench/web.mjs times it: the correction (the session's time) plus positions read back
@@ -780,7 +782,7 @@ async function start() {
     app,
     canNudge: () => app.ready && !session.dragging && !app.freeSet.painting,
     onMoved: () => {
-      app.viewer.updateMesh(session.positions());
+      app.viewer.updateMeshFrom(session.editor);
       app.viewer.updateCage(session.cagePositions());
       app.layers.afterDrag();
       saveSoon();

@@ -1,13 +1,19 @@
 // Module worker that reads a mesh file off the page's thread: the bytes in chunks (progress as it
 // goes), then the core's reader for its format (lib/api.mjs readMesh: OBJ, STL, PLY, OFF, glTF/GLB)
 // through the package's browser entry (web/mrvol.js: compiled here, not handed over by the page,
-// which measurably blocked the page's thread for a moment). The page opens the parsed arrays
-// (web/file-open.js).
+// which measurably blocked the page's thread for a moment); then validation and hierarchy
+// detection (models.js openParsed), the slow part of opening a big mesh. The page opens the parsed
+// arrays with the hierarchy found here (web/file-open.js; MultiresMesh.hierarchyArrays and
+// openMeshWithHierarchy): a few linear passes on its thread instead of seconds.
 // Message in:   { file?: File, bytes?: ArrayBuffer, name }
-// Messages out: { type: 'progress', stage, fraction }, { type: 'done', mesh, bytes, format },
+// Messages out: { type: 'progress', stage, fraction },
+//               { type: 'done', mesh, bytes, format, hierarchy, openError: { message, offer } | null },
 //               { type: 'error', message, size? (true: a size problem) }
 import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
+import { openParsed } from './models.js';
+
+const outOfMemory = (e) => e instanceof RangeError || /memory|bad_alloc/i.test(e?.message ?? '');
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
 
@@ -49,7 +55,7 @@ self.onmessage = async ({ data: job }) => {
       mesh = mrvol.readMesh(bytes, { name: job.name });
     } catch (e) {
       // The core ran out of memory (a WebAssembly heap of at most a few GB): say so in terms of size.
-      if (e instanceof RangeError || /memory|bad_alloc/i.test(e.message)) {
+      if (outOfMemory(e)) {
         post({ type: 'error', message: sizeMessage({ bytes: bytes.byteLength }), size: true });
         return;
       }
@@ -60,13 +66,30 @@ self.onmessage = async ({ data: job }) => {
       post({ type: 'error', message: sizeMessage({ vertices }), size: true });
       return;
     }
-    post({ type: 'progress', stage: 'handing the mesh over', fraction: 0.9 });
+    post({ type: 'progress', stage: 'finding its levels', fraction: 0.7 });
+    // What the page would find on its thread: the hierarchy, or why the mesh does not open (the
+    // page shows it and offers a remesh with the mesh itself).
+    let hierarchy = null, openError = null;
+    try {
+      const { mr } = openParsed(mrvol, mesh);
+      hierarchy = mr.hierarchyArrays();
+      mr.delete();
+    } catch (e) {
+      if (outOfMemory(e)) {
+        post({ type: 'error', message: sizeMessage({ vertices }), size: true });
+        return;
+      }
+      openError = { message: e.message, offer: e.offer ?? null };
+    }
+    post({ type: 'progress', stage: 'handing the mesh over', fraction: 0.95 });
     const transfer = [mesh.positions.buffer, mesh.faces.buffer];
+    if (hierarchy)
+      for (const key of ['vertexCount', 'coarseFaces', 'ends', 'wings', 'boundary', 'inputIndex']) transfer.push(hierarchy[key].buffer);
     for (const key of ['texCoords', 'normals', 'colors', 'cornerTexCoords', 'cornerNormals', 'sourceVertex'])
       if (ArrayBuffer.isView(mesh[key])) transfer.push(mesh[key].buffer);
     if (mesh.lines) transfer.push(mesh.lines.vertex.buffer, mesh.lines.face.buffer);
     const copy = { ...mesh };
-    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format }, [...new Set(transfer.filter((b) => b !== bytes.buffer)), bytes.buffer]);
+    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format, hierarchy, openError }, [...new Set(transfer.filter((b) => b !== bytes.buffer)), bytes.buffer]);
   } catch (e) {
     post({ type: 'error', message: e?.message ?? String(e) });
   }

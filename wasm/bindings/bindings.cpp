@@ -12,6 +12,7 @@
 #include <string>
 
 #include "mrvol/error.h"
+#include "mrvol/hierarchy_transfer.h"
 #include "mrvol/limit_volume.h"
 #include "mrvol/multires_mesh.h"
 #include "mrvol/surface_buffers.h"
@@ -163,6 +164,41 @@ val js_volume(val positions, val faces, val lines) {
 
 MultiresMesh* js_openMesh(val positions, val faces, int maxLevels, val lines) {
   return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels, toLines(lines).get()); });
+}
+// A detected hierarchy handed to another instance of the module (hierarchy_transfer.h).
+val js_hierarchyArrays(const MultiresMesh& m) {
+  return guarded([&] {
+    HierarchyArrays a = hierarchyArrays(m);
+    val out = val::object();
+    out.set("levels", a.levels);
+    out.set("vertexCount", toTyped(a.vertexCount));
+    out.set("coarseFaces", toTyped(a.coarseFaces));
+    out.set("ends", toTyped(a.ends));
+    out.set("wings", toTyped(a.wings));
+    out.set("boundary", toTyped(a.boundary));
+    out.set("inputIndex", toTyped(a.inputIndex));
+    out.set("topology", topologyToJs(a.topology));
+    return out;
+  });
+}
+MultiresMesh* js_openWithHierarchy(val faces, val arrays) {
+  return guarded([&] {
+    HierarchyArrays a;
+    a.levels = arrays["levels"].as<int>();
+    a.vertexCount = toVector<uint32_t>(arrays["vertexCount"], "vertexCount");
+    a.coarseFaces = toVector<uint32_t>(arrays["coarseFaces"], "coarseFaces");
+    a.ends = toVector<uint32_t>(arrays["ends"], "ends");
+    a.wings = toVector<uint32_t>(arrays["wings"], "wings");
+    a.boundary = toVector<uint8_t>(arrays["boundary"], "boundary");
+    a.inputIndex = toVector<uint32_t>(arrays["inputIndex"], "inputIndex");
+    const val t = arrays["topology"];
+    a.topology.edges = size_t(t["edges"].as<double>());
+    a.topology.boundaryEdges = size_t(t["boundaryEdges"].as<double>());
+    a.topology.components = size_t(t["components"].as<double>());
+    a.topology.closed = t["closed"].as<bool>();
+    a.topology.genus = long(t["genus"].as<double>());
+    return new MultiresMesh(multiresFromArrays(toVector<uint32_t>(faces, "faces"), std::move(a)));
+  });
 }
 MultiresMesh* js_subdivideBase(val positions, val faces, int levels) {
   return guarded([&] { return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels)); });
@@ -530,6 +566,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   function("_limitVolume", &js_limitVolume);
   function("_openMesh", &js_openMesh, allow_raw_pointers());
   function("_subdivideBase", &js_subdivideBase, allow_raw_pointers());
+  function("_openWithHierarchy", &js_openWithHierarchy, allow_raw_pointers());
   class_<MultiresMesh>("_MultiresMesh")
       .function("levels", &MultiresMesh::levels)
       .function("info", &js_info)
@@ -553,6 +590,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("computeLimitTheta", &js_computeLimitTheta, allow_raw_pointers())
       .function("limitThetaVolume", &js_limitThetaVolume)
       .function("fingerprint", &js_fingerprint)
+      .function("hierarchyArrays", &js_hierarchyArrays)
       .function("estimateTheta", &js_estimateTheta)
       .function("createEditor", &js_createEditor, allow_raw_pointers());
   class_<VolumeEditor>("_VolumeEditor")
