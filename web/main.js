@@ -188,7 +188,7 @@ function openModelMesh(model, mesh, restore = null, found = null) {
   try {
     // found: what the file's worker found (file-open.js): the hierarchy, or why it does not open
     if (found?.openError) throw Object.assign(new Error(found.openError.message), { offer: found.openError.offer });
-    ({ mr, info } = openParsed(app.mrvol, mesh, found?.hierarchy));
+    ({ mr, info } = openParsed(app.mrvol, mesh, found ?? {}));
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
     if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true });
@@ -199,7 +199,8 @@ function openModelMesh(model, mesh, restore = null, found = null) {
   notice('');
   app.theta.cancel();
   // what an export keeps: the file's own lines (OBJ) or data (glTF) while the vertices are its own
-  app.model = { ...model, vertices: mesh.positions.length / 3 };
+  app.model = { ...model, vertices: mesh.positions.length / 3, levelsFrom: found?.hierarchy ? 'worker' : 'page',
+                editorFrom: found?.opened ? 'worker' : 'page' };
   app.settings.model = name;
   // a share link's edits carry no fingerprint: the vertex count decides (session.open)
   const fits = restore && (restore.fingerprint == null || restore.fingerprint === mr.fingerprint());
@@ -250,11 +251,12 @@ async function openModel(source, restore = null) {
         if (generation !== app.loadGeneration) return false;
         return openProjectText(text, source.name);
       }
-      const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name });
+      const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name,
+        editor: { level: app.settings.level, scheme: app.settings.scheme, positions: restore?.positions } });
       if (generation !== app.loadGeneration) return false;
       const big = read.bytes.byteLength > BIG_FILE_BYTES;
       if (big) {
-        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB): making the editor…`, null);
+        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB)${read.opened ? '' : ': making the editor'}…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
       }
       try {

@@ -19,10 +19,12 @@ export class SurfaceUpload {
   // What each attribute holds: the editor and geometry it was filled for and the surface version.
   #positions = { editor: null, attribute: null, version: -1 };
   #normals = { editor: null, attribute: null, version: -1 };
+  /** Vertices copied by the last draw that copied anything, per attribute (for the tests). */
+  lastCopied = { positions: 0, normals: 0 };
 
   /**
    * Brings the geometry's position (and, with `normals`, normal) attribute in step with the editor.
-   * Returns whether anything was copied.
+   * Returns whether anything was copied (lastCopied says how much).
    */
   draw(geometry, editor, { normals = true } = {}) {
     // normalsView first: it brings the positions up to date as well; positionsView then only
@@ -33,27 +35,33 @@ export class SurfaceUpload {
     if (normalView && normalView.length === 0) normalView = editor.normalsView();
     const version = editor.surfaceVersion;
     const ranges = editor.updatedRanges();
-    let copied = this.#fill(this.#positions, geometry.getAttribute('position'), editor, positionView, version, ranges.positions);
+    const copiedBefore = { ...this.lastCopied };
+    this.lastCopied.normals = 0;
+    this.lastCopied.positions = this.#fill(this.#positions, geometry.getAttribute('position'), editor, positionView, version, ranges.positions);
+    let copied = this.lastCopied.positions > 0;
     if (normalView) {
       let attribute = geometry.getAttribute('normal');
       if (!attribute || attribute.count !== positionView.length / 3) {
         attribute = new BufferAttribute(new Float32Array(positionView.length), 3);
         geometry.setAttribute('normal', attribute);
       }
-      copied = this.#fill(this.#normals, attribute, editor, normalView, version, ranges.normals) || copied;
+      this.lastCopied.normals = this.#fill(this.#normals, attribute, editor, normalView, version, ranges.normals);
+      copied ||= this.lastCopied.normals > 0;
     }
+    if (!copied) this.lastCopied = copiedBefore;
     return copied;
   }
 
   // One attribute: nothing when it holds this version; the rewritten range when it holds the one
   // before; everything otherwise (another editor or geometry, or versions it missed).
+  // Returns how many vertices it copied.
   #fill(state, attribute, editor, view, version, range) {
     const same = state.editor === editor && state.attribute === attribute;
-    if (same && state.version === version) return false;
+    if (same && state.version === version) return 0;
     attribute.clearUpdateRanges();
-    if (same && state.version === version - 1) copyVertices(attribute, view, range.first, range.count);
-    else copyVertices(attribute, view, 0, view.length / 3);
+    const { first, count } = same && state.version === version - 1 ? range : { first: 0, count: view.length / 3 };
+    copyVertices(attribute, view, first, count);
     Object.assign(state, { editor, attribute, version });
-    return true;
+    return count;
   }
 }

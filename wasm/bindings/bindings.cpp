@@ -2,9 +2,11 @@
 // lib/api.mjs wraps them in the public API. A core error never crosses as an exception: it is kept
 // here and the JS side takes it with _takeError() and throws a named MrvolError.
 #include <emscripten/bind.h>
+#include <emscripten/heap.h>
 #include <emscripten/val.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <new>
@@ -200,6 +202,16 @@ MultiresMesh* js_openWithHierarchy(val faces, val arrays) {
     return new MultiresMesh(multiresFromArrays(toVector<uint32_t>(faces, "faces"), std::move(a)));
   });
 }
+// A mesh and its editor made in one instance of the module and taken over by a fresh one with a
+// copy of the whole memory (the web app's file worker makes them, the page adopts them; see
+// lib/api.mjs transferable): their addresses there, the objects at those addresses here, and room
+// for the copy.
+double js_meshAddress(const MultiresMesh& m) { return double(reinterpret_cast<uintptr_t>(&m)); }
+double js_editorAddress(const VolumeEditor& e) { return double(reinterpret_cast<uintptr_t>(&e)); }
+MultiresMesh* js_adoptMesh(double address) { return reinterpret_cast<MultiresMesh*>(uintptr_t(address)); }
+VolumeEditor* js_adoptEditor(double address) { return reinterpret_cast<VolumeEditor*>(uintptr_t(address)); }
+// Grows the memory (and emscripten's views of it) to at least `bytes`.
+bool js_reserveMemory(double bytes) { return emscripten_resize_heap(size_t(bytes)); }
 MultiresMesh* js_subdivideBase(val positions, val faces, int levels) {
   return guarded([&] { return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels)); });
 }
@@ -567,6 +579,11 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   function("_openMesh", &js_openMesh, allow_raw_pointers());
   function("_subdivideBase", &js_subdivideBase, allow_raw_pointers());
   function("_openWithHierarchy", &js_openWithHierarchy, allow_raw_pointers());
+  function("_meshAddress", &js_meshAddress);
+  function("_editorAddress", &js_editorAddress);
+  function("_adoptMesh", &js_adoptMesh, allow_raw_pointers());
+  function("_adoptEditor", &js_adoptEditor, allow_raw_pointers());
+  function("_reserveMemory", &js_reserveMemory);
   class_<MultiresMesh>("_MultiresMesh")
       .function("levels", &MultiresMesh::levels)
       .function("info", &js_info)
