@@ -9,7 +9,7 @@
 // Run by hand after `node scripts/setup.mjs --no-native`:
 //   node bench/web.mjs [--runs 3] [--models spiky-ball,bunny-remeshed,dragon-remeshed] [--modes dev,preview]
 //                      [--big-levels 4,5] (extra levels of the spiky ball: 163,842 and 655,362 vertices; '' for none)
-//   --models none --modes '' runs the big files alone and replaces only their section of the results.
+//   --models none --modes none runs the big files alone and replaces only their section of the results.
 import { readFileSync, writeFileSync } from 'node:fs';
 import { cpus, totalmem, platform, release, loadavg } from 'node:os';
 import { join } from 'node:path';
@@ -25,7 +25,7 @@ const RUNS = Number(option('--runs', '3'));
 // --models none: only the big files; the samples' tables of bench/RESULTS-web.md are kept as they are
 const MODELS = option('--models', 'spiky-ball,bunny-remeshed,dragon-remeshed').split(',').filter((m) => m && m !== 'none');
 const BIG_LEVELS = option('--big-levels', '4,5').split(',').filter(Boolean).map(Number);
-const MODES = option('--modes', 'dev,preview').split(',').filter(Boolean);
+const MODES = option('--modes', 'dev,preview').split(',').filter((m) => m && m !== 'none');
 const DRAG_MOVES = 120;
 
 const median = (xs) => {
@@ -166,8 +166,8 @@ async function measureBig(server, levels, mrvol) {
     const drag = await dragTimes(page, 30);
     const fileMb = text.length / 1e6;
     process.stderr.write(`big ${vertices}: handed over ${ms(watch.handed - t)}, opened ${ms(opened - t)}, first frame ${ms(ready - t)}; step median ${ms(median(drag.steps))}\n`);
-    const levelsFrom = (await page.evaluate(() => window.mrvolDebug.modelFile())).levelsFrom;
-    return { vertices, fileMb, handed: watch.handed - t, readGap: watch.maxGap, openGap: watch.openGap, opened: opened - t, ready: ready - t, path, levelsFrom, drag };
+    const { levelsFrom, editorFrom } = await page.evaluate(() => window.mrvolDebug.modelFile());
+    return { vertices, fileMb, handed: watch.handed - t, readGap: watch.maxGap, openGap: watch.openGap, opened: opened - t, ready: ready - t, path, levelsFrom, editorFrom, drag };
   } finally {
     await browser.close();
   }
@@ -236,18 +236,19 @@ if (bigResults.length) {
     `1-minute load average ${bigLoad[0].toFixed(0)} at the start of this section and ${bigLoad[1].toFixed(0)} at its end (the machine was shared by other jobs).`, '',
     'The spiky ball subdivided with the API\'s `subdivide` (zero details), written as OBJ in Node, dropped on the page',
     'as a `File` made in the page. Times in ms from the drop: "worker done": the file\'s worker has read and',
-    'parsed the file, validated it and found its levels (hierarchy detection), and hands the arrays over',
-    '("levels found in": worker when the page opened them with `openMeshWithHierarchy`, no detection on its',
-    'thread); "longest frame gap" while the worker ran, then while the page made the editor (createEditor',
-    'and the cage polynomial, on the page\'s thread: the part still to move); "opened": the model is the',
-    'page\'s; "first frame": drawn, ready to drag. Drag: 30 pointer moves of a level-0 handle; a step measured',
+    'parsed the file, validated it, found its levels and made the editor (the cage polynomial), and the page has',
+    'taken the copy of the worker\'s module memory into a fresh instance ("levels found / editor made in":',
+    'worker / worker; page when it fell back to opening the mesh from the hierarchy arrays, or to making the',
+    'editor itself); "longest frame gap" while the worker ran (the copy taken over included), then while the page',
+    'opened the model (the session, the view\'s buffers, the first upload: on its thread); "opened": the model is',
+    'the page\'s; "first frame": drawn, ready to drag. Drag: 30 pointer moves of a level-0 handle; a step measured',
     'CPU-side in the page: the correction, then positionsView() and normalsView() (float32, written in WASM)',
     'with only the rewritten vertices copied into the attributes and marked for upload; "steps/s" is 1000 / step median.', '');
-  bigLines.push('| vertices | OBJ MB | worker done | levels found in | longest frame gap in the worker | opened | longest frame gap while the page opens | first frame | path | step median | step p95 | steps/s | input to frame median | last relative error |');
+  bigLines.push('| vertices | OBJ MB | worker done | levels found / editor made in | longest frame gap in the worker | opened | longest frame gap while the page opens | first frame | path | step median | step p95 | steps/s | input to frame median | last relative error |');
   bigLines.push('|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|');
   for (const b of bigResults) {
     const steps = b.drag.steps, frames = b.drag.frames;
-    bigLines.push(`| ${b.vertices.toLocaleString('en-US')} | ${b.fileMb.toFixed(1)} | ${ms(b.handed)} | ${b.levelsFrom} | ${ms(b.readGap)} | ${ms(b.opened)} | ${ms(b.openGap)} | ${ms(b.ready)} | ${b.path} | ` +
+    bigLines.push(`| ${b.vertices.toLocaleString('en-US')} | ${b.fileMb.toFixed(1)} | ${ms(b.handed)} | ${b.levelsFrom} / ${b.editorFrom} | ${ms(b.readGap)} | ${ms(b.opened)} | ${ms(b.openGap)} | ${ms(b.ready)} | ${b.path} | ` +
       `${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${(1000 / median(steps)).toFixed(0)} | ${ms(median(frames))} | ${b.drag.error?.toExponential(1) ?? '–'} |`);
   }
   bigLines.push('');
