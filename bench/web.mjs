@@ -242,7 +242,8 @@ if (bigResults.length) {
     'editor itself); "longest frame gap" while the worker ran (the copy taken over included), then while the page',
     'opened the model (the session, the view\'s buffers, the first upload: on its thread); "opened": the model is',
     'the page\'s; "first frame": drawn, ready to drag. Drag: 30 pointer moves of a level-0 handle; a step measured',
-    'CPU-side in the page: the correction, then positionsView() and normalsView() (float32, written in WASM)',
+    'CPU-side in the page: the correction, then positionsView() (float32, written in WASM; normalsView() too',
+    'under smooth shading, not under the app\'s default flat shading used here)',
     'with only the rewritten vertices copied into the attributes and marked for upload; "steps/s" is 1000 / step median.', '');
   bigLines.push('| vertices | OBJ MB | worker done | levels found / editor made in | longest frame gap in the worker | opened | longest frame gap while the page opens | first frame | path | step median | step p95 | steps/s | input to frame median | last relative error |');
   bigLines.push('|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|');
@@ -268,7 +269,8 @@ else {
   // big files alone: the samples' part of the file as it was, this section in place of the old one
   const old = readFileSync(resultsFile, 'utf8');
   const at = old.indexOf('## Big files dropped on the page');
-  let kept = at < 0 ? old : old.slice(0, at) + old.slice(old.indexOf('Where the time goes', at));
+  const notes = at < 0 ? -1 : old.indexOf('Where the time goes', at); // the samples' notes, after the section or before
+  let kept = at < 0 ? old : old.slice(0, at) + (notes < 0 ? '' : old.slice(notes));
   kept = kept.replace(/\n- Big files: [\s\S]*?(?=\n- |\n*$)/, '').trimEnd();
   text = `${kept}\n\n${bigLines.join('\n')}`;
 }
