@@ -9,6 +9,7 @@
 // Run by hand after `node scripts/setup.mjs --no-native`:
 //   node bench/web.mjs [--runs 3] [--models spiky-ball,bunny-remeshed,dragon-remeshed] [--modes dev,preview]
 //                      [--big-levels 4,5] (extra levels of the spiky ball: 163,842 and 655,362 vertices; '' for none)
+//   --models none --modes none runs the big files alone and replaces only their section of the results.
 import { readFileSync, writeFileSync } from 'node:fs';
 import { cpus, totalmem, platform, release, loadavg } from 'node:os';
 import { join } from 'node:path';
@@ -21,9 +22,10 @@ const option = (name, fallback) => {
   return i >= 0 && args[i + 1] ? args[i + 1] : fallback;
 };
 const RUNS = Number(option('--runs', '3'));
-const MODELS = option('--models', 'spiky-ball,bunny-remeshed,dragon-remeshed').split(',');
+// --models none: only the big files; the samples' tables of bench/RESULTS-web.md are kept as they are
+const MODELS = option('--models', 'spiky-ball,bunny-remeshed,dragon-remeshed').split(',').filter((m) => m && m !== 'none');
 const BIG_LEVELS = option('--big-levels', '4,5').split(',').filter(Boolean).map(Number);
-const MODES = option('--modes', 'dev,preview').split(',');
+const MODES = option('--modes', 'dev,preview').split(',').filter((m) => m && m !== 'none');
 const DRAG_MOVES = 120;
 
 const median = (xs) => {
@@ -135,16 +137,16 @@ async function measureBig(server, levels, mrvol) {
     const name = `spiky-${vertices}.obj`;
     const t = await page.evaluate(async (name) => {
       const blob = await (await fetch('/bench-files/big.obj')).blob();
-      const w = { maxGap: 0, last: performance.now(), handed: null, running: true };
+      // frame gaps while the worker reads and finds the levels, and from then to the first frame
+      // with the model (the page makes the editor on its thread)
+      const w = { maxGap: 0, openGap: 0, last: performance.now(), handed: null, running: true };
       window.benchWatch = w;
-      const busy = document.querySelector('[data-testid="busy"]');
       const tick = (now) => {
-        if (/finding its levels/.test(busy.textContent)) {
-          w.handed ??= now;
-          w.running = false;
-        }
+        if (/^Opening /.test(document.getElementById('busy-text').textContent)) w.handed ??= now;
+        if (window.mrvolDebug.modelName() === name && window.mrvolDebug.ready()) w.running = false;
         if (!w.running) return;
-        w.maxGap = Math.max(w.maxGap, now - w.last);
+        if (w.handed === null) w.maxGap = Math.max(w.maxGap, now - w.last);
+        else w.openGap = Math.max(w.openGap, now - w.last);
         w.last = now;
         requestAnimationFrame(tick);
       };
@@ -164,21 +166,28 @@ async function measureBig(server, levels, mrvol) {
     const drag = await dragTimes(page, 30);
     const fileMb = text.length / 1e6;
     process.stderr.write(`big ${vertices}: handed over ${ms(watch.handed - t)}, opened ${ms(opened - t)}, first frame ${ms(ready - t)}; step median ${ms(median(drag.steps))}\n`);
-    return { vertices, fileMb, handed: watch.handed - t, readGap: watch.maxGap, opened: opened - t, ready: ready - t, path, drag };
+    const { levelsFrom, editorFrom } = await page.evaluate(() => window.mrvolDebug.modelFile());
+    return { vertices, fileMb, handed: watch.handed - t, readGap: watch.maxGap, openGap: watch.openGap, opened: opened - t, ready: ready - t, path, levelsFrom, editorFrom, drag };
   } finally {
     await browser.close();
   }
 }
 
 const bigResults = [];
+let bigVersion = null;
+const bigLoad = [loadavg()[0], null];
 if (BIG_LEVELS.length) {
   const mrvol = await createMrvol();
   const server = await startTestServer({ mode: 'preview' });
   try {
+    const probe = await launchBrowser(server.url);
+    bigVersion = probe.context.browser()?.version() ?? null;
+    await probe.close();
     for (const levels of BIG_LEVELS) bigResults.push(await measureBig(server, levels, mrvol));
   } finally {
     await server.close();
   }
+  bigLoad[1] = loadavg()[0];
 }
 
 const lines = [];
@@ -218,22 +227,32 @@ for (const r of results) {
   lines.push(`| ${modeName[r.mode]} | ${r.model} | ${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${ms(median(renders))} | ${ms(quantile(renders, 0.95))} | ${ms(median(frames))} | ` +
     `${ms(quantile(frames, 0.95))} | ${ms(median(r.drags.map((d) => d.wall)))} | ${last.error?.toExponential(1) ?? '–'} (${last.path}) |`);
 }
+// The big files' section: its own machine line (it may be run alone: --models none).
+const bigLines = [];
 if (bigResults.length) {
-  lines.push('', '## Big files dropped on the page (issue 14)', '',
+  bigLines.push('## Big files dropped on the page (issues 13, 14)', '',
+    `Measured by \`node bench/web.mjs --big-levels ${BIG_LEVELS.join(',')}\` on ${new Date().toISOString().slice(0, 10)}: ${cpus()[0]?.model ?? 'unknown CPU'}, ` +
+    `${cpus().length} cores, headless Chromium ${version ?? bigVersion} (WebGL on SwiftShader), production build, a fresh profile, 1200 x 800; ` +
+    `1-minute load average ${bigLoad[0].toFixed(0)} at the start of this section and ${bigLoad[1].toFixed(0)} at its end (the machine was shared by other jobs).`, '',
     'The spiky ball subdivided with the API\'s `subdivide` (zero details), written as OBJ in Node, dropped on the page',
-    'as a `File` made in the page (production build, a fresh profile, 1200 x 800). Times in ms from the drop:',
-    '"read in the worker": the worker has read and parsed the file and hands the arrays over (the page drew',
-    'frames all along: "longest frame gap" while it did); "opened": the page has found the hierarchy and made',
-    'the editor on the cage polynomial (main thread); "first frame": the model drawn, ready to drag. Drag: 30',
-    'pointer moves of a level-0 handle; a step measured CPU-side in the page (the correction, the fine',
-    'positions read back, the position buffer updated in place for upload); "steps/s" is 1000 / step median.', '');
-  lines.push('| vertices | OBJ MB | read in the worker | longest frame gap while reading | opened | first frame | path | step median | step p95 | steps/s | input to frame median | last relative error |');
-  lines.push('|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|');
+    'as a `File` made in the page. Times in ms from the drop: "worker done": the file\'s worker has read and',
+    'parsed the file, validated it, found its levels and made the editor (the cage polynomial), and the page has',
+    'taken the copy of the worker\'s module memory into a fresh instance ("levels found / editor made in":',
+    'worker / worker; page when it fell back to opening the mesh from the hierarchy arrays, or to making the',
+    'editor itself); "longest frame gap" while the worker ran (the copy taken over included), then while the page',
+    'opened the model (the session, the view\'s buffers, the first upload: on its thread); "opened": the model is',
+    'the page\'s; "first frame": drawn, ready to drag. Drag: 30 pointer moves of a level-0 handle; a step measured',
+    'CPU-side in the page: the correction, then positionsView() (float32, written in WASM; normalsView() too',
+    'under smooth shading, not under the app\'s default flat shading used here)',
+    'with only the rewritten vertices copied into the attributes and marked for upload; "steps/s" is 1000 / step median.', '');
+  bigLines.push('| vertices | OBJ MB | worker done | levels found / editor made in | longest frame gap in the worker | opened | longest frame gap while the page opens | first frame | path | step median | step p95 | steps/s | input to frame median | last relative error |');
+  bigLines.push('|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|');
   for (const b of bigResults) {
     const steps = b.drag.steps, frames = b.drag.frames;
-    lines.push(`| ${b.vertices.toLocaleString('en-US')} | ${b.fileMb.toFixed(1)} | ${ms(b.handed)} | ${ms(b.readGap)} | ${ms(b.opened)} | ${ms(b.ready)} | ${b.path} | ` +
+    bigLines.push(`| ${b.vertices.toLocaleString('en-US')} | ${b.fileMb.toFixed(1)} | ${ms(b.handed)} | ${b.levelsFrom} / ${b.editorFrom} | ${ms(b.readGap)} | ${ms(b.opened)} | ${ms(b.openGap)} | ${ms(b.ready)} | ${b.path} | ` +
       `${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${(1000 / median(steps)).toFixed(0)} | ${ms(median(frames))} | ${b.drag.error?.toExponential(1) ?? '–'} |`);
   }
+  bigLines.push('');
 }
 lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles taken while writing this):', '',
   '- "main.js running": loading the page\'s modules (dev server: one request per module, three.js included;',
@@ -241,11 +260,19 @@ lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles 
   '  fetched and IndexedDB opens (cold: compiled without a code cache, slow under this load). "model opened": readObj, openMesh (hierarchy detection), the editor with',
   '  its cage polynomial and the cage; the first frame follows (shaders are compiled while the core loads).',
   '- No θ on any sample: the dragon\'s θ⁰ (341 MB, 10 s, and a 5 s hand-off to the editor) is no longer',
-  '  computed; `?gradient=tensor` (or the panel\'s "gradient from") brings the paper\'s path back.',
-  '- Big files: between "opened" and "first frame" the page waits on the GPU process drawing the new mesh for',
-  '  the first time (WebGL on SwiftShader, software: 0.2-0.7 s in this run, seconds at a higher load; a profile shows it as',
-  '  "(program)", and hiding the mesh removes it); the JS and WASM work is in "opened". A drag step reads',
-  '  the fine positions back as a copy (the zero-copy buffer of the scale work removes that).');
+  '  computed; `?gradient=tensor` (or the panel\'s "gradient from") brings the paper\'s path back.');
 lines.push('');
-writeFileSync(join(root, 'bench/RESULTS-web.md'), lines.join('\n'));
-process.stdout.write(lines.join('\n'));
+const resultsFile = join(root, 'bench/RESULTS-web.md');
+let text;
+if (results.length) text = [...lines, ...bigLines].join('\n');
+else {
+  // big files alone: the samples' part of the file as it was, this section in place of the old one
+  const old = readFileSync(resultsFile, 'utf8');
+  const at = old.indexOf('## Big files dropped on the page');
+  const notes = at < 0 ? -1 : old.indexOf('Where the time goes', at); // the samples' notes, after the section or before
+  let kept = at < 0 ? old : old.slice(0, at) + (notes < 0 ? '' : old.slice(notes));
+  kept = kept.replace(/\n- Big files: [\s\S]*?(?=\n- |\n*$)/, '').trimEnd();
+  text = `${kept}\n\n${bigLines.join('\n')}`;
+}
+writeFileSync(resultsFile, text);
+process.stdout.write(text);

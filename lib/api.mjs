@@ -161,6 +161,7 @@ export function wrapModule(module) {
       if (!this.#raw) throw new MrvolError('this VolumeEditor has been deleted');
       return this.#raw;
     }
+    _raw() { return this.#live(); }
     /** Caller's vertex index of each cage vertex, in cage order. */
     cageVertices() { return call((r) => r.cageVertices(), this.#live()); }
     /** Cage order index of a caller's vertex; throws if it is not a level-e cage vertex. */
@@ -187,7 +188,9 @@ export function wrapModule(module) {
      * Returns the path in use: 'polynomial', or 'matrix-free' on a cage too fine for it.
      */
     usePolynomial() {
-      call((r) => r.usePolynomial(), this.#live());
+      // an adopted editor (adoptTransferred) comes with the polynomial built where it was made
+      if (!(this.adopted && this.path() === 'polynomial')) call((r) => r.usePolynomial(), this.#live());
+      this.adopted = false;
       return this.path();
     }
     useMatrixFree() { call((r) => r.useMatrixFree(), this.#live()); }
@@ -303,9 +306,10 @@ export function wrapModule(module) {
       this.#positions = positions;
       this.levels = raw.levels();
       const info = call((r) => r.info(positions), raw);
+      this.#info = info;
       this.vertexCount = info.vertices;
       this.faceCount = info.faces;
-      this.baseVertexIndices = info.baseVertexIndices;
+      this.baseVertexIndices = info.baseVertexIndices.slice(); // its own: info() hands out copies of the kept one
     }
     #live() {
       if (!this.#raw) throw new MrvolError('this MultiresMesh has been deleted');
@@ -315,9 +319,13 @@ export function wrapModule(module) {
      * Vertex/face counts, levels, base vertices, closedness, genus, volume. surface: 'mesh'
      * (default) or 'limit' (volume of the Loop limit surface; closed meshes only).
      */
+    // The mesh surface's info for the current positions (a pass over a big mesh: kept until they change).
+    #info = null;
     info(options = {}) {
       const surface = surfaceArg(options.surface);
-      const info = call((r) => r.info(this.#positions), this.#live());
+      const raw = this.#live();
+      this.#info ??= call((r) => r.info(this.#positions), raw);
+      const info = { ...this.#info, baseVertexIndices: this.#info.baseVertexIndices.slice() };
       if (surface === 'limit') info.volume = call((r) => r.limitVolume(this.#positions), this.#live());
       info.surface = surface;
       return info;
@@ -336,7 +344,11 @@ export function wrapModule(module) {
     setPositions(positions) {
       if (!(positions instanceof Float64Array)) throw new MrvolError('positions must be a Float64Array');
       call((r) => r.checkPositions(positions), this.#live());
+      const same = positions.length === this.#positions.length && positions.every((x, i) => x === this.#positions[i]);
       this.#positions = positions.slice();
+      if (same) return;
+      this.#info = null;
+      this.#dropPrepared(); // made for the positions before
     }
     /** Level-e coefficients (coarse for depth <= e, details beyond), caller's vertex order. */
     analyze(positions, options = {}) {
@@ -404,12 +416,18 @@ export function wrapModule(module) {
       return this.synthesize(coefficients, transform);
     }
     #depths = null;
+    _raw() { return this.#live(); }
     /** Caller's vertex index of each hierarchy index (the order of theta entries: by depth). */
     hierarchyOrder() { return call((r) => r.hierarchyOrder(), this.#live()); }
     /** max |synthesis(analysis(x)) - x| over the current positions. */
     roundtripError(options = {}) {
       return call((r) => r.roundtripError(this.#positions, levelArg(options.level), schemeArgs(options)), this.#live());
     }
+    /**
+     * The hierarchy as flat typed arrays (plus the topology validation found), for
+     * openMeshWithHierarchy in another instance of the module: a worker detects, the page opens.
+     */
+    hierarchyArrays() { return call((r) => r.hierarchyArrays(), this.#live()); }
     /** Connectivity fingerprint (hex): what theta depends on besides scheme and level. */
     fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
     /**
@@ -454,6 +472,8 @@ export function wrapModule(module) {
       const scheme = schemeArgs(options);
       const path = options.path ?? 'auto';
       const surface = surfaceArg(options.surface);
+      const prepared = this.#takePrepared(options, scheme, surface);
+      if (prepared) return prepared;
       const centroid = keepArg(options.keep).includes('centroid');
       if (!['auto', 'polynomial', 'matrix-free'].includes(path) && !(path === 'tensor' && options.theta))
         throw new MrvolError(`createEditor path must be auto, polynomial or matrix-free (tensor with a theta), got '${path}'`);
@@ -478,6 +498,28 @@ export function wrapModule(module) {
       return editor;
     }
     #editors = new Set();
+    // An editor made elsewhere for these positions (adoptTransferred): the first createEditor at its
+    // level and scheme (mesh surface, volume only, no theta) returns it as it was made, path included.
+    #prepared = null;
+    _prepareEditor(raw, { level, ...options }) {
+      const editor = new VolumeEditor(raw, this.#live(), schemeArgs(options));
+      editor.adopted = true;
+      this.#editors.add(editor);
+      this.#prepared = { editor, level, scheme: schemeArgs(options) };
+    }
+    #takePrepared(options, scheme, surface) {
+      const p = this.#prepared;
+      if (!p || options.theta || surface !== 'mesh' || keepArg(options.keep).includes('centroid') || levelArg(options.level) !== p.level ||
+          scheme.scheme !== p.scheme.scheme || scheme.alpha !== p.scheme.alpha || scheme.beta !== p.scheme.beta) return null;
+      this.#prepared = null;
+      return p.editor;
+    }
+    #dropPrepared() {
+      if (!this.#prepared) return;
+      this.#editors.delete(this.#prepared.editor);
+      this.#prepared.editor.delete();
+      this.#prepared = null;
+    }
     delete() {
       // Editors refer to this mesh's hierarchy: they go first.
       for (const editor of this.#editors) editor.delete();
@@ -587,6 +629,52 @@ export function wrapModule(module) {
       checkMesh(mesh);
       const maxLevels = levelArg(options.maxLevels ?? 16, 'maxLevels');
       return new MultiresMesh(call(module._openMesh, mesh.positions, mesh.faces, maxLevels, linesOf(mesh)), mesh.positions.slice());
+    },
+    /**
+     * Opens a mesh whose hierarchy another instance found (MultiresMesh.hierarchyArrays() of the same
+     * faces): no validation or detection again, a few linear passes. Throws MrvolError when the
+     * arrays do not fit the mesh.
+     */
+    openMeshWithHierarchy(mesh, arrays) {
+      checkMesh(mesh);
+      const typed = { vertexCount: Uint32Array, coarseFaces: Uint32Array, ends: Uint32Array, wings: Uint32Array, boundary: Uint8Array, inputIndex: Uint32Array };
+      const t = arrays?.topology;
+      if (!arrays || typeof arrays !== 'object' || !Number.isInteger(arrays.levels) || !t || typeof t.closed !== 'boolean' ||
+          ['edges', 'boundaryEdges', 'components', 'genus'].some((k) => !Number.isInteger(t[k])) ||
+          Object.entries(typed).some(([key, type]) => !(arrays[key] instanceof type)))
+        throw new MrvolError('openMeshWithHierarchy expects the arrays of MultiresMesh.hierarchyArrays()');
+      if (arrays.inputIndex.length * 3 !== mesh.positions.length)
+        throw new MrvolError(`the hierarchy arrays are for ${arrays.inputIndex.length} vertices, the mesh has ${mesh.positions.length / 3}`);
+      return new MultiresMesh(call(module._openWithHierarchy, mesh.faces, arrays), mesh.positions.slice());
+    },
+    /**
+     * A mesh and its editor made here, ready to move to another instance of the module (the web
+     * app's file worker makes them off the page's thread): a copy of this instance's whole memory
+     * (transfer its buffer), where the two are in it, the positions, level and scheme. Both
+     * instances must have run the same calls before (web/module-transfer.js warms them alike):
+     * embind keeps per-call-site ids in memory that index tables of the JS side.
+     */
+    transferable(mr, editor, options = {}) {
+      return {
+        memory: module.HEAPU8.slice(), mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
+        positions: mr.positions(), level: editor.level, scheme: schemeArgs(options),
+      };
+    },
+    /**
+     * Takes over what transferable() gave, in an instance made for it (its memory is replaced: any
+     * object made in it before is gone). Returns the MultiresMesh; its first createEditor at that
+     * level and scheme returns the editor made there.
+     */
+    adoptTransferred({ memory, mesh, editor, positions, level, scheme }) {
+      if (!(memory instanceof Uint8Array) || !(positions instanceof Float64Array) || !Number.isFinite(mesh) || !Number.isFinite(editor))
+        throw new MrvolError('adoptTransferred expects what transferable() gave');
+      if (memory.byteLength > module.HEAPU8.byteLength) call(module._reserveMemory, memory.byteLength);
+      if (memory.byteLength > module.HEAPU8.byteLength)
+        throw new MrvolError(`out of memory: ${Math.round(memory.byteLength / 2 ** 20)} MB do not fit this WebAssembly module`);
+      module.HEAPU8.set(memory);
+      const mr = new MultiresMesh(call(module._adoptMesh, mesh), positions);
+      mr._prepareEditor(call(module._adoptEditor, editor), { level, ...scheme });
+      return mr;
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {

@@ -401,6 +401,8 @@ export interface MultiresMesh {
   hierarchyOrder(): Uint32Array;
   /** Connectivity fingerprint (16 hex digits): what a volume tensor depends on besides scheme and level. */
   fingerprint(): string;
+  /** The hierarchy as flat arrays, for openMeshWithHierarchy in another instance of the module. */
+  hierarchyArrays(): HierarchyArrays;
   /** Computes the volume tensor theta^e of this mesh for a scheme and level e. */
   /**
    * What computing theta^e with cage storage would take (sampled patches, no tensor work); `fits`
@@ -498,6 +500,15 @@ export interface Mrvol {
   openMesh(mesh: QuadMesh, options?: OpenMeshOptions & { scheme?: 'catmull-clark' }): QuadMultiresMesh;
   /** n levels of zero-detail synthesis (subdivision) of a base mesh. */
   subdivide(base: Mesh, options?: SubdivideOptions): MultiresMesh;
+  /** Opens a mesh with the hierarchy another instance found (no validation or detection again). */
+  openMeshWithHierarchy(mesh: Mesh, arrays: HierarchyArrays): MultiresMesh;
+  /**
+   * A mesh and its editor, with a copy of this instance's memory, for adoptTransferred in another
+   * instance that ran the same calls first (web/module-transfer.js warmUp).
+   */
+  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions): TransferredEditor;
+  /** Takes over what transferable gave, in an instance made for it (its memory is replaced). */
+  adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /** A quad base: n levels of Catmull-Clark subdivision (subdivideQuads). */
   subdivide(base: QuadMesh, options?: { levels?: number; scheme?: 'catmull-clark' }): QuadMultiresMesh;
   /** OBJ text to a quad mesh: every face must have 4 corners (MrvolError naming the line otherwise). */
@@ -664,4 +675,26 @@ export interface QuadVolumeEditor {
   moveVertices(moves: VertexMove[], options?: EditOptions): EditReport;
   correct(held?: ArrayLike<number>, options?: EditOptions): EditReport;
   delete(): void;
+}
+
+/** MultiresMesh.hierarchyArrays(): the hierarchy of a mesh, hierarchy indices (kNone = 0xffffffff). */
+export interface HierarchyArrays {
+  levels: number;
+  vertexCount: Uint32Array;
+  coarseFaces: Uint32Array;
+  ends: Uint32Array;
+  wings: Uint32Array;
+  boundary: Uint8Array;
+  inputIndex: Uint32Array;
+  topology: { edges: number; boundaryEdges: number; components: number; closed: boolean; genus: number };
+}
+
+/** Mrvol.transferable(): a module's memory with a mesh and editor in it. */
+export interface TransferredEditor {
+  memory: Uint8Array;
+  mesh: number;
+  editor: number;
+  positions: Float64Array;
+  level: number;
+  scheme: { scheme: string; alpha: number; beta: number };
 }

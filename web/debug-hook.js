@@ -69,8 +69,12 @@ export function installDebugHook(app) {
     gradientReady: () => app.ready && (editor()?.path() === 'polynomial' || (app.theta?.source != null && editor()?.path() === 'tensor')),
     /** The live chart: volume points, multipliers λ of the current drag, their ticks. */
     chart: () => (app.chart ? { points: app.chart.current.length, lambdas: [...app.chart.lambdas], ticks: app.chart.volumePlot.tickValues, lambdaTicks: app.chart.lambdaPlot.tickValues } : null),
-    /** The model's file: name, format, bytes (null for samples and OBJ texts made here). */
-    modelFile: () => (app.model ? { name: app.model.name, kind: app.model.kind, format: app.model.format ?? null, bytes: app.model.bytes?.byteLength ?? null, vertices: app.model.vertices ?? null } : null),
+    /**
+     * The model's file: name, format, bytes (null for samples and OBJ texts made here), and where its
+     * levels were found and its first editor made ('worker': by the file's worker, the page opened them
+     * without detecting / took the editor made there).
+     */
+    modelFile: () => (app.model ? { name: app.model.name, kind: app.model.kind, format: app.model.format ?? null, bytes: app.model.bytes?.byteLength ?? null, vertices: app.model.vertices ?? null, levelsFrom: app.model.levelsFrom ?? null, editorFrom: app.model.editorFrom ?? null } : null),
     /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
     stats: () => ({
       ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders],
@@ -86,6 +90,32 @@ export function installDebugHook(app) {
         level: layers?.level ?? null, updates: layers?.updates ?? 0, lastMs: layers?.lastMs ?? null,
         deferred: Boolean(layers?.deferred),
       };
+    },
+    /**
+     * What the view draws against the editor: the largest difference of the mesh's position
+     * attribute from the editor's positions (relative to the mesh's size) and of its normal
+     * attribute from normals three.js computes from those positions; the vertices the last upload
+     * copied; whether drawing again now copies anything (it should not without an edit).
+     */
+    drawnSurface: () => {
+      const geometry = app.viewer.mesh?.geometry;
+      if (!geometry || !editor()) return null;
+      const positions = app.session.positions(), drawn = geometry.getAttribute('position').array;
+      let size = 0, positionsError = 0;
+      for (let i = 0; i < positions.length; i++) {
+        size = Math.max(size, Math.abs(positions[i]));
+        positionsError = Math.max(positionsError, Math.abs(drawn[i] - positions[i]));
+      }
+      const check = geometry.clone();
+      check.getAttribute('position').array.set(positions);
+      check.computeVertexNormals();
+      const expected = check.getAttribute('normal').array, normals = geometry.getAttribute('normal')?.array;
+      let normalsError = normals ? 0 : null;
+      if (normals) for (let i = 0; i < expected.length; i++) normalsError = Math.max(normalsError, Math.abs(normals[i] - expected[i]));
+      check.dispose();
+      const lastCopied = { ...app.viewer.surfaceUpload?.lastCopied };
+      const copiesAgain = app.viewer.surfaceUpload?.draw(geometry, editor(), { normals: !app.viewer.flat }) ?? null;
+      return { vertices: positions.length / 3, positionsError: positionsError / size, normalsError, lastCopied, copiesAgain };
     },
     /** The free set: mode, pointer tool, painted handles and parts' handles (cage indices, sorted). */
     freeSet: () => {

@@ -17,9 +17,23 @@ export function sizeMessage({ vertices = null, claimed = false, bytes = null }) 
     `files up to ${MAX_FILE_BYTES / 2 ** 20} MB). Simplify it first, or use the command line (mrvol), which has no such limit.`;
 }
 
+// An OBJ bigger than this has its vertex lines counted before it is parsed: a file that cannot
+// open says so in a second, not after the parser has filled the memory (an OBJ of MAX_VERTICES
+// vertices and their triangles takes at least ~60 MB: 'v 0 0 0' and 'f 1 2 3' lines).
+const OBJ_COUNT_BYTES = 50 * 2 ** 20;
+
+/** The number of OBJ vertex lines ('v' then a space or tab at a line's start); a fast byte scan. */
+export function objVertexLines(bytes) {
+  const isVertex = (i) => bytes[i] === 0x76 && (bytes[i + 1] === 0x20 || bytes[i + 1] === 0x09);
+  let count = isVertex(0) ? 1 : 0;
+  for (let at = bytes.indexOf(0x0a); at >= 0; at = bytes.indexOf(0x0a, at + 1)) if (isVertex(at + 1)) count++;
+  return count;
+}
+
 /**
  * The vertex count a file's header claims, before anything is parsed (PLY's element vertex, OFF's
- * counts, a binary STL's triangle count, about twice its welded vertices), or 0 when it says none.
+ * counts, a binary STL's triangle count, about twice its welded vertices; a big OBJ's vertex
+ * lines, counted), or 0 when it says none.
  */
 export function claimedVertices(bytes, name = '') {
   const head = new TextDecoder('latin1').decode(bytes.subarray(0, Math.min(bytes.byteLength, 4096)));
@@ -37,5 +51,6 @@ export function claimedVertices(bytes, name = '') {
     // a count the length contradicts is the reader's to report (truncated), not a size
     return bytes.byteLength >= 84 + 50 * triangles ? Math.floor(triangles / 2) : 0;
   }
+  if (bytes.byteLength > OBJ_COUNT_BYTES && (/\.obj$/i.test(name) || /^\s*(#|v\s|o\s|g\s|mtllib)/.test(head))) return objVertexLines(bytes);
   return 0;
 }

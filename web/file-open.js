@@ -2,6 +2,8 @@
 // parsed here at once, bigger ones in a module worker (open-worker.js) with a progress bar and a
 // cancel button in the status strip, so the page keeps drawing while a big file is read.
 import { MAX_FILE_BYTES, sizeMessage } from './file-limits.js';
+import { loadMrvol } from './mrvol.js';
+import { warmUp } from './module-transfer.js';
 
 const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
@@ -31,11 +33,29 @@ export function cancelFileRead() {
 }
 
 /**
+ * The worker's mesh and editor in a fresh instance of the module (module-transfer.js): the
+ * MultiresMesh, whose first createEditor at the worker's level and scheme is the editor made
+ * there; null when that fails (the page then opens the mesh from the hierarchy arrays).
+ */
+async function adopt(transfer) {
+  try {
+    const fresh = await loadMrvol();
+    warmUp(fresh);
+    return fresh.adoptTransferred(transfer);
+  } catch (e) {
+    console.warn(`the worker's editor could not be taken over (${e.message}): opening the mesh here`);
+    return null;
+  }
+}
+
+/**
  * Reads a mesh file: { file } (a File) or { bytes } (Uint8Array, e.g. a stored session's), with its
- * name. Resolves to { mesh, bytes: Uint8Array, format }; rejects with a message naming what is
+ * name. Resolves to { mesh, bytes: Uint8Array, format, hierarchy?, openError? } (a worker's: the
+ * hierarchy it found, or why the mesh does not open: { message, offer }; with `editor`
+ * ({ level, scheme }) `opened`: the MultiresMesh made there with that editor, see adopt); rejects with a message naming what is
  * wrong (`size`: true when the file is too big, `cancelled` when cancelled).
  */
-export async function readMeshFile(mrvol, { file = null, bytes = null, name }) {
+export async function readMeshFile(mrvol, { file = null, bytes = null, name, editor = null }) {
   const size = file ? file.size : bytes.byteLength;
   if (size > MAX_FILE_BYTES) throw Object.assign(new Error(sizeMessage({ bytes: size })), { size: true });
   if (size <= WORKER_BYTES) {
@@ -54,13 +74,14 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name }) {
       worker.terminate();
       showFileProgress(null);
     };
-    worker.onmessage = ({ data }) => {
+    worker.onmessage = async ({ data }) => {
       if (running !== job) return;
       if (data.type === 'progress') {
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
         finish();
-        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format });
+        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format, hierarchy: data.hierarchy, openError: data.openError,
+                  opened: data.transfer ? await adopt(data.transfer) : null });
       } else if (data.type === 'error') {
         finish();
         reject(Object.assign(new Error(data.message), { size: Boolean(data.size) }));
@@ -72,6 +93,6 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name }) {
       reject(new Error(e.message || 'the file reader could not start'));
     };
     // a stored session's bytes are the app's: the worker gets a copy
-    worker.postMessage(file ? { file, name } : { bytes: bytes.slice().buffer, name });
+    worker.postMessage(file ? { file, name, editor } : { bytes: bytes.slice().buffer, name, editor });
   });
 }

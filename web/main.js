@@ -184,13 +184,19 @@ function openModelText({ name, kind, text }, restore = null) {
  * (false). model: { name, kind, format, text? (OBJ text) | bytes? (the file) }; restore:
  * { positions: Float64Array, reference, fingerprint } from a stored session.
  */
-function openModelMesh(model, mesh, restore = null) {
+function openModelMesh(model, mesh, restore = null, found = null) {
   const { session } = app;
   const { name } = model;
   let mr, info;
   try {
-    // a semi-regular quad OBJ opens as quads (Catmull-Clark); anything else as triangles
-    ({ mr, info } = openQuadObj(app.mrvol, model, mesh) ?? openParsed(app.mrvol, mesh));
+    // a semi-regular quad OBJ opens as quads (Catmull-Clark); anything else as triangles, with what the
+    // file's worker found (file-open.js): the hierarchy, or why it does not open
+    const quad = openQuadObj(app.mrvol, model, mesh);
+    if (quad) ({ mr, info } = quad);
+    else {
+      if (found?.openError) throw Object.assign(new Error(found.openError.message), { offer: found.openError.offer });
+      ({ mr, info } = openParsed(app.mrvol, mesh, found ?? {}));
+    }
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
     // a file of quads is remeshed into quads (Catmull-Clark), unless the offer's field says otherwise
@@ -203,7 +209,8 @@ function openModelMesh(model, mesh, restore = null) {
   notice('');
   app.theta.cancel();
   // what an export keeps: the file's own lines (OBJ) or data (glTF) while the vertices are its own
-  app.model = { ...model, vertices: mesh.positions.length / 3 };
+  app.model = { ...model, vertices: mesh.positions.length / 3, levelsFrom: found?.hierarchy ? 'worker' : 'page',
+                editorFrom: found?.opened ? 'worker' : 'page' };
   app.settings.model = name;
   // a share link's edits carry no fingerprint: the vertex count decides (session.open)
   const fits = restore && (restore.fingerprint == null || restore.fingerprint === mr.fingerprint());
@@ -258,15 +265,16 @@ async function openModel(source, restore = null) {
         if (generation !== app.loadGeneration) return false;
         return openProjectText(text, source.name);
       }
-      const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name });
+      const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name,
+        editor: { level: app.settings.level, scheme: app.settings.scheme, positions: restore?.positions } });
       if (generation !== app.loadGeneration) return false;
       const big = read.bytes.byteLength > BIG_FILE_BYTES;
       if (big) {
-        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB): finding its levels…`, null);
+        showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB)${read.opened ? '' : ': making the editor'}…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
       }
       try {
-        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes }, read.mesh, restore);
+        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes }, read.mesh, restore, read);
       } finally {
         if (big) showFileProgress(null);
       }
@@ -294,7 +302,7 @@ async function openModel(source, restore = null) {
   }
   return opened;
 }
-// Opening a file this big blocks the page while the hierarchy is found: say so first.
+// Opening a file this big keeps the page busy while the editor is made: say so first.
 const BIG_FILE_BYTES = 2_000_000;
 
 // ---- the session's events: the view follows ---------------------------------------------------------
@@ -303,7 +311,7 @@ function followSessionInView(session) {
   let frameNext = false;
   session.addEventListener('model', () => {
     frameNext = true;
-    app.viewer.setMesh(session.model.mr.positions(), session.model.faces);
+    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true });
     applyViewLayers();
     app.panel.setQuad(session.quad);
     app.panel.setLevels(session.model.info.levels);
@@ -312,7 +320,7 @@ function followSessionInView(session) {
   session.addEventListener('editor', () => {
     app.selection.clear();
     app.viewer.setCage(session.cagePositions(), session.cageEdges());
-    app.viewer.updateMesh(session.positions());
+    app.viewer.updateMeshFrom(session.editor);
     app.freeSet.keepCageMarks();
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
@@ -322,7 +330,7 @@ function followSessionInView(session) {
   });
   session.addEventListener('change', ({ detail }) => {
     if (detail.reason === 'step') return; // the drag handler draws and times its steps
-    app.viewer.updateMesh(session.positions());
+    app.viewer.updateMeshFrom(session.editor);
     app.viewer.updateCage(session.cagePositions());
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
@@ -378,7 +386,7 @@ function askRestore(off) {
     if (restore) {
       if (!app.session.restoreReferenceVolume()) return;
       // a step outside a drag: the view draws it here (the change listener leaves steps to the drag)
-      app.viewer.updateMesh(app.session.positions());
+      app.viewer.updateMeshFrom(app.session.editor);
       app.viewer.updateCage(app.session.cagePositions());
       app.layers.update();
     } else {
@@ -433,7 +441,7 @@ const dragHandlers = {
       return;
     }
     const drawing = performance.now();
-    app.viewer.updateMesh(session.positions());
+    app.viewer.updateMeshFrom(session.editor);
     app.viewer.updateCage(session.cagePositions());
     app.layers.afterStep();
     // The step as bench/web.mjs times it: the correction (the session's time) plus positions read back
@@ -797,7 +805,7 @@ async function start() {
     app,
     canNudge: () => app.ready && !session.dragging && !app.freeSet.painting,
     onMoved: () => {
-      app.viewer.updateMesh(session.positions());
+      app.viewer.updateMeshFrom(session.editor);
       app.viewer.updateCage(session.cagePositions());
       app.layers.afterDrag();
       saveSoon();

@@ -42,13 +42,16 @@ export function openObj(mrvol, text) {
 
 /**
  * Opens a mesh read from a file ({ positions, faces }, any format) for editing: the MultiresMesh
- * (the caller's) and its info. Otherwise throws the reason, with `offer`: 'remesh' (it opened but is
+ * (the caller's) and its info; with `opened` (a MultiresMesh of this mesh) that one, with
+ * `hierarchy` (MultiresMesh.hierarchyArrays() of this mesh) by the fast path. Otherwise throws the reason, with `offer`: 'remesh' (it opened but is
  * not semi-regular), 'repair' (it is not a closed 2-manifold, a raw scan), or null (nothing would help).
  */
-export function openParsed(mrvol, mesh) {
+export function openParsed(mrvol, mesh, { hierarchy = null, opened = null } = {}) {
   let mr = null, info;
   try {
-    mr = mrvol.openMesh(mesh);
+    // what the file's worker found (open-worker.js): the mesh opened there, or its hierarchy: no
+    // validation or detection here again
+    mr = opened ?? (hierarchy ? mrvol.openMeshWithHierarchy(mesh, hierarchy) : mrvol.openMesh(mesh));
     info = mr.info();
     if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
       throw new mrvol.MrvolError(

@@ -1,13 +1,24 @@
 // Module worker that reads a mesh file off the page's thread: the bytes in chunks (progress as it
 // goes), then the core's reader for its format (lib/api.mjs readMesh: OBJ, STL, PLY, OFF, glTF/GLB)
 // through the package's browser entry (web/mrvol.js: compiled here, not handed over by the page,
-// which measurably blocked the page's thread for a moment). The page opens the parsed arrays
-// (web/file-open.js).
-// Message in:   { file?: File, bytes?: ArrayBuffer, name }
-// Messages out: { type: 'progress', stage, fraction }, { type: 'done', mesh, bytes, format },
+// which measurably blocked the page's thread for a moment); then validation and hierarchy
+// detection (models.js openParsed), the slow part of opening a big mesh. The page opens the parsed
+// arrays with the hierarchy found here (web/file-open.js; MultiresMesh.hierarchyArrays and
+// openMeshWithHierarchy): a few linear passes on its thread instead of seconds. Asked for an editor
+// ({ level, scheme }: the page's settings), it makes that too, the slowest part (the cage
+// polynomial), and hands over a copy of its module's memory for the page to take
+// (module-transfer.js); the hierarchy stays the fallback.
+// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } }
+// Messages out: { type: 'progress', stage, fraction },
+//               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable) | null,
+//                 openError: { message, offer } | null },
 //               { type: 'error', message, size? (true: a size problem) }
 import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
+import { openParsed } from './models.js';
+import { warmUp, buildEditor } from './module-transfer.js';
+
+const outOfMemory = (e) => e instanceof RangeError || /memory|bad_alloc/i.test(e?.message ?? '');
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
 
@@ -30,10 +41,32 @@ async function readBytes(file) {
   return at === bytes.byteLength ? bytes : bytes.subarray(0, at);
 }
 
+/**
+ * The page's first editor made here and the module's memory to hand over (lib/api.mjs
+ * transferable), or null when that does not work out (memory, say): the page then makes the editor.
+ */
+function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions }) {
+  post({ type: 'progress', stage: 'making the editor', fraction: 0.8 });
+  // a stored session's shape (the page sets it again: the same values keep this editor)
+  if (positions instanceof Float64Array && positions.length === mesh.positions.length) {
+    try {
+      mr.setPositions(positions);
+    } catch { /* not a shape of this mesh: the page says so */ }
+  }
+  try {
+    const editor = buildEditor(mrvol, mr, { level: Math.min(level, info.levels), scheme });
+    post({ type: 'progress', stage: 'handing the editor over', fraction: 0.95 });
+    return mrvol.transferable(mr, editor, { scheme });
+  } catch {
+    return null; // the page makes the editor itself, and says what is wrong if anything is
+  }
+}
+
 self.onmessage = async ({ data: job }) => {
   try {
     post({ type: 'progress', stage: 'reading', fraction: 0 });
-    const mrvolLoading = loadMrvol();
+    // warmed up at once, as the page's instance will be before it takes the copy
+    const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
     mrvolLoading.catch(() => {}); // awaited below
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
     const claimed = claimedVertices(bytes, job.name);
@@ -49,7 +82,7 @@ self.onmessage = async ({ data: job }) => {
       mesh = mrvol.readMesh(bytes, { name: job.name });
     } catch (e) {
       // The core ran out of memory (a WebAssembly heap of at most a few GB): say so in terms of size.
-      if (e instanceof RangeError || /memory|bad_alloc/i.test(e.message)) {
+      if (outOfMemory(e)) {
         post({ type: 'error', message: sizeMessage({ bytes: bytes.byteLength }), size: true });
         return;
       }
@@ -60,13 +93,32 @@ self.onmessage = async ({ data: job }) => {
       post({ type: 'error', message: sizeMessage({ vertices }), size: true });
       return;
     }
-    post({ type: 'progress', stage: 'handing the mesh over', fraction: 0.9 });
-    const transfer = [mesh.positions.buffer, mesh.faces.buffer];
+    post({ type: 'progress', stage: 'finding its levels', fraction: 0.7 });
+    // What the page would find on its thread: the hierarchy, or why the mesh does not open (the
+    // page shows it and offers a remesh with the mesh itself).
+    let hierarchy = null, openError = null, transfer = null;
+    try {
+      const { mr, info } = openParsed(mrvol, mesh);
+      hierarchy = mr.hierarchyArrays();
+      if (job.editor) transfer = editorTransfer(mrvol, mr, info, mesh, job.editor);
+      // nothing is deleted: the copy of the memory holds them; the worker ends after this message
+    } catch (e) {
+      if (outOfMemory(e)) {
+        post({ type: 'error', message: sizeMessage({ vertices }), size: true });
+        return;
+      }
+      openError = { message: e.message, offer: e.offer ?? null };
+    }
+    post({ type: 'progress', stage: 'handing the mesh over', fraction: 0.95 });
+    const buffers = [mesh.positions.buffer, mesh.faces.buffer];
+    if (hierarchy)
+      for (const key of ['vertexCount', 'coarseFaces', 'ends', 'wings', 'boundary', 'inputIndex']) buffers.push(hierarchy[key].buffer);
+    if (transfer) buffers.push(transfer.memory.buffer, transfer.positions.buffer);
     for (const key of ['texCoords', 'normals', 'colors', 'cornerTexCoords', 'cornerNormals', 'sourceVertex'])
-      if (ArrayBuffer.isView(mesh[key])) transfer.push(mesh[key].buffer);
-    if (mesh.lines) transfer.push(mesh.lines.vertex.buffer, mesh.lines.face.buffer);
+      if (ArrayBuffer.isView(mesh[key])) buffers.push(mesh[key].buffer);
+    if (mesh.lines) buffers.push(mesh.lines.vertex.buffer, mesh.lines.face.buffer);
     const copy = { ...mesh };
-    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format }, [...new Set(transfer.filter((b) => b !== bytes.buffer)), bytes.buffer]);
+    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format, hierarchy, transfer, openError }, [...new Set(buffers.filter((b) => b !== bytes.buffer)), bytes.buffer]);
   } catch (e) {
     post({ type: 'error', message: e?.message ?? String(e) });
   }

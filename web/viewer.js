@@ -8,6 +8,7 @@ import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
 import { FloorShadow } from './floor-shadow.js';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
+import { SurfaceUpload } from './surface-upload.js';
 
 const MESH_COLOR = 0xc9b8a0;
 const HANDLE_COLOR = new THREE.Color(CAGE_COLOR);
@@ -203,8 +204,11 @@ export class Viewer {
     });
   }
 
-  /** Replaces the fine mesh. positions: Float64Array (3 per vertex), faces: Uint32Array. */
-  setMesh(positions, faces) {
+  /**
+   * Replaces the fine mesh. positions: Float64Array (3 per vertex), faces: Uint32Array. With
+   * `editorNormals` the normals come from the editor (updateMeshFrom), not computed here.
+   */
+  setMesh(positions, faces, { editorNormals = false } = {}) {
     for (const object of [this.mesh, this.approx, this.details]) {
       if (!object) continue;
       this.scene.remove(object);
@@ -233,7 +237,7 @@ export class Viewer {
       this.scene.add(object);
     }
     this.layerData = { approx: false, details: false }; // filled since the last setMesh
-    if (!this.flat) geometry.computeVertexNormals();
+    if (!this.flat && !editorNormals) geometry.computeVertexNormals();
     geometry.computeBoundingSphere();
     this.requestRender();
   }
@@ -265,6 +269,16 @@ export class Viewer {
     if (!this.flat) this.mesh.geometry.computeVertexNormals();
     this.shadow.changed();
     this.requestRender();
+  }
+
+  /**
+   * The editor's current surface (its float32 positions and, unless flat, normals, computed in
+   * WASM): only the vertices the last edit changed are copied and uploaded (surface-upload.js).
+   */
+  updateMeshFrom(editor) {
+    if (!this.mesh || !editor) return;
+    this.surfaceUpload ??= new SurfaceUpload();
+    if (this.surfaceUpload.draw(this.mesh.geometry, editor, { normals: !this.flat })) this.requestRender();
   }
 
   setFlat(flat) {

@@ -213,12 +213,12 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await page.route('**/test-files/spiky-fine.obj', (route) => route.fulfill({ body: text, contentType: 'text/plain' }));
     const drop = () => page.evaluate(async () => {
       const blob = await (await fetch('/test-files/spiky-fine.obj')).blob();
-      // the frames from the drop until the worker hands the mesh over (the page then finds its levels)
+      // the frames from the drop until the worker hands the mesh over with its levels and editor (the page then opens it)
       window.frameWatch = { last: performance.now(), maxGap: 0, frames: 0, progress: [], running: true };
       const w = window.frameWatch;
       const busy = document.querySelector('[data-testid="busy"]');
       const tick = (now) => {
-        if (!w.running || /finding its levels/.test(busy.textContent)) {
+        if (!w.running || /^Opening /.test(document.getElementById('busy-text').textContent)) {
           w.running = false;
           return;
         }

@@ -2,9 +2,11 @@
 // lib/api.mjs wraps them in the public API. A core error never crosses as an exception: it is kept
 // here and the JS side takes it with _takeError() and throws a named MrvolError.
 #include <emscripten/bind.h>
+#include <emscripten/heap.h>
 #include <emscripten/val.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <new>
@@ -12,6 +14,7 @@
 #include <string>
 
 #include "mrvol/error.h"
+#include "mrvol/hierarchy_transfer.h"
 #include "mrvol/limit_volume.h"
 #include "mrvol/multires_mesh.h"
 #include "mrvol/surface_buffers.h"
@@ -139,6 +142,51 @@ val js_volume(val positions, val faces, val lines) {
 MultiresMesh* js_openMesh(val positions, val faces, int maxLevels, val lines) {
   return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels, toLines(lines).get()); });
 }
+// A detected hierarchy handed to another instance of the module (hierarchy_transfer.h).
+val js_hierarchyArrays(const MultiresMesh& m) {
+  return guarded([&] {
+    HierarchyArrays a = hierarchyArrays(m);
+    val out = val::object();
+    out.set("levels", a.levels);
+    out.set("vertexCount", toTyped(a.vertexCount));
+    out.set("coarseFaces", toTyped(a.coarseFaces));
+    out.set("ends", toTyped(a.ends));
+    out.set("wings", toTyped(a.wings));
+    out.set("boundary", toTyped(a.boundary));
+    out.set("inputIndex", toTyped(a.inputIndex));
+    out.set("topology", topologyToJs(a.topology));
+    return out;
+  });
+}
+MultiresMesh* js_openWithHierarchy(val faces, val arrays) {
+  return guarded([&] {
+    HierarchyArrays a;
+    a.levels = arrays["levels"].as<int>();
+    a.vertexCount = toVector<uint32_t>(arrays["vertexCount"], "vertexCount");
+    a.coarseFaces = toVector<uint32_t>(arrays["coarseFaces"], "coarseFaces");
+    a.ends = toVector<uint32_t>(arrays["ends"], "ends");
+    a.wings = toVector<uint32_t>(arrays["wings"], "wings");
+    a.boundary = toVector<uint8_t>(arrays["boundary"], "boundary");
+    a.inputIndex = toVector<uint32_t>(arrays["inputIndex"], "inputIndex");
+    const val t = arrays["topology"];
+    a.topology.edges = size_t(t["edges"].as<double>());
+    a.topology.boundaryEdges = size_t(t["boundaryEdges"].as<double>());
+    a.topology.components = size_t(t["components"].as<double>());
+    a.topology.closed = t["closed"].as<bool>();
+    a.topology.genus = long(t["genus"].as<double>());
+    return new MultiresMesh(multiresFromArrays(toVector<uint32_t>(faces, "faces"), std::move(a)));
+  });
+}
+// A mesh and its editor made in one instance of the module and taken over by a fresh one with a
+// copy of the whole memory (the web app's file worker makes them, the page adopts them; see
+// lib/api.mjs transferable): their addresses there, the objects at those addresses here, and room
+// for the copy.
+double js_meshAddress(const MultiresMesh& m) { return double(reinterpret_cast<uintptr_t>(&m)); }
+double js_editorAddress(const VolumeEditor& e) { return double(reinterpret_cast<uintptr_t>(&e)); }
+MultiresMesh* js_adoptMesh(double address) { return reinterpret_cast<MultiresMesh*>(uintptr_t(address)); }
+VolumeEditor* js_adoptEditor(double address) { return reinterpret_cast<VolumeEditor*>(uintptr_t(address)); }
+// Grows the memory (and emscripten's views of it) to at least `bytes`.
+bool js_reserveMemory(double bytes) { return emscripten_resize_heap(size_t(bytes)); }
 MultiresMesh* js_subdivideBase(val positions, val faces, int levels) {
   return guarded([&] { return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels)); });
 }
@@ -473,6 +521,12 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   function("_limitVolume", &js_limitVolume);
   function("_openMesh", &js_openMesh, allow_raw_pointers());
   function("_subdivideBase", &js_subdivideBase, allow_raw_pointers());
+  function("_openWithHierarchy", &js_openWithHierarchy, allow_raw_pointers());
+  function("_meshAddress", &js_meshAddress);
+  function("_editorAddress", &js_editorAddress);
+  function("_adoptMesh", &js_adoptMesh, allow_raw_pointers());
+  function("_adoptEditor", &js_adoptEditor, allow_raw_pointers());
+  function("_reserveMemory", &js_reserveMemory);
   class_<MultiresMesh>("_MultiresMesh")
       .function("levels", &MultiresMesh::levels)
       .function("info", &js_info)
@@ -496,6 +550,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("computeLimitTheta", &js_computeLimitTheta, allow_raw_pointers())
       .function("limitThetaVolume", &js_limitThetaVolume)
       .function("fingerprint", &js_fingerprint)
+      .function("hierarchyArrays", &js_hierarchyArrays)
       .function("estimateTheta", &js_estimateTheta)
       .function("createEditor", &js_createEditor, allow_raw_pointers());
   class_<VolumeEditor>("_VolumeEditor")

@@ -40,6 +40,8 @@ class MultiresMesh {
   explicit MultiresMesh(const TriangleMesh& mesh, int maxLevels = 16, const SourceLines* lines = nullptr);
   // n splits of a validated base mesh (its vertices keep their indices, the new ones follow).
   static MultiresMesh subdivide(const TriangleMesh& base, int levels);
+  // A validated mesh's faces with its known topology and hierarchy (hierarchy_transfer.h checks them).
+  static MultiresMesh fromParts(std::vector<uint32_t> faces, MeshTopology topology, Hierarchy hierarchy);
   // Positions of the split mesh: zero-detail synthesis with `scheme` of the base positions.
   std::vector<double> subdivisionPositions(const std::vector<double>& basePositions, const SchemeOptions& scheme) const;
 

@@ -1,0 +1,44 @@
+// Moving a big mesh's editor from the file's worker to the page (issues 13, 14): the worker opens
+// the mesh and makes the editor (seconds at 655k vertices), then hands over a copy of its module's
+// whole memory; the page takes it into a fresh instance of the module (lib/api.mjs transferable /
+// adoptTransferred), a copy of memory instead of seconds of work on its thread.
+//
+// embind keeps, in memory, an id per call site that indexes tables on the JS side of its instance;
+// the copy is only right when both instances built those tables alike. So both run warmUp() (the
+// same calls, the ones the worker's work makes, on a small mesh) before anything else: the worker
+// on starting, the page on the fresh instance before it takes the copy.
+import { chooseGradientPath } from '../lib/api.mjs';
+
+const ICOSAHEDRON = {
+  positions: new Float64Array([0, -0.525731, 0.850651, 0.850651, 0, 0.525731, 0.850651, 0, -0.525731, -0.850651, 0, -0.525731,
+    -0.850651, 0, 0.525731, -0.525731, 0.850651, 0, 0.525731, 0.850651, 0, 0.525731, -0.850651, 0, -0.525731, -0.850651, 0,
+    0, -0.525731, -0.850651, 0, 0.525731, -0.850651, 0, 0.525731, 0.850651]),
+  faces: new Uint32Array([1, 2, 6, 1, 7, 2, 3, 4, 5, 4, 3, 8, 6, 5, 11, 5, 6, 10, 9, 10, 2, 10, 9, 3, 7, 8, 9, 8, 7, 0, 11, 0, 1,
+    0, 11, 4, 6, 2, 10, 1, 6, 11, 3, 5, 10, 5, 4, 11, 2, 7, 9, 7, 1, 0, 3, 9, 8, 4, 8, 0]),
+};
+
+/** The calls a transfer depends on, on a 642-vertex ball: run first in both instances. */
+export function warmUp(mrvol) {
+  const ball = mrvol.subdivide(ICOSAHEDRON, { levels: 3 });
+  const bytes = new TextEncoder().encode(mrvol.writeObj(ball.toMesh()));
+  ball.delete();
+  mrvol.detectFormat(bytes, 'warm-up.obj');
+  const mesh = mrvol.readMesh(bytes, { name: 'warm-up.obj' });
+  const mr = mrvol.openMesh(mesh);
+  const again = mrvol.openMeshWithHierarchy(mesh, mr.hierarchyArrays());
+  again.delete();
+  mr.info();
+  const editor = buildEditor(mrvol, mr, { level: 0, scheme: 'loop' });
+  editor.positions();
+  mrvol.transferable(mr, editor); // its calls (the copy is dropped)
+  editor.delete();
+  mr.delete();
+}
+
+/** The editor the page's session would make first (lib/three/session.mjs at path 'auto'). */
+export function buildEditor(mrvol, mr, { level, scheme }) {
+  const options = { level, scheme };
+  const editor = mr.createEditor({ ...options, path: 'matrix-free' });
+  if (chooseGradientPath(mr, options).path === 'polynomial') editor.usePolynomial();
+  return editor;
+}
