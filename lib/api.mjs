@@ -2,6 +2,7 @@
 // Environment-agnostic: lib/node.mjs and the web app each load the module their own way and wrap
 // it here.
 import { wrapQuad } from './quad.mjs';
+import { cageTargetOf, freeSetArgs } from './editor-args.mjs';
 
 /** An error reported by mrvol's core, with its message as the core wrote it. */
 export class MrvolError extends Error {
@@ -140,7 +141,6 @@ export function wrapModule(module) {
     }
   }
 
-  const FREE_MODES = { 'minus-held': 'minus-held', cage: 'minus-held', all: 'all' };
 
   /**
    * A volume-preserving editing session on the level-e cage. Vertex indices are the caller's;
@@ -198,15 +198,9 @@ export function wrapModule(module) {
      * Free set: cage 'minus-held' (default), 'all', or a list of caller vertex indices; plus the
      * details of chosen levels (matrix-free path).
      */
-    setFreeSet({ cage = 'minus-held', detailLevels = [] } = {}) {
-      const levels = Int32Array.from(detailLevels, (l) => levelArg(l, 'detail level'));
-      if (typeof cage === 'string') {
-        if (!FREE_MODES[cage]) throw new MrvolError(`unknown free set '${cage}' (minus-held, all or a list of vertices)`);
-        call((r) => r.setFreeSet(FREE_MODES[cage], undefined, levels), this.#live());
-      } else {
-        const list = Uint32Array.from(cage, (v) => this.cageIndexOf(v));
-        call((r) => r.setFreeSet('list', list, levels), this.#live());
-      }
+    setFreeSet(options = {}) {
+      const args = freeSetArgs(this, options, { MrvolError, levelArg });
+      call((r) => r.setFreeSet(...args), this.#live());
     }
     /** Localized preservation: parts as lists of caller cage-vertex indices, optional references. */
     setParts(parts, references) {
@@ -237,14 +231,7 @@ export function wrapModule(module) {
      * with caller vertex indices; those vertices are held.
      */
     moveVertices(moves, options = {}) {
-      const target = this.cagePositions();
-      const held = new Uint8Array(this.cageSize);
-      for (const move of moves) {
-        const c = this.cageIndexOf(move.vertex);
-        const to = move.position ?? [0, 1, 2].map((k) => target[3 * c + k] + (move.offset?.[k] ?? 0));
-        for (let k = 0; k < 3; k++) target[3 * c + k] = to[k];
-        held[c] = 1;
-      }
+      const { target, held } = cageTargetOf(this, moves);
       return this.deformCage(target, held, options);
     }
     /** Restores the volume of the current shape, holding the flagged cage vertices. */

@@ -3,6 +3,7 @@
 // quads: Uint32Array (4 per face, counter-clockwise) }. wrapModule (lib/api.mjs) mixes these
 // calls into its API and sends openMesh / subdivide with scheme 'catmull-clark' here.
 import { applyQuadSteps } from './quad-steps.mjs';
+import { cageTargetOf, freeSetArgs } from './editor-args.mjs';
 
 function checkQuadMesh(mesh, MrvolError) {
   if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a quad mesh { positions, quads }');
@@ -80,17 +81,9 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
      * Free set: cage 'minus-held' (default), 'all', or a list of caller vertex indices; plus the
      * details of chosen levels (matrix-free path), as VolumeEditor.setFreeSet.
      */
-    setFreeSet({ cage = 'minus-held', detailLevels = [] } = {}) {
-      const levels = Int32Array.from(detailLevels, (l) => levelArg(l, 'detail level'));
-      if (typeof cage === 'string') {
-        const mode = cage === 'cage' ? 'minus-held' : cage;  // 'cage': this API's earlier name
-        if (mode !== 'minus-held' && mode !== 'all')
-          throw new MrvolError(`unknown free set '${cage}' (minus-held, all or a list of vertices)`);
-        call((r) => r.setFreeSet(mode, undefined, levels), this.#live());
-      } else {
-        const list = Uint32Array.from(cage, (v) => this.cageIndexOf(v));
-        call((r) => r.setFreeSet('list', list, levels), this.#live());
-      }
+    setFreeSet(options = {}) {
+      const args = freeSetArgs(this, options, { MrvolError, levelArg });
+      call((r) => r.setFreeSet(...args), this.#live());
     }
     /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor'/'polynomial' (cage). */
     gradient(path = 'matrix-free') { return call((r) => r.gradient(path), this.#live()); }
@@ -112,14 +105,7 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     }
     /** moves = [{ vertex, position } | { vertex, offset }] (caller indices); those vertices are held. */
     moveVertices(moves, options = {}) {
-      const target = this.cagePositions();
-      const held = new Uint8Array(this.cageSize);
-      for (const move of moves) {
-        const c = this.cageIndexOf(move.vertex);
-        const to = move.position ?? [0, 1, 2].map((k) => target[3 * c + k] + (move.offset?.[k] ?? 0));
-        for (let k = 0; k < 3; k++) target[3 * c + k] = to[k];
-        held[c] = 1;
-      }
+      const { target, held } = cageTargetOf(this, moves);
       return this.deformCage(target, held, options);
     }
     correct(held = new Uint8Array(this.cageSize), options = {}) {

@@ -21,6 +21,7 @@
 #include "mrvol/volume_editor.h"
 #include "edit_options.h"
 #include "guard.h"
+#include "mesh_info.h"
 #include "typed_arrays.h"
 
 using emscripten::val;
@@ -196,32 +197,11 @@ val js_subdivisionPositions(const MultiresMesh& m, val basePositions, JsScheme s
 }
 
 val js_info(const MultiresMesh& m, val positions) {
-  return guarded([&] {
-    MeshInfo i = m.info(toVector<double>(positions, "positions"));
-    val out = val::object();
-    out.set("vertices", double(i.vertices));
-    out.set("faces", double(i.faces));
-    out.set("levels", i.levels);
-    out.set("baseVertices", double(i.baseVertices));
-    out.set("baseVertexIndices", toTyped(i.baseVertexIndices));
-    out.set("closed", i.closed);
-    out.set("boundaryEdges", double(i.boundaryEdges));
-    out.set("genus", double(i.genus));
-    out.set("components", double(i.components));
-    out.set("volume", i.volume);
-    return out;
-  });
+  return guarded([&] { return meshInfoToJs(m.info(toVector<double>(positions, "positions"))); });
 }
 val js_faces(const MultiresMesh& m) { return guarded([&] { return toTyped(m.faces()); }); }
 val js_levelFaces(const MultiresMesh& m, int level) { return guarded([&] { return toTyped(m.levelFaces(level)); }); }
-val js_depths(const MultiresMesh& m) {
-  return guarded([&] {
-    const Hierarchy& h = m.hierarchy();
-    std::vector<uint8_t> d(h.fineVertexCount());
-    for (uint32_t v = 0; v < d.size(); ++v) d[h.inputIndex[v]] = uint8_t(h.depth(v));
-    return toTyped(d);
-  });
-}
+val js_depths(const MultiresMesh& m) { return guarded([&] { return depthsToJs(m.hierarchy()); }); }
 bool js_checkPositions(const MultiresMesh& m, val p) {
   return guarded([&] { return m.checkPositions(toVector<double>(p, "positions")), true; });
 }

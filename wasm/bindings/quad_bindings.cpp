@@ -19,6 +19,7 @@
 #include "mrvol/quad_obj.h"
 #include "edit_options.h"
 #include "guard.h"
+#include "mesh_info.h"
 #include "typed_arrays.h"
 
 using emscripten::val;
@@ -76,32 +77,14 @@ val q_subdivisionPositions(const QuadMultiresMesh& m, val base) {
 }
 val q_info(const QuadMultiresMesh& m, val positions) {
   return guarded([&] {
-    MeshInfo i = m.info(toVector<double>(positions, "positions"));
-    val out = val::object();
-    out.set("vertices", double(i.vertices));
-    out.set("faces", double(i.faces));
-    out.set("levels", i.levels);
+    val out = meshInfoToJs(m.info(toVector<double>(positions, "positions")));
     out.set("lowestLevel", m.lowestLevel());
-    out.set("baseVertices", double(i.baseVertices));
-    out.set("baseVertexIndices", toTyped(i.baseVertexIndices));
-    out.set("closed", i.closed);
-    out.set("boundaryEdges", double(i.boundaryEdges));
-    out.set("genus", double(i.genus));
-    out.set("components", double(i.components));
-    out.set("volume", i.volume);
     return out;
   });
 }
 val q_quads(const QuadMultiresMesh& m) { return guarded([&] { return toTyped(m.quads()); }); }
 val q_levelQuads(const QuadMultiresMesh& m, int level) { return guarded([&] { return toTyped(m.levelQuads(level)); }); }
-val q_depths(const QuadMultiresMesh& m) {
-  return guarded([&] {
-    const Hierarchy& h = m.hierarchy().h;
-    std::vector<uint8_t> d(h.fineVertexCount());
-    for (uint32_t v = 0; v < d.size(); ++v) d[h.inputIndex[v]] = uint8_t(h.depth(v));
-    return toTyped(d);
-  });
-}
+val q_depths(const QuadMultiresMesh& m) { return guarded([&] { return depthsToJs(m.hierarchy().h); }); }
 val q_analyze(const QuadMultiresMesh& m, val p, int level) {
   return guarded([&] { return toTyped(m.analyze(toVector<double>(p, "positions"), level)); });
 }
