@@ -3,14 +3,14 @@
 // invisible floor (THREE.ShadowMaterial) shows only the shadow. It grounds the model in the view.
 // The floor sits under the model as it opens and stays there while it is edited; it writes no depth
 // (a handle dragged below it is not hidden) and is not pickable (handles are picked on the screen).
-// The shadow map is drawn again when the shape changed, at most every THROTTLE_MS for big meshes.
+// The shadow map is drawn again when the shape changed, at most every THROTTLE_MS (a blurred shadow
+// lagging a drag by a few frames is not seen; software WebGL draws fewer passes).
 import * as THREE from 'three';
 
-const MAP_SIZE = 512;
-const BLUR_RADIUS = 10;
+const MAP_SIZE = 256;
+const BLUR_RADIUS = 6;
 const OPACITY = 0.28;
-const BIG_TRIANGLES = 100_000; // above this, the shadow follows a drag at most every THROTTLE_MS
-const THROTTLE_MS = 250;
+const THROTTLE_MS = 150;
 
 export class FloorShadow {
   /** @param {THREE.WebGLRenderer} renderer  @param {THREE.Scene} scene */
@@ -23,14 +23,13 @@ export class FloorShadow {
     this.light.castShadow = true;
     this.light.shadow.mapSize.set(MAP_SIZE, MAP_SIZE);
     this.light.shadow.radius = BLUR_RADIUS;
-    this.light.shadow.blurSamples = 16;
+    this.light.shadow.blurSamples = 8;
     this.floor = new THREE.Mesh(new THREE.PlaneGeometry(1, 1).rotateX(-Math.PI / 2),
       new THREE.ShadowMaterial({ opacity: OPACITY, depthWrite: false }));
     this.floor.receiveShadow = true;
     this.floor.renderOrder = -1;
     this.floor.name = 'floor shadow';
     scene.add(this.light, this.light.target, this.floor);
-    this.triangles = 0;
     this.dirty = false;
     this.lastUpdate = -Infinity;
     this.updates = 0;
@@ -39,8 +38,7 @@ export class FloorShadow {
   }
 
   /** Puts the floor under the model (positions: 3 per vertex) and the light's view around it. */
-  fit(positions, triangles) {
-    this.triangles = triangles;
+  fit(positions) {
     const box = new THREE.Box3();
     const p = new THREE.Vector3();
     const stride = Math.max(1, Math.floor(positions.length / 3 / 50_000));
@@ -71,8 +69,8 @@ export class FloorShadow {
   /** Before a frame: whether the shadow map is drawn in it. */
   beforeRender(now = performance.now()) {
     if (!this.dirty || !this.floor.visible) return;
-    if (this.triangles > BIG_TRIANGLES && now - this.lastUpdate < THROTTLE_MS) {
-      // a big mesh mid-drag: this frame keeps the last shadow; one more frame when it is due
+    if (now - this.lastUpdate < THROTTLE_MS) {
+      // mid-drag: this frame keeps the last shadow; one more frame when it is due
       clearTimeout(this.timer);
       this.timer = setTimeout(() => this.onLate?.(), THROTTLE_MS - (now - this.lastUpdate));
       return;

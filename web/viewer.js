@@ -221,7 +221,7 @@ export class Viewer {
     this.mesh.frustumCulled = false;
     this.mesh.castShadow = true;
     this.scene.add(this.mesh);
-    this.shadow.fit(positions, faces.length / 3);
+    this.shadow.fit(positions);
     // The layers: same faces; filled in by updateApprox / updateDetails.
     const approxGeometry = new THREE.BufferGeometry();
     approxGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
