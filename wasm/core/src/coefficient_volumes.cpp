@@ -134,7 +134,7 @@ void FineVolumeConstraints::step(const std::vector<uint32_t>& free, const double
     return;
   }
   // The fine positions follow along the direction's synthesis; the cubic gave the value there.
-  session_->fine.followDirection(session_->x, s, direction_);
+  session_->fine.followDirection(session_->x, s, direction_, detailsFree_);
   cachedValue_ = *cubicValue;
   cacheVersion_ = session_->fine.version();
   gradientCached_ = false;
