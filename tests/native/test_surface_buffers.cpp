@@ -33,15 +33,18 @@ std::vector<double> referenceNormals(const std::vector<double>& p, const std::ve
   return n;
 }
 
-void update(VolumeEditor& editor, SurfaceBuffers& buffers) {
+// From the editor (through a CageBasisTable for a small cage) or from its fine positions.
+void update(VolumeEditor& editor, SurfaceBuffers& buffers, bool fromEditor) {
+  if (fromEditor) return buffers.update(editor, true);
   const double* fine = editor.finePositions().data();
   FinePositions::Changes changes;
   editor.takeFinePositionChanges(changes);
   buffers.update(fine, editor.referencePoint(), editor.finePositionsVersion(), changes, true);
 }
 
-void checkBuffers(VolumeEditor& editor, SurfaceBuffers& buffers, const std::vector<uint32_t>& callerFaces, const std::string& where) {
-  update(editor, buffers);
+void checkBuffers(VolumeEditor& editor, SurfaceBuffers& buffers, const std::vector<uint32_t>& callerFaces, const std::string& where,
+                  bool fromEditor) {
+  update(editor, buffers, fromEditor);
   const std::vector<double> p = editor.positions();
   ASSERT_EQ(3 * buffers.vertexCount(), p.size());
   const double size = fixtures::maxAbs(p);
@@ -58,13 +61,13 @@ void checkBuffers(VolumeEditor& editor, SurfaceBuffers& buffers, const std::vect
 // Drags at `level`: at the finest ones, a move of one vertex without preservation rewrites only the
 // vertices of its stencil and the normals around them.
 void dragAndCheck(const Hierarchy& h, const std::vector<double>& callerPositions, const std::vector<uint32_t>& callerFaces,
-                  const std::string& name, int level) {
+                  const std::string& name, int level, bool fromEditor) {
   WaveletTransform wt(h, SchemeOptions{});
   VolumeEditor editor(h, wt, level, callerPositions.data());
   editor.usePolynomial();
   SurfaceBuffers buffers(h);
-  const std::string at = name + " level " + std::to_string(level);
-  checkBuffers(editor, buffers, callerFaces, at + " before edits");
+  const std::string at = name + " level " + std::to_string(level) + (fromEditor ? " from the editor" : " from the fine positions");
+  checkBuffers(editor, buffers, callerFaces, at + " before edits", fromEditor);
   std::vector<uint8_t> held(editor.cageSize(), 0);
   for (int drag = 0; drag < 12; ++drag) {
     std::vector<double> target = editor.cagePositions();
@@ -75,12 +78,12 @@ void dragAndCheck(const Hierarchy& h, const std::vector<double>& callerPositions
     EditOptions options;
     options.preserve = drag % 3 != 0;  // a few moves of one vertex only (the stencils), the rest corrected
     editor.deformCage(target, held, options);
-    checkBuffers(editor, buffers, callerFaces, at + " drag " + std::to_string(drag));
+    checkBuffers(editor, buffers, callerFaces, at + " drag " + std::to_string(drag), fromEditor);
 
   }
   // The version written already: nothing changes, the count of writes stays.
   const uint64_t writes = buffers.version();
-  update(editor, buffers);
+  update(editor, buffers, fromEditor);
   EXPECT_EQ(buffers.version(), writes) << at;
 }
 
@@ -92,7 +95,8 @@ TEST(SurfaceBuffers, FollowTheEditsInTheHierarchyOrder) {
     std::vector<double> positions(3 * h.fineVertexCount(), 0.0);
     std::copy(fx.base.positions.begin(), fx.base.positions.end(), positions.begin());
     WaveletTransform(h, SchemeOptions{}).synthesize(positions.data(), 0);
-    for (int level : {0, h.levels - 1}) dragAndCheck(h, positions, h.fineFaces(), fx.name, level);
+    for (int level : {0, h.levels - 1})
+      for (bool fromEditor : {false, true}) dragAndCheck(h, positions, h.fineFaces(), fx.name, level, fromEditor);
   }
 }
 
@@ -107,5 +111,7 @@ TEST(SurfaceBuffers, FollowTheEditsInAShuffledOrder) {
   bool reordered = false;
   for (size_t v = 0; v < h.inputIndex.size(); ++v) reordered = reordered || h.inputIndex[v] != v;
   ASSERT_TRUE(reordered);
-  for (int level : {0, h.levels - 1}) dragAndCheck(h, shuffled.mesh.positions, shuffled.mesh.faces, "shuffled icosahedron", level);
+  for (int level : {0, h.levels - 1})
+    for (bool fromEditor : {false, true})
+      dragAndCheck(h, shuffled.mesh.positions, shuffled.mesh.faces, "shuffled icosahedron", level, fromEditor);
 }

@@ -467,10 +467,7 @@ SurfaceBuffers* js_createSurfaceBuffers(const MultiresMesh& m) {
 }
 val js_surfaceUpdate(SurfaceBuffers& s, const VolumeEditor& e, bool normals) {
   return guarded([&] {
-    const double* fine = e.finePositions().data();
-    FinePositions::Changes changes;
-    e.takeFinePositionChanges(changes);
-    s.update(fine, e.referencePoint(), e.finePositionsVersion(), changes, normals);
+    s.update(e, normals);
     return val(double(s.version()));
   });
 }

@@ -4,10 +4,47 @@
 
 #include "mrvol/vector3.h"
 
+#ifdef __wasm_simd128__
+#include <wasm_simd128.h>
+#endif
+
 namespace mrvol {
+
+namespace {
+// The triples' inner loops: w += sum over [p, end) of T_q v_{k_q} (a gather), and v_{k_q} += T_q t
+// (a scatter). With SIMD x and y go in one register (each lane multiplies and adds as the scalar
+// code does: the same results to the bit).
+inline void gatherRun(const double* tt, const uint32_t* tk, size_t p, size_t end, const double* v, double* w) {
+#ifdef __wasm_simd128__
+  v128_t xy = wasm_f64x2_make(w[0], w[1]);
+  double z = w[2];
+  for (size_t q = p; q < end; ++q) {
+    const double* vk = v + 3 * size_t(tk[q]);
+    xy = wasm_f64x2_add(xy, wasm_f64x2_mul(wasm_f64x2_splat(tt[q]), wasm_v128_load(vk)));
+    z += tt[q] * vk[2];
+  }
+  w[0] = wasm_f64x2_extract_lane(xy, 0), w[1] = wasm_f64x2_extract_lane(xy, 1), w[2] = z;
+#else
+  for (size_t q = p; q < end; ++q) axpy(tt[q], v + 3 * size_t(tk[q]), w);
+#endif
+}
+inline void scatterRun(const double* tt, const uint32_t* tk, size_t p, size_t end, const double* t, double* v) {
+#ifdef __wasm_simd128__
+  const v128_t xy = wasm_v128_load(t);
+  for (size_t q = p; q < end; ++q) {
+    double* vk = v + 3 * size_t(tk[q]);
+    wasm_v128_store(vk, wasm_f64x2_add(wasm_v128_load(vk), wasm_f64x2_mul(wasm_f64x2_splat(tt[q]), xy)));
+    vk[2] += tt[q] * t[2];
+  }
+#else
+  for (size_t q = p; q < end; ++q) axpy(tt[q], t, v + 3 * size_t(tk[q]));
+#endif
+}
+}  // namespace
 
 void CagePolynomial::indexRuns() {
   runStart.clear(), runI.clear(), runJ.clear();
+  runSumsValid_ = false;
   for (size_t p = 0; p < tripleT.size(); ++p)
     if (p == 0 || tripleI[p] != tripleI[p - 1] || tripleJ[p] != tripleJ[p - 1])
       runStart.push_back(uint32_t(p)), runI.push_back(tripleI[p]), runJ.push_back(tripleJ[p]);
@@ -27,6 +64,16 @@ void CagePolynomial::forEachRun(F&& f) const {
     f(i, j, p, end);
     p = end;
   }
+}
+
+const double* CagePolynomial::runSums(const double* cage) const {
+  if (!runSumsValid_ || runsAtCage_.size() != 3 * size_t(cageSize) || runSums_.size() != 3 * runI.size()) return nullptr;
+  return std::equal(runsAtCage_.begin(), runsAtCage_.end(), cage) ? runSums_.data() : nullptr;
+}
+
+void CagePolynomial::keepRunSums(const double* cage) const {
+  runsAtCage_.assign(cage, cage + 3 * size_t(cageSize));
+  runSumsValid_ = true;
 }
 
 double CagePolynomial::evaluate(const double* c, double* g) const {
@@ -51,9 +98,20 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
   // and the gradient at k is T_ijk (c_i x c_j): per triple two vector updates, per run the crosses.
   const uint32_t* tk = tripleK.data();
   const double* tt = tripleT.data();
+  const bool indexed = runStart.size() == runI.size() + 1 && !runI.empty() && runStart.back() == tripleT.size();
+  const double* sums = indexed ? runSums(c) : nullptr;
+  double* fill = nullptr;
+  if (indexed && !sums) runSums_.resize(3 * runI.size()), fill = runSums_.data();
+  size_t run = 0;
   forEachRun([&](uint32_t i, uint32_t j, size_t p, size_t end) {
     double w[3] = {0, 0, 0};
-    for (size_t q = p; q < end; ++q) axpy(tt[q], c + 3 * size_t(tk[q]), w);
+    if (sums) {
+      std::copy(sums + 3 * run, sums + 3 * run + 3, w);
+    } else {
+      gatherRun(tt, tk, p, end, c, w);
+      if (fill) std::copy(w, w + 3, fill + 3 * run);
+    }
+    ++run;
     const double *ci = c + 3 * i, *cj = c + 3 * j;
     cross(cj, w, t);
     v += dot(ci, t);
@@ -62,9 +120,10 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
       cross(w, ci, t);
       axpy(1.0, t, g + 3 * j);
       cross(ci, cj, t);
-      for (size_t q = p; q < end; ++q) axpy(tt[q], t, g + 3 * size_t(tk[q]));
+      scatterRun(tt, tk, p, end, t, g);
     }
   });
+  if (fill) keepRunSums(c);
   return v;
 }
 
@@ -83,9 +142,17 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
   // Triples by runs of one (i, j) as in evaluate: (c_i + s g_i) . ((c_j + s g_j) x (wc + s wg)).
   const uint32_t* tk = tripleK.data();
   const double* tt = tripleT.data();
+  const double* sums = runSums(c);  // the runs' sums over c when the value was taken at c
+  size_t run = 0;
   forEachRun([&](uint32_t i, uint32_t j, size_t p, size_t end) {
     double wc[3] = {0, 0, 0}, wg[3] = {0, 0, 0};
-    for (size_t q = p; q < end; ++q) axpy(tt[q], c + 3 * size_t(tk[q]), wc), axpy(tt[q], g + 3 * size_t(tk[q]), wg);
+    if (sums) {
+      std::copy(sums + 3 * run, sums + 3 * run + 3, wc);
+      gatherRun(tt, tk, p, end, g, wg);
+    } else {
+      gatherRun(tt, tk, p, end, c, wc), gatherRun(tt, tk, p, end, g, wg);
+    }
+    ++run;
     const double *ci = c + 3 * i, *cj = c + 3 * j, *gi = g + 3 * i, *gj = g + 3 * j;
     cross(cj, wc, t);
     k[0] += dot(ci, t), k[1] += dot(gi, t);

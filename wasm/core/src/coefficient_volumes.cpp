@@ -29,9 +29,11 @@ void SessionCoefficients::shiftedCage(std::vector<double>& out) const {
 double CageVolumeConstraint::value() {
   session_->shiftedCage(cage_);
   if (cage_ != valueCage_) {
-    value_ = volume_->value(cage_.data(), nullptr);
+    if (gradientFollowed_) gradient_.resize(cage_.size());
+    value_ = volume_->value(cage_.data(), gradientFollowed_ ? gradient_.data() : nullptr);
     valueCage_ = cage_;
-    gradientCurrent_ = false;
+    gradientCurrent_ = gradientFollowed_;
+    gradientFollowed_ = false;
   }
   return value_;
 }
@@ -40,6 +42,7 @@ void CageVolumeConstraint::evaluate(double* values) { values[0] = value(); }
 
 void CageVolumeConstraint::gradients(const std::vector<uint32_t>& free, double* gradients) {
   value();  // the cage of the last value (valueCage_) is the current one
+  gradientFollowed_ = true;
   if (!gradientCurrent_) {
     gradient_.resize(cage_.size());
     volume_->value(cage_.data(), gradient_.data());
@@ -134,7 +137,7 @@ void FineVolumeConstraints::step(const std::vector<uint32_t>& free, const double
     return;
   }
   // The fine positions follow along the direction's synthesis; the cubic gave the value there.
-  session_->fine.followDirection(session_->x, s, direction_);
+  session_->fine.followDirection(session_->x, s, direction_, detailsFree_);
   cachedValue_ = *cubicValue;
   cacheVersion_ = session_->fine.version();
   gradientCached_ = false;

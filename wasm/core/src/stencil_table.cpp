@@ -98,7 +98,8 @@ const std::vector<double>& FinePositions::of(const std::vector<double>& x) {
   return fine_;
 }
 
-void FinePositions::followDirection(const std::vector<double>& x, double s, const std::vector<double>& q) {
+void FinePositions::followDirection(const std::vector<double>& x, double s, const std::vector<double>& q, bool detailsMoved) {
+  if (detailsMoved) ++detailsVersion_;
   const size_t n3 = x.size();
   for (size_t i = 0; i < n3; ++i) fine_[i] += s * q[i];
   changes_ = Changes{};

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "mrvol/volume_editor.h"
+
 #ifdef __wasm_simd128__
 #include <wasm_simd128.h>
 #endif
@@ -14,8 +16,9 @@ SurfaceBuffers::SurfaceBuffers(const Hierarchy& hierarchy)
     : hierarchy_(&hierarchy), vertexCount_(hierarchy.fineVertexCount()) {
   callerIsHierarchyOrder_ = true;
   for (size_t h = 0; h < vertexCount_ && callerIsHierarchyOrder_; ++h) callerIsHierarchyOrder_ = hierarchy.inputIndex[h] == h;
-  positions_.assign(3 * vertexCount_, 0.0f);
-  normals_.assign(3 * vertexCount_, 0.0f);
+  // One float more than 3 N: a vector store per vertex runs over by one.
+  positions_.assign(3 * vertexCount_ + 1, 0.0f);
+  normals_.assign(3 * vertexCount_ + 1, 0.0f);
 }
 
 void SurfaceBuffers::merge(FinePositions::Changes& into, const FinePositions::Changes& changes) {
@@ -25,6 +28,53 @@ void SurfaceBuffers::merge(FinePositions::Changes& into, const FinePositions::Ch
     return;
   }
   into.vertices.insert(into.vertices.end(), changes.vertices.begin(), changes.vertices.end());
+}
+
+void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
+  if (!tableTried_) {
+    tableTried_ = true;
+    if (editor.cageSize() <= CageBasisTable::kMaxCage) {
+      table_ = std::make_unique<CageBasisTable>(editor.transform(), editor.level(), hierarchy_->inputIndex.data());
+      if (table_->empty()) table_.reset();
+    }
+  }
+  if (!table_) {
+    const double* fine = editor.finePositions().data();
+    FinePositions::Changes changes;
+    editor.takeFinePositionChanges(changes);
+    update(fine, editor.referencePoint(), editor.finePositionsVersion(), changes, withNormals);
+    return;
+  }
+  const size_t cage3 = 3 * size_t(editor.cageSize());
+  const double* cage = editor.coefficientData();
+  const Vec3 o = editor.referencePoint();
+  if (!haveBase_ || baseDetails_ != editor.detailsVersion()) {
+    // A base from a synthesis (the first time, and after the details moved).
+    const double* fine = editor.finePositions().data();
+    FinePositions::Changes changes;
+    editor.takeFinePositionChanges(changes);
+    pendingPositions_ = FinePositions::Changes{};
+    writePositions(fine, o);
+    writeRelative(fine);
+    base_ = relative_;
+    baseCage_.assign(cage, cage + cage3);
+    baseDetails_ = editor.detailsVersion();
+    haveBase_ = true;
+  } else if (std::equal(cage, cage + cage3, writtenCage_.begin())) {
+    if (withNormals && normalsStale_) gatherNormals(), normalsStale_ = false;
+    return;
+  } else {
+    delta_.assign(4 * (cage3 / 3), 0.0f);
+    for (size_t c = 0; c < cage3 / 3; ++c)
+      for (int k = 0; k < 3; ++k) delta_[4 * c + k] = float(cage[3 * c + k] - baseCage_[3 * c + k]);
+    const float origin[3] = {float(o.x), float(o.y), float(o.z)};
+    table_->apply(base_.data(), delta_.data(), origin, relative_.data(), positions_.data());
+  }
+  writtenCage_.assign(cage, cage + cage3);
+  positionsRange_[0] = 0, positionsRange_[1] = uint32_t(vertexCount_);
+  ++writes_;
+  normalsStale_ = true;
+  if (withNormals) gatherNormals(), normalsStale_ = false;
 }
 
 void SurfaceBuffers::update(const double* fine, Vec3 origin, uint64_t version, const FinePositions::Changes& changes,
@@ -79,20 +129,146 @@ void SurfaceBuffers::writePositions(const double* fine, Vec3 o) {
   }
 }
 
-void SurfaceBuffers::writeSomeNormals(const double* fine) {
+void SurfaceBuffers::writeRelative(const double* fine) {
+  // Relative to the reference point (inside the mesh): no cancellation in float.
   const size_t n = vertexCount_;
   const uint32_t* caller = hierarchy_->inputIndex.data();
-  if (vertexFaceStart_.empty()) {  // once: the faces around each vertex
-    vertexFaceStart_.assign(n + 1, 0);
-    for (uint32_t v : faces_) ++vertexFaceStart_[v + 1];
-    for (size_t v = 0; v < n; ++v) vertexFaceStart_[v + 1] += vertexFaceStart_[v];
-    vertexFaces_.resize(faces_.size());
-    std::vector<uint32_t> next(vertexFaceStart_.begin(), vertexFaceStart_.end() - 1);
-    for (size_t c = 0; c < faces_.size(); ++c) vertexFaces_[next[faces_[c]]++] = uint32_t(c / 3);
-    mark_.assign(n, 0);
+  relative_.resize(4 * n);
+  float* r = relative_.data();
+  for (size_t h = 0; h < n; ++h) {
+    float* p = r + 4 * size_t(callerIsHierarchyOrder_ ? uint32_t(h) : caller[h]);
+    p[0] = float(fine[3 * h]), p[1] = float(fine[3 * h + 1]), p[2] = float(fine[3 * h + 2]), p[3] = 0.0f;
   }
+}
+
+void SurfaceBuffers::buildRing() {
+  const size_t n = vertexCount_;
+  const uint32_t* caller = hierarchy_->inputIndex.data();
+  const std::vector<uint32_t>& faces = hierarchy_->fineFaces();
+  // First the pairs, by vertex (CSR), then each closed fan (every vertex of a closed manifold mesh)
+  // chained into its ring of neighbors, so that each neighbor is read once.
+  std::vector<uint32_t> start(n + 1, 0);
+  for (uint32_t h : faces) ++start[caller[h] + 1];
+  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<uint32_t> pairs(2 * faces.size()), next(start.begin(), start.end() - 1);
+  for (size_t t = 0; t < faces.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = caller[faces[t + k]];
+      uint32_t* pair = &pairs[2 * size_t(next[v]++)];
+      pair[0] = caller[faces[t + (k + 1) % 3]], pair[1] = caller[faces[t + (k + 2) % 3]];
+    }
+  next = {};
+  ringStart_.assign(n + 1, 0);
+  closedRing_.assign(n, 0);
+  ring_.clear();
+  ring_.reserve(faces.size() + faces.size() / 8);
+  std::vector<uint32_t> chain;
+  std::vector<uint8_t> used;
+  for (size_t v = 0; v < n; ++v) {
+    const uint32_t* p = &pairs[2 * size_t(start[v])];
+    const size_t k = start[v + 1] - start[v];
+    chain.clear();
+    used.assign(k, 0);
+    bool closed = false;
+    if (k >= 3) {  // follow b of one face to the face whose a it is, back to the first a
+      chain.push_back(p[0]), used[0] = 1;
+      uint32_t b = p[1];
+      for (size_t step = 1; step < k; ++step) {
+        size_t found = k;
+        for (size_t j = 0; j < k && found == k; ++j)
+          if (!used[j] && p[2 * j] == b) found = j;
+        if (found == k) break;
+        chain.push_back(b), used[found] = 1, b = p[2 * found + 1];
+      }
+      closed = chain.size() == k && b == p[0];
+    }
+    if (closed) {
+      ring_.insert(ring_.end(), chain.begin(), chain.end());
+      closedRing_[v] = 1;
+    } else {
+      ring_.insert(ring_.end(), p, p + 2 * k);
+    }
+    ringStart_[v + 1] = uint32_t(ring_.size());
+  }
+  mark_.assign(n, 0);
+}
+
+namespace {
+
+// The area-weighted unit normal of v (a vertex of no area keeps zero, as three.js's
+// computeVertexNormals leaves it), written at out (3 floats and one more, overwritten later or
+// spare): the sum of the cross products (a - v) x (b - v) of its faces (v, a, b), from its ring of
+// neighbors when its fan is closed (face i: neighbors i, i + 1), else from its pairs a, b.
+#ifdef __wasm_simd128__
+// cross(a, b) = yzx(a * yzx(b) - yzx(a) * b): the outer shuffle is taken once for the whole sum.
+inline v128_t yzx(v128_t a) { return wasm_i32x4_shuffle(a, a, 1, 2, 0, 3); }
+inline void vertexNormal(const float* r, const uint32_t* ring, const uint32_t* ringEnd, bool closed, size_t v, float* out) {
+  const v128_t p = wasm_v128_load(r + 4 * v);
+  v128_t sum = wasm_f32x4_splat(0.0f);
+  if (closed) {
+    const v128_t u0 = wasm_f32x4_sub(wasm_v128_load(r + 4 * size_t(ring[0])), p), s0 = yzx(u0);
+    v128_t u = u0, s = s0;
+    for (const uint32_t* q = ring + 1; q != ringEnd; ++q) {
+      const v128_t w = wasm_f32x4_sub(wasm_v128_load(r + 4 * size_t(*q)), p), t = yzx(w);
+      sum = wasm_f32x4_add(sum, wasm_f32x4_sub(wasm_f32x4_mul(u, t), wasm_f32x4_mul(s, w)));
+      u = w, s = t;
+    }
+    sum = wasm_f32x4_add(sum, wasm_f32x4_sub(wasm_f32x4_mul(u, s0), wasm_f32x4_mul(s, u0)));
+  } else {
+    for (const uint32_t* q = ring; q != ringEnd; q += 2) {
+      const v128_t u = wasm_f32x4_sub(wasm_v128_load(r + 4 * size_t(q[0])), p);
+      const v128_t w = wasm_f32x4_sub(wasm_v128_load(r + 4 * size_t(q[1])), p);
+      sum = wasm_f32x4_add(sum, wasm_f32x4_sub(wasm_f32x4_mul(u, yzx(w)), wasm_f32x4_mul(yzx(u), w)));
+    }
+  }
+  sum = yzx(sum);
+  const v128_t squares = wasm_f32x4_mul(sum, sum);
+  const float length = std::sqrt(wasm_f32x4_extract_lane(squares, 0) + wasm_f32x4_extract_lane(squares, 1) +
+                                 wasm_f32x4_extract_lane(squares, 2));
+  wasm_v128_store(out, wasm_f32x4_mul(sum, wasm_f32x4_splat(length > 0.0f ? 1.0f / length : 0.0f)));
+}
+#else
+inline void addCross(const float* r, const float* p, uint32_t a, uint32_t b, float* s) {
+  const float* x = r + 4 * size_t(a);
+  const float* y = r + 4 * size_t(b);
+  const float ux = x[0] - p[0], uy = x[1] - p[1], uz = x[2] - p[2];
+  const float wx = y[0] - p[0], wy = y[1] - p[1], wz = y[2] - p[2];
+  s[0] += uy * wz - uz * wy, s[1] += uz * wx - ux * wz, s[2] += ux * wy - uy * wx;
+}
+inline void vertexNormal(const float* r, const uint32_t* ring, const uint32_t* ringEnd, bool closed, size_t v, float* out) {
+  const float* p = r + 4 * v;
+  float s[3] = {0, 0, 0};
+  if (closed) {
+    for (const uint32_t* q = ring; q + 1 != ringEnd; ++q) addCross(r, p, q[0], q[1], s);
+    addCross(r, p, ringEnd[-1], ring[0], s);
+  } else {
+    for (const uint32_t* q = ring; q != ringEnd; q += 2) addCross(r, p, q[0], q[1], s);
+  }
+  const float length = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  const float scale = length > 0.0f ? 1.0f / length : 0.0f;
+  out[0] = s[0] * scale, out[1] = s[1] * scale, out[2] = s[2] * scale;
+}
+#endif
+
+}  // namespace
+
+void SurfaceBuffers::gatherNormals() {
+  if (ringStart_.empty()) buildRing();
+  const size_t n = vertexCount_;
+  const float* r = relative_.data();
+  const uint32_t* start = ringStart_.data();
+  const uint32_t* ring = ring_.data();
+  float* out = normals_.data();
+  const uint8_t* closed = closedRing_.data();
+  for (size_t v = 0; v < n; ++v) vertexNormal(r, ring + start[v], ring + start[v + 1], closed[v], v, out + 3 * v);
+  normalsRange_[0] = 0, normalsRange_[1] = uint32_t(n);
+}
+
+void SurfaceBuffers::writeSomeNormals(const double* fine) {
+  if (ringStart_.empty()) buildRing();
+  const uint32_t* caller = hierarchy_->inputIndex.data();
   if (++markRound_ == 0) std::fill(mark_.begin(), mark_.end(), 0), markRound_ = 1;
-  // The moved vertices' relative positions, then every vertex of a face around them is affected.
+  // The moved vertices' relative positions, then they and every vertex of a face around them are affected.
   float* r = relative_.data();
   for (uint32_t h : pendingNormals_.vertices) {
     float* p = r + 4 * size_t(caller[h]);
@@ -101,103 +277,27 @@ void SurfaceBuffers::writeSomeNormals(const double* fine) {
   affected_.clear();
   for (uint32_t h : pendingNormals_.vertices) {
     const uint32_t v = caller[h];
-    for (uint32_t k = vertexFaceStart_[v]; k < vertexFaceStart_[v + 1]; ++k)
-      for (int c = 0; c < 3; ++c) {
-        const uint32_t w = faces_[3 * size_t(vertexFaces_[k]) + c];
-        if (mark_[w] != markRound_) mark_[w] = markRound_, affected_.push_back(w);
-      }
-  }
-  // Each affected vertex's sum again from its faces (in doubles of the float positions), normalized.
-  uint32_t first = UINT32_MAX, end = 0;
-  for (uint32_t v : affected_) {
-    double sum[3] = {0, 0, 0};
-    for (uint32_t k = vertexFaceStart_[v]; k < vertexFaceStart_[v + 1]; ++k) {
-      const uint32_t* f = &faces_[3 * size_t(vertexFaces_[k])];
-      const float* a = r + 4 * size_t(f[0]);
-      const float* b = r + 4 * size_t(f[1]);
-      const float* c = r + 4 * size_t(f[2]);
-      const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-      const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-      sum[0] += uy * vz - uz * vy, sum[1] += uz * vx - ux * vz, sum[2] += ux * vy - uy * vx;
+    if (mark_[v] != markRound_) mark_[v] = markRound_, affected_.push_back(v);
+    for (uint32_t k = ringStart_[v]; k < ringStart_[v + 1]; ++k) {
+      const uint32_t w = ring_[k];
+      if (mark_[w] != markRound_) mark_[w] = markRound_, affected_.push_back(w);
     }
-    const double length = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
-    const double scale = length > 0 ? 1.0 / length : 0.0;
-    float* o = normals_.data() + 3 * size_t(v);
-    o[0] = float(sum[0] * scale), o[1] = float(sum[1] * scale), o[2] = float(sum[2] * scale);
+  }
+  uint32_t first = UINT32_MAX, end = 0;
+  float* out = normals_.data();
+  for (uint32_t v : affected_) {
+    // Through a spare slot: the vector store of the next vertex's normal must not be overwritten.
+    float normal[4];
+    vertexNormal(r, ring_.data() + ringStart_[v], ring_.data() + ringStart_[v + 1], closedRing_[v], v, normal);
+    std::copy(normal, normal + 3, out + 3 * size_t(v));
     first = std::min(first, v), end = std::max(end, v + 1);
   }
   normalsRange_[0] = first == UINT32_MAX ? 0 : first, normalsRange_[1] = end;
 }
 
 void SurfaceBuffers::writeNormals(const double* fine) {
-  // All in the caller's order, which the output has: a pass in another order would need two
-  // permutations, each a cache miss per vertex (measured slower than the face pass they save).
-  const size_t n = vertexCount_;
-  const uint32_t* caller = hierarchy_->inputIndex.data();
-  if (faces_.empty()) {  // once: the faces in the caller's indices, by their last vertex (nearby memory in turn)
-    const std::vector<uint32_t>& fineFaces = hierarchy_->fineFaces();
-    const size_t m = fineFaces.size() / 3;
-    std::vector<uint32_t> order(m), last(m);
-    for (size_t t = 0; t < m; ++t) {
-      order[t] = uint32_t(t);
-      last[t] = std::max({caller[fineFaces[3 * t]], caller[fineFaces[3 * t + 1]], caller[fineFaces[3 * t + 2]]});
-    }
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return last[a] < last[b]; });
-    faces_.resize(fineFaces.size());
-    for (size_t t = 0; t < m; ++t)
-      for (int k = 0; k < 3; ++k) faces_[3 * t + k] = caller[fineFaces[3 * size_t(order[t]) + k]];
-  }
-  // Relative to the reference point (inside the mesh): no cancellation in float.
-  relative_.resize(4 * n);
-  sums_.assign(4 * n, 0.0f);
-  float* r = relative_.data();
-  for (size_t h = 0; h < n; ++h) {
-    float* p = r + 4 * size_t(callerIsHierarchyOrder_ ? uint32_t(h) : caller[h]);
-    p[0] = float(fine[3 * h]), p[1] = float(fine[3 * h + 1]), p[2] = float(fine[3 * h + 2]), p[3] = 0.0f;
-  }
-  // Each face's cross product (twice its area times its normal) added at its corners.
-  float* sum = sums_.data();
-  const uint32_t* f = faces_.data();
-  const size_t end = faces_.size();
-#ifdef __wasm_simd128__
-  for (size_t t = 0; t < end; t += 3) {
-    float* sa = sum + 4 * size_t(f[t]);
-    float* sb = sum + 4 * size_t(f[t + 1]);
-    float* sc = sum + 4 * size_t(f[t + 2]);
-    const v128_t a = wasm_v128_load(r + 4 * size_t(f[t]));
-    const v128_t u = wasm_f32x4_sub(wasm_v128_load(r + 4 * size_t(f[t + 1])), a);
-    const v128_t v = wasm_f32x4_sub(wasm_v128_load(r + 4 * size_t(f[t + 2])), a);
-    // u x v = u.yzx * v.zxy - u.zxy * v.yzx (lane 3 stays 0)
-    const v128_t cross = wasm_f32x4_sub(
-        wasm_f32x4_mul(wasm_i32x4_shuffle(u, u, 1, 2, 0, 3), wasm_i32x4_shuffle(v, v, 2, 0, 1, 3)),
-        wasm_f32x4_mul(wasm_i32x4_shuffle(u, u, 2, 0, 1, 3), wasm_i32x4_shuffle(v, v, 1, 2, 0, 3)));
-    wasm_v128_store(sa, wasm_f32x4_add(wasm_v128_load(sa), cross));
-    wasm_v128_store(sb, wasm_f32x4_add(wasm_v128_load(sb), cross));
-    wasm_v128_store(sc, wasm_f32x4_add(wasm_v128_load(sc), cross));
-  }
-#else
-  for (size_t t = 0; t < end; t += 3) {
-    const float* a = r + 4 * size_t(f[t]);
-    const float* b = r + 4 * size_t(f[t + 1]);
-    const float* c = r + 4 * size_t(f[t + 2]);
-    const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-    const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-    const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    for (int k = 0; k < 3; ++k) {
-      float* s = sum + 4 * size_t(f[t + k]);
-      s[0] += nx, s[1] += ny, s[2] += nz;
-    }
-  }
-#endif
-  // Unit length (a vertex of no area keeps zero, as three.js's computeVertexNormals leaves it).
-  normalsRange_[0] = 0, normalsRange_[1] = uint32_t(n);
-  float* out = normals_.data();
-  for (size_t v = 0; v < n; ++v) {
-    const float x = sum[4 * v], y = sum[4 * v + 1], z = sum[4 * v + 2];
-    const float length = std::sqrt(x * x + y * y + z * z);
-    const float scale = length > 0.0f ? 1.0f / length : 0.0f;
-    out[3 * v] = x * scale, out[3 * v + 1] = y * scale, out[3 * v + 2] = z * scale;
-  }
+  writeRelative(fine);
+  gatherNormals();
 }
 
 }  // namespace mrvol

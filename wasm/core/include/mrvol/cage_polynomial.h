@@ -33,6 +33,14 @@ struct CagePolynomial {
  private:
   template <class F>
   void forEachRun(F&& f) const;  // f(i, j, first triple, end)
+  // The sums w = sum_k T_ijk c_k of each run (3 per run) at the cage they were formed for: a
+  // solver step evaluates the value, the gradient and the cubic along a direction at one cage, and
+  // the triples' pass over c is then made once (the passes after it read only T and k once more).
+  // Valid while runsAtCage_ equals the cage (runs indexed only).
+  const double* runSums(const double* cage) const;  // null: not formed for this cage
+  void keepRunSums(const double* cage) const;       // marks runSums_ (just filled) as formed for cage
+  mutable std::vector<double> runSums_, runsAtCage_;
+  mutable bool runSumsValid_ = false;
 };
 
 // Contracts the cage rows of theta^e (Cage storage) with the details of `coefficients` (level-e

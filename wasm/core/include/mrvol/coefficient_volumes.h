@@ -50,6 +50,10 @@ class CageVolumeConstraint final : public VolumeConstraints {
   std::vector<double> valueCage_;
   double value_ = 0;
   bool gradientCurrent_ = false;
+  // Whether the gradient was asked for at the cage of the last value: then the next value is taken
+  // with its gradient in the same pass over the polynomial (a drag that corrects every step needs
+  // both; one that seldom corrects pays for the value only).
+  bool gradientFollowed_ = false;
 };
 
 // Rows: functions of the fine positions (3 (N + 1), see FinePositions), each with its reference

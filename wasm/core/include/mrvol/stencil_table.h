@@ -60,10 +60,14 @@ class FinePositions {
   uint64_t version() const { return version_; }
   // The coefficients changed: the cage only (an update along the stencils will do), or the details too.
   void cageChanged() { current_ = false; }
-  void detailsChanged() { current_ = base_ = false; }
+  void detailsChanged() { current_ = base_ = false, ++detailsVersion_; }
   // x has just moved by s times a direction whose synthesis is `synthesized` (3 (N + 1), vertex N
-  // zero): the positions follow by the same multiple, no synthesis needed.
-  void followDirection(const std::vector<double>& x, double s, const std::vector<double>& synthesized);
+  // zero): the positions follow by the same multiple, no synthesis needed. detailsMoved: the
+  // direction has detail entries (not only the cage's).
+  void followDirection(const std::vector<double>& x, double s, const std::vector<double>& synthesized, bool detailsMoved = true);
+  // Changes whenever the details of x may have (a follower that adds cage moves to a base of its own
+  // starts afresh then: CageBasisTable).
+  uint64_t detailsVersion() const { return detailsVersion_; }
 
   // What changed in the positions since the last takeChanges(), for a follower such as a renderer's
   // buffers: every vertex (whole), or the listed fine vertices (hierarchy order, repeats possible)
@@ -85,7 +89,7 @@ class FinePositions {
   std::vector<double> cage_, delta_;
   bool current_ = false, base_ = false;
   int incrementalUpdates_ = 0;  // since the last full synthesis
-  uint64_t version_ = 0;
+  uint64_t version_ = 0, detailsVersion_ = 0;
   Changes changes_;
 };
 

@@ -4,20 +4,31 @@
 // positions (doubles, hierarchy order, relative to the reference point; see stencil_table.h), which
 // are brought up to date incrementally; this pass converts and reorders them and sums face normals:
 // all of them, or, when only the stencils of a few cage vertices moved, the vertices they touched
-// and the normals around them.
+// and the normals around them. For a small cage (CageBasisTable) the positions come straight from
+// the cage: base + S (cage - cage at base), one sequential pass, the editor's fine positions untouched.
+// Normals: each vertex sums the cross products of its faces (a gather: no scattered adds, no
+// clearing, written in order).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "mrvol/cage_basis_table.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/mesh.h"
 #include "mrvol/stencil_table.h"
 
 namespace mrvol {
 
+class VolumeEditor;
+
 class SurfaceBuffers {
  public:
   explicit SurfaceBuffers(const Hierarchy& hierarchy);
+
+  // Brings the buffers in step with the editor (one editor per buffers): from its cage through a
+  // CageBasisTable when its cage is small (built on the first call), else from its fine positions.
+  void update(const VolumeEditor& editor, bool withNormals);
 
   // Brings the buffers in step with `fine` (3 N doubles, hierarchy order, relative to `origin`),
   // whose version is `version` (nothing is done for the version already written). Normals only when
@@ -39,28 +50,40 @@ class SurfaceBuffers {
 
  private:
   void writePositions(const double* fine, Vec3 origin);
+  void writeRelative(const double* fine);  // relative_ from fine
   void writeNormals(const double* fine);
   void writeSomeNormals(const double* fine);  // around pendingNormals_
+  void buildRing();
+  void gatherNormals();  // every vertex's, from relative_
   static void merge(FinePositions::Changes& into, const FinePositions::Changes& changes);
 
   const Hierarchy* hierarchy_;
   size_t vertexCount_;
   bool callerIsHierarchyOrder_;  // then no reordering (meshes written by our own subdivision)
   std::vector<float> positions_, normals_;
-  // The normals' faces (caller's indices, ordered by their last vertex) and scratch, caller's order,
-  // 4 floats a vertex (one SIMD register; a 3-float stride is slower: overlapping stores and loads
-  // stall): the positions relative to the reference point, the sums of the face cross products.
-  std::vector<uint32_t> faces_;
-  std::vector<float> relative_, sums_;
-  // For updates of a few vertices: the faces around each vertex (CSR, caller's order), a mark per
-  // vertex, and the changes not yet written.
-  std::vector<uint32_t> vertexFaceStart_, vertexFaces_, mark_, affected_;
+  // The positions relative to the reference point, caller's order, 4 floats a vertex (one SIMD
+  // register; lane 3 zero).
+  std::vector<float> relative_;
+  // The faces around each vertex v (CSR, caller's order): when its fan is closed (closedRing_), its
+  // neighbors in order (face i: v, ring i, ring i + 1), else for each face (v, a, b) in its
+  // orientation the pair a, b. A face's cross product (a - v) x (b - v) is twice its area times its normal.
+  std::vector<uint32_t> ringStart_, ring_;
+  std::vector<uint8_t> closedRing_;
+  // For updates of a few vertices: a mark per vertex, and the changes not yet written.
+  std::vector<uint32_t> mark_, affected_;
   uint32_t markRound_ = 0;
   FinePositions::Changes pendingPositions_, pendingNormals_;
   bool normalsWritten_ = false;
   uint32_t positionsRange_[2] = {0, 0}, normalsRange_[2] = {0, 0};
   uint64_t positionsOf_ = 0, normalsOf_ = 0;  // fine version written (+1; 0: none yet)
   uint64_t writes_ = 0;
+  // The cage path: the table (null: none, tableTried_: looked for), the base (relative positions and
+  // the cage and details they are of), the cage last written, scratch.
+  std::unique_ptr<CageBasisTable> table_;
+  bool tableTried_ = false, haveBase_ = false, normalsStale_ = true;
+  std::vector<float> base_, delta_;
+  std::vector<double> baseCage_, writtenCage_;
+  uint64_t baseDetails_ = 0;
 };
 
 }  // namespace mrvol

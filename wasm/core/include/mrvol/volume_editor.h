@@ -101,6 +101,11 @@ class VolumeEditor {
   uint64_t finePositionsVersion() const { return session_.fine.version(); }
   void takeFinePositionChanges(FinePositions::Changes& out) const { session_.fine.takeChanges(out); }
   Vec3 referencePoint() const { return session_.origin; }
+  // The level-e coefficients (3 * N, hierarchy order: the cage's first) without a copy, and what a
+  // follower of cage moves needs besides (SurfaceBuffers with a CageBasisTable).
+  const double* coefficientData() const { return session_.x.data(); }
+  uint64_t detailsVersion() const { return session_.fine.detailsVersion(); }
+  const WaveletTransform& transform() const { return *transform_; }
 
   // Theta_tau for every coefficient at level e (3 * N, hierarchy order) by the matrix-free path,
   // and for the cage (3 * cageSize) by the tensor polynomial; both for tests.
