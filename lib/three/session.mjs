@@ -102,7 +102,8 @@ export class EditingSession extends EventTarget {
   /** The free-set modes the current editor takes (FREE_SET_MODES for triangle models). */
   get freeSetModes() { return this.#freeSetModes; }
   /** Whether the centre of mass can be kept and the limit surface's volume be kept (triangle models). */
-  get canKeepCentroid() { return typeof this.editor?.keepCentroid === 'function'; }
+  // quad editors have keepCentroid (it refuses) but no centre of mass: decided by the kind of model
+  get canKeepCentroid() { return typeof this.editor?.keepCentroid === 'function' && !this.quad; }
   get canKeepLimit() { return Boolean(this.model) && !this.quad; }
 
   #emit(type, detail = {}) {

@@ -133,7 +133,9 @@ test('what a quad model refuses, with a message; a triangle model after it goes 
   assert.throws(() => session.setSurface('limit'), /bilinear-patch volume/);
   assert.equal(session.surface, 'mesh');
   assert.ok(session.freeSetModes.includes('minus-held') && session.freeSetModes.includes('all'));
-  if (!session.canKeepCentroid) assert.throws(() => session.setKeepCentroid(true), /volume only/);
+  assert.equal(session.canKeepCentroid, false);
+  assert.equal(session.centroid(), null); // the app's balance readout says so instead of a wrong reason
+  assert.throws(() => session.setKeepCentroid(true), /volume only/);
   session.setFreeSet({ mode: 'all' });
   assert.equal(session.freeSet.mode, 'all');
   assert.ok(session.moveHandles([1], [0, 0.2, 0]));
