@@ -20,6 +20,8 @@ export function stepMultiplier(session, before, held) {
     gradient = editor.gradient(path); // cage order
   } else {
     if (session.model.info.vertices > MATRIX_FREE_MAX_VERTICES) return null;
+    // a quad mesh has no hierarchy order to map the matrix-free gradient with (lib/quad.mjs)
+    if (typeof session.model.mr.hierarchyOrder !== 'function') return null;
     gradient = editor.gradient('matrix-free'); // hierarchy order, all vertices
     index = hierarchyIndices.get(session.model);
     if (!index || index.length !== session.cageSize) {

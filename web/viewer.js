@@ -277,8 +277,13 @@ export class Viewer {
    */
   updateMeshFrom(editor) {
     if (!this.mesh || !editor) return;
+    // a quad editor has no float32 views over WASM memory yet: its fine positions, copied
+    if (typeof editor.positionsView !== 'function') return this.updateMesh(editor.positions());
     this.surfaceUpload ??= new SurfaceUpload();
-    if (this.surfaceUpload.draw(this.mesh.geometry, editor, { normals: !this.flat })) this.requestRender();
+    if (this.surfaceUpload.draw(this.mesh.geometry, editor, { normals: !this.flat })) {
+      this.shadow.changed();
+      this.requestRender();
+    }
   }
 
   setFlat(flat) {

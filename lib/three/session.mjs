@@ -619,7 +619,7 @@ export class EditingSession extends EventTarget {
 
 /**
  * The free sets a quad editor takes: the cage minus the held handles and all of it; a painted list
- * and parts once lib/quad.mjs's editor has them (tried with an empty list, which changes nothing).
+ * when lib/quad.mjs's editor takes vertex lists (tried with an empty list, which changes nothing).
  */
 function quadFreeSetModes(editor) {
   const modes = ['minus-held', 'all'];
@@ -628,6 +628,6 @@ function quadFreeSetModes(editor) {
     modes.push('painted');
   } catch { /* the cage minus held and all only */ }
   editor.setFreeSet({ cage: 'minus-held' });
-  if (typeof editor.setParts === 'function' && typeof editor.partVolumes === 'function') modes.push('parts');
+  // parts: lib/quad.mjs's setParts refuses any part for now (quads keep one global volume)
   return Object.freeze(modes);
 }

@@ -92,8 +92,8 @@ describe('quad models in the app', { timeout: 240_000 }, () => {
     const schemes = await page.locator('[data-testid="scheme"] option').allTextContents();
     assert.deepEqual(schemes, ['catmull-clark']);
     // the quad editor's free sets (painted regions and parts are for triangle models) and their pointer tools
-    assert.deepEqual(await page.locator('[data-testid="free-set"] option').allTextContents(), ['cage minus held', 'all cage']);
-    assert.deepEqual(await page.locator('[data-testid="tool"] option').allTextContents(), ['drag handles']);
+    assert.deepEqual(await page.locator('[data-testid="free-set"] option').allTextContents(), ['cage minus held', 'all cage', 'painted region']);
+    assert.deepEqual(await page.locator('[data-testid="tool"] option').allTextContents(), ['drag handles', 'paint free set']);
     assert.match(await page.textContent('#model-info'), /3458 vertices, 3456 quads, 3 levels \(Catmull-Clark\), cage 56 vertices/);
     assert.equal(await page.textContent('[data-testid="volume-kind"]'), '(bilinear patches)');
     // the cage drawn: the base quads' sides (54 quads, 108 sides), no diagonal
@@ -127,7 +127,7 @@ describe('quad models in the app', { timeout: 240_000 }, () => {
     const volume = await debug(() => window.mrvolDebug.volume());
     assert.ok(Math.abs(volume - reference) <= 1e-9 * reference, `relative volume error ${Math.abs(volume - reference) / reference}`);
     const report = await debug(() => window.mrvolDebug.lastReport());
-    assert.equal(report.path, 'matrix-free');
+    assert.equal(report.path, 'polynomial'); // the app edits on the cage polynomial by default, quads too
     // the export writes quads, the edited positions
     const exported = await download('export');
     assert.equal(exported.name, `${SAMPLE}-edited.obj`);
