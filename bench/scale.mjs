@@ -63,11 +63,15 @@ async function child(kind, path) {
 
 // Drag steps at each editing level: a held cage vertex moved a little at a time (as a pointer drag
 // does), each step timed as the app sees it: the step (moveVertices: the cage move and the volume
-// correction), then the renderer's buffers (positionsView, normalsView). CPU time per part, the
-// median over the steps after a few warm-up ones.
+// correction), then the renderer's buffers (positionsView, normalsView). CPU time and wall time per
+// part, medians over the steps after warm-up ones. The process runs with --no-liftoff: every WASM
+// function is compiled by the optimizing tier up front, as the app's hot loops are after their first
+// frames in Chromium; with Node's default dynamic tiering the first steps run baseline code and V8's
+// background tier-up (and its compile threads' CPU time, counted by process.cpuUsage) lands inside
+// the timed steps.
 const EDIT_LEVELS = [0, 3, 5];
 const EDIT_HEADING = '# Drag steps on large meshes (bench/scale.mjs)';
-const EDIT_STEPS = 20, EDIT_WARMUP = 3;
+const EDIT_STEPS = 20, EDIT_WARMUP = 10;
 async function editSteps(bytes) {
   const { wrapModule } = await import('../lib/api.mjs');
   const buildDir = new URL('../build/wasm/', import.meta.url);
@@ -76,6 +80,7 @@ async function editSteps(bytes) {
   const mr = mrvol.openMesh(mrvol.readObj(bytes));
   const median = (a) => [...a].sort((x, y) => x - y)[a.length >> 1];
   const levels = {};
+  const load = [loadavg()[0]];
   for (const level of EDIT_LEVELS) {
     const c0 = process.cpuUsage();
     const ed = mr.createEditor({ level });
@@ -86,41 +91,48 @@ async function editSteps(bytes) {
     const size = ed.cagePositions().reduce((m, x) => Math.max(m, Math.abs(x)), 0);
     const offset = [0.005 * size, 0.0025 * size, 0];
     const parts = { step: [], positions: [], normals: [] };
+    const wall = { step: [], positions: [], normals: [] };
     let worst = 0, corrected = 0;
     for (let s = 0; s < EDIT_WARMUP + EDIT_STEPS; ++s) {
-      const a = process.cpuUsage();
+      const a = process.cpuUsage(), ta = performance.now();
       const report = ed.moveVertices([{ vertex, offset }]);
-      const b = process.cpuUsage();
+      const b = process.cpuUsage(), tb = performance.now();
       ed.positionsView();
-      const c = process.cpuUsage();
+      const c = process.cpuUsage(), tc = performance.now();
       ed.normalsView();
-      const d = process.cpuUsage();
+      const d = process.cpuUsage(), td = performance.now();
       if (!report.converged) throw new Error(`level ${level}: ${report.message}`);
       worst = Math.max(worst, report.relativeError);
       if (s < EDIT_WARMUP) continue;
       if (report.iterations > 0) ++corrected;
       parts.step.push(cpuMs(a, b)), parts.positions.push(cpuMs(b, c)), parts.normals.push(cpuMs(c, d));
+      wall.step.push(tb - ta), wall.positions.push(tc - tb), wall.normals.push(td - tc);
     }
     // The same drag with a tolerance of 1e-10: every step corrects the volume over the whole free
     // set (at e = 5 the default tolerance lets most steps pass uncorrected), and the positions then
     // follow a move of the whole cage.
-    const correcting = { step: [], positions: [] };
+    const correcting = { step: [], positions: [], stepWall: [], positionsWall: [] };
     for (let s = 0; s < 10; ++s) {
-      const a = process.cpuUsage();
+      const a = process.cpuUsage(), ta = performance.now();
       const report = ed.moveVertices([{ vertex, offset }], { tolerance: 1e-10 });
-      const b = process.cpuUsage();
+      const b = process.cpuUsage(), tb = performance.now();
       ed.positionsView();
       correcting.step.push(cpuMs(a, b)), correcting.positions.push(cpuMs(b, process.cpuUsage()));
+      correcting.stepWall.push(tb - ta), correcting.positionsWall.push(performance.now() - tb);
       if (!report.converged || report.iterations === 0) throw new Error(`level ${level}: no correction ran`);
     }
     levels[level] = { path: ed.path(), cage: ed.cageSize, setupCpuMs, stepMs: median(parts.step),
                       positionsMs: median(parts.positions), normalsMs: median(parts.normals),
                       frameMs: median(parts.step.map((x, i) => x + parts.positions[i] + parts.normals[i])), worst,
-                      corrected, correctMs: median(correcting.step), correctPositionsMs: median(correcting.positions) };
+                      corrected, correctMs: median(correcting.step), correctPositionsMs: median(correcting.positions),
+                      wall: { stepMs: median(wall.step), positionsMs: median(wall.positions), normalsMs: median(wall.normals),
+                              frameMs: median(wall.step.map((x, i) => x + wall.positions[i] + wall.normals[i])),
+                              correctMs: median(correcting.stepWall), correctPositionsMs: median(correcting.positionsWall) } };
     ed.delete();
+    load.push(loadavg()[0]);
   }
   mr.delete();
-  return { levels };
+  return { levels, load };
 }
 
 if (process.argv[2] === '--child') {
@@ -144,7 +156,8 @@ function meshFile(n) {
 }
 
 function measure(kind, path) {
-  const out = execFileSync(process.execPath, ['--max-old-space-size=8192', fileURLToPath(import.meta.url), '--child', kind, path],
+  const flags = ['--max-old-space-size=8192', ...(kind === 'edit' ? ['--no-liftoff'] : [])];
+  const out = execFileSync(process.execPath, [...flags, fileURLToPath(import.meta.url), '--child', kind, path],
                            { encoding: 'utf8', maxBuffer: 1 << 20 });
   return JSON.parse(out.trim().split('\n').pop());
 }
@@ -176,9 +189,11 @@ const editRows = [];
 for (const n of onlyOpen ? [] : sizes.filter((n) => n >= (quick ? 40962 : 655362))) {
   const r = measure('edit', meshFile(n));
   for (const [level, m] of Object.entries(r.levels)) {
-    editRows.push({ n, level: Number(level), ...m });
+    editRows.push({ n, level: Number(level), load: r.load, ...m });
     process.stderr.write(`bench: N = ${n}, e = ${level} (${m.path}, cage ${m.cage}): step ${m.stepMs.toFixed(2)} ms, ` +
-                         `positions ${m.positionsMs.toFixed(2)}, normals ${m.normalsMs.toFixed(2)}, frame ${m.frameMs.toFixed(2)} ms CPU\n`);
+                         `positions ${m.positionsMs.toFixed(2)}, normals ${m.normalsMs.toFixed(2)}, frame ${m.frameMs.toFixed(2)} ms CPU ` +
+                         `(wall ${m.wall.stepMs.toFixed(2)}, ${m.wall.positionsMs.toFixed(2)}, ${m.wall.normalsMs.toFixed(2)}, ` +
+                         `frame ${m.wall.frameMs.toFixed(2)}); load ${r.load.map((x) => x.toFixed(1)).join(' -> ')}\n`);
   }
 }
 
@@ -229,21 +244,28 @@ const editSection = [
   `Drag: a held cage vertex moved by ${EDIT_STEPS} steps of 0.5% of the mesh's size (after ${EDIT_WARMUP} warm-up ones), each step`,
   'timed as the app sees it. Step: moveVertices (cage move and, when the volume left the tolerance, the correction;',
   "steps corrected says how many needed one); positions: positionsView() (the fine positions brought up to date,",
-  "float32 in the caller's order); normals: normalsView() (area-weighted, in WASM). CPU time per part, median over the",
-  'steps; frame: the median of their sums. Correcting: 10 more steps with tolerance 1e-10, so that each corrects the',
-  'volume over the whole free set (step, and positions after it), medians. Set-up: createEditor (the path\'s precomputation).',
+  "float32 in the caller's order); normals: normalsView() (area-weighted, in WASM). CPU time per part (user + system of",
+  'the process), median over the steps; frame: the median of their sums; wall: the same from performance.now() (it counts',
+  "other processes' turns on a loaded machine). Node runs with --no-liftoff (every WASM function optimized before the",
+  "first step, as the app's hot loops are after a few frames; no background tier-up in the timed steps). Correcting:",
+  '10 more steps with tolerance 1e-10, so that each corrects the volume over the whole free set (step, and positions',
+  "after it), medians. Set-up: createEditor (the path's precomputation). Load: the 1-minute load average at the start and",
+  'after each level.',
   'The hierarchy found in these files starts at 12 vertices: e = 3 is the 642-vertex spiky ball, e = 5 a cage of 10,242.',
   '',
-  '| vertices | e | cage | path | set-up ms | step ms | positions ms | normals ms | frame ms | goal ms | steps corrected | worst rel. volume error | correcting: step ms | positions ms |',
-  '| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |',
+  '| vertices | e | cage | path | set-up ms | step ms | positions ms | normals ms | frame ms | goal ms | wall: step, positions, normals, frame ms | steps corrected | worst rel. volume error | correcting: step ms | positions ms | wall: step, positions ms | load |',
+  '| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |',
   ...editRows.map((r) => `| ${r.n} | ${r.level} | ${r.cage} | ${r.path} | ${f0(r.setupCpuMs)} | ${r.stepMs.toFixed(2)} | ` +
-    `${r.positionsMs.toFixed(2)} | ${r.normalsMs.toFixed(2)} | ${f1(r.frameMs)} | ${frameGoal(r.n)} ${verdict(r.frameMs <= frameGoal(r.n))} | ${r.corrected}/${EDIT_STEPS} | ${r.worst.toExponential(1)} | ${r.correctMs.toFixed(2)} | ${r.correctPositionsMs.toFixed(2)} |`),
+    `${r.positionsMs.toFixed(2)} | ${r.normalsMs.toFixed(2)} | ${f1(r.frameMs)} | ${frameGoal(r.n)} ${verdict(r.frameMs <= frameGoal(r.n))} | ` +
+    `${r.wall.stepMs.toFixed(2)}, ${r.wall.positionsMs.toFixed(2)}, ${r.wall.normalsMs.toFixed(2)}, ${f1(r.wall.frameMs)} | ` +
+    `${r.corrected}/${EDIT_STEPS} | ${r.worst.toExponential(1)} | ${r.correctMs.toFixed(2)} | ${r.correctPositionsMs.toFixed(2)} | ` +
+    `${r.wall.correctMs.toFixed(2)}, ${r.wall.correctPositionsMs.toFixed(2)} | ${r.load.map((x) => x.toFixed(1)).join(' -> ')} |`),
   '',
   'Goals:',
-  ...editRows.filter((r) => r.level === 0).map((r) => `- N = ${r.n}, e = 0: step + positions + normals <= ${frameGoal(r.n)} ms: ` +
-    `${f1(r.frameMs)} ms: ${verdict(r.frameMs <= frameGoal(r.n))}`),
+  ...editRows.filter((r) => r.level === 0 || (r.n === 655362 && r.level === 3)).map((r) => `- N = ${r.n}, e = ${r.level}: ` +
+    `step + positions + normals <= ${frameGoal(r.n)} ms: ${f1(r.frameMs)} ms CPU (wall ${f1(r.wall.frameMs)}): ${verdict(r.frameMs <= frameGoal(r.n))}`),
   ...editRows.filter((r) => r.n === 655362 && r.level >= 3).map((r) => `- N = 655362, e = ${r.level} (cage ${r.cage}): a correcting ` +
-    `step <= 16 ms: ${r.correctMs.toFixed(1)} ms (${r.path}): ${verdict(r.correctMs <= 16)}`),
+    `step <= 16 ms: ${r.correctMs.toFixed(1)} ms CPU (wall ${r.wall.correctMs.toFixed(1)}; ${r.path}): ${verdict(r.correctMs <= 16)}`),
   '',
 ].join('\n');
 const resultsPath = fileURLToPath(new URL('RESULTS-scale.md', import.meta.url));

@@ -100,6 +100,17 @@ describe('positionsView and normalsView follow the edits', () => {
     mr.delete();
   });
 
+  test('a cage of 642 over the subdivided spiky ball: single moves (the table\'s columns) and corrections (its full pass)', () => {
+    const mr = mrvol.subdivide(loadModel(mrvol, 'spiky-ball'), { levels: 1 });
+    const faces = mr.faces();
+    const ed = mr.createEditor({ level: mr.levels - 1, path: 'polynomial' });
+    assert.equal(ed.cageSize, 642);
+    checkBuffers(mr, ed, faces, 'e=3 before');
+    dragMany(mr, ed, faces, { drags: 24, every: 3, seed: 5, preserve: false, where: 'e=3 no preserve' });
+    dragMany(mr, ed, faces, { drags: 24, every: 3, seed: 6, where: 'e=3 preserve' });
+    mr.delete();
+  });
+
   test('a shuffled mesh (caller order unlike the hierarchy order) and an open mesh', () => {
     const { mesh } = shuffleMesh(loadModel(mrvol, 'torus'), 7, { shuffleFaces: true });
     const mr = mrvol.openMesh(mesh);

@@ -1,5 +1,6 @@
 #include "mrvol/cage_basis_table.h"
 
+#include <algorithm>
 #include <cmath>
 
 #ifdef __wasm_simd128__
@@ -10,44 +11,115 @@ namespace mrvol {
 
 CageBasisTable::CageBasisTable(const WaveletTransform& transform, int level, const uint32_t* caller) {
   const Hierarchy& hierarchy = transform.hierarchy();
+  if (level < 0 || level >= hierarchy.levels) return;
   const uint32_t cage = hierarchy.vertexCount[level];
   const size_t n = hierarchy.fineVertexCount();
-  if (cage > kMaxCage || level >= hierarchy.levels) return;
-  // Synthesis acts on each coordinate alike: three cage vertices at once, one per coordinate. Two
-  // rounds of the same syntheses (count the rows, then fill them) keep the build's memory at the
-  // table's own.
-  std::vector<double> scratch(3 * n);
-  const auto synthesizeGroup = [&](uint32_t first) {
-    std::fill(scratch.begin(), scratch.begin() + 3 * size_t(cage), 0.0);
-    for (uint32_t k = 0; k < 3 && first + k < cage; ++k) scratch[3 * size_t(first + k) + k] = 1.0;
-    transform.synthesizeZeroDetails(scratch.data(), level);
-    return first + 3 <= cage ? 3u : cage - first;
-  };
-  const auto kept = [](double w) { return std::abs(w) >= 1e-9; };  // below float's resolution of the sum
-  std::vector<uint32_t> start(n + 1, 0);
-  size_t total = 0;
-  for (uint32_t first = 0; first < cage; first += 3) {
-    const uint32_t lanes = synthesizeGroup(first);
-    for (size_t h = 0; h < n; ++h)
-      for (uint32_t k = 0; k < lanes; ++k)
-        if (kept(scratch[3 * h + k])) ++start[caller[h] + 1], ++total;
-    if (total > kMaxEntriesPerVertex * n) return;
-  }
-  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  cage_.resize(total);
-  weight_.resize(total);
-  std::vector<uint32_t> next(start.begin(), start.end() - 1);
-  for (uint32_t first = 0; first < cage; first += 3) {
-    const uint32_t lanes = synthesizeGroup(first);
-    for (size_t h = 0; h < n; ++h)
-      for (uint32_t k = 0; k < lanes; ++k)
-        if (kept(scratch[3 * h + k])) {
-          const uint32_t at = next[caller[h]]++;
-          cage_[at] = uint16_t(first + k), weight_[at] = float(scratch[3 * h + k]);
+  if (cage > kMaxCage) return;
+  const size_t limit = kMaxEntriesPerVertex * n;
+  // The zero-detail synthesis run on rows instead of coordinates: each vertex carries its row (the
+  // cage weights of its value), a lift x_t += sum w x_s merges rows, a scaling scales one, and the
+  // lifts that read only details (zero rows) are skipped, as synthesizeZeroDetails skips them.
+  // Rows live in a pool: vertex h's is [begin[h], begin[h] + length[h]); a lift appends its
+  // targets' new rows (its sources are other vertices, whose rows stay put while it reads them); the
+  // pool is compacted after each level. Weights below float's resolution of the sum are dropped.
+  std::vector<uint32_t> begin(n, 0), length(n, 0);
+  std::vector<uint16_t> index;
+  std::vector<float> weight;
+  for (uint32_t c = 0; c < cage; ++c) begin[c] = c, length[c] = 1, index.push_back(uint16_t(c)), weight.push_back(1.0f);
+  std::vector<double> sum(cage, 0.0);
+  std::vector<uint8_t> seen(cage, 0);
+  std::vector<uint16_t> touched;
+  const auto kept = [](double w) { return std::abs(w) >= 1e-9; };
+  for (int l = level + 1; l <= hierarchy.levels; ++l) {
+    for (const LiftingStep& step : transform.synthesisSteps(l)) {
+      if (step.readsOnlyDetails) continue;
+      if (step.scaling) {
+        for (size_t r = 0; r < step.targets.size(); ++r) {
+          const uint32_t t = step.targets[r];
+          for (uint32_t k = begin[t]; k < begin[t] + length[t]; ++k) weight[k] = float(weight[k] * step.weights[r]);
         }
+        continue;
+      }
+      for (size_t r = 0; r < step.targets.size(); ++r) {
+        const uint32_t t = step.targets[r];
+        touched.clear();
+        const auto add = [&](uint32_t h, double f) {
+          for (uint32_t k = begin[h], end = begin[h] + length[h]; k < end; ++k) {
+            const uint16_t c = index[k];
+            if (!seen[c]) seen[c] = 1, touched.push_back(c);
+            sum[c] += f * weight[k];
+          }
+        };
+        add(t, 1.0);
+        for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) add(step.sources[k], step.weights[k]);
+        begin[t] = uint32_t(index.size()), length[t] = 0;
+        for (uint16_t c : touched) {
+          if (kept(sum[c])) index.push_back(c), weight.push_back(float(sum[c])), ++length[t];
+          sum[c] = 0.0, seen[c] = 0;
+        }
+      }
+      if (index.size() > 2 * limit) return;
+    }
+    size_t live = 0;
+    for (uint32_t h = 0; h < hierarchy.vertexCount[l]; ++h) live += length[h];
+    if (live > limit) return;
+    std::vector<uint16_t> compactIndex;
+    std::vector<float> compactWeight;
+    compactIndex.reserve(live + live / 2), compactWeight.reserve(live + live / 2);
+    for (uint32_t h = 0; h < hierarchy.vertexCount[l]; ++h) {
+      const uint32_t b = begin[h];
+      begin[h] = uint32_t(compactIndex.size());
+      compactIndex.insert(compactIndex.end(), index.begin() + b, index.begin() + b + length[h]);
+      compactWeight.insert(compactWeight.end(), weight.begin() + b, weight.begin() + b + length[h]);
+    }
+    index = std::move(compactIndex), weight = std::move(compactWeight);
   }
+  // Rows in the caller's order, then the columns' pattern (each column in increasing vertex order).
+  std::vector<uint32_t> start(n + 1, 0);
+  for (size_t h = 0; h < n; ++h) start[caller[h] + 1] = length[h];
+  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  cage_.resize(start[n]);
+  weight_.resize(start[n]);
+  for (size_t h = 0; h < n; ++h) {
+    std::copy(index.begin() + begin[h], index.begin() + begin[h] + length[h], cage_.begin() + start[caller[h]]);
+    std::copy(weight.begin() + begin[h], weight.begin() + begin[h] + length[h], weight_.begin() + start[caller[h]]);
+  }
+  index = {}, weight = {}, begin = {}, length = {};
+  columnStart_.assign(size_t(cage) + 1, 0);
+  for (uint16_t c : cage_) ++columnStart_[c + 1];
+  for (uint32_t c = 0; c < cage; ++c) columnStart_[c + 1] += columnStart_[c];
+  columnVertex_.resize(cage_.size());
+  std::vector<uint32_t> next(columnStart_.begin(), columnStart_.end() - 1);
+  for (uint32_t v = 0; v < n; ++v)
+    for (uint32_t k = start[v]; k < start[v + 1]; ++k) columnVertex_[next[cage_[k]]++] = v;
   rowStart_ = std::move(start);
 }
+
+void CageBasisTable::row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const {
+  cage.assign(cage_.begin() + rowStart_[v], cage_.begin() + rowStart_[v + 1]);
+  weights.assign(weight_.begin() + rowStart_[v], weight_.begin() + rowStart_[v + 1]);
+}
+
+namespace {
+
+#ifdef __wasm_simd128__
+inline v128_t rowSum(const float* base4, const float* delta4, const uint16_t* c, const float* w, uint32_t k, uint32_t end, size_t v) {
+  v128_t p = wasm_v128_load(base4 + 4 * v);
+  for (; k < end; ++k) p = wasm_f32x4_add(p, wasm_f32x4_mul(wasm_f32x4_splat(w[k]), wasm_v128_load(delta4 + 4 * size_t(c[k]))));
+  return p;
+}
+#else
+inline void rowSum(const float* base4, const float* delta4, const uint16_t* c, const float* w, uint32_t k, uint32_t end, size_t v,
+                   float p[3]) {
+  p[0] = base4[4 * v], p[1] = base4[4 * v + 1], p[2] = base4[4 * v + 2];
+  for (; k < end; ++k) {
+    const float* d = delta4 + 4 * size_t(c[k]);
+    p[0] += w[k] * d[0], p[1] += w[k] * d[1], p[2] += w[k] * d[2];
+  }
+}
+#endif
+
+}  // namespace
 
 void CageBasisTable::apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3) const {
   const size_t n = rowStart_.size() - 1;
@@ -57,23 +129,38 @@ void CageBasisTable::apply(const float* base4, const float* delta4, const float 
 #ifdef __wasm_simd128__
   const v128_t o = wasm_f32x4_make(origin[0], origin[1], origin[2], 0.0f);
   for (size_t v = 0; v < n; ++v) {
-    v128_t p = wasm_v128_load(base4 + 4 * v);
-    for (uint32_t k = start[v], end = start[v + 1]; k < end; ++k)
-      p = wasm_f32x4_add(p, wasm_f32x4_mul(wasm_f32x4_splat(w[k]), wasm_v128_load(delta4 + 4 * size_t(c[k]))));
+    const v128_t p = rowSum(base4, delta4, c, w, start[v], start[v + 1], v);
     wasm_v128_store(out4 + 4 * v, p);
     wasm_v128_store(out3 + 3 * v, wasm_f32x4_add(p, o));  // lane 3 is overwritten by the next vertex
   }
 #else
   for (size_t v = 0; v < n; ++v) {
-    float p[3] = {base4[4 * v], base4[4 * v + 1], base4[4 * v + 2]};
-    for (uint32_t k = start[v], end = start[v + 1]; k < end; ++k) {
-      const float* d = delta4 + 4 * size_t(c[k]);
-      p[0] += w[k] * d[0], p[1] += w[k] * d[1], p[2] += w[k] * d[2];
-    }
+    float p[3];
+    rowSum(base4, delta4, c, w, start[v], start[v + 1], v, p);
     out4[4 * v] = p[0], out4[4 * v + 1] = p[1], out4[4 * v + 2] = p[2], out4[4 * v + 3] = 0.0f;
     out3[3 * v] = p[0] + origin[0], out3[3 * v + 1] = p[1] + origin[1], out3[3 * v + 2] = p[2] + origin[2];
   }
 #endif
+}
+
+void CageBasisTable::applyRows(const uint32_t* vertices, size_t count, const float* base4, const float* delta4, const float origin[3],
+                               float* out4, float* out3) const {
+  const uint32_t* start = rowStart_.data();
+  const uint16_t* c = cage_.data();
+  const float* w = weight_.data();
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t v = vertices[i];
+    float p[4];
+#ifdef __wasm_simd128__
+    wasm_v128_store(p, rowSum(base4, delta4, c, w, start[v], start[v + 1], v));
+#else
+    rowSum(base4, delta4, c, w, start[v], start[v + 1], v, p);
+    p[3] = 0.0f;
+#endif
+    std::copy(p, p + 4, out4 + 4 * size_t(v));
+    // Not a vector store: the next vertex's x may not be rewritten.
+    out3[3 * size_t(v)] = p[0] + origin[0], out3[3 * size_t(v) + 1] = p[1] + origin[1], out3[3 * size_t(v) + 2] = p[2] + origin[2];
+  }
 }
 
 }  // namespace mrvol

@@ -19,6 +19,7 @@ SurfaceBuffers::SurfaceBuffers(const Hierarchy& hierarchy)
   // One float more than 3 N: a vector store per vertex runs over by one.
   positions_.assign(3 * vertexCount_ + 1, 0.0f);
   normals_.assign(3 * vertexCount_ + 1, 0.0f);
+  mark_.assign(vertexCount_, 0);
 }
 
 void SurfaceBuffers::merge(FinePositions::Changes& into, const FinePositions::Changes& changes) {
@@ -45,9 +46,11 @@ void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
     update(fine, editor.referencePoint(), editor.finePositionsVersion(), changes, withNormals);
     return;
   }
-  const size_t cage3 = 3 * size_t(editor.cageSize());
+  const uint32_t cageSize = editor.cageSize();
+  const size_t cage3 = 3 * size_t(cageSize);
   const double* cage = editor.coefficientData();
   const Vec3 o = editor.referencePoint();
+  const float origin[3] = {float(o.x), float(o.y), float(o.z)};
   if (!haveBase_ || baseDetails_ != editor.detailsVersion()) {
     // A base from a synthesis (the first time, and after the details moved).
     const double* fine = editor.finePositions().data();
@@ -58,23 +61,56 @@ void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
     writeRelative(fine);
     base_ = relative_;
     baseCage_.assign(cage, cage + cage3);
+    delta_.assign(4 * size_t(cageSize), 0.0f);
     baseDetails_ = editor.detailsVersion();
     haveBase_ = true;
-  } else if (std::equal(cage, cage + cage3, writtenCage_.begin())) {
-    if (withNormals && normalsStale_) gatherNormals(), normalsStale_ = false;
-    return;
   } else {
-    delta_.assign(4 * (cage3 / 3), 0.0f);
-    for (size_t c = 0; c < cage3 / 3; ++c)
-      for (int k = 0; k < 3; ++k) delta_[4 * c + k] = float(cage[3 * c + k] - baseCage_[3 * c + k]);
-    const float origin[3] = {float(o.x), float(o.y), float(o.z)};
+    moved_.clear();
+    size_t rows = 0;
+    for (uint32_t c = 0; c < cageSize; ++c) {
+      const double* x = cage + 3 * size_t(c);
+      const double* was = writtenCage_.data() + 3 * size_t(c);
+      if (x[0] == was[0] && x[1] == was[1] && x[2] == was[2]) continue;
+      moved_.push_back(c);
+      for (int k = 0; k < 3; ++k) delta_[4 * size_t(c) + k] = float(x[k] - baseCage_[3 * size_t(c) + k]);
+      rows += size_t(table_->columnEnd(c) - table_->columnBegin(c));
+    }
+    if (moved_.empty()) {
+      if (withNormals) writeTableNormals();
+      return;
+    }
+    if (rows <= vertexCount_ / 8) {
+      // A few cage vertices moved: only the rows of their columns.
+      if (++markRound_ == 0) std::fill(mark_.begin(), mark_.end(), 0), markRound_ = 1;
+      rows_.clear();
+      for (uint32_t c : moved_)
+        for (const uint32_t* v = table_->columnBegin(c); v != table_->columnEnd(c); ++v)
+          if (mark_[*v] != markRound_) mark_[*v] = markRound_, rows_.push_back(*v);
+      table_->applyRows(rows_.data(), rows_.size(), base_.data(), delta_.data(), origin, relative_.data(), positions_.data());
+      const auto [first, last] = std::minmax_element(rows_.begin(), rows_.end());
+      positionsRange_[0] = rows_.empty() ? 0 : *first, positionsRange_[1] = rows_.empty() ? 0 : *last + 1;
+      for (uint32_t c : moved_) std::copy(cage + 3 * size_t(c), cage + 3 * size_t(c) + 3, writtenCage_.begin() + 3 * size_t(c));
+      if (!normalsStale_) pendingRows_.insert(pendingRows_.end(), rows_.begin(), rows_.end());
+      if (pendingRows_.size() > vertexCount_ / 8) normalsStale_ = true, pendingRows_.clear();
+      ++writes_;
+      if (withNormals) writeTableNormals();
+      return;
+    }
     table_->apply(base_.data(), delta_.data(), origin, relative_.data(), positions_.data());
   }
   writtenCage_.assign(cage, cage + cage3);
   positionsRange_[0] = 0, positionsRange_[1] = uint32_t(vertexCount_);
   ++writes_;
   normalsStale_ = true;
-  if (withNormals) gatherNormals(), normalsStale_ = false;
+  pendingRows_.clear();
+  if (withNormals) writeTableNormals();
+}
+
+void SurfaceBuffers::writeTableNormals() {
+  if (normalsStale_) gatherNormals();
+  else if (!pendingRows_.empty()) gatherSomeNormals(pendingRows_);
+  normalsStale_ = false;
+  pendingRows_.clear();
 }
 
 void SurfaceBuffers::update(const double* fine, Vec3 origin, uint64_t version, const FinePositions::Changes& changes,
@@ -190,7 +226,6 @@ void SurfaceBuffers::buildRing() {
     }
     ringStart_[v + 1] = uint32_t(ring_.size());
   }
-  mark_.assign(n, 0);
 }
 
 namespace {
@@ -265,18 +300,24 @@ void SurfaceBuffers::gatherNormals() {
 }
 
 void SurfaceBuffers::writeSomeNormals(const double* fine) {
-  if (ringStart_.empty()) buildRing();
   const uint32_t* caller = hierarchy_->inputIndex.data();
-  if (++markRound_ == 0) std::fill(mark_.begin(), mark_.end(), 0), markRound_ = 1;
-  // The moved vertices' relative positions, then they and every vertex of a face around them are affected.
+  // The moved vertices' relative positions, then the normals around them.
   float* r = relative_.data();
+  rows_.clear();
   for (uint32_t h : pendingNormals_.vertices) {
     float* p = r + 4 * size_t(caller[h]);
     p[0] = float(fine[3 * size_t(h)]), p[1] = float(fine[3 * size_t(h) + 1]), p[2] = float(fine[3 * size_t(h) + 2]);
+    rows_.push_back(caller[h]);
   }
+  gatherSomeNormals(rows_);
+}
+
+void SurfaceBuffers::gatherSomeNormals(const std::vector<uint32_t>& moved) {
+  if (ringStart_.empty()) buildRing();
+  if (++markRound_ == 0) std::fill(mark_.begin(), mark_.end(), 0), markRound_ = 1;
+  // The moved vertices and every vertex of a face around them are affected.
   affected_.clear();
-  for (uint32_t h : pendingNormals_.vertices) {
-    const uint32_t v = caller[h];
+  for (uint32_t v : moved) {
     if (mark_[v] != markRound_) mark_[v] = markRound_, affected_.push_back(v);
     for (uint32_t k = ringStart_[v]; k < ringStart_[v + 1]; ++k) {
       const uint32_t w = ring_[k];
@@ -284,6 +325,7 @@ void SurfaceBuffers::writeSomeNormals(const double* fine) {
     }
   }
   uint32_t first = UINT32_MAX, end = 0;
+  const float* r = relative_.data();
   float* out = normals_.data();
   for (uint32_t v : affected_) {
     // Through a spare slot: the vector store of the next vertex's normal must not be overwritten.

@@ -1,9 +1,10 @@
-// The fine positions as a linear function of a small cage: p = base + S (cage - cage at base), with
-// S the zero-detail synthesis (each fine vertex's row: the weights of the cage vertices whose basis
-// functions reach it). With the details fixed, a drag of a coarse cage (e = 0: every step moves the
-// whole cage) needs only this sparse product, in float, in the caller's order: one sequential pass,
-// no synthesis through the levels. Built once per editor, only for small cages (each row is short
-// and the build takes cage / 3 zero-detail syntheses).
+// The fine positions as a linear function of the cage: p = base + S (cage - cage at base), with S the
+// zero-detail synthesis (each fine vertex's row: the weights of the cage vertices whose basis
+// functions reach it, about a dozen at any level). With the details fixed, a drag (every corrected
+// step moves the whole free cage) needs only this sparse product, in float, in the caller's order:
+// one sequential pass, no synthesis through the levels; a move of a few cage vertices rewrites only
+// the rows of their columns. Built once per editor by carrying sparse rows through the synthesis
+// steps (O(N) work and memory, whatever the cage).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -14,23 +15,34 @@ namespace mrvol {
 
 class CageBasisTable {
  public:
-  static constexpr uint32_t kMaxCage = 48;         // larger cages: no table (empty())
+  static constexpr uint32_t kMaxCage = 65535;         // cage indices are 16-bit; larger cages: no table (empty())
   static constexpr size_t kMaxEntriesPerVertex = 24;  // longer rows on average: no table
 
   // Rows in the caller's vertex order (callerIndex: hierarchy index -> caller's index).
   CageBasisTable(const WaveletTransform& transform, int level, const uint32_t* callerIndex);
   bool empty() const { return rowStart_.empty(); }
   size_t entryCount() const { return weight_.size(); }
+  size_t vertexCount() const { return rowStart_.empty() ? 0 : rowStart_.size() - 1; }
+  uint32_t cageSize() const { return uint32_t(columnStart_.size() - 1); }
 
   // For every fine vertex v (caller's order): out4[v] = base4[v] + sum over its row of w * delta4[c]
   // (4 floats a vertex, lane 3 zero), and out3[v] = out4[v] + origin (3 floats a vertex; out3 has
   // one float more than 3 N: a vector store per vertex runs over by one).
   void apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3) const;
+  // The same for the listed vertices only (caller's order).
+  void applyRows(const uint32_t* vertices, size_t count, const float* base4, const float* delta4, const float origin[3],
+                 float* out4, float* out3) const;
+  // The fine vertices (caller's order) whose rows read cage vertex c.
+  const uint32_t* columnBegin(uint32_t c) const { return columnVertex_.data() + columnStart_[c]; }
+  const uint32_t* columnEnd(uint32_t c) const { return columnVertex_.data() + columnStart_[c + 1]; }
+  // Row of v, for tests: cage indices and weights.
+  void row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const;
 
  private:
   std::vector<uint32_t> rowStart_;  // N + 1
   std::vector<uint16_t> cage_;      // cage index of each entry
   std::vector<float> weight_;
+  std::vector<uint32_t> columnStart_{0}, columnVertex_;  // the transpose's pattern (cage + 1, entries)
 };
 
 }  // namespace mrvol

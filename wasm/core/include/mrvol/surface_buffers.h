@@ -4,8 +4,9 @@
 // positions (doubles, hierarchy order, relative to the reference point; see stencil_table.h), which
 // are brought up to date incrementally; this pass converts and reorders them and sums face normals:
 // all of them, or, when only the stencils of a few cage vertices moved, the vertices they touched
-// and the normals around them. For a small cage (CageBasisTable) the positions come straight from
-// the cage: base + S (cage - cage at base), one sequential pass, the editor's fine positions untouched.
+// and the normals around them. From an editor, the positions come straight from the cage through a
+// CageBasisTable: base + S (cage - cage at base), one sequential pass (or the rows of a few moved
+// cage vertices' columns), the editor's fine positions untouched.
 // Normals: each vertex sums the cross products of its faces (a gather: no scattered adds, no
 // clearing, written in order).
 #pragma once
@@ -27,7 +28,7 @@ class SurfaceBuffers {
   explicit SurfaceBuffers(const Hierarchy& hierarchy);
 
   // Brings the buffers in step with the editor (one editor per buffers): from its cage through a
-  // CageBasisTable when its cage is small (built on the first call), else from its fine positions.
+  // CageBasisTable (built on the first call), else (no table: too many entries) from its fine positions.
   void update(const VolumeEditor& editor, bool withNormals);
 
   // Brings the buffers in step with `fine` (3 N doubles, hierarchy order, relative to `origin`),
@@ -53,6 +54,8 @@ class SurfaceBuffers {
   void writeRelative(const double* fine);  // relative_ from fine
   void writeNormals(const double* fine);
   void writeSomeNormals(const double* fine);  // around pendingNormals_
+  void gatherSomeNormals(const std::vector<uint32_t>& moved);  // around these (caller's order), from relative_
+  void writeTableNormals();  // the cage path's: all (normalsStale_) or around pendingRows_
   void buildRing();
   void gatherNormals();  // every vertex's, from relative_
   static void merge(FinePositions::Changes& into, const FinePositions::Changes& changes);
@@ -81,8 +84,11 @@ class SurfaceBuffers {
   // the cage and details they are of), the cage last written, scratch.
   std::unique_ptr<CageBasisTable> table_;
   bool tableTried_ = false, haveBase_ = false, normalsStale_ = true;
+  // pendingRows_: the vertices whose positions the cage path rewrote since the normals were written
+  // (normalsStale_: all of them).
   std::vector<float> base_, delta_;
   std::vector<double> baseCage_, writtenCage_;
+  std::vector<uint32_t> moved_, rows_, pendingRows_;
   uint64_t baseDetails_ = 0;
 };
 

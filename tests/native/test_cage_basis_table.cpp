@@ -1,0 +1,120 @@
+// The cage basis table (rows carried through the synthesis steps) against the zero-detail synthesis
+// itself: every column of the table equals the synthesis of one unit cage coordinate to float
+// precision, at every level and for every scheme, in the hierarchy's order and in a shuffled one;
+// the columns' pattern is the transpose of the rows; applying it equals base + S delta.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "fixtures.h"
+#include "mrvol/cage_basis_table.h"
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+
+using namespace mrvol;
+
+namespace {
+
+void checkTable(const Hierarchy& h, const WaveletTransform& wt, int level, const std::string& where) {
+  const size_t n = h.fineVertexCount();
+  const uint32_t cage = h.vertexCount[level];
+  const CageBasisTable table(wt, level, h.inputIndex.data());
+  ASSERT_FALSE(table.empty()) << where;
+  ASSERT_EQ(table.vertexCount(), n) << where;
+  ASSERT_EQ(table.cageSize(), cage) << where;
+  // S as a dense matrix from the table's rows (caller's order).
+  std::vector<double> fromTable(n * cage, 0.0);
+  std::vector<uint32_t> cols;
+  std::vector<float> weights;
+  size_t entries = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    table.row(v, cols, weights);
+    entries += cols.size();
+    for (size_t k = 0; k < cols.size(); ++k) {
+      ASSERT_LT(cols[k], cage) << where;
+      fromTable[size_t(v) * cage + cols[k]] += weights[k];
+      // The column of cols[k] lists v.
+      ASSERT_TRUE(std::find(table.columnBegin(cols[k]), table.columnEnd(cols[k]), v) != table.columnEnd(cols[k])) << where;
+    }
+  }
+  EXPECT_EQ(entries, table.entryCount()) << where;
+  size_t columnEntries = 0;
+  for (uint32_t c = 0; c < cage; ++c) columnEntries += size_t(table.columnEnd(c) - table.columnBegin(c));
+  EXPECT_EQ(columnEntries, table.entryCount()) << where;
+  // Each unit cage coordinate synthesized.
+  double worst = 0.0;
+  std::vector<double> x(3 * n);
+  for (uint32_t c = 0; c < cage; ++c) {
+    std::fill(x.begin(), x.end(), 0.0);
+    x[3 * size_t(c)] = 1.0;
+    wt.synthesizeZeroDetails(x.data(), level);
+    for (size_t hv = 0; hv < n; ++hv)
+      worst = std::max(worst, std::fabs(x[3 * hv] - fromTable[size_t(h.inputIndex[hv]) * cage + c]));
+  }
+  EXPECT_LT(worst, 1e-6) << where;
+  // apply: base + S delta (+ origin), against the same in doubles.
+  std::vector<float> base4(4 * n, 0.0f), delta4(4 * size_t(cage), 0.0f), out4(4 * n), out3(3 * n + 1);
+  const std::vector<double> b = fixtures::randomVector(3 * n, 3), d = fixtures::randomVector(3 * size_t(cage), 5);
+  for (size_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) base4[4 * v + k] = float(b[3 * v + k]);
+  for (size_t c = 0; c < cage; ++c)
+    for (int k = 0; k < 3; ++k) delta4[4 * c + k] = float(d[3 * c + k]);
+  const float origin[3] = {1.0f, -2.0f, 0.5f};
+  table.apply(base4.data(), delta4.data(), origin, out4.data(), out3.data());
+  double applyError = 0.0;
+  for (size_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) {
+      double expected = b[3 * v + k];
+      for (uint32_t c = 0; c < cage; ++c) expected += fromTable[v * cage + c] * d[3 * c + k];
+      applyError = std::max(applyError, std::fabs(out4[4 * v + k] - expected));
+      applyError = std::max(applyError, std::fabs(out3[3 * v + k] - (expected + origin[k])));
+    }
+  EXPECT_LT(applyError, 1e-5) << where;
+  // applyRows on every other vertex writes exactly those.
+  std::vector<float> some4(4 * n, -7.0f), some3(3 * n + 1, -7.0f);
+  std::vector<uint32_t> rows;
+  for (uint32_t v = 0; v < n; v += 2) rows.push_back(v);
+  table.applyRows(rows.data(), rows.size(), base4.data(), delta4.data(), origin, some4.data(), some3.data());
+  for (uint32_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) {
+      if (v % 2 == 0) {
+        EXPECT_EQ(some4[4 * v + k], out4[4 * v + k]) << where << " vertex " << v;
+        EXPECT_EQ(some3[3 * v + k], out3[3 * v + k]) << where << " vertex " << v;
+      } else {
+        EXPECT_EQ(some3[3 * v + k], -7.0f) << where << " vertex " << v;
+      }
+    }
+}
+
+}  // namespace
+
+TEST(CageBasisTable, ColumnsAreTheZeroDetailSynthesisAtEveryLevel) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    const Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    for (const SchemeOptions& options : fixtures::allSchemes()) {
+      const WaveletTransform wt(h, options);
+      for (int level = 0; level < h.levels; ++level)
+        checkTable(h, wt, level, fx.name + " " + fixtures::label(options) + " level " + std::to_string(level));
+    }
+  }
+}
+
+TEST(CageBasisTable, RowsInAShuffledOrder) {
+  const fixtures::Fixture fx = fixtures::baseFixtures()[0];
+  const Hierarchy sub = Hierarchy::subdivide(fx.base, fx.levels);
+  TriangleMesh fine{std::vector<double>(3 * sub.fineVertexCount(), 0.0), sub.fineFaces()};
+  std::copy(fx.base.positions.begin(), fx.base.positions.end(), fine.positions.begin());
+  WaveletTransform(sub, SchemeOptions{}).synthesize(fine.positions.data(), 0);
+  const fixtures::Shuffled shuffled = fixtures::shuffle(fine, 5);
+  const Hierarchy h = Hierarchy::detect(shuffled.mesh);
+  const WaveletTransform wt(h, SchemeOptions{});
+  for (int level = 0; level < h.levels; ++level) checkTable(h, wt, level, "shuffled level " + std::to_string(level));
+}
+
+TEST(CageBasisTable, NoTableAtTheFinestLevel) {
+  const fixtures::Fixture fx = fixtures::baseFixtures()[0];
+  const Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+  const WaveletTransform wt(h, SchemeOptions{});
+  EXPECT_TRUE(CageBasisTable(wt, h.levels, h.inputIndex.data()).empty());
+}
