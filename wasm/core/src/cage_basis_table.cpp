@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #ifdef __wasm_simd128__
 #include <wasm_simd128.h>
@@ -121,7 +122,8 @@ inline void rowSum(const float* base4, const float* delta4, const uint16_t* c, c
 
 }  // namespace
 
-void CageBasisTable::apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3) const {
+void CageBasisTable::apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3,
+                           const uint32_t* outIndex) const {
   const size_t n = rowStart_.size() - 1;
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
@@ -131,20 +133,23 @@ void CageBasisTable::apply(const float* base4, const float* delta4, const float 
   for (size_t v = 0; v < n; ++v) {
     const v128_t p = rowSum(base4, delta4, c, w, start[v], start[v + 1], v);
     wasm_v128_store(out4 + 4 * v, p);
-    wasm_v128_store(out3 + 3 * v, wasm_f32x4_add(p, o));  // lane 3 is overwritten by the next vertex
+    float q[4];
+    wasm_v128_store(q, wasm_f32x4_add(p, o));
+    std::memcpy(out3 + 3 * size_t(outIndex[v]), q, 3 * sizeof(float));
   }
 #else
   for (size_t v = 0; v < n; ++v) {
     float p[3];
     rowSum(base4, delta4, c, w, start[v], start[v + 1], v, p);
     out4[4 * v] = p[0], out4[4 * v + 1] = p[1], out4[4 * v + 2] = p[2], out4[4 * v + 3] = 0.0f;
-    out3[3 * v] = p[0] + origin[0], out3[3 * v + 1] = p[1] + origin[1], out3[3 * v + 2] = p[2] + origin[2];
+    float* q = out3 + 3 * size_t(outIndex[v]);
+    q[0] = p[0] + origin[0], q[1] = p[1] + origin[1], q[2] = p[2] + origin[2];
   }
 #endif
 }
 
 void CageBasisTable::applyRows(const uint32_t* vertices, size_t count, const float* base4, const float* delta4, const float origin[3],
-                               float* out4, float* out3) const {
+                               float* out4, float* out3, const uint32_t* outIndex) const {
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
   const float* w = weight_.data();
@@ -158,8 +163,8 @@ void CageBasisTable::applyRows(const uint32_t* vertices, size_t count, const flo
     p[3] = 0.0f;
 #endif
     std::copy(p, p + 4, out4 + 4 * size_t(v));
-    // Not a vector store: the next vertex's x may not be rewritten.
-    out3[3 * size_t(v)] = p[0] + origin[0], out3[3 * size_t(v) + 1] = p[1] + origin[1], out3[3 * size_t(v) + 2] = p[2] + origin[2];
+    float* q = out3 + 3 * size_t(outIndex[v]);
+    q[0] = p[0] + origin[0], q[1] = p[1] + origin[1], q[2] = p[2] + origin[2];
   }
 }
 

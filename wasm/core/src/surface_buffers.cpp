@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "mrvol/volume_editor.h"
 
@@ -32,10 +33,14 @@ void SurfaceBuffers::merge(FinePositions::Changes& into, const FinePositions::Ch
 }
 
 void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
+  if (ringStart_.empty()) buildRing();
   if (!tableTried_) {
     tableTried_ = true;
     if (editor.cageSize() <= CageBasisTable::kMaxCage) {
-      table_ = std::make_unique<CageBasisTable>(editor.transform(), editor.level(), hierarchy_->inputIndex.data());
+      // Rows in the buffers' own (local) order.
+      std::vector<uint32_t> rowOf(vertexCount_);
+      for (size_t h = 0; h < vertexCount_; ++h) rowOf[h] = slot_[hierarchy_->inputIndex[h]];
+      table_ = std::make_unique<CageBasisTable>(editor.transform(), editor.level(), rowOf.data());
       if (table_->empty()) table_.reset();
     }
   }
@@ -86,9 +91,11 @@ void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
       for (uint32_t c : moved_)
         for (const uint32_t* v = table_->columnBegin(c); v != table_->columnEnd(c); ++v)
           if (mark_[*v] != markRound_) mark_[*v] = markRound_, rows_.push_back(*v);
-      table_->applyRows(rows_.data(), rows_.size(), base_.data(), delta_.data(), origin, relative_.data(), positions_.data());
-      const auto [first, last] = std::minmax_element(rows_.begin(), rows_.end());
-      positionsRange_[0] = rows_.empty() ? 0 : *first, positionsRange_[1] = rows_.empty() ? 0 : *last + 1;
+      table_->applyRows(rows_.data(), rows_.size(), base_.data(), delta_.data(), origin, relative_.data(), positions_.data(),
+                        order_.data());
+      uint32_t first = UINT32_MAX, end = 0;
+      for (uint32_t i : rows_) first = std::min(first, order_[i]), end = std::max(end, order_[i] + 1);
+      positionsRange_[0] = first == UINT32_MAX ? 0 : first, positionsRange_[1] = end;
       for (uint32_t c : moved_) std::copy(cage + 3 * size_t(c), cage + 3 * size_t(c) + 3, writtenCage_.begin() + 3 * size_t(c));
       if (!normalsStale_) pendingRows_.insert(pendingRows_.end(), rows_.begin(), rows_.end());
       if (pendingRows_.size() > vertexCount_ / 8) normalsStale_ = true, pendingRows_.clear();
@@ -96,7 +103,7 @@ void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
       if (withNormals) writeTableNormals();
       return;
     }
-    table_->apply(base_.data(), delta_.data(), origin, relative_.data(), positions_.data());
+    table_->apply(base_.data(), delta_.data(), origin, relative_.data(), positions_.data(), order_.data());
   }
   writtenCage_.assign(cage, cage + cage3);
   positionsRange_[0] = 0, positionsRange_[1] = uint32_t(vertexCount_);
@@ -115,6 +122,7 @@ void SurfaceBuffers::writeTableNormals() {
 
 void SurfaceBuffers::update(const double* fine, Vec3 origin, uint64_t version, const FinePositions::Changes& changes,
                             bool withNormals) {
+  if (ringStart_.empty()) buildRing();
   merge(pendingPositions_, changes);
   merge(pendingNormals_, changes);
   const size_t n = vertexCount_;
@@ -172,7 +180,7 @@ void SurfaceBuffers::writeRelative(const double* fine) {
   relative_.resize(4 * n);
   float* r = relative_.data();
   for (size_t h = 0; h < n; ++h) {
-    float* p = r + 4 * size_t(callerIsHierarchyOrder_ ? uint32_t(h) : caller[h]);
+    float* p = r + 4 * size_t(slot_[caller[h]]);
     p[0] = float(fine[3 * h]), p[1] = float(fine[3 * h + 1]), p[2] = float(fine[3 * h + 2]), p[3] = 0.0f;
   }
 }
@@ -226,6 +234,39 @@ void SurfaceBuffers::buildRing() {
     }
     ringStart_[v + 1] = uint32_t(ring_.size());
   }
+  layOut();
+}
+
+void SurfaceBuffers::layOut() {
+  // Breadth-first order over the ring's neighbours, each component from its first vertex: a vertex's
+  // neighbours sit within about two fronts of it (a few thousand vertices on a million-vertex closed
+  // surface), whatever the caller's order (a hierarchy's order puts most neighbours a megabyte away).
+  const size_t n = vertexCount_;
+  order_.clear();
+  order_.reserve(n);
+  slot_.assign(n, UINT32_MAX);
+  for (uint32_t seed = 0; seed < n; ++seed) {
+    if (slot_[seed] != UINT32_MAX) continue;
+    size_t head = order_.size();
+    slot_[seed] = uint32_t(order_.size()), order_.push_back(seed);
+    for (; head < order_.size(); ++head) {
+      const uint32_t v = order_[head];
+      for (uint32_t k = ringStart_[v]; k < ringStart_[v + 1]; ++k) {
+        const uint32_t w = ring_[k];
+        if (slot_[w] == UINT32_MAX) slot_[w] = uint32_t(order_.size()), order_.push_back(w);
+      }
+    }
+  }
+  // The rings in that order, naming neighbours by their slots.
+  std::vector<uint32_t> start(n + 1, 0), ring(ring_.size());
+  std::vector<uint8_t> closed(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t v = order_[i];
+    start[i + 1] = start[i] + (ringStart_[v + 1] - ringStart_[v]);
+    closed[i] = closedRing_[v];
+    for (uint32_t k = ringStart_[v], at = start[i]; k < ringStart_[v + 1]; ++k, ++at) ring[at] = slot_[ring_[k]];
+  }
+  ringStart_ = std::move(start), ring_ = std::move(ring), closedRing_ = std::move(closed);
 }
 
 namespace {
@@ -288,14 +329,18 @@ inline void vertexNormal(const float* r, const uint32_t* ring, const uint32_t* r
 }  // namespace
 
 void SurfaceBuffers::gatherNormals() {
-  if (ringStart_.empty()) buildRing();
   const size_t n = vertexCount_;
   const float* r = relative_.data();
   const uint32_t* start = ringStart_.data();
   const uint32_t* ring = ring_.data();
   float* out = normals_.data();
   const uint8_t* closed = closedRing_.data();
-  for (size_t v = 0; v < n; ++v) vertexNormal(r, ring + start[v], ring + start[v + 1], closed[v], v, out + 3 * v);
+  const uint32_t* order = order_.data();
+  for (size_t i = 0; i < n; ++i) {
+    float normal[4];
+    vertexNormal(r, ring + start[i], ring + start[i + 1], closed[i], i, normal);
+    std::memcpy(out + 3 * size_t(order[i]), normal, 3 * sizeof(float));
+  }
   normalsRange_[0] = 0, normalsRange_[1] = uint32_t(n);
 }
 
@@ -305,15 +350,15 @@ void SurfaceBuffers::writeSomeNormals(const double* fine) {
   float* r = relative_.data();
   rows_.clear();
   for (uint32_t h : pendingNormals_.vertices) {
-    float* p = r + 4 * size_t(caller[h]);
+    const uint32_t i = slot_[caller[h]];
+    float* p = r + 4 * size_t(i);
     p[0] = float(fine[3 * size_t(h)]), p[1] = float(fine[3 * size_t(h) + 1]), p[2] = float(fine[3 * size_t(h) + 2]);
-    rows_.push_back(caller[h]);
+    rows_.push_back(i);
   }
   gatherSomeNormals(rows_);
 }
 
 void SurfaceBuffers::gatherSomeNormals(const std::vector<uint32_t>& moved) {
-  if (ringStart_.empty()) buildRing();
   if (++markRound_ == 0) std::fill(mark_.begin(), mark_.end(), 0), markRound_ = 1;
   // The moved vertices and every vertex of a face around them are affected.
   affected_.clear();
@@ -327,10 +372,10 @@ void SurfaceBuffers::gatherSomeNormals(const std::vector<uint32_t>& moved) {
   uint32_t first = UINT32_MAX, end = 0;
   const float* r = relative_.data();
   float* out = normals_.data();
-  for (uint32_t v : affected_) {
-    // Through a spare slot: the vector store of the next vertex's normal must not be overwritten.
+  for (uint32_t i : affected_) {
     float normal[4];
-    vertexNormal(r, ring_.data() + ringStart_[v], ring_.data() + ringStart_[v + 1], closedRing_[v], v, normal);
+    vertexNormal(r, ring_.data() + ringStart_[i], ring_.data() + ringStart_[i + 1], closedRing_[i], i, normal);
+    const uint32_t v = order_[i];
     std::copy(normal, normal + 3, out + 3 * size_t(v));
     first = std::min(first, v), end = std::max(end, v + 1);
   }

@@ -18,20 +18,21 @@ class CageBasisTable {
   static constexpr uint32_t kMaxCage = 65535;         // cage indices are 16-bit; larger cages: no table (empty())
   static constexpr size_t kMaxEntriesPerVertex = 24;  // longer rows on average: no table
 
-  // Rows in the caller's vertex order (callerIndex: hierarchy index -> caller's index).
+  // Row callerIndex[h] is the hierarchy vertex h's (any one-to-one numbering: the caller's vertex
+  // order, or the renderer buffers' own).
   CageBasisTable(const WaveletTransform& transform, int level, const uint32_t* callerIndex);
   bool empty() const { return rowStart_.empty(); }
   size_t entryCount() const { return weight_.size(); }
   size_t vertexCount() const { return rowStart_.empty() ? 0 : rowStart_.size() - 1; }
   uint32_t cageSize() const { return uint32_t(columnStart_.size() - 1); }
 
-  // For every fine vertex v (caller's order): out4[v] = base4[v] + sum over its row of w * delta4[c]
-  // (4 floats a vertex, lane 3 zero), and out3[v] = out4[v] + origin (3 floats a vertex; out3 has
-  // one float more than 3 N: a vector store per vertex runs over by one).
-  void apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3) const;
-  // The same for the listed vertices only (caller's order).
+  // For every row v: out4[v] = base4[v] + sum over its row of w * delta4[c] (4 floats a row, lane 3
+  // zero), and out3[outIndex[v]] = out4[v] + origin (3 floats a vertex: the rows may be in an order of
+  // their own, the output in the caller's).
+  void apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3, const uint32_t* outIndex) const;
+  // The same for the listed rows only.
   void applyRows(const uint32_t* vertices, size_t count, const float* base4, const float* delta4, const float origin[3],
-                 float* out4, float* out3) const;
+                 float* out4, float* out3, const uint32_t* outIndex) const;
   // The fine vertices (caller's order) whose rows read cage vertex c.
   const uint32_t* columnBegin(uint32_t c) const { return columnVertex_.data() + columnStart_[c]; }
   const uint32_t* columnEnd(uint32_t c) const { return columnVertex_.data() + columnStart_[c + 1]; }

@@ -56,7 +56,8 @@ class SurfaceBuffers {
   void writeSomeNormals(const double* fine);  // around pendingNormals_
   void gatherSomeNormals(const std::vector<uint32_t>& moved);  // around these (caller's order), from relative_
   void writeTableNormals();  // the cage path's: all (normalsStale_) or around pendingRows_
-  void buildRing();
+  void buildRing();  // ring_ and the local order
+  void layOut();     // order_, slot_, and the rings in that order
   void gatherNormals();  // every vertex's, from relative_
   static void merge(FinePositions::Changes& into, const FinePositions::Changes& changes);
 
@@ -64,15 +65,18 @@ class SurfaceBuffers {
   size_t vertexCount_;
   bool callerIsHierarchyOrder_;  // then no reordering (meshes written by our own subdivision)
   std::vector<float> positions_, normals_;
-  // The positions relative to the reference point, caller's order, 4 floats a vertex (one SIMD
-  // register; lane 3 zero).
+  // The buffers' own vertex order, local (neighbours near each other: the normals' gather stays in
+  // cache): order_[i] is the caller's vertex in slot i, slot_ its inverse. Everything below except
+  // the output buffers is in slots.
+  std::vector<uint32_t> order_, slot_;
+  // The positions relative to the reference point, 4 floats a slot (one SIMD register; lane 3 zero).
   std::vector<float> relative_;
-  // The faces around each vertex v (CSR, caller's order): when its fan is closed (closedRing_), its
+  // The faces around each vertex v (CSR, by slot, neighbours named by slot): when its fan is closed (closedRing_), its
   // neighbors in order (face i: v, ring i, ring i + 1), else for each face (v, a, b) in its
   // orientation the pair a, b. A face's cross product (a - v) x (b - v) is twice its area times its normal.
   std::vector<uint32_t> ringStart_, ring_;
   std::vector<uint8_t> closedRing_;
-  // For updates of a few vertices: a mark per vertex, and the changes not yet written.
+  // For updates of a few vertices: a mark per slot, and the changes not yet written.
   std::vector<uint32_t> mark_, affected_;
   uint32_t markRound_ = 0;
   FinePositions::Changes pendingPositions_, pendingNormals_;
