@@ -48,7 +48,9 @@ function maxError(a, b, scale = 1) {
 }
 const size = (p) => p.reduce((m, x) => Math.max(m, Math.abs(x)), 0);
 
-function checkBuffers(mr, ed, faces, where) {
+// normalsFirst: as the app asks (normalsView() first: positions and normals in one pass).
+function checkBuffers(mr, ed, faces, where, normalsFirst = false) {
+  if (normalsFirst) ed.normalsView();
   const positions = ed.positionsView();
   assert.ok(positions instanceof Float32Array, where);
   const fresh = freshSynthesis(mr, ed);
@@ -70,7 +72,7 @@ function dragMany(mr, ed, faces, { drags = 80, every = 10, seed = 1, preserve = 
     const report = ed.moveVertices([{ vertex, offset: [0, 1, 2].map(() => 0.02 * scale * (2 * r() - 1)) }], { preserve });
     assert.equal(report.converged, true, `${where}: ${report.message}`);
     if (d % every === 0 || d === drags) {
-      checkBuffers(mr, ed, faces, `${where}, drag ${d}`);
+      checkBuffers(mr, ed, faces, `${where}, drag ${d}`, (d / every) % 2 === 1);
       assert.notEqual(ed.surfaceVersion, version, `${where}: the version changes with the positions`);
       version = ed.surfaceVersion;
     }
