@@ -134,7 +134,8 @@ async function editSteps(bytes) {
     }
     levels[level] = { path: ed.path(), cage: ed.cageSize, setupCpuMs, stepMs: median(parts.step),
                       surfaceMs: median(parts.surface), positionsMs: median(split.positions), normalsMs: median(split.normals),
-                      frameMs: median(parts.step.map((x, i) => x + parts.surface[i])), worst,
+                      frameMs: median(parts.step.map((x, i) => x + parts.surface[i])),
+                      fastestFrameMs: Math.min(...parts.step.map((x, i) => x + parts.surface[i])), worst,
                       corrected, correctMs: median(correcting.step), correctPositionsMs: median(correcting.positions),
                       wall: { stepMs: median(wall.step), surfaceMs: median(wall.surface),
                               frameMs: median(wall.step.map((x, i) => x + wall.surface[i])),
@@ -257,7 +258,8 @@ const editSection = [
   "steps corrected says how many needed one); surface: normalsView() then positionsView(), as the app asks for them",
   "(web/surface-upload.js: the fine positions, float32 in the caller's order, and area-weighted normals, in one pass).",
   'Apart: 10 more steps with positionsView() alone, then normalsView(). CPU time per part (user + system of',
-  'the process), median over the steps; frame: the median of step + surface; wall: the same from performance.now() (it counts',
+  'the process), median over the steps; frame: the median of step + surface (fastest: the lowest of the 20, the cost with the',
+  "least interference from other processes); wall: the same from performance.now() (it counts",
   "other processes' turns on a loaded machine). Node runs with --no-liftoff (every WASM function optimized before the",
   "first step, as the app's hot loops are after a few frames; no background tier-up in the timed steps). Correcting:",
   '10 more steps with tolerance 1e-10, so that each corrects the volume over the whole free set (step, and positions',
@@ -265,10 +267,10 @@ const editSection = [
   'after each level.',
   'The hierarchy found in these files starts at 12 vertices: e = 3 is the 642-vertex spiky ball, e = 5 a cage of 10,242.',
   '',
-  '| vertices | e | cage | path | set-up ms | step ms | surface ms | frame ms | goal ms | apart: positions, normals ms | wall: step, surface, frame ms | steps corrected | worst rel. volume error | correcting: step ms | positions ms | wall: step, positions ms | load |',
-  '| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |',
+  '| vertices | e | cage | path | set-up ms | step ms | surface ms | frame ms | goal ms | fastest frame ms | apart: positions, normals ms | wall: step, surface, frame ms | steps corrected | worst rel. volume error | correcting: step ms | positions ms | wall: step, positions ms | load |',
+  '| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |',
   ...editRows.map((r) => `| ${r.n} | ${r.level} | ${r.cage} | ${r.path} | ${f0(r.setupCpuMs)} | ${r.stepMs.toFixed(2)} | ` +
-    `${r.surfaceMs.toFixed(2)} | ${f1(r.frameMs)} | ${frameGoal(r.n)} ${verdict(r.frameMs <= frameGoal(r.n))} | ` +
+    `${r.surfaceMs.toFixed(2)} | ${f1(r.frameMs)} | ${frameGoal(r.n)} ${verdict(r.frameMs <= frameGoal(r.n))} | ${f1(r.fastestFrameMs)} | ` +
     `${r.positionsMs.toFixed(2)}, ${r.normalsMs.toFixed(2)} | ${r.wall.stepMs.toFixed(2)}, ${r.wall.surfaceMs.toFixed(2)}, ${f1(r.wall.frameMs)} | ` +
     `${r.corrected}/${EDIT_STEPS} | ${r.worst.toExponential(1)} | ${r.correctMs.toFixed(2)} | ${r.correctPositionsMs.toFixed(2)} | ` +
     `${r.wall.correctMs.toFixed(2)}, ${r.wall.correctPositionsMs.toFixed(2)} | ${r.load.map((x) => x.toFixed(1)).join(' -> ')} |`),

@@ -61,13 +61,16 @@ void checkBuffers(VolumeEditor& editor, SurfaceBuffers& buffers, const std::vect
 // Drags at `level`: at the finest ones, a move of one vertex without preservation rewrites only the
 // vertices of its stencil and the normals around them.
 void dragAndCheck(const Hierarchy& h, const std::vector<double>& callerPositions, const std::vector<uint32_t>& callerFaces,
-                  const std::string& name, int level, bool fromEditor) {
+                  const std::string& name, int level, bool fromEditor, int expectCallerOrder = -1) {
   WaveletTransform wt(h, SchemeOptions{});
   VolumeEditor editor(h, wt, level, callerPositions.data());
   editor.usePolynomial();
   SurfaceBuffers buffers(h);
   const std::string at = name + " level " + std::to_string(level) + (fromEditor ? " from the editor" : " from the fine positions");
   checkBuffers(editor, buffers, callerFaces, at + " before edits", fromEditor);
+  if (expectCallerOrder >= 0) {
+    EXPECT_EQ(buffers.inCallerOrder(), expectCallerOrder == 1) << at;
+  }
   std::vector<uint8_t> held(editor.cageSize(), 0);
   for (int drag = 0; drag < 12; ++drag) {
     std::vector<double> target = editor.cagePositions();
@@ -95,7 +98,7 @@ TEST(SurfaceBuffers, FollowTheEditsInTheHierarchyOrder) {
     std::vector<double> positions(3 * h.fineVertexCount(), 0.0);
     std::copy(fx.base.positions.begin(), fx.base.positions.end(), positions.begin());
     WaveletTransform(h, SchemeOptions{}).synthesize(positions.data(), 0);
-    for (int level : {0, h.levels - 1})
+    for (int level : {0, 1, h.levels - 1})
       for (bool fromEditor : {false, true}) dragAndCheck(h, positions, h.fineFaces(), fx.name, level, fromEditor);
   }
 }
@@ -113,5 +116,33 @@ TEST(SurfaceBuffers, FollowTheEditsInAShuffledOrder) {
   ASSERT_TRUE(reordered);
   for (int level : {0, h.levels - 1})
     for (bool fromEditor : {false, true})
-      dragAndCheck(h, shuffled.mesh.positions, shuffled.mesh.faces, "shuffled icosahedron", level, fromEditor);
+      dragAndCheck(h, shuffled.mesh.positions, shuffled.mesh.faces, "shuffled icosahedron", level, fromEditor, 0);
+}
+
+// A caller's order that is local already (breadth-first, as many files are): the buffers keep it.
+TEST(SurfaceBuffers, KeepALocalCallerOrder) {
+  const fixtures::Fixture fx = fixtures::baseFixtures()[0];
+  const Hierarchy sub = Hierarchy::subdivide(fx.base, fx.levels);
+  std::vector<double> positions(3 * sub.fineVertexCount(), 0.0);
+  std::copy(fx.base.positions.begin(), fx.base.positions.end(), positions.begin());
+  WaveletTransform(sub, SchemeOptions{}).synthesize(positions.data(), 0);
+  const std::vector<uint32_t>& faces = sub.fineFaces();
+  const size_t n = sub.fineVertexCount();
+  std::vector<std::vector<uint32_t>> neighbours(n);
+  for (size_t t = 0; t < faces.size(); t += 3)
+    for (int k = 0; k < 3; ++k) neighbours[faces[t + k]].push_back(faces[t + (k + 1) % 3]);
+  std::vector<uint32_t> label(n, UINT32_MAX), order{0};
+  label[0] = 0;
+  for (size_t head = 0; head < order.size(); ++head)
+    for (uint32_t w : neighbours[order[head]])
+      if (label[w] == UINT32_MAX) label[w] = uint32_t(order.size()), order.push_back(w);
+  ASSERT_EQ(order.size(), n);
+  TriangleMesh mesh{std::vector<double>(3 * n), {}};
+  for (size_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) mesh.positions[3 * label[v] + k] = positions[3 * v + k];
+  for (uint32_t v : faces) mesh.faces.push_back(label[v]);
+  const Hierarchy h = Hierarchy::detect(mesh);
+  for (int level : {0, h.levels - 1})
+    for (bool fromEditor : {false, true})
+      dragAndCheck(h, mesh.positions, mesh.faces, "breadth-first icosahedron", level, fromEditor, 1);
 }

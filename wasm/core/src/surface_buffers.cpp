@@ -238,11 +238,24 @@ void SurfaceBuffers::buildRing() {
 }
 
 void SurfaceBuffers::layOut() {
-  // Breadth-first order over the ring's neighbours, each component from its first vertex: a vertex's
-  // neighbours sit within about two fronts of it (a few thousand vertices on a million-vertex closed
-  // surface), whatever the caller's order (a hierarchy's order puts most neighbours a megabyte away).
+  // The caller's order when it is local already (most files: each vertex's neighbours near it, and
+  // then the output buffers are written in order too); else a breadth-first order over the ring's
+  // neighbours, each component from its first vertex: a vertex's neighbours sit within about two
+  // fronts of it (a few thousand vertices on a million-vertex closed surface), whatever the caller's
+  // order (a hierarchy's order puts most neighbours a megabyte away).
   const size_t n = vertexCount_;
+  const size_t near = std::max<size_t>(64, n / 64);
+  size_t far = 0;
+  for (uint32_t v = 0; v < n; ++v)
+    for (uint32_t k = ringStart_[v]; k < ringStart_[v + 1]; ++k) far += (ring_[k] > v ? ring_[k] - v : v - ring_[k]) > near;
   order_.clear();
+  inCallerOrder_ = far * 10 < ring_.size();
+  if (inCallerOrder_) {
+    order_.resize(n);
+    for (uint32_t v = 0; v < n; ++v) order_[v] = v;
+    slot_ = order_;
+    return;
+  }
   order_.reserve(n);
   slot_.assign(n, UINT32_MAX);
   for (uint32_t seed = 0; seed < n; ++seed) {

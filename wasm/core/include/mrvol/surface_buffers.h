@@ -38,6 +38,9 @@ class SurfaceBuffers {
   void update(const double* fine, Vec3 origin, uint64_t version, const FinePositions::Changes& changes, bool withNormals);
 
   size_t vertexCount() const { return vertexCount_; }
+  // Whether the buffers work in the caller's order (it is local) rather than an order of their own
+  // (known after the first update; for tests).
+  bool inCallerOrder() const { return inCallerOrder_; }
   const float* positions() const { return positions_.data(); }
   const float* normals() const { return normals_.data(); }
   // Changes whenever the positions written change.
@@ -69,6 +72,7 @@ class SurfaceBuffers {
   // cache): order_[i] is the caller's vertex in slot i, slot_ its inverse. Everything below except
   // the output buffers is in slots.
   std::vector<uint32_t> order_, slot_;
+  bool inCallerOrder_ = false;
   // The positions relative to the reference point, 4 floats a slot (one SIMD register; lane 3 zero).
   std::vector<float> relative_;
   // The faces around each vertex v (CSR, by slot, neighbours named by slot): when its fan is closed (closedRing_), its
