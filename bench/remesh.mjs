@@ -119,7 +119,9 @@ Written by \`node bench/remesh.mjs\`: \`remesh\` (lib/remesh.mjs) through the No
 corpus (scripts/corpus.mjs, made into .cache/corpus by \`node scripts/make-corpus.mjs\`), read by the WASM
 core's readers, with the defaults and \`repair: true\` (what \`mrvol remesh FILE --repair -o OUT\` does):
 default levels (from 2, more while the two-sided Hausdorff distance is above 0.5% and the vertices stay
-within max(2x the input's, 10000); then tips kept in the base and larger bases for the pieces still far), sharp features kept. One
+within max(2x the input's, 10000); then tips kept in the base and larger bases for the pieces still far), sharp features kept
+(the last two rows give the levels and base size: then the tips are kept in a base of that size and held on
+their tip vertex during the fit, the closer fit kept). One
 run per row after a warm-up; the last column is when the row was measured (the slow models run apart:
 \`node bench/remesh.mjs dragon-871k\`). Hausdorff: sampled both ways (vertices, centroids and three interior points
 per face), relative to the bounding-box diagonal of the (repaired) input. Time: the whole pipeline (repair,
