@@ -836,7 +836,7 @@ export async function remesh(mrvol, input, options = {}) {
   // Fitted pieces by base (a retry often makes some pieces' bases again).
   const fitted = new Map();
   // baseScale: one factor, or one per piece; keep: fitted parts to reuse as they are (at `levels`).
-  const fit = (levels, fraction, share, baseScale = 1, keep = null) => {
+  const fit = (levels, fraction, share, baseScale = 1, keep = null, size = null) => {
     // Folds left after untangling: once more without the feature constraints (if any), then
     // (unless the base size is given) with a base twice and four times as large.
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
@@ -862,8 +862,9 @@ export async function remesh(mrvol, input, options = {}) {
       const baseFaces = bases.reduce((t, b, i) => t + (b ? b.base.faces.length / 3 : keep[i].baseFaces), 0);
       let used = levels;
       while (auto && used > 0 && (baseFaces * 4 ** used) / 2 > budget) used--;
-      // Kept parts need the same levels (else no fit of this size).
-      if (keep && used !== levels) return null;
+      // Kept parts need the same levels (else no fit of this size); a base of another size than
+      // asked for (locked tips change the simplifier's count) is not fitted.
+      if ((keep && used !== levels) || (size !== null && baseFaces !== size)) return null;
       let done = 0;
       const parts = pieces.map((piece, i) => {
         if (keep?.[i]) return keep[i];
@@ -931,9 +932,8 @@ export async function remesh(mrvol, input, options = {}) {
   // One fit, kept if it is the first or closer to the input; false if it folded.
   const tryFit = (levels, baseScale, keep = null, baseFaces = null) => {
     const fraction = Math.min(0.8, 0.05 + 0.25 * tried.length);
-    const attempt = fit(levels, fraction, auto ? 0.25 : 0.2, baseScale, keep);
-    // A base of another size than asked for (the locked tips change the simplifier's count).
-    if (!attempt || (baseFaces !== null && attempt.baseFaces !== baseFaces)) return false;
+    const attempt = fit(levels, fraction, auto ? 0.25 : 0.2, baseScale, keep, baseFaces);
+    if (!attempt) return false;
     tried.push({ levels, baseFaces: attempt.baseFaces, flipped: attempt.flippedTriangles });
     if (attempt.flippedTriangles > 0 && !options.allowFlipped) {
       if (result) return false;  // a fit without folds is kept
@@ -956,6 +956,7 @@ export async function remesh(mrvol, input, options = {}) {
   // the tips held on their input vertex during the fit (a held tip next to a fold left is let go):
   // the dragon sample 0.74% -> 0.42%. By default they relax like the other vertices: held, they
   // folded the corpus's dragons and teapot more than they brought them closer.
+  // With only the levels given (the app's remeshing offer): no tips rounds, one fit as before.
   const tipsRounds = (sameSize) => {
     for (let round = 0; round < 3 && distance(measured) > goal; round++) {
       const added = addTips(mesh, measured.surface, goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
@@ -969,7 +970,7 @@ export async function remesh(mrvol, input, options = {}) {
     }
   };
   if (!auto) {
-    if (tryFit(options.levels, 1)) tipsRounds(true);
+    if (tryFit(options.levels, 1) && options.baseFaces !== undefined) tipsRounds(true);
   } else {
     // From 2 levels (fewer if even 2 exceed the budget), one more while the distance is above the
     // goal and the vertices fit the budget; then, if still above it, tips kept in the base, then a
