@@ -100,6 +100,20 @@ describe('remesh (API)', () => {
     assert.ok(r.hausdorffFromInput < 0.01, `input to result ${r.hausdorffFromInput}`);
   });
 
+  test('levels and base size given: the tips kept in the base leave the size as asked (the dragon sample within 0.5%)', async () => {
+    const options = { levels: 2, baseFaces: 1200, repair: true, keepLargest: true, smooth: 3 };
+    const r = await remesh(mrvol, dragonMesh(), options);
+    assert.equal(r.flippedTriangles, 0);
+    assert.equal(r.levels, 2);
+    // Every fit tried has the first fit's base (tips locked in a base of that size, none larger).
+    assert.ok(r.fits.length > 1, 'a first fit beyond 0.5% is followed by one with its tips kept');
+    for (const f of r.fits) assert.equal(f.baseFaces, r.fits[0].baseFaces);
+    assert.equal(r.baseFaces, r.fits[0].baseFaces);
+    assert.ok(r.fits[0].hausdorff > 0.005, `first fit ${r.fits[0].hausdorff}`);
+    assert.ok(r.hausdorff <= 0.005, `hausdorff ${r.hausdorff}`);
+    assert.equal(r.vertices, (r.faces / 2) + 2 - 2 * r.input.genus);
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
