@@ -99,25 +99,26 @@ uint32_t parseIndex(std::string_view digits, std::string_view token, size_t line
   }
   const bool negative = digits[0] == '-';
   const size_t start = (digits[0] == '-' || digits[0] == '+') ? 1 : 0;
-  const std::string prefix = vertex ? "face index " : std::string("face ") + what + " index ";
-  if (start == digits.size()) throw Error(at(line) + prefix + shorten(token) + " is not an integer");
+  // Built for a message only: this runs for every corner of every face.
+  auto prefix = [&] { return vertex ? std::string("face index ") : std::string("face ") + what + " index "; };
+  if (start == digits.size()) throw Error(at(line) + prefix() + shorten(token) + " is not an integer");
   uint64_t value = 0;
   for (size_t i = start; i < digits.size(); ++i) {
     const unsigned digit = unsigned(digits[i]) - '0';
-    if (digit > 9) throw Error(at(line) + prefix + shorten(token) + " is not an integer");
+    if (digit > 9) throw Error(at(line) + prefix() + shorten(token) + " is not an integer");
     value = value * 10 + digit;
-    if (value > kMaxIndex) throw Error(at(line) + prefix + shorten(digits) + " is out of range");
+    if (value > kMaxIndex) throw Error(at(line) + prefix() + shorten(digits) + " is out of range");
   }
   // A texture or normal reference that points nowhere is dropped, not refused: mrvol needs the
   // positions, and files in the wild carry such references.
   if (value == 0) {
     if (!vertex) return kNoIndex;
-    throw Error(at(line) + prefix + "0 is not valid (OBJ indices start at 1)");
+    throw Error(at(line) + prefix() + "0 is not valid (OBJ indices start at 1)");
   }
   if (negative) {
     if (value > soFar) {
       if (!vertex) return kNoIndex;
-      throw Error(at(line) + "relative " + prefix + shorten(digits) + " reaches before the first vertex (" +
+      throw Error(at(line) + "relative " + prefix() + shorten(digits) + " reaches before the first vertex (" +
                   std::to_string(soFar) + " vertices so far)");
     }
     return uint32_t(soFar - value);
