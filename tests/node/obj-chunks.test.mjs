@@ -5,12 +5,11 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
-import { join } from 'node:path';
 import { createMrvol, MrvolError, readObjFile } from '../../lib/node.mjs';
 import { tempFolder, model } from './helpers.mjs';
 
 const mrvol = await createMrvol();
-const folder = tempFolder('mrvol-obj-chunks-test-');
+const file = tempFolder('mrvol-obj-chunks-test-');
 const encode = (text) => new TextEncoder().encode(text);
 
 // Every form readObj takes: BOM, CRLF, comments, colours, w, vt / vn, negative indices, polygons.
@@ -70,14 +69,14 @@ test('createObjReader: a spent reader refuses more, and chunks must be bytes', (
 
 test('readObjFile: a file read in small chunks equals readObj of its bytes; a missing file is named', async () => {
   const bytes = readFileSync(model('spiky-ball'));
-  const path = join(folder, 'forms.obj');
+  const path = file('forms.obj');
   writeFileSync(path, FORMS);
   assert.deepEqual(await readObjFile(mrvol, model('spiky-ball'), { chunkBytes: 1000 }), mrvol.readObj(bytes));
   const fractions = [];
   assert.deepEqual(await readObjFile(mrvol, path, { chunkBytes: 7, onProgress: (f) => fractions.push(f) }), mrvol.readObj(FORMS));
   assert.equal(fractions.length, Math.ceil(encode(FORMS).length / 7));
   assert.equal(fractions.at(-1), 1);
-  await assert.rejects(readObjFile(mrvol, join(folder, 'missing.obj')), /cannot read .*missing\.obj: no such file/);
+  await assert.rejects(readObjFile(mrvol, file('missing.obj')), /cannot read .*missing\.obj: no such file/);
 });
 
 test('readObj: a file larger than one chunk (16 MB) is read in chunks, every line in place', () => {
