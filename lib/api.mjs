@@ -121,8 +121,9 @@ export function wrapModule(module) {
    * An OBJ file read in chunks as they arrive (a file read piece by piece, a stream): push(bytes)
    * each chunk (a Uint8Array, split anywhere), then finish() gives what readObj gives for the whole
    * file. Errors (MrvolError, with the line) come from the push that completes the bad line or
-   * from finish; the reader is then spent. `size`, the file's size when known, lets the arrays be
-   * sized once. cancel() frees a reader that will not be finished.
+   * from finish; the reader is then spent. `size`: the file's size when known. cancel() frees a
+   * reader that will not be finished. The app reads a File with file.slice(at, at + 16 MB)
+   * .arrayBuffer() and pushes each piece, so that neither it nor the heap holds the whole text.
    */
   function createObjReader({ size = 0 } = {}) {
     let raw = new module._ObjReader(Number(size) > 0 ? Number(size) : 0);

@@ -547,13 +547,10 @@ void ObjReader::take(std::string_view chunk) {
   if (last > p) {
     const LineCounts counts = countLines(std::string_view(p, size_t(last - p)));
     checkMeshSize(parser_->mesh.vertexCount() + counts.v, parser_->mesh.faceCount() + counts.f);
-    // With the file's size known, room for the whole file at this chunk's density: the arrays
-    // grow once or twice in all, not at every chunk.
-    double scale = 1;
-    if (expected_ > seen_) scale = 1.0 + 1.02 * double(expected_ - seen_) / double(last - p);
-    const bool short_ = parser_->mesh.positions.size() + 3 * counts.v > parser_->mesh.positions.capacity() ||
-                        parser_->mesh.faces.size() + 3 * counts.f > parser_->mesh.faces.capacity();
-    if (short_) parser_->reserve(size_t(double(counts.v) * scale) + 16, size_t(double(counts.f) * scale) + 16);
+    // Room for this chunk's lines; reserve() grows by half the capacity at least, so the arrays
+    // reallocate a logarithmic number of times. (No extrapolation from the file's size: OBJ files
+    // put their v lines first, so a first chunk's density says nothing of the faces to come.)
+    parser_->reserve(counts.v, counts.f);
     parser_->scan(p, last);
   }
   partial_.append(last, size_t(end - last));

@@ -13,8 +13,7 @@ namespace mrvol {
 
 class ObjReader {
  public:
-  // expectedBytes: the file's size when known (0: unknown), so that the arrays are sized once
-  // from the first chunk's density instead of growing at every chunk.
+  // expectedBytes: the file's size when known (0: unknown), for progress (fraction()).
   explicit ObjReader(size_t expectedBytes = 0);
   ~ObjReader();
   ObjReader(const ObjReader&) = delete;
@@ -27,6 +26,7 @@ class ObjReader {
   TriangleMesh finish(SourceLines* lines = nullptr, ObjExtras* extras = nullptr);
 
   size_t bytesRead() const { return seen_; }
+  double fraction() const { return expected_ > 0 ? double(seen_) / double(expected_) : 0.0; }
 
   struct Parser;  // the reading state, shared with readObj
 
