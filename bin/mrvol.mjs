@@ -6,7 +6,7 @@ import { open, readFile } from 'node:fs/promises';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { parseArgs } from 'node:util';
-import { createMrvol, MrvolError } from '../lib/node.mjs';
+import { createMrvol, MrvolError, readObjFile } from '../lib/node.mjs';
 import { chooseGradientPath } from '../lib/api.mjs';
 import { Progress } from './progress.mjs';
 import { QUAD_COMMANDS } from './quad-commands.mjs';
@@ -232,6 +232,19 @@ async function readFileWithProgress(path) {
   }
 }
 
+// An OBJ file read in chunks straight into the WASM reader (never whole in memory), with a progress bar.
+async function readObjWithProgress(mrvol, path) {
+  const bar = progress(`reading ${path}`);
+  try {
+    return await readObjFile(mrvol, path, { onProgress: (fraction) => bar.update(fraction) });
+  } catch (e) {
+    if (e instanceof MrvolError && !e.message.startsWith(`cannot read ${path}`)) throw new MrvolError(`${path}: ${e.message}`);
+    throw e;
+  } finally {
+    bar.done();
+  }
+}
+
 function writeText(path, text) {
   try {
     writeFileSync(path, text);
@@ -256,9 +269,9 @@ function gltfResources(path, bytes) {
 // Reads a mesh file: OBJ (bytes straight into the WASM heap); STL, PLY, OFF, glTF, GLB by
 // extension or content. Errors name the file.
 async function loadMesh(mrvol, path) {
+  if (/\.obj$/i.test(path)) return readObjWithProgress(mrvol, path);
   const bytes = await readFileWithProgress(path);
   try {
-    if (/\.obj$/i.test(path)) return mrvol.readObj(bytes);
     return mrvol.readMesh(bytes, { name: path, resources: /\.gltf$/i.test(path) ? gltfResources(path, bytes) : undefined });
   } catch (e) {
     if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);

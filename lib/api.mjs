@@ -95,6 +95,9 @@ function linesOf(mesh) {
 }
 
 // OBJ input as bytes: a Uint8Array as it is, a string encoded as UTF-8 (one fast native copy).
+// OBJ bytes beyond this go into the WASM heap in chunks of this size (ObjReader), not at once.
+const OBJ_CHUNK_BYTES = 16 << 20;
+
 function objBytes(input, what) {
   if (input instanceof Uint8Array) return input;
   if (typeof input === 'string') return new TextEncoder().encode(input);
@@ -113,6 +116,54 @@ export function wrapModule(module) {
     if (error) throw new MrvolError(error);
     return result;
   };
+
+  /**
+   * An OBJ file read in chunks as they arrive (a file read piece by piece, a stream): push(bytes)
+   * each chunk (a Uint8Array, split anywhere), then finish() gives what readObj gives for the whole
+   * file. Errors (MrvolError, with the line) come from the push that completes the bad line or
+   * from finish; the reader is then spent. `size`: the file's size when known. cancel() frees a
+   * reader that will not be finished. The app reads a File with file.slice(at, at + 16 MB)
+   * .arrayBuffer() and pushes each piece, so that neither it nor the heap holds the whole text.
+   */
+  function createObjReader({ size = 0 } = {}) {
+    let raw = new module._ObjReader(Number(size) > 0 ? Number(size) : 0);
+    const check = () => {
+      const error = module._takeObjReaderError();
+      if (!error) return;
+      raw.delete();
+      raw = null;
+      throw new MrvolError(error);
+    };
+    const live = () => {
+      if (!raw) throw new MrvolError('this OBJ reader has finished (or failed); make a new one');
+      return raw;
+    };
+    return {
+      push(chunk) {
+        if (!(chunk instanceof Uint8Array)) throw new MrvolError('an OBJ chunk must be a Uint8Array');
+        const r = live();
+        const address = r.buffer(chunk.length);
+        check();
+        module.HEAPU8.set(chunk, address);  // the heap's view after buffer() (it may have grown)
+        r.feed(chunk.length);
+        check();
+      },
+      finish() {
+        const mesh = live().finish();
+        check();
+        raw.delete();
+        raw = null;
+        return mesh;
+      },
+      cancel() {
+        raw?.delete();
+        raw = null;
+      },
+      get bytesRead() {
+        return raw ? raw.bytesRead() : 0;
+      },
+    };
+  }
 
   /** A volume tensor theta^e with the header that says what it was computed for. */
   class Theta {
@@ -583,8 +634,14 @@ export function wrapModule(module) {
      * corner, 0xffffffff where none).
      */
     readObj(input) {
-      return call(module._readObj, objBytes(input, 'readObj'));
+      const bytes = objBytes(input, 'readObj');
+      if (bytes.length <= OBJ_CHUNK_BYTES) return call(module._readObj, bytes);
+      // A large file goes in in chunks: the heap never holds its whole text.
+      const reader = createObjReader({ size: bytes.length });
+      for (let at = 0; at < bytes.length; at += OBJ_CHUNK_BYTES) reader.push(bytes.subarray(at, at + OBJ_CHUNK_BYTES));
+      return reader.finish();
     },
+    createObjReader,
     /**
      * The original OBJ file (Uint8Array or string, as given to readObj) with its vertex positions
      * replaced (Float64Array, 3 per vertex, the same count): every other line and byte kept

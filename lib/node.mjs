@@ -1,6 +1,6 @@
 // Node entry point: loads the Node build of the WASM module (build/wasm, made by `npm test`,
 // `npm start` or `npm pack`) and returns the public API.
-import { readFile } from 'node:fs/promises';
+import { open, readFile } from 'node:fs/promises';
 import { wrapModule, MrvolError } from './api.mjs';
 
 export { MrvolError, wrapModule };
@@ -41,4 +41,43 @@ export async function createMrvol(options = {}) {
   // emscripten 3.1.6 would fetch() the .wasm under Node too: hand it the bytes.
   const module = await factory({ wasmBinary: await wasmBytes(options) });
   return wrapModule(module);
+}
+
+/**
+ * Reads an OBJ file from disk in chunks straight into the WASM reader (mrvol.createObjReader):
+ * Node never holds the whole file, the WASM heap never holds its text. Returns what
+ * mrvol.readObj gives. onProgress(fraction) after each chunk; chunkBytes: the read size.
+ * File errors throw MrvolError("cannot read PATH: ..."); bad OBJ lines MrvolError("line L: ...").
+ */
+export async function readObjFile(mrvol, path, { chunkBytes = 16 << 20, onProgress } = {}) {
+  let file;
+  try {
+    file = await open(path, 'r');
+  } catch (e) {
+    throw new MrvolError(`cannot read ${path}: ${e.code === 'ENOENT' ? 'no such file' : e.message}`);
+  }
+  let reader;
+  try {
+    const size = (await file.stat()).size;
+    reader = mrvol.createObjReader({ size });
+    const buffer = new Uint8Array(Math.max(1, Math.min(chunkBytes, size)));
+    for (let at = 0; ;) {
+      let bytesRead;
+      try {
+        ({ bytesRead } = await file.read(buffer, 0, buffer.length, at));
+      } catch (e) {
+        throw new MrvolError(`cannot read ${path}: ${e.message}`);
+      }
+      if (bytesRead === 0) break;
+      reader.push(buffer.subarray(0, bytesRead));
+      at += bytesRead;
+      onProgress?.(size > 0 ? Math.min(1, at / size) : 1);
+    }
+    const mesh = reader.finish();
+    reader = null;
+    return mesh;
+  } finally {
+    reader?.cancel();
+    await file.close();
+  }
 }

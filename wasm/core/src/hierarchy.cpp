@@ -134,12 +134,15 @@ struct Quadrisection {
   std::vector<uint32_t> coarseFaces;
   std::vector<uint8_t> role;
   std::vector<uint32_t> ends;  // 2 per vertex
+  VertexCorners coarseCorners;  // of the coarse faces in the even vertices' compact numbering
 };
 
-bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, Quadrisection& out) {
+// `corners`: the corner lists of `faces` (built once per level: the coarse level's come from its
+// validation here and serve the next level's detection).
+bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const VertexCorners& corners,
+               Quadrisection& out) {
   const size_t nf = faces.size() / 3;
   if (nf % 4 != 0 || nf == 0) return false;
-  VertexCorners corners(faces.data(), nf, vertexCount);
   auto faceOf = [&](uint32_t u, uint32_t v) -> uint32_t {  // face (u, v, .)
     const uint32_t c = corners.cornerTo(u, v);
     return c == kNone ? kNone : corners.face[c];
@@ -251,13 +254,13 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, Quadris
   coarseMesh.positions.assign(3 * size_t(ne), 0.0);
   coarseMesh.faces.resize(coarse.size());
   for (size_t i = 0; i < coarse.size(); ++i) coarseMesh.faces[i] = evenIndex[coarse[i]];
+  VertexCorners coarseCorners;
   try {
-    validateMesh(coarseMesh);
+    validateMesh(coarseMesh, nullptr, &coarseCorners);
   } catch (const Error&) {
     return false;
   }
   if (edgeKeys.size() + ne != vertexCount) return false;
-  VertexCorners coarseCorners(coarseMesh.faces.data(), coarseMesh.faceCount(), ne);
   std::vector<uint32_t> ring;
   for (uint32_t v = 0; v < ne; ++v) {
     bool isBoundary = false;
@@ -267,14 +270,26 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, Quadris
   out.coarseFaces = std::move(coarse);
   out.role = std::move(role);
   out.ends = std::move(ends);
+  out.coarseCorners = std::move(coarseCorners);
   return true;
 }
 
 }  // namespace
 
 Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels, bool validated) {
-  if (!validated) validateMesh(fine);
-  const uint32_t nv = uint32_t(fine.vertexCount());
+  VertexCorners corners;
+  if (!validated) validateMesh(fine, nullptr, &corners);
+  return detectValidated(fine.faces, fine.vertexCount(), maxLevels, validated ? nullptr : &corners);
+}
+
+Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, size_t vertexCount, int maxLevels,
+                                     VertexCorners* fineCorners) {
+  const uint32_t nv = uint32_t(vertexCount);
+  // The corner lists of the level being detected: the fine ones given or built, then each coarse
+  // level's from its validation.
+  VertexCorners corners;
+  if (fineCorners) corners = std::move(*fineCorners);
+  else if (maxLevels > 0) corners = VertexCorners(fineFaces.data(), fineFaces.size() / 3, nv);
   // Top-down: level meshes in the caller's vertex indices; depth of each vertex.
   std::vector<std::vector<uint32_t>> levelFaces{{}};  // [0]: the fine faces, read from `fine`
   std::vector<int> bornAt(nv, -1);  // levels found from the top: 0 = born at the finest level
@@ -293,7 +308,8 @@ Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels, bool valida
       for (size_t i = 0; i < faces.size(); ++i) faces[i] = local[levelFaces.back()[i]];
     }
     Quadrisection q;
-    if (!tryDetect(found > 0 ? faces : fine.faces, uint32_t(alive.size()), q)) break;
+    if (!tryDetect(found > 0 ? faces : fineFaces, uint32_t(alive.size()), corners, q)) break;
+    corners = std::move(q.coarseCorners);
     std::vector<uint32_t> nextAlive;
     for (uint32_t i = 0; i < alive.size(); ++i) {
       if (q.role[i] == kEven) { nextAlive.push_back(alive[i]); continue; }
@@ -320,7 +336,7 @@ Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels, bool valida
     h.vertexCount.push_back(uint32_t(h.inputIndex.size()));
   }
   for (int l = 0; l <= found; ++l) {
-    std::vector<uint32_t> faces = l == found ? fine.faces : std::move(levelFaces[found - l]);
+    std::vector<uint32_t> faces = l == found ? fineFaces : std::move(levelFaces[found - l]);
     for (auto& v : faces) v = h.hierarchyIndex[v];
     h.faces.push_back(std::move(faces));
   }

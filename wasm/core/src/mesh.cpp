@@ -133,6 +133,10 @@ void countingSortBy(std::vector<uint32_t>& items, std::vector<uint32_t>& scratch
 }  // namespace
 
 MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
+  return validateMesh(mesh, lines, nullptr);
+}
+
+MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines, VertexCorners* keepCorners) {
   const Names name{lines};
   auto faceName = [&](size_t f) { return name.face(f); };
   const size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
@@ -161,7 +165,7 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
   // The fast path: every check from the per-vertex corner lists (VertexCorners, built by a
   // counting sort), O(1) per corner at ordinary vertices and O(log valence) at hubs. Only when it
   // finds a problem does refuseEdges() sort the edges to name the same one the ordered checks name.
-  const VertexCorners corners(faces, nf, nv);
+  VertexCorners corners(faces, nf, nv);
   size_t edges = 0;
   std::vector<std::pair<uint32_t, uint32_t>> boundary;
   bool edgesValid = true;
@@ -219,6 +223,7 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines) {
   for (uint32_t u = 0; u < nv; ++u) boundaryLoops += onBoundary[u] && loops.find(u) == u;
   long chi = long(nv) - long(edges) + long(nf);
   topo.genus = (2 * long(topo.components) - chi - long(boundaryLoops)) / 2;
+  if (keepCorners) *keepCorners = std::move(corners);
   return topo;
 }
 

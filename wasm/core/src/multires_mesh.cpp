@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mrvol/corners.h"
 #include "mrvol/error.h"
 #include "mrvol/limit_volume.h"
 
@@ -10,8 +11,19 @@ namespace mrvol {
 
 MultiresMesh::MultiresMesh(const TriangleMesh& mesh, int maxLevels, const SourceLines* lines) : faces_(mesh.faces) {
   if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
-  topology_ = validateMesh(mesh, lines);
-  hierarchy_ = Hierarchy::detect(mesh, maxLevels, /*validated=*/true);
+  VertexCorners corners;  // validation's, handed to detection
+  topology_ = validateMesh(mesh, lines, &corners);
+  hierarchy_ = Hierarchy::detectValidated(mesh.faces, mesh.vertexCount(), maxLevels, &corners);
+}
+
+MultiresMesh::MultiresMesh(TriangleMesh&& mesh, int maxLevels, const SourceLines* lines) {
+  if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
+  VertexCorners corners;
+  topology_ = validateMesh(mesh, lines, &corners);
+  const size_t vertexCount = mesh.vertexCount();
+  std::vector<double>().swap(mesh.positions);  // detection needs the faces only
+  hierarchy_ = Hierarchy::detectValidated(mesh.faces, vertexCount, maxLevels, &corners);
+  faces_ = std::move(mesh.faces);
 }
 
 MultiresMesh MultiresMesh::subdivide(const TriangleMesh& base, int levels) {

@@ -11,6 +11,7 @@
 #include "fast_float.h"
 #include "mrvol/error.h"
 #include "mrvol/mesh.h"
+#include "mrvol/obj_reader.h"
 
 namespace mrvol {
 
@@ -98,25 +99,26 @@ uint32_t parseIndex(std::string_view digits, std::string_view token, size_t line
   }
   const bool negative = digits[0] == '-';
   const size_t start = (digits[0] == '-' || digits[0] == '+') ? 1 : 0;
-  const std::string prefix = vertex ? "face index " : std::string("face ") + what + " index ";
-  if (start == digits.size()) throw Error(at(line) + prefix + shorten(token) + " is not an integer");
+  // Built for a message only: this runs for every corner of every face.
+  auto prefix = [&] { return vertex ? std::string("face index ") : std::string("face ") + what + " index "; };
+  if (start == digits.size()) throw Error(at(line) + prefix() + shorten(token) + " is not an integer");
   uint64_t value = 0;
   for (size_t i = start; i < digits.size(); ++i) {
     const unsigned digit = unsigned(digits[i]) - '0';
-    if (digit > 9) throw Error(at(line) + prefix + shorten(token) + " is not an integer");
+    if (digit > 9) throw Error(at(line) + prefix() + shorten(token) + " is not an integer");
     value = value * 10 + digit;
-    if (value > kMaxIndex) throw Error(at(line) + prefix + shorten(digits) + " is out of range");
+    if (value > kMaxIndex) throw Error(at(line) + prefix() + shorten(digits) + " is out of range");
   }
   // A texture or normal reference that points nowhere is dropped, not refused: mrvol needs the
   // positions, and files in the wild carry such references.
   if (value == 0) {
     if (!vertex) return kNoIndex;
-    throw Error(at(line) + prefix + "0 is not valid (OBJ indices start at 1)");
+    throw Error(at(line) + prefix() + "0 is not valid (OBJ indices start at 1)");
   }
   if (negative) {
     if (value > soFar) {
       if (!vertex) return kNoIndex;
-      throw Error(at(line) + "relative " + prefix + shorten(digits) + " reaches before the first vertex (" +
+      throw Error(at(line) + "relative " + prefix() + shorten(digits) + " reaches before the first vertex (" +
                   std::to_string(soFar) + " vertices so far)");
     }
     return uint32_t(soFar - value);
@@ -265,10 +267,6 @@ void triangulatePolygon(const uint32_t* corners, size_t k, const std::vector<dou
 }
 
 // A polygon waiting for the positions (its vertices may come later in the file).
-struct PendingPolygon {
-  size_t cornerStart, cornerCount, firstTriangle, line;
-};
-
 }  // namespace
 
 void checkMeshSize(size_t vertices, size_t triangles, size_t inputBytes) {
@@ -290,19 +288,19 @@ void checkMeshSize(size_t vertices, size_t triangles, size_t inputBytes) {
   }
 }
 
-TriangleMesh readObj(std::string_view text, SourceLines* lines, ObjExtras* extras) {
-  constexpr uint32_t kNoIndex = ObjExtras::kNoIndex;
-  const std::string_view bom = "\xEF\xBB\xBF";  // a UTF-8 byte order mark is no statement
-  if (text.substr(0, 3) == bom) text.remove_prefix(3);
-  const LineCounts counts = countLines(text);
-  checkMeshSize(counts.v, counts.f, text.size());
-
+// The reading state of one OBJ file: fed whole lines (in any number of segments), it keeps the
+// arrays and counts; finish() resolves the polygons and forward references. Shared by readObj (the
+// whole text at once) and ObjStreamReader (chunks as they come).
+struct ObjReader::Parser {
+  static constexpr uint32_t kNoIndex = ObjExtras::kNoIndex;
+  // A polygon waiting for the positions (its vertices may come later in the file).
+  struct PendingPolygon {
+    size_t cornerStart, cornerCount, firstTriangle, line;
+  };
+  bool keepLines, keepExtras;
+  size_t line = 0;  // lines read so far
   TriangleMesh mesh;
-  mesh.positions.reserve(3 * counts.v);
-  mesh.faces.reserve(3 * counts.f);
   std::vector<uint32_t> vertexLines, faceLines;
-  if (lines) vertexLines.reserve(counts.v);
-  faceLines.reserve(counts.f);
   std::vector<double> texCoords, normals, colors;
   std::vector<uint32_t> cornerTex, cornerNormal;  // filled lazily: empty until a face names one
   size_t vtCount = 0, vnCount = 0, coloredVertices = 0;
@@ -310,15 +308,34 @@ TriangleMesh readObj(std::string_view text, SourceLines* lines, ObjExtras* extra
   std::vector<PendingPolygon> polygons;
   std::vector<std::string_view> cornerTokens;
 
-  LineScanner scan{text.data(), text.data() + text.size()};
-  const char* begin;
-  const char* stop;
-  std::string_view tokens[8];
-  while (scan.next(begin, stop)) {
-    const size_t line = scan.line;
+  Parser(bool lines, bool extras) : keepLines(lines), keepExtras(extras) {}
+
+  // Room for `v` more vertices and `f` more triangles (amortised: never one reallocation per chunk).
+  void reserve(size_t v, size_t f) {
+    auto grow = [](auto& vec, size_t more) {
+      if (vec.size() + more > vec.capacity()) vec.reserve(std::max(vec.size() + more, vec.capacity() + vec.capacity() / 2));
+    };
+    grow(mesh.positions, 3 * v);
+    grow(mesh.faces, 3 * f);
+    if (keepLines) grow(vertexLines, v);
+    grow(faceLines, f);
+  }
+
+  // Every whole line of [p, end): `end` is the end of the text or just after a '\n'.
+  void scan(const char* p, const char* end) {
+    LineScanner scanner{p, end, line};
+    const char* begin;
+    const char* stop;
+    while (scanner.next(begin, stop)) statement(begin, stop, scanner.line);
+    line = scanner.line;
+  }
+
+  void statement(const char* begin, const char* stop, size_t line) {
+    std::string_view tokens[8];
+    const bool extras = keepExtras;
     const char* p = begin;
     std::string_view keyword = nextToken(p, stop);
-    if (keyword.empty()) continue;
+    if (keyword.empty()) return;
     if (keyword == "v" || keyword == "vt" || keyword == "vn") {
       size_t count = 0;
       for (std::string_view t = nextToken(p, stop); !t.empty(); t = nextToken(p, stop)) {
@@ -331,7 +348,7 @@ TriangleMesh readObj(std::string_view text, SourceLines* lines, ObjExtras* extra
           throw Error(at(line) + "vertex has " + std::to_string(count) +
                       " values, expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)");
         for (int k = 0; k < 3; ++k) mesh.positions.push_back(parseCoordinate(tokens[k], line));
-        if (lines) vertexLines.push_back(uint32_t(line));
+        if (keepLines) vertexLines.push_back(uint32_t(line));
         for (size_t k = 3; k < count; ++k) {
           const double x = parseCoordinate(tokens[k], line);
           if (count == 6 && extras) colors.push_back(x);
@@ -409,6 +426,8 @@ TriangleMesh readObj(std::string_view text, SourceLines* lines, ObjExtras* extra
     }
     // Other OBJ statements (o, g, s, usemtl, mtllib, l, p ...) carry nothing mrvol uses.
   }
+
+  TriangleMesh finish(SourceLines* lines, ObjExtras* extras) {
   if (mesh.positions.empty() && mesh.faces.empty()) throw Error("empty input: no vertices and no faces");
   if (mesh.faces.empty())
     throw Error("no faces: the file has " + std::to_string(mesh.vertexCount()) + " vertices but no 'f' lines");
@@ -471,7 +490,84 @@ TriangleMesh readObj(std::string_view text, SourceLines* lines, ObjExtras* extra
     extras->cornerNormals = std::move(cornerNormal);
   }
   if (lines) lines->vertex = std::move(vertexLines), lines->face = std::move(faceLines);
-  return mesh;
+  return std::move(mesh);
+  }
+};
+
+TriangleMesh readObj(std::string_view text, SourceLines* lines, ObjExtras* extras) {
+  const std::string_view bom = "\xEF\xBB\xBF";  // a UTF-8 byte order mark is no statement
+  if (text.substr(0, 3) == bom) text.remove_prefix(3);
+  const LineCounts counts = countLines(text);
+  checkMeshSize(counts.v, counts.f, text.size());
+  ObjReader::Parser parser(lines != nullptr, extras != nullptr);
+  parser.reserve(counts.v, counts.f);
+  parser.scan(text.data(), text.data() + text.size());
+  return parser.finish(lines, extras);
+}
+
+ObjReader::ObjReader(size_t expectedBytes) : parser_(std::make_unique<Parser>(true, true)), expected_(expectedBytes) {}
+ObjReader::~ObjReader() = default;
+
+void ObjReader::feed(std::string_view chunk) {
+  if (finished_) throw Error("the OBJ reader has already finished");
+  seen_ += chunk.size();
+  // A byte order mark is looked for once the file's first 3 bytes are in (they may come one by one).
+  if (!bomChecked_) {
+    partial_.append(chunk.data(), chunk.size());
+    if (partial_.size() < 3) return;
+    bomChecked_ = true;
+    if (partial_.compare(0, 3, "\xEF\xBB\xBF") == 0) partial_.erase(0, 3);
+    std::string head;
+    head.swap(partial_);
+    take(head);
+    return;
+  }
+  take(chunk);
+}
+
+void ObjReader::take(std::string_view chunk) {
+  const char* p = chunk.data();
+  const char* end = p + chunk.size();
+  // The line the last chunk left unfinished: completed from this one's first line.
+  if (!partial_.empty()) {
+    const void* eol = std::memchr(p, '\n', chunk.size());
+    if (!eol) {
+      partial_.append(p, chunk.size());
+      return;
+    }
+    const char* after = static_cast<const char*>(eol) + 1;
+    partial_.append(p, size_t(after - p));
+    parser_->scan(partial_.data(), partial_.data() + partial_.size());
+    partial_.clear();
+    p = after;
+  }
+  // Whole lines in place; the tail after the last '\n' waits for the next chunk.
+  const char* last = end;
+  while (last > p && last[-1] != '\n') --last;
+  if (last > p) {
+    const LineCounts counts = countLines(std::string_view(p, size_t(last - p)));
+    checkMeshSize(parser_->mesh.vertexCount() + counts.v, parser_->mesh.faceCount() + counts.f);
+    // Room for this chunk's lines; reserve() grows by half the capacity at least, so the arrays
+    // reallocate a logarithmic number of times. (No extrapolation from the file's size: OBJ files
+    // put their v lines first, so a first chunk's density says nothing of the faces to come.)
+    parser_->reserve(counts.v, counts.f);
+    parser_->scan(p, last);
+  }
+  partial_.append(last, size_t(end - last));
+  // Only a line longer than any chunk keeps growing this: bounded by the file (the parser refuses
+  // long tokens, but a comment line may be long).
+}
+
+TriangleMesh ObjReader::finish(SourceLines* lines, ObjExtras* extras) {
+  if (finished_) throw Error("the OBJ reader has already finished");
+  if (!bomChecked_) {
+    bomChecked_ = true;
+    if (partial_.compare(0, 3, "\xEF\xBB\xBF") == 0) partial_.erase(0, 3);
+  }
+  finished_ = true;
+  if (!partial_.empty()) parser_->scan(partial_.data(), partial_.data() + partial_.size());
+  std::string().swap(partial_);
+  return parser_->finish(lines, extras);
 }
 
 std::string writeObj(const TriangleMesh& mesh) {

@@ -36,6 +36,10 @@ struct Hierarchy {
   // maxLevels. A mesh that is no split at all gives a hierarchy with 0 levels. Validates the mesh
   // unless the caller already has (`validated`: validateMesh passed on these very arrays).
   static Hierarchy detect(const TriangleMesh& fine, int maxLevels = 16, bool validated = false);
+  // The same on a validated mesh given by its faces and vertex count (positions play no part);
+  // `fineCorners`, when given, are the fine faces' corner lists (validateMesh's), taken over.
+  static Hierarchy detectValidated(const std::vector<uint32_t>& fineFaces, size_t vertexCount, int maxLevels,
+                                   VertexCorners* fineCorners = nullptr);
 
   // Reorders per-vertex 3-vectors between the caller's order and the hierarchy's.
   void toHierarchyOrder(const double* input, double* out) const;

@@ -79,6 +79,10 @@ struct MeshTopology {
 // orientation, non-finite coordinates, unused vertices. Throws Error; returns the topology.
 // `lines` (optional, as readObj gave them) add the OBJ line of each vertex and face named.
 MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines = nullptr);
+// The same, handing over the corner lists it built (corners.h) to a caller that needs them next
+// (hierarchy detection), instead of building them again.
+struct VertexCorners;
+MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines, VertexCorners* keepCorners);
 
 // Signed volume enclosed by a closed mesh: sum over triangles of det(a - o, b - o, c - o) / 6.
 // The point o changes nothing for a closed mesh but keeps digits when it is far from the origin:

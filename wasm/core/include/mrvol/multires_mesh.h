@@ -38,6 +38,9 @@ class MultiresMesh {
   // Validates the mesh and detects its hierarchy (at most maxLevels levels); keeps its faces.
   // `lines` (from readObj) add the OBJ line of what validation messages name.
   explicit MultiresMesh(const TriangleMesh& mesh, int maxLevels = 16, const SourceLines* lines = nullptr);
+  // The same, taking the arrays over: the positions are freed once validated and the faces kept
+  // without a copy (opening a large mesh holds one copy of each at most).
+  explicit MultiresMesh(TriangleMesh&& mesh, int maxLevels = 16, const SourceLines* lines = nullptr);
   // n splits of a validated base mesh (its vertices keep their indices, the new ones follow).
   static MultiresMesh subdivide(const TriangleMesh& base, int levels);
   // A validated mesh's faces with its known topology and hierarchy (hierarchy_transfer.h checks them).

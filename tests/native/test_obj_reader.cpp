@@ -1,0 +1,125 @@
+// ObjReader (obj_reader.h): OBJ text fed in chunks gives what readObj gives for the whole text,
+// wherever the chunks split it (mid-number, mid-CRLF, inside the byte order mark, mid-line), and
+// the same error, with the same line number, for a bad file.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "mrvol/error.h"
+#include "mrvol/mesh.h"
+#include "mrvol/obj_reader.h"
+
+using namespace mrvol;
+
+namespace {
+
+struct Read {
+  TriangleMesh mesh;
+  SourceLines lines;
+  ObjExtras extras;
+  std::string error;
+};
+
+Read whole(const std::string& text) {
+  Read r;
+  try {
+    r.mesh = readObj(text, &r.lines, &r.extras);
+  } catch (const Error& e) {
+    r.error = e.what();
+  }
+  return r;
+}
+
+// The text fed in pieces that end at `cuts` (increasing offsets), the rest last.
+Read chunked(const std::string& text, const std::vector<size_t>& cuts, size_t expected) {
+  Read r;
+  try {
+    ObjReader reader(expected);
+    size_t at = 0;
+    for (size_t cut : cuts) reader.feed(std::string_view(text).substr(at, cut - at)), at = cut;
+    reader.feed(std::string_view(text).substr(at));
+    r.mesh = reader.finish(&r.lines, &r.extras);
+  } catch (const Error& e) {
+    r.error = e.what();
+  }
+  return r;
+}
+
+void expectSame(const Read& a, const Read& b, const std::string& where) {
+  ASSERT_EQ(a.error, b.error) << where;
+  EXPECT_EQ(a.mesh.positions, b.mesh.positions) << where;
+  EXPECT_EQ(a.mesh.faces, b.mesh.faces) << where;
+  EXPECT_EQ(a.lines.vertex, b.lines.vertex) << where;
+  EXPECT_EQ(a.lines.face, b.lines.face) << where;
+  EXPECT_EQ(a.extras.polygons, b.extras.polygons) << where;
+  EXPECT_EQ(a.extras.polygonTriangles, b.extras.polygonTriangles) << where;
+  EXPECT_EQ(a.extras.texCoords, b.extras.texCoords) << where;
+  EXPECT_EQ(a.extras.normals, b.extras.normals) << where;
+  EXPECT_EQ(a.extras.colors, b.extras.colors) << where;
+  EXPECT_EQ(a.extras.cornerTexCoords, b.extras.cornerTexCoords) << where;
+  EXPECT_EQ(a.extras.cornerNormals, b.extras.cornerNormals) << where;
+}
+
+// Every split into two pieces, every split into three around each offset, and one byte at a time;
+// with and without the file's size known.
+void expectSplitsAgree(const std::string& text) {
+  const Read reference = whole(text);
+  for (size_t expected : {size_t(0), text.size()}) {
+    for (size_t cut = 0; cut <= text.size(); ++cut)
+      expectSame(reference, chunked(text, {cut}, expected), "cut at " + std::to_string(cut));
+    for (size_t cut = 1; cut + 1 < text.size(); ++cut)
+      expectSame(reference, chunked(text, {cut - 1, cut + 1}, expected), "cuts around " + std::to_string(cut));
+    std::vector<size_t> everyByte;
+    for (size_t cut = 1; cut < text.size(); ++cut) everyByte.push_back(cut);
+    expectSame(reference, chunked(text, everyByte, expected), "one byte at a time");
+  }
+}
+
+}  // namespace
+
+TEST(ObjReader, EverySplitOfAFileWithEveryFormEqualsTheWholeRead) {
+  expectSplitsAgree(
+      "\xEF\xBB\xBF# a comment\r\n"
+      "v -0.47085295474687316 0.76185608448375686 1.7308149509183618e-17 \r\n"
+      "v 1 0 0 0.5 0.25 0.125\r\n"
+      "v\t+1.5e+0 1 0 1 1 1\n"
+      "v 0 1 0 0 0 1   \n"
+      "vt 0 0\nvt 1 0 0\nvn 0 0 1\n"
+      "o thing\ng group\ns off\nusemtl m\n"
+      "f 1/1/1 2/2/1 3//1\r\n"
+      "f -4 -2 -1 # comment after\n"
+      "f 2 4 3 1\n"
+      "f 1 2 4");
+}
+
+TEST(ObjReader, EverySplitOfABadFileGivesTheSameLineInItsError) {
+  for (const std::string text : {
+           std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv 1.5x 0 0\n"),
+           std::string("v 0 0 0\r\nv 1 0 0\rv 0 1 0\r\nf 1 2 3\r\n"),        // old Mac CR
+           std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"),             // forward reference
+           std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nmagic\x01 stuff\n"),  // binary
+           std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n"),                     // no faces
+           std::string("\xEF\xBB"),                                          // part of a BOM: empty-ish
+           std::string(""),
+       }) {
+    SCOPED_TRACE(text);
+    ASSERT_FALSE(whole(text).error.empty());
+    expectSplitsAgree(text);
+  }
+}
+
+TEST(ObjReader, ALineLongerThanAnyChunkIsKeptWhole) {
+  std::string text = "# " + std::string(5000, 'x') + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::vector<size_t> cuts;
+  for (size_t cut = 7; cut < text.size(); cut += 7) cuts.push_back(cut);
+  expectSame(whole(text), chunked(text, cuts, 0), "chunks of 7 bytes");
+}
+
+TEST(ObjReader, FinishesOnceAndTakesNothingAfter) {
+  ObjReader reader;
+  reader.feed("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(reader.finish().faceCount(), 1u);
+  EXPECT_THROW(reader.feed("v 0 0 0\n"), Error);
+  EXPECT_THROW(reader.finish(), Error);
+}
