@@ -42,6 +42,62 @@ uint32_t CageEditor::cageIndexOf(uint32_t callerVertex) const {
   return h;
 }
 
+void CageEditor::setReferenceVolume(double volume) {
+  if (!std::isfinite(volume)) throw Error("the reference volume must be a finite number");
+  if (keepCentroid_ && reference_ != 0) momentScale_ *= std::fabs(volume / reference_);  // the same centre, its tolerance
+  reference_ = volume;
+}
+
+double CageEditor::meshMoments(double m[3]) const {
+  const double* p = session_.fine.of(session_.x).data();
+  for (int k = 0; k < 3; ++k) m[k] = moments_[k]->value(p, nullptr);
+  return meshVolume().value(p, nullptr);
+}
+
+Vec3 CageEditor::centroid() const {
+  double m[3];
+  const double v = meshMoments(m);
+  if (!(v != 0)) throw Error("the centre of mass is undefined: the enclosed volume is zero");
+  // m = M - q V about the moments' centre q (relative to the origin): c = o + q + m / V.
+  const Vec3 o = session_.origin;
+  return {o.x + moments_[0]->centre() + m[0] / v, o.y + moments_[1]->centre() + m[1] / v,
+          o.z + moments_[2]->centre() + m[2] / v};
+}
+
+Vec3 CageEditor::referenceCentroid() const {
+  if (!keepCentroid_) return centroid();
+  const Vec3 o = session_.origin;
+  return {o.x + moments_[0]->centre(), o.y + moments_[1]->centre(), o.z + moments_[2]->centre()};
+}
+
+void CageEditor::keepCentroid(bool keep) {
+  if (keep) checkCentroidKept();
+  if (keep && !keepCentroid_) {
+    const std::vector<double>& p = session_.fine.of(session_.x);
+    double lo[3] = {p[0], p[1], p[2]}, hi[3] = {p[0], p[1], p[2]};
+    for (size_t i = 0; i + 3 < p.size(); i += 3)  // not vertex N (the origin)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[i + k]), hi[k] = std::max(hi[k], p[i + k]);
+    const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    // The rows are the moments about the centre of mass now: zero while it stays there.
+    const Vec3 c = centroid(), o = session_.origin;
+    moments_[0]->setCentre(c.x - o.x), moments_[1]->setCentre(c.y - o.y), moments_[2]->setCentre(c.z - o.z);
+    momentScale_ = std::fabs(reference_) * diagonal / 10;  // the centre to a tenth of the tolerance times the size
+  }
+  keepCentroid_ = keep;
+  configureFineRows();
+}
+
+double CageEditor::momentChange() const {
+  double m[3];
+  meshMoments(m);
+  return std::max({std::fabs(m[0]), std::fabs(m[1]), std::fabs(m[2])}) / std::max(momentScale_, 1e-300);
+}
+
+double CageEditor::rawChange(double volumeTarget) const {
+  return std::max(relative(volumeTarget, reference_), keepCentroid_ ? momentChange() : 0.0);
+}
+
 void CageEditor::useTensor(const VolumeTensor& tensor) {
   if (tensor.storage != TensorStorage::Cage || tensor.level != level_ || tensor.vertexCount != session_.x.size() / 3 ||
       tensor.rowCount != cageSize())
@@ -64,8 +120,20 @@ void CageEditor::setFreeSet(FreeCage mode, std::vector<uint32_t> list, std::vect
 }
 
 void CageEditor::configureFineRows() {
-  fineConstraints_.setRows(meshVolume(), {}, !free_.detailLevels.empty());
+  std::vector<const FineFunction*> more;
+  if (keepCentroid_)
+    for (const auto& m : moments_) more.push_back(m.get());
+  fineConstraints_.setRows(meshVolume(), std::move(more), !free_.detailLevels.empty());
   solver_.reset();
+}
+
+void CageEditor::setFineReferences() {
+  fineConstraints_.references = {reference_};
+  fineConstraints_.scales.clear();
+  if (keepCentroid_) {
+    fineConstraints_.references.insert(fineConstraints_.references.end(), {0.0, 0.0, 0.0});  // moments about the kept centre
+    fineConstraints_.scales = {std::fabs(reference_), momentScale_, momentScale_, momentScale_};
+  }
 }
 
 VolumeConstraints& CageEditor::constraints() {
@@ -106,6 +174,11 @@ void CageEditor::startEdit(const EditOptions& o) {
 
 void CageEditor::finishReport(EditReport& report) const {
   report.relativeError = relative(report.volumeResult, reference_);
+  if (keepCentroid_) {
+    const Vec3 r = referenceCentroid(), c = centroid();
+    report.centroidReference = {r.x, r.y, r.z};
+    report.centroidResult = {c.x, c.y, c.z};
+  }
 }
 
 EditReport CageEditor::correct(const std::vector<uint8_t>& held, const EditOptions& o) {

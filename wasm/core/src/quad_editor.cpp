@@ -35,13 +35,10 @@ QuadVolumeEditor::QuadVolumeEditor(const QuadHierarchy& hierarchy, const Wavelet
                  startSession(hierarchy, transform, checkedLevel(hierarchy.h, level), positions)),
       quadHierarchy_(&hierarchy),
       fineVolume_(hierarchy.fineQuads(), uint32_t(hierarchy.h.fineVertexCount())) {
+  for (int k = 0; k < 3; ++k)
+    moments_.push_back(std::make_unique<QuadFirstMoment>(hierarchy.fineQuads(), uint32_t(hierarchy.h.fineVertexCount()), k));
   configureFineRows();
   reference_ = volume();
-}
-
-void QuadVolumeEditor::setReferenceVolume(double volume) {
-  if (!std::isfinite(volume)) throw Error("the reference volume must be a finite number");
-  reference_ = volume;
 }
 
 bool QuadVolumeEditor::usePolynomial(uint64_t maxTerms) {

@@ -24,27 +24,17 @@ SessionCoefficients startSession(const Hierarchy& hierarchy, const WaveletTransf
                              hierarchy.vertexCount[level]};
 }
 
-std::vector<FirstMoment> firstMoments(const std::vector<uint32_t>& faces, uint32_t vertexCount) {
-  std::vector<FirstMoment> m;
-  for (int k = 0; k < 3; ++k) m.emplace_back(faces, vertexCount, k);
-  return m;
-}
 }  // namespace
 
 VolumeEditor::VolumeEditor(const Hierarchy& hierarchy, const WaveletTransform& transform, int level,
                            const double* positions)
     : CageEditor(hierarchy, transform, checkedLevel(hierarchy, level),
                  startSession(hierarchy, transform, checkedLevel(hierarchy, level), positions)),
-      fineVolume_(hierarchy.fineFaces(), uint32_t(hierarchy.fineVertexCount())),
-      moments_(firstMoments(hierarchy.fineFaces(), uint32_t(hierarchy.fineVertexCount()))) {
+      fineVolume_(hierarchy.fineFaces(), uint32_t(hierarchy.fineVertexCount())) {
+  for (int k = 0; k < 3; ++k)
+    moments_.push_back(std::make_unique<FirstMoment>(hierarchy.fineFaces(), uint32_t(hierarchy.fineVertexCount()), k));
   configureFineRows();
   reference_ = volume();
-}
-
-void VolumeEditor::setReferenceVolume(double volume) {
-  if (!std::isfinite(volume)) throw Error("the reference volume must be a finite number");
-  if (keepCentroid_ && reference_ != 0) momentScale_ *= std::fabs(volume / reference_);  // the same centre, its tolerance
-  reference_ = volume;
 }
 
 double VolumeEditor::volume() const {
@@ -66,50 +56,9 @@ void VolumeEditor::useLimitSurface(const FineForm& limitForm) {
   reference_ = volume();
 }
 
-double VolumeEditor::meshMoments(double m[3]) const {
-  const double* p = session_.fine.of(session_.x).data();
-  for (int k = 0; k < 3; ++k) m[k] = moments_[k].value(p, nullptr);
-  return fineVolume_.value(p, nullptr);
-}
-
-Vec3 VolumeEditor::centroid() const {
-  double m[3];
-  const double v = meshMoments(m);
-  if (!(v != 0)) throw Error("the centre of mass is undefined: the enclosed volume is zero");
-  // m = M - q V about the moments' centre q (relative to the origin): c = o + q + m / V.
-  const Vec3 o = session_.origin;
-  return {o.x + moments_[0].centre() + m[0] / v, o.y + moments_[1].centre() + m[1] / v, o.z + moments_[2].centre() + m[2] / v};
-}
-
-Vec3 VolumeEditor::referenceCentroid() const {
-  if (!keepCentroid_) return centroid();
-  const Vec3 o = session_.origin;
-  return {o.x + moments_[0].centre(), o.y + moments_[1].centre(), o.z + moments_[2].centre()};
-}
-
-void VolumeEditor::keepCentroid(bool keep) {
-  if (keep && limitVolume_) throw Error("the centre of mass is kept for the mesh surface only, not with the limit surface");
-  if (keep && !parts_.empty()) throw Error("the centre of mass is kept with the whole volume, not with parts");
-  if (keep && !keepCentroid_) {
-    const std::vector<double>& p = session_.fine.of(session_.x);
-    double lo[3] = {p[0], p[1], p[2]}, hi[3] = {p[0], p[1], p[2]};
-    for (size_t i = 0; i + 3 < p.size(); i += 3)  // not vertex N (the origin)
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[i + k]), hi[k] = std::max(hi[k], p[i + k]);
-    const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    // The rows are the moments about the centre of mass now: zero while it stays there.
-    const Vec3 c = centroid(), o = session_.origin;
-    moments_[0].setCentre(c.x - o.x), moments_[1].setCentre(c.y - o.y), moments_[2].setCentre(c.z - o.z);
-    momentScale_ = std::fabs(reference_) * diagonal / 10;  // the centre to a tenth of the tolerance times the size
-  }
-  keepCentroid_ = keep;
-  configureFineRows();
-}
-
-double VolumeEditor::momentChange() const {
-  double m[3];
-  meshMoments(m);
-  return std::max({std::fabs(m[0]), std::fabs(m[1]), std::fabs(m[2])}) / std::max(momentScale_, 1e-300);
+void VolumeEditor::checkCentroidKept() const {
+  if (limitVolume_) throw Error("the centre of mass is kept for the mesh surface only, not with the limit surface");
+  if (!parts_.empty()) throw Error("the centre of mass is kept with the whole volume, not with parts");
 }
 
 bool VolumeEditor::usePolynomial(uint64_t maxTerms) {
@@ -177,33 +126,21 @@ std::vector<double> VolumeEditor::partVolumes() const {
 void VolumeEditor::configureFineRows() {
   std::vector<const FineFunction*> more;
   if (parts_.empty() && keepCentroid_)
-    for (const auto& m : moments_) more.push_back(&m);
+    for (const auto& m : moments_) more.push_back(m.get());
   for (size_t p = 1; p < parts_.size(); ++p) more.push_back(&parts_[p]);
   fineConstraints_.setRows(parts_.empty() ? surfaceVolume() : parts_[0], std::move(more), !free_.detailLevels.empty());
   solver_.reset();
 }
 
 void VolumeEditor::setFineReferences() {
-  fineConstraints_.references = parts_.empty() ? std::vector<double>{reference_} : partReference_;
+  if (parts_.empty()) return CageEditor::setFineReferences();  // the volume, and the moments when kept
+  fineConstraints_.references = partReference_;
   fineConstraints_.scales.clear();
-  if (parts_.empty() && keepCentroid_) {
-    fineConstraints_.references.insert(fineConstraints_.references.end(), {0.0, 0.0, 0.0});  // moments about the kept centre
-    fineConstraints_.scales = {std::fabs(reference_), momentScale_, momentScale_, momentScale_};
-  }
-}
-
-double VolumeEditor::rawChange(double volumeTarget) const {
-  return std::max(relative(volumeTarget, reference_), keepCentroid_ ? momentChange() : 0.0);
 }
 
 void VolumeEditor::finishReport(EditReport& report) const {
-  if (parts_.empty()) report.relativeError = relative(report.volumeResult, reference_);
+  if (parts_.empty()) CageEditor::finishReport(report);  // the error, and the centres of mass when kept
   else report.volumeResult = volume();
-  if (keepCentroid_) {
-    const Vec3 r = referenceCentroid(), c = centroid();
-    report.centroidReference = {r.x, r.y, r.z};
-    report.centroidResult = {c.x, c.y, c.z};
-  }
   report.partReferences = partReference_;
   report.partVolumes = partVolumes();
 }

@@ -35,8 +35,20 @@ class CageEditor {
   uint32_t cageIndexOf(uint32_t callerVertex) const;
 
   double referenceVolume() const { return reference_; }
+  void setReferenceVolume(double volume);
   // The current volume of the surface kept (exact, from the fine positions).
   virtual double volume() const { return fineConstraints_.value(); }
+
+  // Keeping the centre of mass (of the mesh's solid) with the volume: three more rows, the first
+  // moments about the centre of mass now, each kept at zero (matrix-free path). A moment row's
+  // error is relative to |V| times a tenth of the bounding-box diagonal: the centroid's drift stays
+  // under a tenth of the tolerance times the model's size, whatever the volume's error.
+  void keepCentroid(bool keep);
+  bool keepsCentroid() const { return keepCentroid_; }
+  // The mesh solid's centre of mass now (caller's frame) and the one kept (reference moments over
+  // the reference volume).
+  Vec3 centroid() const;
+  Vec3 referenceCentroid() const;
 
   // Gradient paths. The tensor must be theta^e with Cage storage for this mesh and scheme.
   void useTensor(const VolumeTensor& tensor);
@@ -82,18 +94,24 @@ class CageEditor {
   static int checkedLevel(const Hierarchy& hierarchy, int level);
   static double relative(double value, double reference);
 
-  // The fine mesh's volume function (the matrix-free gradient's, and row 0 by default).
+  // The fine mesh's volume function (the matrix-free gradient's, and row 0 by default), and its
+  // first moments along x, y, z (set by the constructor: FirstMoment, QuadFirstMoment).
   virtual const VolumeFunction& meshVolume() const = 0;
+  std::vector<std::unique_ptr<MomentFunction>> moments_;
+  // Throws Error when the centre of mass cannot be kept now (the triangle editor's limit surface, parts).
+  virtual void checkCentroidKept() const {}
   // Rows kept besides the one volume (parts, the centre of mass): they run on the fine rows.
-  virtual bool needsFineRows() const { return false; }
+  virtual bool needsFineRows() const { return keepCentroid_; }
   // The fine rows for the current free set (and whatever else the editor keeps); resets the solver.
   virtual void configureFineRows();
   // The fine rows' references (and scales) before a solve.
-  virtual void setFineReferences() { fineConstraints_.references = {reference_}; }
+  virtual void setFineReferences();
   // Whether row 0 is the volume reported (not part 0 of several).
   virtual bool rowIsVolume() const { return true; }
   // The relative change a move of the cage made, for the sub-step count.
-  virtual double rawChange(double volumeTarget) const { return relative(volumeTarget, reference_); }
+  double rawChange(double volumeTarget) const;
+  double meshMoments(double moments[3]) const;  // the mesh volume, and its first moments about the moments' centre
+  double momentChange() const;                  // the moments' largest relative deviation now
   // The report's error and whatever else the editor keeps (part volumes, centres of mass).
   virtual void finishReport(EditReport& report) const;
 
@@ -114,6 +132,8 @@ class CageEditor {
   int level_;
   mutable SessionCoefficients session_;
   double reference_ = 0;
+  bool keepCentroid_ = false;
+  double momentScale_ = 1;
   FreeSet free_;
   // The polynomial in use (tensor or builder), and whether the details moved since a build.
   CagePolynomialPath polynomial_{session_};

@@ -3,9 +3,9 @@
 // triangle editor's (volume_solver.h, coefficient_volumes.h, cage_edit.h): the cage polynomial
 // contracted from the quad theta^e (tensor) or built from the fine quads (polynomial,
 // CagePolynomialBuilder over bilinearPatchRegions), or the bilinear volume of the fine positions
-// with the adjoint of synthesis (matrix-free). One global volume; the free set as the triangle
-// editor's (cage minus the held vertices, all, a list; details of chosen levels); boundary
-// vertices stay fixed.
+// with the adjoint of synthesis (matrix-free). One global volume, optionally with the centre of
+// mass (matrix-free); the free set as the triangle editor's (cage minus the held vertices, all, a
+// list; details of chosen levels); boundary vertices stay fixed.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -27,8 +27,8 @@ class QuadVolumeEditor final : public CageEditor {
   QuadVolumeEditor(const QuadHierarchy& hierarchy, const WaveletTransform& transform, int level,
                    const double* positions);
 
-  void setReferenceVolume(double volume);
-  // volume(): the bilinear volume of the current fine positions (CageEditor's).
+  // volume(): the bilinear volume of the current fine positions; keepCentroid(): the bilinear
+  // patches' centre of mass (QuadFirstMoment rows) with it (CageEditor's).
 
   // The same cage polynomial built from the fine quads (no tensor); rebuilt when a correction has
   // moved free details. Returns false, and runs matrix-free, when the builder refuses (more than

@@ -52,20 +52,17 @@ class QuadPatchVolume final : public VolumeFunction {
 // the second integral being three times the patch's cone volume (QuadPatchVolume). The integrand
 // is of degree 3 in u and in v, so 2 x 2 Gauss points give it exactly. Over the same N + 1
 // positions; with q = 0 it is V c_k for the centre of mass c.
-class QuadFirstMoment final : public FineFunction {
+class QuadFirstMoment final : public MomentFunction {
  public:
   // `quads` (4 per face) must outlive this; axis 0, 1 or 2.
   QuadFirstMoment(const std::vector<uint32_t>& quads, uint32_t vertexCount, int axis);
   size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
   double value(const double* x, double* gradient) const override;
-  void setCentre(double q) { centre_ = q; }
-  double centre() const { return centre_; }
 
  private:
   const std::vector<uint32_t>* quads_;
   uint32_t vertexCount_;
   int axis_;
-  double centre_ = 0;
 };
 
 }  // namespace mrvol

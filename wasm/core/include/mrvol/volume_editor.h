@@ -27,7 +27,6 @@ class VolumeEditor final : public CageEditor {
  public:
   VolumeEditor(const Hierarchy& hierarchy, const WaveletTransform& transform, int level, const double* positions);
 
-  void setReferenceVolume(double volume);
   double volume() const override;  // current volume (from the fine mesh, or its limit surface; exact)
 
   // The surface whose volume is kept: the fine mesh (default) or, given the Loop limit surface's
@@ -38,16 +37,8 @@ class VolumeEditor final : public CageEditor {
   void useLimitSurface(const FineForm& limitForm);
   bool limitSurface() const { return limitVolume_ != nullptr; }
 
-  // Keeping the centre of mass (of the mesh's solid) with the volume: three more rows, the first
-  // moments about the centre of mass now, each kept at zero (matrix-free path; not with parts). A
-  // moment row's error is relative to |V| times a tenth of the bounding-box diagonal: the centroid's
-  // drift stays under a tenth of the tolerance times the model's size, whatever the volume's error.
-  void keepCentroid(bool keep);
-  bool keepsCentroid() const { return keepCentroid_; }
-  // The mesh solid's centre of mass now (caller's frame) and the one kept (reference moments over
-  // the reference volume).
-  Vec3 centroid() const;
-  Vec3 referenceCentroid() const;
+  // The centre of mass (keepCentroid, centroid: CageEditor's) is kept for the mesh surface only,
+  // and not with parts.
 
   // The same cage polynomial built from the fine triangles (CagePolynomialBuilder), no tensor; it
   // is rebuilt when a correction has moved the details (free detail levels). Returns false, and
@@ -66,21 +57,16 @@ class VolumeEditor final : public CageEditor {
 
  private:
   const VolumeFunction& meshVolume() const override { return fineVolume_; }
+  void checkCentroidKept() const override;
   bool needsFineRows() const override { return !parts_.empty() || keepCentroid_; }
   void configureFineRows() override;  // the matrix-free rows for the current parts and free details
   void setFineReferences() override;
   bool rowIsVolume() const override { return parts_.empty(); }
-  double rawChange(double volumeTarget) const override;
   void finishReport(EditReport& report) const override;
   const VolumeFunction& surfaceVolume() const;  // the mesh's or the limit surface's
-  double meshMoments(double moments[3]) const;  // the mesh volume, and its first moments about the moments' centre
-  double momentChange() const;                  // the moments' largest relative deviation now
 
   FineEdgeVolume fineVolume_;
   std::unique_ptr<FormVolume> limitVolume_;
-  std::vector<FirstMoment> moments_;  // x, y, z
-  bool keepCentroid_ = false;
-  double momentScale_ = 1;
   std::vector<TriangleSetVolume> parts_;
   std::vector<double> partReference_;
 };
