@@ -665,9 +665,12 @@ export interface QuadVolumeEditor {
   gradient(path?: 'matrix-free' | 'tensor' | 'polynomial'): Float64Array;
   /** VolumeEditor's surface: quads keep the bilinear patches' volume, one global constraint. */
   surface(): 'mesh';
-  keepsCentroid(): false;
-  /** Throws unless keep is false: not available for quad meshes yet. */
+  keepsCentroid(): boolean;
+  /** Keeps the bilinear patches' centre of mass where it is now (with the volume; matrix-free), or stops keeping it. */
   keepCentroid(keep?: boolean): void;
+  /** The solid's centre of mass now, and the one kept (the current one when none is), [x, y, z]. */
+  centroid(): Float64Array;
+  referenceCentroid(): Float64Array;
   partVolumes(): Float64Array;
   /** Throws unless parts is empty: not available for quad meshes yet. */
   setParts(parts: ArrayLike<number>[], references?: ArrayLike<number>): void;

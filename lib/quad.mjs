@@ -87,14 +87,18 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     }
     /** Theta_tau for the coefficients: 'matrix-free' (all, 3N hierarchy order) or 'tensor'/'polynomial' (cage). */
     gradient(path = 'matrix-free') { return call((r) => r.gradient(path), this.#live()); }
-    // VolumeEditor's surface, for callers that take either editor: quads keep the bilinear patches'
-    // volume as one global constraint (no limit surface, parts or centre of mass yet).
+    // VolumeEditor's surface and parts, for callers that take either editor: quads keep the bilinear
+    // patches' volume as one global constraint (no limit surface or parts yet), and optionally
+    // their centre of mass.
     /** 'mesh': the bilinear patches' volume is kept. */
     surface() { return 'mesh'; }
-    keepsCentroid() { return false; }
-    keepCentroid(keep = true) {
-      if (keep) throw new MrvolError('keeping the centre of mass is not available for quad meshes yet');
-    }
+    /** Keeps the bilinear patches' centre of mass (its current place) with the volume, or stops keeping it. */
+    keepCentroid(keep = true) { call((r) => r.keepCentroid(Boolean(keep)), this.#live()); }
+    keepsCentroid() { return call((r) => r.keepsCentroid(), this.#live()); }
+    /** The solid's centre of mass now, [x, y, z] (Float64Array). */
+    centroid() { return call((r) => r.centroid(), this.#live()); }
+    /** The centre of mass kept (the current one when it is not kept). */
+    referenceCentroid() { return call((r) => r.referenceCentroid(), this.#live()); }
     partVolumes() { return new Float64Array(0); }
     setParts(parts) {
       if (parts?.length) throw new MrvolError('localized preservation (parts) is not available for quad meshes yet');

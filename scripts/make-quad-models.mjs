@@ -14,7 +14,7 @@ import { fileURLToPath } from 'node:url';
 import { createMrvol } from '../lib/node.mjs';
 import { trianglesOfQuads } from '../lib/three/edges.mjs';
 import { findSelfIntersection } from '../web/self-intersection.js';
-import { finishReadme, writeOrCheckModel } from './models-readme.mjs';
+import { finishReadme, sampleObjText, writeOrCheckModel } from './models-readme.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outDir = join(root, 'public/models');
@@ -66,25 +66,51 @@ const BUMPS = [
 ];
 const STRETCH = [1, 1.1, 0.9]; // a slightly long, low body
 
+/** The critter's surface point in the direction of p (any length): the bumps' radius, stretched, turned. */
+function critterPoint(p) {
+  const r = Math.hypot(p[0], p[1], p[2]);
+  const d = [p[0] / r, p[1] / r, p[2] / r];
+  let radius = 1;
+  for (const { c, a, w } of BUMPS) {
+    const n = Math.hypot(...c);
+    const angle = Math.acos(Math.max(-1, Math.min(1, (d[0] * c[0] + d[1] * c[1] + d[2] * c[2]) / n)));
+    radius += a * Math.exp(-(angle * angle) / (2 * w * w));
+  }
+  const q = [0, 1, 2].map((k) => radius * d[k] * STRETCH[k]);
+  // turned (a rotation) to three.js's axes: up +y (the ears), front +z (the nose)
+  return [-q[0], q[2], q[1]];
+}
+
+/**
+ * The critter made coarse to fine, so that every level's cage lies on or near its surface: the base
+ * vertices are put on the surface (they are the level-0 cage), then each level's new points (face
+ * points, then edge points) get the details that put them on the surface too, and the level's
+ * synthesis moves the old vertices by the vertex rule. Moving the finest vertices onto the
+ * surface instead would leave the analysis to put the coarse coefficients far out (narrow bumps
+ * near valence-3 corners).
+ */
 function critter(levels) {
   const base = cubeSphereQuads(3);
   const split = mrvol.subdivideQuads(base, { levels });
-  const mesh = split.toMesh();
-  split.delete();
-  const p = mesh.positions;
-  for (let i = 0; i < p.length; i += 3) {
-    const r = Math.hypot(p[i], p[i + 1], p[i + 2]);
-    const d = [p[i] / r, p[i + 1] / r, p[i + 2] / r];
-    let radius = 1;
-    for (const { c, a, w } of BUMPS) {
-      const n = Math.hypot(...c);
-      const angle = Math.acos(Math.max(-1, Math.min(1, (d[0] * c[0] + d[1] * c[1] + d[2] * c[2]) / n)));
-      radius += a * Math.exp(-(angle * angle) / (2 * w * w));
+  const sphere = split.positions(), depths = split.depths();
+  const x = new Float64Array(sphere.length);
+  const toSurface = (v, predicted) => {
+    const target = critterPoint(sphere.subarray(3 * v, 3 * v + 3));
+    for (let k = 0; k < 3; k++) x[3 * v + k] = target[k] - (predicted ? predicted[3 * v + k] : 0);
+  };
+  for (let v = 0; v < depths.length; v++) if (depths[v] === 0) toSurface(v, null);
+  for (let level = 1; level <= levels; level++) {
+    const steps = split.liftingSteps({ level });
+    // P_f writes the face points, P_e the edge points (reading the face points): one after the other
+    for (const [k, name] of [[1, 'P_f'], [2, 'P_e']]) {
+      if (steps[k - 1].name !== name) throw new Error(`level ${level}'s step ${k} is ${steps[k - 1].name}, not ${name}`);
+      const predicted = split.synthesizeSteps(x, { level, steps: k });
+      for (const v of steps[k - 1].targets) toSurface(v, predicted);
     }
-    const q = [0, 1, 2].map((k) => radius * d[k] * STRETCH[k]);
-    // turned (a rotation) to three.js's axes: up +y (the ears), front +z (the nose)
-    p[i] = -q[0], p[i + 1] = q[2], p[i + 2] = q[1];
+    x.set(split.synthesizeSteps(x, { level }));
   }
+  const mesh = { positions: x, quads: split.quads() };
+  split.delete();
   return mesh;
 }
 
@@ -100,14 +126,41 @@ const models = [
     how: [
       'Base: the cube [-1, 1]³ with each face a 3 x 3 grid of quads, every vertex projected on the unit sphere:',
       '56 vertices (the 8 corners of valence 3, the others of valence 4), 54 quads (not a multiple of 4: not itself a split).',
-      '3 levels of Catmull-Clark subdivision (`mrvol subdivide --scheme catmull-clark --levels 3`); every vertex',
-      'then projected on the unit sphere (direction p), moved to radius 1 + Σ a_k exp(-θ_k² / (2 w_k²)) (θ_k the',
-      'angle between p and c_k), scaled by (1, 1.1, 0.9) and turned so that the ears point up (+y) and the nose',
-      'to +z: (x, y, z) -> (-x, z, y):',
+      'The surface: in direction p (a vertex of 3 levels of Catmull-Clark subdivision of the base, `mrvol subdivide',
+      '--scheme catmull-clark --levels 3`), radius 1 + Σ a_k exp(-θ_k² / (2 w_k²)) (θ_k the angle between p and c_k),',
+      'scaled by (1, 1.1, 0.9) and turned so that the ears point up (+y) and the nose to +z: (x, y, z) -> (-x, z, y).',
+      'Made coarse to fine so that the cages lie on the surface: the base vertices (the level-0 cage) on it, then at',
+      'each level the details that put the face points and then the edge points on it; the old vertices follow the',
+      'vertex rule (so the finest mesh has 3/4 of its vertices on the surface, the others near it). Bumps:',
       ...BUMPS.map(({ c, a, w, what }) => `${what}: c = (${c.join(', ')}) normalised, a = ${a}, w = ${w}`),
     ],
   },
 ];
+
+// How far a cage vertex of any level may lie from the nearest fine vertex, relative to the model's
+// bounding radius: far handles make the app's first framing show a small surface among them.
+const CAGE_NEAR = 0.1;
+
+/** The cage vertex of any level farthest from the fine vertices: { level, vertex, relative }. */
+function farthestCageVertex(mr, positions) {
+  const count = positions.length / 3, depths = mr.depths();
+  const center = [0, 1, 2].map((k) => positions.reduce((sum, x, i) => (i % 3 === k ? sum + x : sum), 0) / count);
+  let radius = 0;
+  for (let i = 0; i < count; i++)
+    radius = Math.max(radius, Math.hypot(...[0, 1, 2].map((k) => positions[3 * i + k] - center[k])));
+  const farthest = { level: 0, vertex: 0, relative: 0 };
+  for (let level = 0; level < mr.levels; level++) {
+    const coarse = mr.analyze(positions, { level });
+    for (let v = 0; v < count; v++) {
+      if (depths[v] > level) continue;
+      let nearest = Infinity;
+      for (let i = 0; i < count; i++)
+        nearest = Math.min(nearest, Math.hypot(...[0, 1, 2].map((k) => positions[3 * i + k] - coarse[3 * v + k])));
+      if (nearest / radius > farthest.relative) Object.assign(farthest, { level, vertex: v, relative: nearest / radius });
+    }
+  }
+  return farthest;
+}
 
 /** Reads the OBJ text back as quads and checks it; returns its facts. */
 function checkModel(model, text) {
@@ -124,7 +177,10 @@ function checkModel(model, text) {
     if (!(roundtrip < 1e-12)) fail(`analysis-synthesis round trip error ${roundtrip}`);
     const found = findSelfIntersection(read.positions, trianglesOfQuads(read.quads));
     if (found.intersects) fail(`triangles ${found.pair[0]} and ${found.pair[1]} intersect`);
-    return { info, roundtrip, triangulatedVolume: mrvol.volume({ positions: read.positions, faces: trianglesOfQuads(read.quads) }) };
+    const cageDistance = farthestCageVertex(mr, read.positions);
+    if (!(cageDistance.relative <= CAGE_NEAR)) fail(`level-${cageDistance.level} cage vertex ${cageDistance.vertex} is ` +
+      `${fmt(cageDistance.relative, 3)} of the model's radius from the surface (at most ${CAGE_NEAR}: the app frames the surface and its cages together)`);
+    return { info, roundtrip, cageDistance, triangulatedVolume: mrvol.volume({ positions: read.positions, faces: trianglesOfQuads(read.quads) }) };
   } finally {
     mr.delete();
   }
@@ -135,10 +191,8 @@ const rows = [];
 const sections = [];
 let changed = 0;
 for (const model of models) {
-  const header = [`# ${model.name}.obj: ${model.summary}`, `# generated by ${generator} (npm run models), mrvol sample model`,
-                  ...model.how.map((l) => `# ${l}`)].join('\n') + '\n';
-  const text = header + mrvol.writeObjQuads(model.mesh);
-  const { info, roundtrip, triangulatedVolume } = checkModel(model, text);
+  const text = sampleObjText(model, generator, mrvol.writeObjQuads(model.mesh));
+  const { info, roundtrip, cageDistance, triangulatedVolume } = checkModel(model, text);
   changed += writeOrCheckModel(join(outDir, `${model.name}.obj`), model.name, text, checkOnly);
   process.stderr.write(`models: ${model.name}.obj: ${info.vertices} vertices, ${info.faces} quads, ${info.levels} levels, ` +
                        `${info.baseVertices} base vertices, bilinear-patch volume ${fmt(info.volume, 8)}\n`);
@@ -148,7 +202,8 @@ for (const model of models) {
     `- ${info.vertices} vertices, ${info.faces} quads, ${info.levels} Catmull-Clark levels over ${info.baseVertices} base vertices ` +
     `(indices ${info.baseVertexIndices[0]}..${info.baseVertexIndices[info.baseVertices - 1]}), closed, genus ${info.genus}.\n` +
     `- Volume of the bilinear patches ${fmt(info.volume, 10)} (its triangles, each quad split along one diagonal: ${fmt(triangulatedVolume, 10)}).\n` +
-    `- Checked: no self-intersections (all triangle pairs of the split quads), analysis-synthesis round trip exact to ${fmt(Math.max(roundtrip, 1e-300), 2)}.\n`);
+    `- Checked: no self-intersections (all triangle pairs of the split quads), analysis-synthesis round trip exact to ${roundtrip === 0 ? '0 (bit for bit)' : fmt(roundtrip, 2)}; ` +
+    `every cage vertex (levels 0..${info.levels - 1}) within ${fmt(cageDistance.relative, 2)} of the model's radius of a fine vertex.\n`);
 }
 
 const body = `## Quad models

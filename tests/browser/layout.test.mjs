@@ -1,15 +1,17 @@
 // The editor's layout at a desktop size (1280x800) and a phone size (390x844): nothing that takes
-// pointer events lies over the canvas where handles are (every handle of the spiky ball and of the
-// bunny can be grabbed), the phone's sheet leaves the model most of the screen and folds away,
+// pointer events lies over the canvas where handles are (every handle of every sample, framed as it
+// opens, can be grabbed), the phone's sheet leaves the model most of the screen and folds away,
 // touch drags a handle and pinch zooms, and the remesh offer's parts do not overlap.
 // Screenshots go to test-results/layout-*.png.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { startTestServer, launchBrowser, waitReady, readouts, settle, RESULTS_DIR } from './harness.mjs';
+import { readdirSync } from 'node:fs';
+import { startTestServer, launchBrowser, waitReady, readouts, settle, root, RESULTS_DIR } from './harness.mjs';
 
 const SIZES = { desktop: { width: 1280, height: 800 }, phone: { width: 390, height: 844 } };
-const MODELS = ['spiky-ball', 'bunny-remeshed'];
+// every sample the app offers (public/models/*.obj), framed as it opens
+const MODELS = readdirSync(join(root, 'public/models')).filter((f) => f.endsWith('.obj')).map((f) => f.slice(0, -4)).sort();
 
 let server;
 
@@ -58,7 +60,7 @@ function overlaps(a, b) {
   return a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
 }
 
-describe('web editor layout at desktop and phone sizes', { timeout: 400_000 }, () => {
+describe('web editor layout at desktop and phone sizes', { timeout: 1_200_000 }, () => {
   before(async () => {
     server = await startTestServer();
   });
@@ -67,14 +69,14 @@ describe('web editor layout at desktop and phone sizes', { timeout: 400_000 }, (
   });
 
   for (const [sizeName, viewport] of Object.entries(SIZES)) {
-    test(`${sizeName} ${viewport.width}x${viewport.height}: every handle of every model is on the canvas, uncovered`, { timeout: 180_000 }, async () => {
+    test(`${sizeName} ${viewport.width}x${viewport.height}: every handle of every sample is on the canvas, uncovered, as it opens`, { timeout: 480_000 }, async () => {
       await withBrowser(viewport, async (page) => {
         for (const model of MODELS) {
           await page.goto(`${server.url}?model=${model}`);
           await waitReady(page);
           await settle(page);
           const size = await page.evaluate(() => window.mrvolDebug.cageSize());
-          assert.ok(size >= 12, `${model}: ${size} handles`);
+          assert.ok(size > 0, `${model}: ${size} handles`);
           assert.deepEqual(await unreachableHandles(page), [], `${model} at ${sizeName}: handles not on the canvas`);
           await page.screenshot({ path: join(RESULTS_DIR, `layout-${sizeName}-${model}.png`) });
         }

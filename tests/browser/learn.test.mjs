@@ -304,6 +304,48 @@ describe('teaching views', { timeout: 120_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 
+  test('#learn/lifting speaks of the scheme it plays: title, text, phase glossary, phase readout and buttons', async () => {
+    // What names each scheme, and what only another scheme's text says (its phases and masks).
+    const NAME = { loop: /Loop/, butterfly: /Butterfly/, linear: /linear/, 'catmull-clark': /Catmull-Clark/ };
+    const ONLY = {
+      loop: [/8\/5/, /\bPo\b/, /predict odd/, /Figure 3/],
+      butterfly: [/Butterfly/, /−1\/16/],
+      linear: [/Lounsbery/, /midpoint/],
+      'catmull-clark': [/face point/, /edge point/, /Pf\b/, /vertex rule/],
+    };
+    const glossaryKey = (name) => name.replace(/^([NP])_3\d+$/, '$1_3k').replace('_', '');
+    await open('learn/lifting');
+    for (const [model, scheme] of [['spiky-ball', 'loop'], ['spiky-ball', 'butterfly'], ['spiky-ball', 'linear'], ['quad-critter', 'catmull-clark']]) {
+      if ((await state()).model !== model) {
+        await page.selectOption('[data-testid="lifting-model"]', model);
+        await page.waitForFunction((m) => window.mrvolLearn.state()?.model === m, model);
+      }
+      if ((await state()).scheme !== scheme) await page.selectOption('[data-testid="lifting-scheme"]', scheme);
+      const s = await state();
+      assert.equal(s.scheme, scheme);
+      const title = await page.textContent('[data-testid="learn-text"] h2');
+      assert.match(title, NAME[scheme], `${scheme}: the title names it`);
+      const text = await page.textContent('[data-testid="learn-text"]');
+      for (const [other, marks] of Object.entries(ONLY))
+        if (other !== scheme)
+          for (const mark of marks) assert.doesNotMatch(text, mark, `${scheme}: the text says nothing of ${other} (${mark})`);
+      // One glossary line per phase played (the valence-3 layers share one), in order.
+      const terms = await page.locator('[data-testid="lifting-glossary"] dt').allTextContents();
+      assert.deepEqual(terms, [...new Set(s.phases.map(glossaryKey))], `${scheme}: the glossary lists its phases`);
+      const lines = await page.locator('[data-testid="lifting-glossary"] dd').allTextContents();
+      // The phase readout says what the glossary says, phase by phase.
+      for (let k = 1; k <= s.phaseCount; k++) {
+        await page.evaluate((p) => window.mrvolLearn.act('setPhase', p), k);
+        const line = lines[terms.indexOf(glossaryKey(s.phases[k - 1]))];
+        assert.ok((await page.textContent('[data-testid="lifting-phase"]')).endsWith(line), `${scheme}: phase ${k} reads "${line}"`);
+      }
+      const buttons = [await page.textContent('[data-testid="lifting-next-even"]'), await page.textContent('[data-testid="lifting-next-odd"]')];
+      assert.deepEqual(buttons, scheme === 'catmull-clark' ? ['next old vertex', 'next new point'] : ['next even', 'next odd']);
+      await shot(`lifting-words-${scheme}`);
+    }
+    assert.deepEqual(page.problems, []);
+  });
+
   test('navigation: the bar switches views, a learn URL in the editor opens it, the editor link goes back', async () => {
     await open('learn/tensor');
     await page.click('[data-testid="nav-demo-skinning"]');

@@ -422,6 +422,61 @@ TEST(QuadEditor, EditsKeepTheBilinearVolume) {
   }
 }
 
+// The bilinear patches' centre of mass, from the quad moments (QuadFirstMoment) of the positions.
+static Vec3 bilinearCentroid(const QuadMesh& mesh) {
+  std::vector<double> x = mesh.positions;
+  x.insert(x.end(), {0.0, 0.0, 0.0});
+  const uint32_t n = uint32_t(mesh.positions.size() / 3);
+  const double v = QuadPatchVolume(mesh.quads, n).value(x.data(), nullptr);
+  double c[3];
+  for (int k = 0; k < 3; ++k) c[k] = QuadFirstMoment(mesh.quads, n, k).value(x.data(), nullptr) / v;
+  return {c[0], c[1], c[2]};
+}
+
+TEST(QuadEditor, KeepsTheCentreOfMassOfTheBilinearPatches) {
+  int closedCases = 0;
+  for (const Case& c : cases()) {
+    QuadMesh m = fineMesh(c.base, 2, 29);
+    QuadMultiresMesh mm(m);
+    if (!mm.hierarchy().h.closed()) continue;  // a closed solid has a centre of mass
+    ++closedCases;
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (size_t i = 0; i < m.positions.size(); ++i) lo[i % 3] = std::min(lo[i % 3], m.positions[i]), hi[i % 3] = std::max(hi[i % 3], m.positions[i]);
+    const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    const Vec3 start = bilinearCentroid(m);
+    for (bool keep : {true, false}) {
+      QuadVolumeEditor ed(mm.hierarchy(), mm.transform(), 1, m.positions.data());
+      ed.keepCentroid(keep);
+      EXPECT_EQ(ed.keepsCentroid(), keep);
+      const Vec3 before = ed.centroid();
+      EXPECT_LT(std::hypot(before.x - start.x, before.y - start.y, before.z - start.z), 1e-12 * diagonal) << c.name;
+      // Pull one interior cage vertex far out and hold it.
+      std::vector<double> target = ed.cagePositions();
+      uint32_t moved = 0;
+      while (mm.hierarchy().h.boundary[moved]) ++moved;
+      for (int k = 0; k < 3; ++k) target[3 * moved + k] += 0.3 * diagonal * (k == 0 ? 1 : 0.5);
+      std::vector<uint8_t> held(ed.cageSize(), 0);
+      held[moved] = 1;
+      EditReport r = ed.deformCage(target, held, EditOptions{});
+      ASSERT_TRUE(r.converged) << c.name << ": " << r.message;
+      const QuadMesh now{ed.positions(), m.quads};
+      EXPECT_LT(std::fabs(bilinearVolume(now) - ed.referenceVolume()) / ed.referenceVolume(), 1e-5) << c.name;
+      const Vec3 after = bilinearCentroid(now);
+      const double drift = std::hypot(after.x - start.x, after.y - start.y, after.z - start.z) / diagonal;
+      if (keep) {
+        EXPECT_LT(drift, 1e-6) << c.name << ": the centre of mass moved";
+        ASSERT_EQ(r.centroidResult.size(), 3u);
+        EXPECT_NEAR(r.centroidResult[0], after.x, 1e-9 * diagonal);
+        EXPECT_NEAR(r.centroidReference[0], start.x, 1e-9 * diagonal);
+      } else {
+        EXPECT_GT(drift, 1e-3) << c.name << ": the move does not test the centre";
+        EXPECT_TRUE(r.centroidResult.empty());
+      }
+    }
+  }
+  EXPECT_GE(closedCases, 2);
+}
+
 #include "mrvol/quad_obj.h"
 
 TEST(QuadObj, KeepsQuadsAndNamesTheLine) {

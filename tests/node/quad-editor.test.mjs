@@ -128,21 +128,70 @@ describe('quad editor: the cage polynomial', () => {
     mr.delete();
   });
 
+  test('the centre of mass of the bilinear patches, kept with the volume through a drag', () => {
+    // Reference: every patch split into 16 x 16 flat triangles (cone moments), near the patches' own.
+    const centroidOf = (positions, quads, m = 16) => {
+      let volume = 0;
+      const moment = [0, 0, 0];
+      const at = (f, u, v) => [0, 1, 2].map((k) => {
+        const c = (i) => positions[3 * quads[f + i] + k];
+        return (1 - u) * (1 - v) * c(0) + u * (1 - v) * c(1) + u * v * c(2) + (1 - u) * v * c(3);
+      });
+      const cone = (a, b, c) => {
+        const det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+        volume += det / 6;
+        for (let k = 0; k < 3; k++) moment[k] += det * (a[k] + b[k] + c[k]) / 24;
+      };
+      for (let f = 0; f < quads.length; f += 4)
+        for (let j = 0; j < m; j++)
+          for (let i = 0; i < m; i++) {
+            const p00 = at(f, i / m, j / m), p10 = at(f, (i + 1) / m, j / m), p11 = at(f, (i + 1) / m, (j + 1) / m), p01 = at(f, i / m, (j + 1) / m);
+            cone(p00, p10, p11);
+            cone(p00, p11, p01);
+          }
+      return moment.map((x) => x / volume);
+    };
+    const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    const mesh = detailedQuads(2, 13);
+    const size = maxAbs(mesh.positions);
+    const start = centroidOf(mesh.positions, mesh.quads);
+    const volume = mrvol.quadVolume(mesh);
+    const mr = mrvol.openMesh(mesh);
+    for (const keep of [true, false]) {
+      const editor = mr.createEditor({ level: 0 });
+      assert.ok(distance(editor.centroid(), start) < 1e-3 * size, `${editor.centroid()} against ${start}`);
+      editor.keepCentroid(keep);
+      assert.equal(editor.keepsCentroid(), keep);
+      const report = editor.moveVertices([{ vertex: editor.cageVertices()[0], offset: [0.4 * size, 0.2 * size, 0] }]);
+      assert.ok(report.converged, report.message);
+      assert.ok(relErr(bilinear(editor, mesh), volume) < 1e-5);
+      const after = centroidOf(editor.positions(), mesh.quads);
+      if (keep) {
+        assert.ok(distance(after, start) < 2e-3 * size, `the centre of mass moved by ${distance(after, start) / size} of the size`);
+        assert.ok(distance(editor.centroid(), editor.referenceCentroid()) < 1e-6 * size);
+        assert.equal(report.centroidResult.length, 3);
+      } else {
+        assert.ok(distance(after, start) > 1e-2 * size, 'the drag moves the centre when it is not kept');
+      }
+      editor.delete();
+    }
+    mr.delete();
+  });
+
   test('the quad editor offers what the triangle editor offers (or names what quads lack)', () => {
     const tri = mrvol.subdivide(icosahedron(), { levels: 1 });
     const quad = mrvol.openMesh(detailedQuads(1, 3));
     const te = tri.createEditor({ level: 0 }), qe = quad.createEditor({ level: 0 });
     // names starting with _ are internal hand-overs (the module transfer of big files, triangle-only)
     const methods = (o) => Object.getOwnPropertyNames(Object.getPrototypeOf(o)).filter((n) => n !== 'constructor' && !n.startsWith('_'));
-    // Renderer views over WASM memory and the centre of mass are triangle-only so far.
-    const triangleOnly = ['centroid', 'referenceCentroid', 'positionsView', 'normalsView', 'surfaceVersion', 'updatedRanges'];
+    // Renderer views over WASM memory are triangle-only so far.
+    const triangleOnly = ['positionsView', 'normalsView', 'surfaceVersion', 'updatedRanges'];
     const missing = methods(te).filter((m) => !methods(qe).includes(m) && !triangleOnly.includes(m));
     assert.deepEqual(missing, []);
     assert.equal(qe.surface(), 'mesh');
     assert.equal(qe.keepsCentroid(), false);
     assert.equal(qe.partVolumes().length, 0);
     qe.setParts([]);
-    throwsMrvol(() => qe.keepCentroid(true), /centre of mass is not available for quad meshes/);
     throwsMrvol(() => qe.setParts([[0]]), /parts\) is not available for quad meshes/);
     te.delete();
     qe.delete();

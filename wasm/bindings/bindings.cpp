@@ -531,8 +531,9 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("estimateTheta", &js_estimateTheta)
       .function("createEditor", &js_createEditor, allow_raw_pointers());
   class_<VolumeEditor>("_VolumeEditor")
-      .function("level", &VolumeEditor::level)
-      .function("cageSize", &VolumeEditor::cageSize)
+      // CageEditor members as this class's: embind takes member pointers of the bound class only
+      .function("level", static_cast<int (VolumeEditor::*)() const>(&VolumeEditor::level))
+      .function("cageSize", static_cast<uint32_t (VolumeEditor::*)() const>(&VolumeEditor::cageSize))
       .function("useTheta", &js_editorUseTheta)
       .function("usePolynomial", &js_editorUsePolynomial)
       .function("useMatrixFree", &js_editorUseMatrixFree)
@@ -551,7 +552,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("useLimitSurface", &js_editorUseLimitSurface)
       .function("limitSurface", &VolumeEditor::limitSurface)
       .function("keepCentroid", &js_editorKeepCentroid)
-      .function("keepsCentroid", &VolumeEditor::keepsCentroid)
+      .function("keepsCentroid", static_cast<bool (VolumeEditor::*)() const>(&VolumeEditor::keepsCentroid))
       .function("centroid", &js_editorCentroid)
       .function("referenceCentroid", &js_editorReferenceCentroid)
       .function("deformCage", &js_editorDeformCage)

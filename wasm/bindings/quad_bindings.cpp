@@ -172,6 +172,11 @@ val q_editorGradient(const QuadVolumeEditor& e, std::string path) {
     return toTyped(g);
   });
 }
+// The centre of mass of the bilinear patches, kept with the volume (CageEditor::keepCentroid).
+bool q_editorKeepCentroid(QuadVolumeEditor& e, bool keep) { return guarded([&] { return e.keepCentroid(keep), true; }); }
+val q_vec3(Vec3 v) { return toTyped(std::vector<double>{v.x, v.y, v.z}); }
+val q_editorCentroid(const QuadVolumeEditor& e) { return guarded([&] { return q_vec3(e.centroid()); }); }
+val q_editorReferenceCentroid(const QuadVolumeEditor& e) { return guarded([&] { return q_vec3(e.referenceCentroid()); }); }
 val q_editorCageVertices(const QuadVolumeEditor& e) { return guarded([&] { return toTyped(e.cageVertices()); }); }
 val q_editorCageIndexOf(const QuadVolumeEditor& e, double v) {
   return guarded([&] {
@@ -223,8 +228,9 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("fingerprint", &q_fingerprint)
       .function("createEditor", &q_createEditor, allow_raw_pointers());
   class_<QuadVolumeEditor>("_QuadVolumeEditor")
-      .function("level", &QuadVolumeEditor::level)
-      .function("cageSize", &QuadVolumeEditor::cageSize)
+      // CageEditor members as this class's: embind takes member pointers of the bound class only
+      .function("level", static_cast<int (QuadVolumeEditor::*)() const>(&QuadVolumeEditor::level))
+      .function("cageSize", static_cast<uint32_t (QuadVolumeEditor::*)() const>(&QuadVolumeEditor::cageSize))
       .function("useTheta", &q_editorUseTheta)
       .function("usePolynomial", &q_editorUsePolynomial)
       .function("useMatrixFree", &q_editorUseMatrixFree)
@@ -240,6 +246,10 @@ EMSCRIPTEN_BINDINGS(mrvol_quad) {
       .function("referenceVolume", &q_editorReference)
       .function("setReferenceVolume", &q_editorSetReference)
       .function("coefficients", &q_editorCoefficients)
+      .function("keepCentroid", &q_editorKeepCentroid)
+      .function("keepsCentroid", static_cast<bool (QuadVolumeEditor::*)() const>(&QuadVolumeEditor::keepsCentroid))
+      .function("centroid", &q_editorCentroid)
+      .function("referenceCentroid", &q_editorReferenceCentroid)
       .function("deformCage", &q_editorDeformCage)
       .function("correct", &q_editorCorrect);
 }

@@ -11,62 +11,37 @@
 // valence-3 layers, the vertex rule (QuadMultiresMesh.liftingSteps, applied by lib/quad-steps.mjs).
 import { sampleModels } from 'virtual:mrvol-models';
 import { trianglesOfQuads } from '../../lib/three/edges.mjs';
+import { SCHEME_WORDS, phaseText, glossaryKeys, phaseLabel } from './lifting-words.js';
 import { Stage, THREE, surface, wire, edgesOf, quadEdgesOf, bounds, fetchSample, openEditorModel, openText, explain, control, select, button, readoutTable } from './stage.js';
 
 const WRITTEN = new THREE.Color(0xe36209), READ = new THREE.Color(0x1f6feb), PICKED = new THREE.Color(0x1a7f37);
 const IDLE = new THREE.Color(0x6e7781), REACHED = new THREE.Color(0xb392f0);
 const POSITIVE_LINE = new THREE.Color(0xe36209), NEGATIVE_LINE = new THREE.Color(0x6f42c1);
 
-// What each phase does (paper section 2; method.md for the exact masks).
-const PHASES = {
-  U: 'update: the even vertices read the details d of their odd neighbours',
-  P_o: 'predict odd: each odd vertex reads the ends and wings of its edge (3/8, 3/8, 1/8, 1/8)',
-  N: 'normalize: each even vertex is scaled by K = 8/5 (3/8 + cos(2π/v)/4)²',
-  P_e: 'predict even: each even vertex reads its odd neighbours (μ = (1 − K)/v each)',
-  P: 'predict: each odd vertex reads the even vertices of its stencil',
-};
-// Catmull-Clark's (docs/catmull-clark.md section 2).
-const QUAD_PHASES = {
-  P_f: 'face points: each face point reads the four corners of its quad (1/4 each)',
-  P_e: 'edge points: each edge point reads its two ends and the two face points beside it (1/4 each; on a boundary its ends, 1/2 each)',
-  N_3k: 'valence-3 layer, normalize: an old vertex of valence 3 is scaled by 1/9 (the vertex rule alone would forget it)',
-  P_3k: 'valence-3 layer, predict: it reads its edge points, face points and the coarse neighbours of the layer before',
-  N_v: 'normalize old vertices: each old vertex of valence n is scaled by (n − 3)/n (boundary: 1/2)',
-  P_v: 'vertex rule: each old vertex reads its n edge points (4/n² each) and its face points (−1/n² each)',
-};
-// The valence-3 layers' steps are numbered by layer: N_31, P_31, ...
-const phaseText = (name, quad) => (quad ? QUAD_PHASES[name.replace(/^([NP])_3\d+$/, '$1_3k')] : PHASES[name]) ?? name;
 const TRIANGLE_SCHEMES = ['loop', 'butterfly', 'linear'];
 const QUAD_MODEL = 'quad-critter';
 const PLAY_MS = 900;
 
+// The words every scheme shares (the scheme's own come from lifting-words.js).
+const SHARED_TEXT = [
+  'Analysis runs the inverse phases in reverse order: each subtracts what its phase added (or divides by its factor), so it ' +
+    'retraces synthesis exactly.',
+  'Pick a vertex of M<sup>l</sup> (click it, or type its index) and <b>step</b> or <b>play</b> the phases. In each phase the ' +
+    'vertices of its neighbourhood that the phase <span style="color:#e36209">writes</span> are orange, the ones their masks ' +
+    '<span style="color:#1f6feb">read</span> are blue, with a line per weight (orange positive, purple negative) and the ' +
+    'weights listed; the picked vertex is green.',
+  'The phases are the core’s lifting steps, run by the core: a unit coefficient at the picked vertex (c<sup>l−1</sup> or ' +
+    'd<sup>l−1</sup> in synthesis, c<sup>l</sup> in analysis) goes through the first k phases; the vertices it has reached are ' +
+    'lilac. After the last phase they are one column of [S<sup>l</sup> C<sup>l</sup>] (synthesis) or [A<sup>l</sup>; B<sup>l</sup>] (analysis).',
+  '<b>Transposed</b> (section 3.2, Figure 5): θ<sup>l−1</sup> comes from θ<sup>l</sup> through the transposed synthesis, ' +
+    'which the paper runs as the same masks applied <i>outwards</i>, in reverse order: a mask instantiated at a vertex does ' +
+    'not read its neighbours, it adds its own value times the same weights to them (x<sub>s</sub> += w x<sub>t</sub>). ' +
+    'In this direction the picked vertex and its neighbours push (blue, “reads”) to the vertices their inward masks would ' +
+    'read (orange, “writes”); a unit covector at the picked vertex spreads to one row of [S<sup>l</sup> C<sup>l</sup>].',
+  'The mesh is the editor\'s model as you left it, when it has a subdivision level; else the spiky ball. The model list offers the quad-critter too.',
+];
+
 export async function mount({ mrvol, layout, el, stale }) {
-  explain(layout.text, 'Lifting: one level, phase by phase (Figure 3, section 2)', [
-    'One synthesis step (c<sup>l−1</sup>, d<sup>l−1</sup>) → c<sup>l</sup> of the Loop-based scheme runs four phases in place ' +
-      '(section 2, Figure 3): <b>U</b> updates the even (old) vertices from the details of the odd (new) ones ' +
-      '(weights α/v, β/v), <b>P<sub>o</sub></b> predicts the odd vertices from the even ones (3/8, 3/8, 1/8, 1/8), ' +
-      '<b>N</b> scales the even vertices by 8/5 (3/8 + cos(2π/v)/4)², <b>P<sub>e</sub></b> moves the even vertices by μ times ' +
-      'their odd neighbours. Butterfly and linear have two phases, U and P. Analysis runs the inverse phases in reverse order: ' +
-      'each subtracts what its phase added (or divides by its factor), so it retraces synthesis exactly.',
-    'Pick a vertex of M<sup>l</sup> (click it, or type its index) and <b>step</b> or <b>play</b> the phases. In each phase the ' +
-      'vertices of its neighbourhood that the phase <span style="color:#e36209">writes</span> are orange, the ones their masks ' +
-      '<span style="color:#1f6feb">read</span> are blue, with a line per weight (orange positive, purple negative) and the ' +
-      'weights listed; the picked vertex is green.',
-    'The phases are the core’s lifting steps, run by the core: a unit coefficient at the picked vertex (c<sup>l−1</sup> or ' +
-      'd<sup>l−1</sup> in synthesis, c<sup>l</sup> in analysis) goes through the first k phases; the vertices it has reached are ' +
-      'lilac. After the last phase they are one column of [S<sup>l</sup> C<sup>l</sup>] (synthesis) or [A<sup>l</sup>; B<sup>l</sup>] (analysis).',
-    '<b>Transposed</b> (section 3.2, Figure 5): θ<sup>l−1</sup> comes from θ<sup>l</sup> through the transposed synthesis, ' +
-      'which the paper runs as the same masks applied <i>outwards</i>, in reverse order: a mask instantiated at a vertex does ' +
-      'not read its neighbours, it adds its own value times the same weights to them (x<sub>s</sub> += w x<sub>t</sub>). ' +
-      'In this direction the picked vertex and its neighbours push (blue, “reads”) to the vertices their inward masks would ' +
-      'read (orange, “writes”); a unit covector at the picked vertex spreads to one row of [S<sup>l</sup> C<sup>l</sup>].',
-    '<b>Quads</b> (the quad-critter, or the editor\'s quad model): one Catmull-Clark level runs <b>P<sub>f</sub></b> (face points: ' +
-      'the mean of the quad\'s corners), <b>P<sub>e</sub></b> (edge points: ends and the face points beside, 1/4 each), then the old ' +
-      'vertices: <b>N<sub>v</sub></b> scales each by (n − 3)/n and <b>P<sub>v</sub></b> adds 4/n² of its edge points and −1/n² of its face ' +
-      'points, which is Catmull-Clark\'s vertex rule (Q + 2R + (n − 3)v)/n rewritten with the new points. At a valence-3 vertex ' +
-      '(n − 3)/n is 0, so it gets its own steps N<sub>3k</sub>, P<sub>3k</sub> (docs/catmull-clark.md).',
-    'The mesh is the editor\'s model as you left it, when it has a subdivision level; else the spiky ball. The model list offers the quad-critter too.',
-  ]);
   // The editor's model as it was left (edits included) when it has a level to play, else a sample.
   const fits = (m) => m.levels >= 1 && m.vertexCount <= 200_000 && !(m.lowestLevel > 0);
   let opened = await openEditorModel(mrvol, fits, { quads: true });
@@ -179,6 +154,28 @@ export async function mount({ mrvol, layout, el, stale }) {
     current = { vertices, index, positions, points, lines, ring, steps };
     vertexInput.max = N - 1;
     stage.panels[0].tag.textContent = `M${sup(l)}: ${vertices.length} vertices (${vertices.filter((u) => depths[u] === l).length} odd)`;
+    showWords();
+  }
+
+  /** The text, the phase glossary and the "next" buttons in the words of the scheme played. */
+  function showWords() {
+    const words = SCHEME_WORDS[s.scheme];
+    layout.text.replaceChildren();
+    explain(layout.text, words.title, [words.intro, ...SHARED_TEXT.slice(0, 1)]);
+    const glossary = el('dl', { class: 'learn-glossary', testid: 'lifting-glossary' });
+    for (const key of glossaryKeys(current.steps.map((step) => step.name))) {
+      const term = el('dt');
+      term.innerHTML = phaseLabel(key);
+      glossary.append(term, el('dd', { text: phaseText(s.scheme, key) }));
+    }
+    layout.text.append(glossary);
+    for (const text of SHARED_TEXT.slice(1)) {
+      const paragraph = el('p');
+      paragraph.innerHTML = text;
+      layout.text.append(paragraph);
+    }
+    nextEven.textContent = `next ${words.even}`;
+    nextOdd.textContent = `next ${words.odd}`;
   }
 
   const phaseCount = () => current.steps.length;
@@ -266,7 +263,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     set('lifting-picked', `vertex ${s.vertex} (${kindOf(s.vertex)}, depth ${depths[s.vertex]}): ${what}`, s.vertex);
     const phase = phaseName(k);
     const about = k === 0 ? 'before the first phase'
-      : (s.mode === 'analysis' ? 'undoes ' : s.mode === 'transposed' ? 'applied outwards: ' : '') + phaseText(stepOfPhase(k).name, quad);
+      : (s.mode === 'analysis' ? 'undoes ' : s.mode === 'transposed' ? 'applied outwards: ' : '') + phaseText(s.scheme, stepOfPhase(k).name);
     set('lifting-phase', `${k} / ${phaseCount()}: ${phase} — ${about}`, k);
     set('lifting-written', `${mask.written.length} vertices near the picked one`, mask.written.length);
     set('lifting-read', `${mask.read.length} vertices`, mask.read.length);
@@ -340,7 +337,8 @@ export async function mount({ mrvol, layout, el, stale }) {
     }
     return false;
   }
-  pickRow.append(button('next even', 'lifting-next-even', () => nextOf(false)), button('next odd', 'lifting-next-odd', () => nextOf(true)));
+  const nextEven = button('', 'lifting-next-even', () => nextOf(false)), nextOdd = button('', 'lifting-next-odd', () => nextOf(true));
+  pickRow.append(nextEven, nextOdd);
 
   // Click on a vertex of M^l.
   const raycaster = new THREE.Raycaster();

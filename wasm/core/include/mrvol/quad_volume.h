@@ -46,4 +46,23 @@ class QuadPatchVolume final : public VolumeFunction {
   uint32_t vertexCount_;
 };
 
+// The first moment along axis k of the solid enclosed by the bilinear patches, about a centre q
+// (FirstMoment's for quads): over each patch p(u, v) the cone to the origin has the moment
+//   (1/4) int p_k det(p, p_u, p_v) du dv - (q_k / 3) int det(p, p_u, p_v) du dv,
+// the second integral being three times the patch's cone volume (QuadPatchVolume). The integrand
+// is of degree 3 in u and in v, so 2 x 2 Gauss points give it exactly. Over the same N + 1
+// positions; with q = 0 it is V c_k for the centre of mass c.
+class QuadFirstMoment final : public MomentFunction {
+ public:
+  // `quads` (4 per face) must outlive this; axis 0, 1 or 2.
+  QuadFirstMoment(const std::vector<uint32_t>& quads, uint32_t vertexCount, int axis);
+  size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
+  double value(const double* x, double* gradient) const override;
+
+ private:
+  const std::vector<uint32_t>* quads_;
+  uint32_t vertexCount_;
+  int axis_;
+};
+
 }  // namespace mrvol

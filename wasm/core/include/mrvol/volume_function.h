@@ -90,26 +90,34 @@ class FormVolume final : public VolumeFunction {
   std::vector<double> weight_;
 };
 
+// A first moment of the enclosed solid about a centre q on one axis (FirstMoment for triangles,
+// QuadFirstMoment for bilinear patches): the rows that keep a centre of mass.
+class MomentFunction : public FineFunction {
+ public:
+  void setCentre(double q) { centre_ = q; }
+  double centre() const { return centre_; }
+
+ protected:
+  double centre_ = 0;
+};
+
 // One first moment of the enclosed solid about a centre q on axis k (coordinates relative to the
 // reference point), M_k - q_k V = sum over triangles det(a, b, c) ((a_k + b_k + c_k) / 24 - q_k / 6):
 // each cone's volume times the k-th coordinate of its centroid (a + b + c) / 4, less q_k. With q = 0
 // it is V c_k for the centre of mass c; it vanishes when c_k = q_k, whatever the volume. Over the same
 // N + 1 positions; boundary loops close as cones, which add nothing here. A quadrilinear form (a
 // quartic of the positions) for q fixed.
-class FirstMoment final : public FineFunction {
+class FirstMoment final : public MomentFunction {
  public:
   // `faces` (3 per triangle) must outlive this; axis 0, 1 or 2.
   FirstMoment(const std::vector<uint32_t>& faces, uint32_t vertexCount, int axis);
   size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
   double value(const double* x, double* gradient) const override;
-  void setCentre(double q) { centre_ = q; }
-  double centre() const { return centre_; }
 
  private:
   const std::vector<uint32_t>* faces_;
   uint32_t vertexCount_;
   int axis_;
-  double centre_ = 0;
 };
 
 }  // namespace mrvol
