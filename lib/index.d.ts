@@ -509,6 +509,11 @@ export interface Mrvol {
   transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions): TransferredEditor;
   /** Takes over what transferable gave, in an instance made for it (its memory is replaced). */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
+  /**
+   * adoptTransferred with the memory copied a slice at a time, awaiting `between(fraction copied)`
+   * after each (a page keeps drawing); nothing else may use this instance until it resolves.
+   */
+  adoptTransferredInSlices(transfer: TransferredEditor, options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void> }): Promise<MultiresMesh>;
   /** A quad base: n levels of Catmull-Clark subdivision (subdivideQuads). */
   subdivide(base: QuadMesh, options?: { levels?: number; scheme?: 'catmull-clark' }): QuadMultiresMesh;
   /** OBJ text to a quad mesh: every face must have 4 corners (MrvolError naming the line otherwise). */
@@ -695,6 +700,8 @@ export interface TransferredEditor {
   mesh: number;
   editor: number;
   positions: Float64Array;
+  /** The mesh's info() for these positions (the adopting instance skips a pass over the mesh). */
+  info?: MeshInfo;
   level: number;
   scheme: { scheme: string; alpha: number; beta: number };
 }

@@ -4,6 +4,7 @@
 import { MAX_FILE_BYTES, sizeMessage } from './file-limits.js';
 import { loadMrvol } from './mrvol.js';
 import { warmUp } from './module-transfer.js';
+import { addStage, beginStages } from './open-stages.js';
 
 const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
@@ -33,18 +34,58 @@ export function cancelFileRead() {
 }
 
 /**
+ * Another job shown in the status strip with the same cancel button (editor-rebuild.js): the
+ * running file read is cancelled first. Returns the job; cancelled(job) tells whether it was since.
+ */
+export function startBusyJob(worker, reject) {
+  cancelFileRead();
+  running = { worker, reject };
+  return running;
+}
+export const cancelled = (job) => running !== job;
+/** Ends a job started with startBusyJob (its worker stopped, the strip hidden). */
+export function endBusyJob(job) {
+  if (running === job) running = null;
+  job.worker.terminate();
+  showFileProgress(null);
+}
+
+/**
  * The worker's mesh and editor in a fresh instance of the module (module-transfer.js): the
  * MultiresMesh, whose first createEditor at the worker's level and scheme is the editor made
- * there; null when that fails (the page then opens the mesh from the hierarchy arrays).
+ * there; null when that fails (the page then opens the mesh from the hierarchy arrays). The
+ * memory (a GB or more for a big mesh) is copied in slices, the page drawing between them;
+ * `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
  */
-async function adopt(transfer) {
+export async function adopt(transfer, { progress = () => {}, cancelled = () => false } = {}) {
   try {
-    const fresh = await loadMrvol();
-    warmUp(fresh);
-    return fresh.adoptTransferred(transfer);
+    const fresh = await pageStageAsync('core instance for the editor', async () => {
+      const instance = await loadMrvol();
+      warmUp(instance);
+      return instance;
+    });
+    const t = performance.now();
+    const between = (fraction) => {
+      if (cancelled()) throw Object.assign(new Error('cancelled'), { cancelled: true });
+      progress(fraction);
+      return new Promise((resolve) => setTimeout(resolve, 0));
+    };
+    const mr = await fresh.adoptTransferredInSlices(transfer, { between });
+    addStage('memory taken over (in slices)', 'page', performance.now() - t, { bytes: transfer.memory.byteLength });
+    return mr;
   } catch (e) {
+    if (e.cancelled) throw e;
     console.warn(`the worker's editor could not be taken over (${e.message}): opening the mesh here`);
     return null;
+  }
+}
+
+async function pageStageAsync(stage, fn) {
+  const t = performance.now();
+  try {
+    return await fn();
+  } finally {
+    addStage(stage, 'page', performance.now() - t);
   }
 }
 
@@ -63,6 +104,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
     return { mesh: mrvol.readMesh(data, { name }), bytes: data, format: mrvol.detectFormat(data, name) };
   }
   cancelFileRead();
+  beginStages(`opening ${name}`);
   const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
@@ -79,9 +121,22 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       if (data.type === 'progress') {
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
+        worker.terminate(); // its work is done; the take-over below can still be cancelled
+        for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});
+        let opened = null;
+        if (data.transfer) {
+          try {
+            opened = await adopt(data.transfer, {
+              progress: (f) => showFileProgress(`Reading ${name} (${mb}): taking the editor over…`, 0.95 + 0.05 * f),
+              cancelled: () => running !== job,
+            });
+          } catch (e) {
+            if (e.cancelled) return; // cancelFileRead rejected already
+            throw e;
+          }
+        }
         finish();
-        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format, hierarchy: data.hierarchy, openError: data.openError,
-                  opened: data.transfer ? await adopt(data.transfer) : null });
+        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format, hierarchy: data.hierarchy, openError: data.openError, opened });
       } else if (data.type === 'error') {
         finish();
         reject(Object.assign(new Error(data.message), { size: Boolean(data.size) }));
