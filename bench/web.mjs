@@ -121,6 +121,39 @@ for (const mode of MODES) {
   }
 }
 
+/**
+ * Thread CPU times from a Chromium trace (category toplevel: each task's wall `dur` and thread
+ * `tdur`, which leaves out waiting, e.g. for the GPU process): the page's main thread and its
+ * workers, summed, and the page's longest task. Depends little on other jobs on the machine.
+ */
+async function startThreadTrace(page) {
+  const cdp = await page.context().newCDPSession(page);
+  const events = [];
+  cdp.on('Tracing.dataCollected', ({ value }) => events.push(...value));
+  await cdp.send('Tracing.start', { categories: 'toplevel', transferMode: 'ReportEvents' });
+  return async () => {
+    const ended = new Promise((resolve) => cdp.once('Tracing.tracingComplete', resolve));
+    await cdp.send('Tracing.end');
+    await ended;
+    await cdp.detach();
+    const threads = new Map();
+    for (const e of events) if (e.ph === 'M' && e.name === 'thread_name') threads.set(`${e.pid}:${e.tid}`, e.args.name);
+    const pageThread = [...threads].find(([, name]) => name === 'CrRendererMain')?.[0];
+    const pagePid = pageThread?.split(':')[0];
+    const out = { pageCpu: 0, pageWall: 0, workerCpu: 0, longestCpu: 0, longestWall: 0 };
+    for (const e of events) {
+      if (e.ph !== 'X' || e.name !== 'RunTask') continue;
+      const key = `${e.pid}:${e.tid}`, cpu = (e.tdur ?? 0) / 1000;
+      if (key === pageThread) {
+        out.pageCpu += cpu;
+        out.pageWall += e.dur / 1000;
+        if (cpu > out.longestCpu) Object.assign(out, { longestCpu: cpu, longestWall: e.dur / 1000 });
+      } else if (String(e.pid) === pagePid && /Worker/.test(threads.get(key) ?? '')) out.workerCpu += cpu;
+    }
+    return out;
+  };
+}
+
 /** A big OBJ dropped on the page (as a user would: a File made in the page): open and drag times. */
 async function measureBig(server, levels, mrvol) {
   const spiky = mrvol.readObj(readFileSync(join(root, 'public/models/spiky-ball.obj')));
@@ -135,6 +168,7 @@ async function measureBig(server, levels, mrvol) {
     await waitReady(page);
     await page.route('**/bench-files/big.obj', (route) => route.fulfill({ body: text, contentType: 'text/plain' }));
     const name = `spiky-${vertices}.obj`;
+    const stopTrace = await startThreadTrace(page);
     const t = await page.evaluate(async (name) => {
       const blob = await (await fetch('/bench-files/big.obj')).blob();
       // frame gaps while the worker reads and finds the levels, and from then to the first frame
@@ -161,13 +195,41 @@ async function measureBig(server, levels, mrvol) {
     const opened = await page.evaluate(() => performance.now());
     await waitReady(page, 600_000);
     const ready = await page.evaluate(() => performance.now());
+    const cpu = await stopTrace();
     const watch = await page.evaluate(() => window.benchWatch);
+    // the first save (the file and positions into IndexedDB, in the store's worker)
+    await page.waitForFunction(() => window.mrvolDebug.openStages().stages.some((s) => /written to IndexedDB/.test(s.stage)), null, { timeout: 300_000 }).catch(() => {});
+    const stages = (await page.evaluate(() => window.mrvolDebug.openStages())).stages;
     const path = await page.evaluate(() => window.mrvolDebug.gradientPath());
     const drag = await dragTimes(page, 30);
     const fileMb = text.length / 1e6;
+    // a level change (0 -> 1): the editor made in a worker and swapped in
+    const stopLevelTrace = await startThreadTrace(page);
+    const asked = await page.evaluate(() => {
+      const w = { maxGap: 0, last: performance.now(), running: true };
+      window.levelWatch = w;
+      const tick = (now) => {
+        if (!w.running) return;
+        w.maxGap = Math.max(w.maxGap, now - w.last);
+        w.last = now;
+        requestAnimationFrame(tick);
+      };
+      requestAnimationFrame(tick);
+      return performance.now();
+    });
+    await page.locator('[data-testid="level"]').selectOption('1');
+    await page.waitForFunction(() => window.mrvolDebug.ready() && window.mrvolDebug.settings().level === 1 && document.querySelector('#busy').hidden, null, { timeout: 600_000 });
+    const levelDone = await page.evaluate(() => {
+      window.levelWatch.running = false;
+      return { at: performance.now(), maxGap: window.levelWatch.maxGap };
+    });
+    const levelCpu = await stopLevelTrace();
+    const levelStages = (await page.evaluate(() => window.mrvolDebug.openStages())).stages;
+    const level = { ms: levelDone.at - asked, maxGap: levelDone.maxGap, cpu: levelCpu, stages: levelStages, history: await page.evaluate(() => window.mrvolDebug.historySize()) };
     process.stderr.write(`big ${vertices}: handed over ${ms(watch.handed - t)}, opened ${ms(opened - t)}, first frame ${ms(ready - t)}; step median ${ms(median(drag.steps))}\n`);
     const { levelsFrom, editorFrom } = await page.evaluate(() => window.mrvolDebug.modelFile());
-    return { vertices, fileMb, handed: watch.handed - t, readGap: watch.maxGap, openGap: watch.openGap, opened: opened - t, ready: ready - t, path, levelsFrom, editorFrom, drag };
+    return { vertices, fileMb, handed: watch.handed - t, readGap: watch.maxGap, openGap: watch.openGap, opened: opened - t, ready: ready - t, path, levelsFrom, editorFrom, drag,
+             cpu, stages, level };
   } finally {
     await browser.close();
   }
@@ -252,6 +314,24 @@ if (bigResults.length) {
     bigLines.push(`| ${b.vertices.toLocaleString('en-US')} | ${b.fileMb.toFixed(1)} | ${ms(b.handed)} | ${b.levelsFrom} / ${b.editorFrom} | ${ms(b.readGap)} | ${ms(b.opened)} | ${ms(b.openGap)} | ${ms(b.ready)} | ${b.path} | ` +
       `${ms(median(steps))} | ${ms(quantile(steps, 0.95))} | ${(1000 / median(steps)).toFixed(0)} | ${ms(median(frames))} | ${b.drag.error?.toExponential(1) ?? '–'} |`);
   }
+  bigLines.push('', 'The page\'s own work, from a Chromium trace of the same runs (thread CPU time of each task, which leaves out',
+    'waiting: mostly for the GPU process, whose software WebGL draws a frame of 1.3M triangles in seconds here, the',
+    'page\'s thread blocked meanwhile when the frame is handed to the compositor). "Level 0 -> 1": the panel\'s level',
+    'changed after the drag, the level-1 editor made in a worker and swapped in (undo history kept).', '');
+  bigLines.push('| vertices | what | wall ms (ask to first frame) | longest frame gap | page thread CPU ms | longest page task CPU ms (its wall ms) | workers CPU ms |');
+  bigLines.push('|---:|---|---:|---:|---:|---:|---:|');
+  for (const b of bigResults) {
+    const v = b.vertices.toLocaleString('en-US');
+    bigLines.push(`| ${v} | opening (drop to first frame) | ${ms(b.ready)} | ${ms(Math.max(b.readGap, b.openGap))} | ${ms(b.cpu.pageCpu)} | ${ms(b.cpu.longestCpu)} (${ms(b.cpu.longestWall)}) | ${ms(b.cpu.workerCpu)} |`);
+    bigLines.push(`| ${v} | level 0 -> 1 (undo steps after: ${b.level.history.undo}) | ${ms(b.level.ms)} | ${ms(b.level.maxGap)} | ${ms(b.level.cpu.pageCpu)} | ${ms(b.level.cpu.longestCpu)} (${ms(b.level.cpu.longestWall)}) | ${ms(b.level.cpu.workerCpu)} |`);
+  }
+  bigLines.push('', 'Stages (mrvolDebug.openStages(): wall ms on the thread named; the worker\'s stages on a loaded machine stretch with the load):', '');
+  bigLines.push('| vertices | what | stage | thread | ms | MB |');
+  bigLines.push('|---:|---|---|---|---:|---:|');
+  for (const b of bigResults)
+    for (const [what, list] of [['opening', b.stages], ['level 0 -> 1', b.level.stages]])
+      for (const st of list)
+        bigLines.push(`| ${b.vertices.toLocaleString('en-US')} | ${what} | ${st.stage} | ${st.thread} | ${ms(st.ms)} | ${st.bytes ? (st.bytes / 1e6).toFixed(0) : ''} |`);
   bigLines.push('');
 }
 lines.push('', 'Where the time goes (from `mrvolDebug.stats()` and CPU profiles taken while writing this):', '',

@@ -18,7 +18,7 @@ import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
 import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
-import { pageStage, addStage } from './open-stages.js';
+import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
@@ -110,7 +110,8 @@ function saveNow() {
   savePending = false;
   const { session } = app;
   if (!app.model || !session.editor) return;
-  const started = performance.now(), timed = app.timeNextSave; // the first save of a big file: an open stage
+  // the first save of a big file: a stage of its opening (not of a rebuild begun meanwhile)
+  const started = performance.now(), timed = app.timeNextSave, what = openStages().what;
   app.timeNextSave = false;
   const stored = {
     model: app.model,
@@ -127,7 +128,7 @@ function saveNow() {
   const saving = app.store.save({ ...stored, history });
   if (timed) addStage('session saved: the page\'s part', 'page', performance.now() - started);
   saving.then(() => {
-    if (timed && app.store.lastWorkerMs !== null) addStage('session saved: written to IndexedDB', 'worker', app.store.lastWorkerMs);
+    if (timed && app.store.lastWorkerMs !== null && openStages().what === what) addStage('session saved: written to IndexedDB', 'worker', app.store.lastWorkerMs);
     showStorageProblem(app.store.problem);
     refreshRecent();
   });
