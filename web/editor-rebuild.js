@@ -4,7 +4,7 @@
 // shape, the reference volume and the undo history (lib/three/session.mjs adoptRebuilt). Smaller
 // models, quads and editors the worker does not make (the limit surface, the centre of mass kept,
 // the tensor path) are rebuilt on the page's thread as before: quick, or not this path's to make.
-import { startBusyJob, endBusyJob, cancelled, adopt, showFileProgress } from './file-open.js';
+import { startBusyJob, endBusyJob, cancelled, adopt, freshInstance, showFileProgress } from './file-open.js';
 import { beginStages, addStage, pageStage } from './open-stages.js';
 
 // From this many fine vertices the editor is made in the worker (at 164k the polynomial takes ~1 s).
@@ -28,6 +28,7 @@ export async function rebuildInWorker(session, target, { name, apply }) {
     mesh: { positions: mr.positions(), faces: mr.faces() }, hierarchy: mr.hierarchyArrays(), positions: session.positions(),
   }));
   const worker = new Worker(new URL('./editor-worker.js', import.meta.url), { type: 'module', name: 'mrvol-editor' });
+  const instance = freshInstance(); // made while the worker works
   const label = `Making the level ${target.level} editor of ${name} (${target.scheme})`;
   showFileProgress(`${label}…`, 0);
   let job;
@@ -61,6 +62,7 @@ export async function rebuildInWorker(session, target, { name, apply }) {
     adopted = await adopt(transfer, {
       progress: (f) => showFileProgress(`${label}: taking the editor over…`, 0.9 + 0.1 * f),
       cancelled: () => cancelled(job),
+      instance,
     });
   } catch (e) {
     if (e.cancelled) return false;

@@ -57,13 +57,9 @@ export function endBusyJob(job) {
  * memory (a GB or more for a big mesh) is copied in slices, the page drawing between them;
  * `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
  */
-export async function adopt(transfer, { progress = () => {}, cancelled = () => false } = {}) {
+export async function adopt(transfer, { progress = () => {}, cancelled = () => false, instance = freshInstance() } = {}) {
   try {
-    const fresh = await pageStageAsync('core instance for the editor', async () => {
-      const instance = await loadMrvol();
-      warmUp(instance);
-      return instance;
-    });
+    const fresh = await pageStageAsync('core instance for the editor (waited for)', () => instance);
     const t = performance.now();
     const between = (fraction) => {
       if (cancelled()) throw Object.assign(new Error('cancelled'), { cancelled: true });
@@ -78,6 +74,24 @@ export async function adopt(transfer, { progress = () => {}, cancelled = () => f
     console.warn(`the worker's editor could not be taken over (${e.message}): opening the mesh here`);
     return null;
   }
+}
+
+/**
+ * A fresh instance of the module, warmed up (module-transfer.js), for adopt: started when a worker
+ * starts, it is made while the worker works (its instantiation and warm-up are the page's, a few
+ * hundred ms, not waited for at the end). Its own stage says how long it took.
+ */
+export function freshInstance() {
+  const started = performance.now();
+  const making = (async () => {
+    const instance = await loadMrvol();
+    await new Promise((resolve) => setTimeout(resolve, 0)); // a frame between instantiation and warm-up
+    warmUp(instance);
+    addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
+    return instance;
+  })();
+  making.catch(() => {}); // adopt awaits it and says why
+  return making;
 }
 
 async function pageStageAsync(stage, fn) {
@@ -105,6 +119,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   }
   cancelFileRead();
   beginStages(`opening ${name}`);
+  const instance = editor ? freshInstance() : null; // made while the worker works
   const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
@@ -129,6 +144,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
             opened = await adopt(data.transfer, {
               progress: (f) => showFileProgress(`Reading ${name} (${mb}): taking the editor over…`, 0.95 + 0.05 * f),
               cancelled: () => running !== job,
+              instance,
             });
           } catch (e) {
             if (e.cancelled) return; // cancelFileRead rejected already
