@@ -277,7 +277,8 @@ async function openModel(source, restore = null) {
       const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name,
         editor: { level: app.settings.level, scheme: app.settings.scheme, positions: restore?.positions } });
       if (generation !== app.loadGeneration) return false;
-      const big = read.bytes.byteLength > BIG_FILE_BYTES;
+      // the page makes the editor itself only when the worker's could not be taken: say so first
+      const big = read.bytes.byteLength > BIG_FILE_BYTES && !read.opened;
       if (big) {
         showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB)${read.opened ? '' : ': making the editor'}…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
