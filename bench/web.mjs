@@ -130,7 +130,8 @@ async function startThreadTrace(page) {
   const cdp = await page.context().newCDPSession(page);
   const events = [];
   cdp.on('Tracing.dataCollected', ({ value }) => events.push(...value));
-  await cdp.send('Tracing.start', { categories: 'toplevel', transferMode: 'ReportEvents' });
+  // devtools.timeline: the renderer's tasks (RunTask on its main thread and workers)
+  await cdp.send('Tracing.start', { categories: 'devtools.timeline,disabled-by-default-devtools.timeline,toplevel', transferMode: 'ReportEvents' });
   return async () => {
     const ended = new Promise((resolve) => cdp.once('Tracing.tracingComplete', resolve));
     await cdp.send('Tracing.end');
@@ -138,11 +139,24 @@ async function startThreadTrace(page) {
     await cdp.detach();
     const threads = new Map();
     for (const e of events) if (e.ph === 'M' && e.name === 'thread_name') threads.set(`${e.pid}:${e.tid}`, e.args.name);
-    const pageThread = [...threads].find(([, name]) => name === 'CrRendererMain')?.[0];
+    // each thread's outermost tasks (RunTask may hold a ThreadControllerImpl::RunTask of the same span)
+    const tasks = events.filter((e) => e.ph === 'X' && (e.name === 'RunTask' || e.name === 'ThreadControllerImpl::RunTask'))
+      .sort((a, b) => a.ts - b.ts || b.dur - a.dur);
+    const ends = new Map();
+    const outer = tasks.filter((e) => {
+      const key = `${e.pid}:${e.tid}`;
+      if (e.ts < (ends.get(key) ?? -Infinity)) return false;
+      ends.set(key, e.ts + e.dur);
+      return true;
+    });
+    // the page's renderer: the one whose main thread ran the most
+    const busy = new Map();
+    for (const e of outer)
+      if (threads.get(`${e.pid}:${e.tid}`) === 'CrRendererMain') busy.set(`${e.pid}:${e.tid}`, (busy.get(`${e.pid}:${e.tid}`) ?? 0) + e.dur);
+    const pageThread = [...busy].sort((a, b) => b[1] - a[1])[0]?.[0];
     const pagePid = pageThread?.split(':')[0];
     const out = { pageCpu: 0, pageWall: 0, workerCpu: 0, longestCpu: 0, longestWall: 0 };
-    for (const e of events) {
-      if (e.ph !== 'X' || e.name !== 'RunTask') continue;
+    for (const e of outer) {
       const key = `${e.pid}:${e.tid}`, cpu = (e.tdur ?? 0) / 1000;
       if (key === pageThread) {
         out.pageCpu += cpu;
