@@ -17,6 +17,7 @@ export function showFileProgress(text, fraction = null) {
   const box = $('busy');
   box.hidden = text === null;
   $('busy-text').textContent = text ?? '';
+  $('busy-text').title = text ?? ''; // the whole text where a phone cuts it
   const bar = $('busy-bar');
   if (fraction === null) bar.removeAttribute('value');
   else bar.value = fraction;
