@@ -218,7 +218,9 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
       const w = window.frameWatch;
       const busy = document.querySelector('[data-testid="busy"]');
       const tick = (now) => {
-        if (!w.running || /^Opening /.test(document.getElementById('busy-text').textContent)) {
+        // handed over: the worker's editor taken (its memory copied in), or the page opening the mesh itself
+        if (!w.running || /^Opening /.test(document.getElementById('busy-text').textContent) ||
+            window.mrvolDebug.openStages().stages.some((s) => s.stage.startsWith('memory taken over'))) {
           w.running = false;
           return;
         }
