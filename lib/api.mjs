@@ -659,7 +659,8 @@ export function wrapModule(module) {
      */
     transferable(mr, editor, options = {}) {
       return {
-        memory: module.HEAPU8.slice(), mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
+        // memory: false: the calls alone, no copy (an instance warming up for a later take-over)
+        memory: options.memory === false ? null : module.HEAPU8.slice(), mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
         positions: mr.positions(), info: mr.info(), level: editor.level, scheme: schemeArgs(options),
       };
     },

@@ -506,7 +506,7 @@ export interface Mrvol {
    * A mesh and its editor, with a copy of this instance's memory, for adoptTransferred in another
    * instance that ran the same calls first (web/module-transfer.js warmUp).
    */
-  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions): TransferredEditor;
+  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions & { /** false: the calls alone, no copy (warming an instance up) */ memory?: boolean }): TransferredEditor;
   /** Takes over what transferable gave, in an instance made for it (its memory is replaced). */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /**

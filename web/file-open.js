@@ -3,7 +3,7 @@
 // cancel button in the status strip, so the page keeps drawing while a big file is read.
 import { MAX_FILE_BYTES, sizeMessage } from './file-limits.js';
 import { loadMrvol } from './mrvol.js';
-import { warmUp } from './module-transfer.js';
+import { warmUpInSteps } from './module-transfer.js';
 import { addStage, beginStages } from './open-stages.js';
 
 const $ = (id) => document.getElementById(id);
@@ -86,8 +86,7 @@ export function freshInstance() {
   const started = performance.now();
   const making = (async () => {
     const instance = await loadMrvol();
-    await new Promise((resolve) => setTimeout(resolve, 0)); // a frame between instantiation and warm-up
-    warmUp(instance);
+    await warmUpInSteps(instance, () => new Promise((resolve) => setTimeout(resolve, 0))); // frames between its calls
     addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
     return instance;
   })();
