@@ -339,11 +339,12 @@ export function wrapModule(module) {
   class MultiresMesh {
     #raw;
     #positions;
-    constructor(raw, positions) {
+    // info: this mesh's info() for these positions when known (an adopted mesh's: a pass less)
+    constructor(raw, positions, info = null) {
       this.#raw = raw;
       this.#positions = positions;
       this.levels = raw.levels();
-      const info = call((r) => r.info(positions), raw);
+      info ??= call((r) => r.info(positions), raw);
       this.#info = info;
       this.vertexCount = info.vertices;
       this.faceCount = info.faces;
@@ -584,6 +585,21 @@ export function wrapModule(module) {
     throw new MrvolError(`${what} expects the file as a Uint8Array`);
   };
 
+  // adoptTransferred: the memory grown to fit what transferable() gave, then (once it is copied in) the objects.
+  const reserveForTransfer = ({ memory, mesh, editor, positions } = {}) => {
+    if (!(memory instanceof Uint8Array) || !(positions instanceof Float64Array) || !Number.isFinite(mesh) || !Number.isFinite(editor))
+      throw new MrvolError('adoptTransferred expects what transferable() gave');
+    if (memory.byteLength > module.HEAPU8.byteLength) call(module._reserveMemory, memory.byteLength);
+    if (memory.byteLength > module.HEAPU8.byteLength)
+      throw new MrvolError(`out of memory: ${Math.round(memory.byteLength / 2 ** 20)} MB do not fit this WebAssembly module`);
+  };
+  const adoptCopied = ({ mesh, editor, positions, info, level, scheme }) => {
+    const known = info && typeof info === 'object' && info.vertices * 3 === positions.length ? info : null;
+    const mr = new MultiresMesh(call(module._adoptMesh, mesh), positions, known);
+    mr._prepareEditor(call(module._adoptEditor, editor), { level, ...scheme });
+    return mr;
+  };
+
   return {
     /**
      * Reads a mesh file of any format mrvol knows (OBJ, STL, PLY, OFF, glTF, GLB), told by
@@ -700,8 +716,9 @@ export function wrapModule(module) {
      */
     transferable(mr, editor, options = {}) {
       return {
-        memory: module.HEAPU8.slice(), mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
-        positions: mr.positions(), level: editor.level, scheme: schemeArgs(options),
+        // memory: false: the calls alone, no copy (an instance warming up for a later take-over)
+        memory: options.memory === false ? null : module.HEAPU8.slice(), mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
+        positions: mr.positions(), info: mr.info(), level: editor.level, scheme: schemeArgs(options),
       };
     },
     /**
@@ -709,16 +726,24 @@ export function wrapModule(module) {
      * object made in it before is gone). Returns the MultiresMesh; its first createEditor at that
      * level and scheme returns the editor made there.
      */
-    adoptTransferred({ memory, mesh, editor, positions, level, scheme }) {
-      if (!(memory instanceof Uint8Array) || !(positions instanceof Float64Array) || !Number.isFinite(mesh) || !Number.isFinite(editor))
-        throw new MrvolError('adoptTransferred expects what transferable() gave');
-      if (memory.byteLength > module.HEAPU8.byteLength) call(module._reserveMemory, memory.byteLength);
-      if (memory.byteLength > module.HEAPU8.byteLength)
-        throw new MrvolError(`out of memory: ${Math.round(memory.byteLength / 2 ** 20)} MB do not fit this WebAssembly module`);
-      module.HEAPU8.set(memory);
-      const mr = new MultiresMesh(call(module._adoptMesh, mesh), positions);
-      mr._prepareEditor(call(module._adoptEditor, editor), { level, ...scheme });
-      return mr;
+    adoptTransferred(transfer) {
+      reserveForTransfer(transfer);
+      module.HEAPU8.set(transfer.memory);
+      return adoptCopied(transfer);
+    },
+    /**
+     * adoptTransferred with the memory copied a slice at a time (`sliceBytes`), awaiting
+     * `between(fraction copied)` after each: a page keeps drawing while a big editor's memory (a GB
+     * or more) comes in. Nothing else may use this instance until it resolves (to the MultiresMesh).
+     */
+    async adoptTransferredInSlices(transfer, { sliceBytes = 16 * 2 ** 20, between = () => new Promise((r) => setTimeout(r, 0)) } = {}) {
+      reserveForTransfer(transfer);
+      const { memory } = transfer;
+      for (let at = 0; at < memory.byteLength; at += sliceBytes) {
+        module.HEAPU8.set(memory.subarray(at, Math.min(memory.byteLength, at + sliceBytes)), at);
+        await between(Math.min(1, (at + sliceBytes) / memory.byteLength));
+      }
+      return adoptCopied(transfer);
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {

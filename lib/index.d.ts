@@ -506,9 +506,14 @@ export interface Mrvol {
    * A mesh and its editor, with a copy of this instance's memory, for adoptTransferred in another
    * instance that ran the same calls first (web/module-transfer.js warmUp).
    */
-  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions): TransferredEditor;
+  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions & { /** false: the calls alone, no copy (warming an instance up) */ memory?: boolean }): TransferredEditor;
   /** Takes over what transferable gave, in an instance made for it (its memory is replaced). */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
+  /**
+   * adoptTransferred with the memory copied a slice at a time, awaiting `between(fraction copied)`
+   * after each (a page keeps drawing); nothing else may use this instance until it resolves.
+   */
+  adoptTransferredInSlices(transfer: TransferredEditor, options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void> }): Promise<MultiresMesh>;
   /** A quad base: n levels of Catmull-Clark subdivision (subdivideQuads). */
   subdivide(base: QuadMesh, options?: { levels?: number; scheme?: 'catmull-clark' }): QuadMultiresMesh;
   /** OBJ text to a quad mesh: every face must have 4 corners (MrvolError naming the line otherwise). */
@@ -698,6 +703,8 @@ export interface TransferredEditor {
   mesh: number;
   editor: number;
   positions: Float64Array;
+  /** The mesh's info() for these positions (the adopting instance skips a pass over the mesh). */
+  info?: MeshInfo;
   level: number;
   scheme: { scheme: string; alpha: number; beta: number };
 }

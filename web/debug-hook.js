@@ -1,6 +1,8 @@
 // window.mrvolDebug: a read-only hook for the browser tests and the web benchmark. Every function
 // reads the app's state (the editing session, the view, the settings); none changes it.
 
+import { openStages } from './open-stages.js';
+
 /** Installs window.mrvolDebug over the app object of web/main.js. */
 export function installDebugHook(app) {
   const editor = () => app.session?.editor ?? null;
@@ -76,6 +78,8 @@ export function installDebugHook(app) {
      */
     modelFile: () => (app.model ? { name: app.model.name, kind: app.model.kind, format: app.model.format ?? null, bytes: app.model.bytes?.byteLength ?? null, vertices: app.model.vertices ?? null, levelsFrom: app.model.levelsFrom ?? null, editorFrom: app.model.editorFrom ?? null } : null),
     /** ms since navigation: first drag-ready frame, theta in use; step and input-to-frame times. */
+    /** The last big opening's or editor rebuild's stages: { what, since, stages: [{ stage, thread, ms }] } (web/open-stages.js). */
+    openStages,
     stats: () => ({
       ...app.stats, steps: [...app.stats.steps], frames: [...app.stats.frames], renders: [...app.stats.renders],
       layers: [...app.stats.layers],

@@ -3,7 +3,8 @@
 // cancel button in the status strip, so the page keeps drawing while a big file is read.
 import { MAX_FILE_BYTES, sizeMessage } from './file-limits.js';
 import { loadMrvol } from './mrvol.js';
-import { warmUp } from './module-transfer.js';
+import { warmUpInSteps } from './module-transfer.js';
+import { addStage, beginStages } from './open-stages.js';
 
 const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
@@ -16,6 +17,7 @@ export function showFileProgress(text, fraction = null) {
   const box = $('busy');
   box.hidden = text === null;
   $('busy-text').textContent = text ?? '';
+  $('busy-text').title = text ?? ''; // the whole text where a phone cuts it
   const bar = $('busy-bar');
   if (fraction === null) bar.removeAttribute('value');
   else bar.value = fraction;
@@ -33,18 +35,71 @@ export function cancelFileRead() {
 }
 
 /**
+ * Another job shown in the status strip with the same cancel button (editor-rebuild.js): the
+ * running file read is cancelled first. Returns the job; cancelled(job) tells whether it was since.
+ */
+export function startBusyJob(worker, reject) {
+  cancelFileRead();
+  running = { worker, reject };
+  return running;
+}
+export const cancelled = (job) => running !== job;
+/** Ends a job started with startBusyJob (its worker stopped, the strip hidden). */
+export function endBusyJob(job) {
+  if (running === job) running = null;
+  job.worker.terminate();
+  showFileProgress(null);
+}
+
+/**
  * The worker's mesh and editor in a fresh instance of the module (module-transfer.js): the
  * MultiresMesh, whose first createEditor at the worker's level and scheme is the editor made
- * there; null when that fails (the page then opens the mesh from the hierarchy arrays).
+ * there; null when that fails (the page then opens the mesh from the hierarchy arrays). The
+ * memory (a GB or more for a big mesh) is copied in slices, the page drawing between them;
+ * `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
  */
-async function adopt(transfer) {
+export async function adopt(transfer, { progress = () => {}, cancelled = () => false, instance = freshInstance() } = {}) {
   try {
-    const fresh = await loadMrvol();
-    warmUp(fresh);
-    return fresh.adoptTransferred(transfer);
+    const fresh = await pageStageAsync('core instance for the editor (waited for)', () => instance);
+    const t = performance.now();
+    const between = (fraction) => {
+      if (cancelled()) throw Object.assign(new Error('cancelled'), { cancelled: true });
+      progress(fraction);
+      return new Promise((resolve) => setTimeout(resolve, 0));
+    };
+    const mr = await fresh.adoptTransferredInSlices(transfer, { between });
+    addStage('memory taken over (in slices)', 'page', performance.now() - t, { bytes: transfer.memory.byteLength });
+    return mr;
   } catch (e) {
+    if (e.cancelled) throw e;
     console.warn(`the worker's editor could not be taken over (${e.message}): opening the mesh here`);
     return null;
+  }
+}
+
+/**
+ * A fresh instance of the module, warmed up (module-transfer.js), for adopt: started when a worker
+ * starts, it is made while the worker works (its instantiation and warm-up are the page's, a few
+ * hundred ms, not waited for at the end). Its own stage says how long it took.
+ */
+export function freshInstance() {
+  const started = performance.now();
+  const making = (async () => {
+    const instance = await loadMrvol();
+    await warmUpInSteps(instance, () => new Promise((resolve) => setTimeout(resolve, 0))); // frames between its calls
+    addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
+    return instance;
+  })();
+  making.catch(() => {}); // adopt awaits it and says why
+  return making;
+}
+
+async function pageStageAsync(stage, fn) {
+  const t = performance.now();
+  try {
+    return await fn();
+  } finally {
+    addStage(stage, 'page', performance.now() - t);
   }
 }
 
@@ -63,6 +118,8 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
     return { mesh: mrvol.readMesh(data, { name }), bytes: data, format: mrvol.detectFormat(data, name) };
   }
   cancelFileRead();
+  beginStages(`opening ${name}`);
+  const instance = editor ? freshInstance() : null; // made while the worker works
   const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
@@ -79,9 +136,23 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       if (data.type === 'progress') {
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
+        worker.terminate(); // its work is done; the take-over below can still be cancelled
+        for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});
+        let opened = null;
+        if (data.transfer) {
+          try {
+            opened = await adopt(data.transfer, {
+              progress: (f) => showFileProgress(`Reading ${name} (${mb}): taking the editor over…`, 0.95 + 0.05 * f),
+              cancelled: () => running !== job,
+              instance,
+            });
+          } catch (e) {
+            if (e.cancelled) return; // cancelFileRead rejected already
+            throw e;
+          }
+        }
         finish();
-        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format, hierarchy: data.hierarchy, openError: data.openError,
-                  opened: data.transfer ? await adopt(data.transfer) : null });
+        resolve({ mesh: data.mesh, bytes: new Uint8Array(data.bytes), format: data.format, hierarchy: data.hierarchy, openError: data.openError, opened });
       } else if (data.type === 'error') {
         finish();
         reject(Object.assign(new Error(data.message), { size: Boolean(data.size) }));

@@ -18,6 +18,8 @@ import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
 import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
+import { pageStage, addStage, openStages } from './open-stages.js';
+import { rebuildsInWorker, rebuildInWorker } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
 import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
@@ -108,6 +110,9 @@ function saveNow() {
   savePending = false;
   const { session } = app;
   if (!app.model || !session.editor) return;
+  // the first save of a big file: a stage of its opening (not of a rebuild begun meanwhile)
+  const started = performance.now(), timed = app.timeNextSave, what = openStages().what;
+  app.timeNextSave = false;
   const stored = {
     model: app.model,
     settings: { ...app.settings },
@@ -120,7 +125,10 @@ function saveNow() {
   saveSession(stored);
   if (!app.store) return;
   const history = { level: session.level, scheme: session.scheme, steps: session.history.steps() };
-  app.store.save({ ...stored, history }).then(() => {
+  const saving = app.store.save({ ...stored, history });
+  if (timed) addStage('session saved: the page\'s part', 'page', performance.now() - started);
+  saving.then(() => {
+    if (timed && app.store.lastWorkerMs !== null && openStages().what === what) addStage('session saved: written to IndexedDB', 'worker', app.store.lastWorkerMs);
     showStorageProblem(app.store.problem);
     refreshRecent();
   });
@@ -195,7 +203,7 @@ function openModelMesh(model, mesh, restore = null, found = null) {
     if (quad) ({ mr, info } = quad);
     else {
       if (found?.openError) throw Object.assign(new Error(found.openError.message), { offer: found.openError.offer });
-      ({ mr, info } = openParsed(app.mrvol, mesh, found ?? {}));
+      ({ mr, info } = pageStage('mesh opened (from the worker\'s)', () => openParsed(app.mrvol, mesh, found ?? {})));
     }
   } catch (e) {
     showError(`Could not open ${name}: ${e.message}`);
@@ -221,7 +229,7 @@ function openModelMesh(model, mesh, restore = null, found = null) {
   session.preserve = app.settings.preserve;
   session.surface = app.settings.surface === 'limit' ? 'limit' : 'mesh';
   session.keepCentroid = app.settings.keepBalance;
-  session.open(mr, { name, own: true, restore: fits ? restore : null });  // emits model, editor
+  pageStage('session and view set up', () => session.open(mr, { name, own: true, restore: fits ? restore : null }));  // emits model, editor
   app.settings.level = session.level;
   app.settings.surface = session.surface;        // the mesh's own when it has no limit volume
   app.settings.keepBalance = session.keepCentroid;
@@ -231,6 +239,7 @@ function openModelMesh(model, mesh, restore = null, found = null) {
     session.dispatchEvent(new CustomEvent('change', { detail: { reason: 'history' } }));
   }
   app.stats.modelAt ??= performance.now();
+  app.timeNextSave = Boolean(found?.hierarchy);
   app.awaitingFrame = true; // ready once the next frame (with this model) is drawn
   app.viewer.requestRender();
   saveSoon();
@@ -268,7 +277,8 @@ async function openModel(source, restore = null) {
       const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name,
         editor: { level: app.settings.level, scheme: app.settings.scheme, positions: restore?.positions } });
       if (generation !== app.loadGeneration) return false;
-      const big = read.bytes.byteLength > BIG_FILE_BYTES;
+      // the page makes the editor itself only when the worker's could not be taken: say so first
+      const big = read.bytes.byteLength > BIG_FILE_BYTES && !read.opened;
       if (big) {
         showFileProgress(`Opening ${source.name} (${(read.bytes.byteLength / 1e6).toFixed(1)} MB)${read.opened ? '' : ': making the editor'}…`, null);
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
@@ -342,12 +352,36 @@ function followSessionInView(session) {
   session.addEventListener('dragend', checkSelfIntersection);
 }
 
-/** Rebuilds the editor at the panel's scheme or level (the session keeps shape, reference and history). */
-function rebuildEditor() {
+/**
+ * Rebuilds the editor at the panel's scheme or level (the session keeps shape, reference and
+ * history); a big model's in a worker (web/editor-rebuild.js), the page drawing meanwhile.
+ */
+async function rebuildEditor() {
   const { session, settings } = app;
-  if (!session.editor) return;
+  if (!session.editor || app.rebuilding) return;
+  const target = { level: settings.level, scheme: settings.scheme };
+  if (rebuildsInWorker(session, target)) return rebuildBig(target, (mr) => session.adoptRebuilt(mr, target));
   if (settings.scheme !== session.scheme) session.setScheme(settings.scheme); // emits editor
   else session.setLevel(settings.level);
+  saveSoon();
+}
+
+/** The editor at target made in a worker, then `apply(mr)` swaps it in; drags and undo wait meanwhile. */
+async function rebuildBig(target, apply) {
+  app.rebuilding = true;
+  app.ready = false; // no drags on the editor being replaced
+  try {
+    const swapped = await rebuildInWorker(app.session, target, { name: app.model.name, apply });
+    if (!swapped) syncSettings(); // cancelled: the panel shows the editor kept
+  } catch (e) {
+    showError(`The level ${target.level} editor could not be made: ${e.message}`);
+    syncSettings();
+  } finally {
+    app.rebuilding = false;
+    app.awaitingFrame = true;
+    app.viewer.requestRender();
+  }
+  saveSoon();
 }
 
 /** The settings and panel follow what undo and redo changed in the session: level, scheme, preservation, balance, surface. */
@@ -476,10 +510,19 @@ const dragHandlers = {
 };
 
 function undo() {
+  if (app.rebuilding) return; // not while the next editor is made
+  // undoing a big model's level or scheme change: the editor before made in the worker
+  const step = app.session.editor && !app.session.dragging ? app.session.history.peekUndo() : null;
+  if (step?.label === 'editor' && rebuildsInWorker(app.session, step.before))
+    return rebuildBig(step.before, (mr) => { app.session.history.undo(); app.session.adoptRebuilt(mr, step.before, { record: false }); });
   if (app.session.undo()) saveSoon();
 }
 
 function redo() {
+  if (app.rebuilding) return;
+  const step = app.session.editor && !app.session.dragging ? app.session.history.peekRedo() : null;
+  if (step?.label === 'editor' && rebuildsInWorker(app.session, step.after))
+    return rebuildBig(step.after, (mr) => { app.session.history.redo(); app.session.adoptRebuilt(mr, step.after, { record: false }); });
   if (app.session.redo()) saveSoon();
 }
 
@@ -623,8 +666,8 @@ const actions = {
   reset,
   undo,
   redo,
-  changeScheme: () => { rebuildEditor(); saveSoon(); },
-  changeLevel: () => { rebuildEditor(); saveSoon(); },
+  changeScheme: () => rebuildEditor(),
+  changeLevel: () => rebuildEditor(),
   changePreserve,
   changeTolerance: () => saveSoon(),
   changeGradient: () => {
@@ -727,6 +770,7 @@ async function start() {
   const shared = sharedState(params);
   const gradientParam = params.get('gradient');
   app.store = await SessionStore.open();
+  app.store.writeInWorker(); // big files and positions are cloned into IndexedDB off the page's thread
   // The newest session in IndexedDB (or, with ?model=NAME, that sample's); else the localStorage copy.
   let stored = await app.store.load(urlModel === null ? null : `sample:${urlModel}`);
   // The localStorage copy is written at once; the IndexedDB write can be cut short by a reload. The

@@ -103,8 +103,9 @@ export function firstFaceCorners(source) {
 
 // Where the first line starting with `f ` begins in OBJ bytes, or -1.
 function faceLineStart(bytes) {
-  for (let i = 0; i + 1 < bytes.length; i++)
-    if (bytes[i] === 102 && (bytes[i + 1] === 32 || bytes[i + 1] === 9) && (i === 0 || bytes[i - 1] === 10)) return i;
+  // from one 'f' to the next (indexOf: a native scan; numbers have no 'f')
+  for (let i = bytes.indexOf(102); i >= 0 && i + 1 < bytes.length; i = bytes.indexOf(102, i + 1))
+    if ((bytes[i + 1] === 32 || bytes[i + 1] === 9) && (i === 0 || bytes[i - 1] === 10)) return i;
   return -1;
 }
 

@@ -19,20 +19,46 @@ const ICOSAHEDRON = {
 
 /** The calls a transfer depends on, on a 642-vertex ball: run first in both instances. */
 export function warmUp(mrvol) {
-  const ball = mrvol.subdivide(ICOSAHEDRON, { levels: 3 });
-  const bytes = new TextEncoder().encode(mrvol.writeObj(ball.toMesh()));
-  ball.delete();
-  mrvol.detectFormat(bytes, 'warm-up.obj');
-  const mesh = mrvol.readMesh(bytes, { name: 'warm-up.obj' });
-  const mr = mrvol.openMesh(mesh);
-  const again = mrvol.openMeshWithHierarchy(mesh, mr.hierarchyArrays());
-  again.delete();
-  mr.info();
-  const editor = buildEditor(mrvol, mr, { level: 0, scheme: 'loop' });
-  editor.positions();
-  mrvol.transferable(mr, editor); // its calls (the copy is dropped)
-  editor.delete();
-  mr.delete();
+  for (const step of warmUpSteps(mrvol)) step();
+}
+
+/** warmUp a call or two at a time, awaiting `between()` after each (the page draws between them). */
+export async function warmUpInSteps(mrvol, between) {
+  for (const step of warmUpSteps(mrvol)) {
+    step();
+    await between();
+  }
+}
+
+// The same calls in the same order, whichever way they are run.
+function warmUpSteps(mrvol) {
+  let ball, bytes, mesh, mr, editor;
+  return [
+    () => {
+      ball = mrvol.subdivide(ICOSAHEDRON, { levels: 3 });
+      bytes = new TextEncoder().encode(mrvol.writeObj(ball.toMesh()));
+      ball.delete();
+    },
+    () => {
+      mrvol.detectFormat(bytes, 'warm-up.obj');
+      mesh = mrvol.readMesh(bytes, { name: 'warm-up.obj' });
+    },
+    () => {
+      mr = mrvol.openMesh(mesh);
+      const again = mrvol.openMeshWithHierarchy(mesh, mr.hierarchyArrays());
+      again.delete();
+      mr.info();
+    },
+    () => {
+      editor = buildEditor(mrvol, mr, { level: 0, scheme: 'loop' });
+      editor.positions();
+    },
+    () => {
+      mrvol.transferable(mr, editor, { memory: false }); // its calls (no copy of the memory)
+      editor.delete();
+      mr.delete();
+    },
+  ];
 }
 
 /** The editor the page's session would make first (lib/three/session.mjs at path 'auto'). */

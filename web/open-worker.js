@@ -11,7 +11,7 @@
 // Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } }
 // Messages out: { type: 'progress', stage, fraction },
 //               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable) | null,
-//                 openError: { message, offer } | null },
+//                 openError: { message, offer } | null, stages: [{ stage, thread, ms }] (web/open-stages.js) },
 //               { type: 'error', message, size? (true: a size problem) }
 import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
@@ -21,6 +21,17 @@ import { warmUp, buildEditor } from './module-transfer.js';
 const outOfMemory = (e) => e instanceof RangeError || /memory|bad_alloc/i.test(e?.message ?? '');
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
+
+// the time of each stage here (web/open-stages.js: sent with the result)
+const stages = [];
+function timed(stage, fn) {
+  const t = performance.now();
+  try {
+    return fn();
+  } finally {
+    stages.push({ stage, thread: 'worker', ms: Math.round((performance.now() - t) * 10) / 10 });
+  }
+}
 
 /** The file's bytes, read in chunks with progress (a File's stream; `bytes` as they are). */
 async function readBytes(file) {
@@ -54,9 +65,9 @@ function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions }) {
     } catch { /* not a shape of this mesh: the page says so */ }
   }
   try {
-    const editor = buildEditor(mrvol, mr, { level: Math.min(level, info.levels), scheme });
+    const editor = timed('editor made', () => buildEditor(mrvol, mr, { level: Math.min(level, info.levels), scheme }));
     post({ type: 'progress', stage: 'handing the editor over', fraction: 0.95 });
-    return mrvol.transferable(mr, editor, { scheme });
+    return timed('memory copied for the page', () => mrvol.transferable(mr, editor, { scheme }));
   } catch {
     return null; // the page makes the editor itself, and says what is wrong if anything is
   }
@@ -68,18 +79,22 @@ self.onmessage = async ({ data: job }) => {
     // warmed up at once, as the page's instance will be before it takes the copy
     const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
     mrvolLoading.catch(() => {}); // awaited below
+    const reading = performance.now();
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
+    stages.push({ stage: 'file read', thread: 'worker', ms: Math.round((performance.now() - reading) * 10) / 10, bytes: bytes.byteLength });
     const claimed = claimedVertices(bytes, job.name);
     if (claimed > MAX_VERTICES) {
       post({ type: 'error', message: sizeMessage({ vertices: claimed, claimed: true }), size: true });
       return;
     }
+    const waiting = performance.now();
     const mrvol = await mrvolLoading;
+    stages.push({ stage: 'core loaded (waited for)', thread: 'worker', ms: Math.round((performance.now() - waiting) * 10) / 10 });
     const format = mrvol.detectFormat(bytes, job.name);
     post({ type: 'progress', stage: `parsing the ${format.toUpperCase()} file`, fraction: 0.5 });
     let mesh;
     try {
-      mesh = mrvol.readMesh(bytes, { name: job.name });
+      mesh = timed('file parsed', () => mrvol.readMesh(bytes, { name: job.name }));
     } catch (e) {
       // The core ran out of memory (a WebAssembly heap of at most a few GB): say so in terms of size.
       if (outOfMemory(e)) {
@@ -98,7 +113,7 @@ self.onmessage = async ({ data: job }) => {
     // page shows it and offers a remesh with the mesh itself).
     let hierarchy = null, openError = null, transfer = null;
     try {
-      const { mr, info } = openParsed(mrvol, mesh);
+      const { mr, info } = timed('validated, levels found', () => openParsed(mrvol, mesh));
       hierarchy = mr.hierarchyArrays();
       if (job.editor) transfer = editorTransfer(mrvol, mr, info, mesh, job.editor);
       // nothing is deleted: the copy of the memory holds them; the worker ends after this message
@@ -118,7 +133,8 @@ self.onmessage = async ({ data: job }) => {
       if (ArrayBuffer.isView(mesh[key])) buffers.push(mesh[key].buffer);
     if (mesh.lines) buffers.push(mesh.lines.vertex.buffer, mesh.lines.face.buffer);
     const copy = { ...mesh };
-    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format, hierarchy, transfer, openError }, [...new Set(buffers.filter((b) => b !== bytes.buffer)), bytes.buffer]);
+    if (transfer) stages.at(-1).bytes = transfer.memory.byteLength;
+    post({ type: 'done', mesh: copy, bytes: bytes.buffer, format, hierarchy, transfer, openError, stages }, [...new Set(buffers.filter((b) => b !== bytes.buffer)), bytes.buffer]);
   } catch (e) {
     post({ type: 'error', message: e?.message ?? String(e) });
   }

@@ -5,7 +5,7 @@
 // Without IndexedDB every call is a no-op and `problem` says why; a failed write sets `problem`
 // (plain words), the next successful one clears it.
 import { openDB } from 'idb';
-import { putChunks, getChunks, chunkRange, storageProblem } from './chunked-store.js';
+import { putChunks, getChunks, chunkRange, storageProblem, CHUNK_BYTES } from './chunked-store.js';
 
 const DB_NAME = 'mrvol-sessions';
 const DB_VERSION = 1;
@@ -50,12 +50,62 @@ export class SessionStore {
   }
 
   /**
+   * From now on save() writes in a worker (web/store-worker.js: IndexedDB's cloning of big values
+   * off the page's thread); the positions given to save() are moved there (not usable after).
+   */
+  writeInWorker() {
+    if (!this.#db || typeof Worker === 'undefined') return;
+    this.#writer = new Worker(new URL('./store-worker.js', import.meta.url), { type: 'module', name: 'mrvol-store' });
+    this.#writer.onmessage = ({ data }) => {
+      this.#replies.get(data.id)?.(data);
+      this.#replies.delete(data.id);
+    };
+  }
+
+  #writer = null;
+  #replies = new Map(); // request number -> resolve
+  #requests = 0;
+  /** ms of the last write in the worker (for the open stages), or null. */
+  lastWorkerMs = null;
+
+  /** save() through the worker: the file's bytes (a copy) sent once per model, the positions moved. */
+  #saveInWorker(id, { model, settings, fingerprint, positions, reference, history }) {
+    const sendText = model.kind === 'file' && !this.#textStored.has(id);
+    const text = model.bytes ?? (typeof model.text === 'string' ? new TextEncoder().encode(model.text) : null);
+    const bytes = sendText && model.bytes ? model.bytes.slice() : sendText ? text : undefined;
+    const record = {
+      model: { kind: model.kind, name: model.name, format: model.format, bytes, textStored: !sendText, textBytes: text?.byteLength ?? 0,
+               binary: Boolean(model.bytes) },
+      settings, fingerprint, positions, reference, history, id,
+    };
+    const transfer = [bytes?.buffer, positions?.buffer].filter((b) => b instanceof ArrayBuffer);
+    const request = ++this.#requests;
+    return new Promise((resolve) => {
+      this.#replies.set(request, ({ ok, problem, ms }) => {
+        if (ok && model.kind === 'file') this.#textStored.add(id);
+        this.problem = problem;
+        this.lastWorkerMs = ms;
+        resolve(ok);
+      });
+      try {
+        this.#writer.postMessage({ id: request, record }, [...new Set(transfer)]);
+      } catch (e) {
+        this.#replies.delete(request);
+        this.problem = `this session is not kept: ${storageProblem(e)}`;
+        resolve(false);
+      }
+    });
+  }
+
+  /**
    * Stores a session: { model: { kind, name, text? | bytes?, format? }, settings, fingerprint, positions: Float64Array,
    * reference, history: { level, scheme, steps } }. Resolves true or false (then `problem` says why).
+   * (From the page's worker: the record's id, and model.textStored with textBytes when the file is stored already.)
    */
-  async save({ model, settings, fingerprint, positions, reference, history }) {
+  async save({ model, settings, fingerprint, positions, reference, history, id: given = null }) {
     if (!this.#db) return false;
-    const id = sessionId(model);
+    const id = given ?? sessionId(model);
+    if (this.#writer) return this.#saveInWorker(id, { model, settings, fingerprint, positions, reference, history });
     const tx = this.#db.transaction(['sessions', 'chunks'], 'readwrite');
     try {
       const done = tx.done;
@@ -64,17 +114,23 @@ export class SessionStore {
         id, kind: model.kind, name: model.name, settings, fingerprint, reference, history, saved: Date.now(),
         textBytes: null, textChunks: 0, positionCount: 0, positionChunks: 0,
       };
-      if (model.kind === 'file') {
+      if (model.kind === 'file' && model.textStored) {
+        // written by the page's worker: the file is stored already
+        record.format = model.format ?? 'obj';
+        record.binary = model.binary;
+        record.textBytes = model.textBytes;
+        record.textChunks = Math.max(1, Math.ceil(model.textBytes / CHUNK_BYTES));
+      } else if (model.kind === 'file') {
         // the file as it was read (any format), or an OBJ text made here (a remeshed model)
         const text = model.bytes ?? new TextEncoder().encode(model.text);
         record.format = model.format ?? 'obj';
-        record.binary = Boolean(model.bytes);
+        record.binary = model.binary ?? Boolean(model.bytes);
         record.textBytes = text.byteLength;
         if (!this.#textStored.has(id)) {
           chunks.delete(chunkRange(`${id}:text`)).catch(() => {});
           record.textChunks = putChunks(chunks, `${id}:text`, text);
         } else {
-          record.textChunks = Math.max(1, Math.ceil(text.byteLength / (32 * 1024 * 1024)));
+          record.textChunks = Math.max(1, Math.ceil(text.byteLength / CHUNK_BYTES));
         }
       }
       if (positions) {

@@ -222,20 +222,10 @@ export class Viewer {
     this.mesh.castShadow = true;
     this.scene.add(this.mesh);
     this.shadow.fit(positions);
-    // The layers: same faces; filled in by updateApprox / updateDetails.
-    const approxGeometry = new THREE.BufferGeometry();
-    approxGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
-    approxGeometry.setIndex(geometry.getIndex());
-    this.approx = new THREE.Mesh(approxGeometry, this.approxMaterial);
-    this.approx.renderOrder = 1;
-    const detailGeometry = new THREE.BufferGeometry();
-    detailGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(2 * positions.length), 3));
-    this.details = new THREE.LineSegments(detailGeometry, this.detailMaterial);
-    for (const object of [this.approx, this.details]) {
-      object.frustumCulled = false;
-      object.visible = false;
-      this.scene.add(object);
-    }
+    // The layers (same faces) are made when first filled (updateApprox / updateDetails): a big
+    // mesh opens without two more copies of its positions.
+    this.approx = null;
+    this.details = null;
     this.layerData = { approx: false, details: false }; // filled since the last setMesh
     if (!this.flat && !editorNormals) geometry.computeVertexNormals();
     geometry.computeBoundingSphere();
@@ -308,9 +298,31 @@ export class Viewer {
     if (this.details) this.details.visible = this.overlay.details && this.layerData.details;
   }
 
+  /** The layer `kind` ('approx' or 'details'), made for the current mesh when first asked for. */
+  #layer(kind) {
+    if (this[kind]) return this[kind];
+    const count = this.mesh.geometry.getAttribute('position').count;
+    const geometry = new THREE.BufferGeometry();
+    let object;
+    if (kind === 'approx') {
+      geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * count), 3));
+      geometry.setIndex(this.mesh.geometry.getIndex());
+      object = new THREE.Mesh(geometry, this.approxMaterial);
+      object.renderOrder = 1;
+    } else {
+      geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(6 * count), 3));
+      object = new THREE.LineSegments(geometry, this.detailMaterial);
+    }
+    object.frustumCulled = false;
+    object.visible = false;
+    this.scene.add(object);
+    this[kind] = object;
+    return object;
+  }
+
   /** The approximation layer's positions (same vertices and faces as the fine mesh). */
   updateApprox(positions) {
-    const attribute = this.approx.geometry.getAttribute('position');
+    const attribute = this.#layer('approx').geometry.getAttribute('position');
     attribute.array.set(positions);
     attribute.needsUpdate = true;
     this.layerData.approx = true;
@@ -320,7 +332,7 @@ export class Viewer {
 
   /** One segment per vertex, from `from` to `to` (3 per vertex each). */
   updateDetails(from, to) {
-    const attribute = this.details.geometry.getAttribute('position');
+    const attribute = this.#layer('details').geometry.getAttribute('position');
     const out = attribute.array;
     for (let i = 0, n = from.length / 3; i < n; i++) {
       out[6 * i] = from[3 * i];

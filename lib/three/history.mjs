@@ -29,6 +29,9 @@ export class History {
     this.#undo.push(step);
     return step;
   }
+  /** The step undo() or redo() would return next, left in place; or null. */
+  peekUndo() { return this.#undo.at(-1) ?? null; }
+  peekRedo() { return this.#redo.at(-1) ?? null; }
   /** The recorded steps, oldest first, for storing: { undo: [...], redo: [...] } (copies of the lists). */
   steps() {
     return { undo: [...this.#undo], redo: [...this.#redo] };

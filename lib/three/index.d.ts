@@ -138,6 +138,12 @@ export class EditingSession extends EventTarget {
     own?: boolean }): NonNullable<EditingSession['model']>;
   setLevel(level: number): void;
   setScheme(scheme: string): void;
+  /**
+   * Level and scheme changed with the editor made elsewhere: this model's mesh opened in another
+   * instance of the module at the current shape, its first createEditor at `after` made already
+   * (Mrvol.adoptTransferred). One undo step unless record is false; shape, reference, history kept.
+   */
+  adoptRebuilt(mesh: MultiresMesh, after: { level: number; scheme: string }, options?: { record?: boolean }): void;
   /** Rebuilds the editor for that surface (its reference: that surface's volume now); throws MrvolError, unchanged, for an open mesh. */
   setSurface(surface: VolumeSurface): void;
   /** Keeps the centre of mass where it is now, or stops (mesh surface only). */

@@ -192,6 +192,35 @@ export class EditingSession extends EventTarget {
     this.#changeCage({ level: this.level, scheme });
   }
 
+  /**
+   * Level and scheme changed as setLevel / setScheme do (one undo step unless `record` is false),
+   * with the editor made elsewhere: `mr` is this model's mesh opened in another instance of the
+   * module, at the current shape, whose first createEditor at `after` ({ level, scheme }) is made
+   * already (lib/api.mjs adoptTransferred; the web app makes big models' editors in a worker). The
+   * session owns `mr` from now on; the mesh before goes with its editor and tensors. The reference
+   * volume, free set and history stay.
+   */
+  adoptRebuilt(mr, after, { record = true } = {}) {
+    if (!this.editor) throw new this.#mrvol.MrvolError('no model is open');
+    if (mr.vertexCount !== undefined && mr.vertexCount !== this.model.info.vertices)
+      throw new this.#mrvol.MrvolError(`the mesh handed over has ${mr.vertexCount} vertices, this model ${this.model.info.vertices}`);
+    this.cancelDrag();
+    const before = { level: this.level, scheme: this.scheme };
+    const reference = (this.editor.surface?.() ?? 'mesh') === this.surface ? this.editor.referenceVolume() : null;
+    const old = this.model.mr, owned = this.#ownsMesh;
+    for (const { theta } of this.#thetas.values()) theta.delete();
+    this.#thetas.clear();
+    this.editor.delete();
+    this.editor = null;
+    if (owned) old.delete();
+    this.model = { ...this.model, mr };
+    this.#ownsMesh = true;
+    this.level = after.level;
+    this.scheme = after.scheme;
+    this.#buildEditor(reference);
+    if (record && (before.level !== after.level || before.scheme !== after.scheme)) this.history.push(before, after, 'editor');
+  }
+
   /** Level and scheme together; a rebuilt editor is one undo step. */
   #changeCage(after, { record = true } = {}) {
     const before = { level: this.level, scheme: this.scheme };

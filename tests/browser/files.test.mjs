@@ -218,7 +218,10 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
       const w = window.frameWatch;
       const busy = document.querySelector('[data-testid="busy"]');
       const tick = (now) => {
-        if (!w.running || /^Opening /.test(document.getElementById('busy-text').textContent)) {
+        // the worker's part done: its editor being taken over (the memory copied in slices: bench/web.mjs
+        // measures that part), or the page opening the mesh itself
+        if (!w.running || /^Opening |taking the editor over/.test(document.getElementById('busy-text').textContent) ||
+            window.mrvolDebug.openStages().stages.some((s) => s.stage.startsWith('memory taken over'))) {
           w.running = false;
           return;
         }

@@ -9,6 +9,7 @@ import assert from 'node:assert/strict';
 import { createMrvol } from '../../lib/node.mjs';
 import { warmUp, buildEditor } from '../../web/module-transfer.js';
 import { loadModel, throwsMrvol } from './helpers.mjs';
+import { EditingSession } from '../../lib/three/session.mjs';
 
 let maker, taker, plain;
 before(async () => {
@@ -82,5 +83,67 @@ describe('a mesh and editor taken over by another instance', () => {
     taken.delete();
     mr.delete();
     throwsMrvol(() => b.adoptTransferred({ memory: new Uint8Array(4) }), /expects what transferable\(\) gave/);
+  });
+
+  test('a session swaps in an editor made elsewhere at another level: shape, reference and history kept; undo goes back', async () => {
+    const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+    for (const m of [a, b]) warmUp(m);
+    const session = new EditingSession(a, { level: 0, path: 'auto' });
+    session.open(loadModel(a, 'spiky-ball'), { name: 'spiky' });
+    const reference = session.referenceVolume();
+    session.moveHandles([2], [0.2, -0.1, 0.05]);
+    const shape = session.positions();
+    // what web/editor-worker.js does, here in instance b: the page's mesh from its hierarchy, the shape, the editor
+    const { mr } = session.model;
+    const other = b.openMeshWithHierarchy({ positions: mr.positions(), faces: mr.faces() }, mr.hierarchyArrays());
+    other.setPositions(shape);
+    const transfer = b.transferable(other, buildEditor(b, other, { level: 1, scheme: 'loop' }), { scheme: 'loop' });
+    const taken = await taker.adoptTransferredInSlices(transfer);
+    session.adoptRebuilt(taken, { level: 1, scheme: 'loop' });
+    assert.equal(session.level, 1);
+    assert.equal(session.model.mr, taken, 'the session owns the mesh handed over');
+    assert.equal(session.editor.path(), 'polynomial');
+    assert.ok(session.positions().every((x, i) => Math.abs(x - shape[i]) <= 1e-12), 'the shape stays');
+    assert.ok(Math.abs(session.referenceVolume() - reference) <= 1e-12 * Math.abs(reference), 'the reference stays');
+    assert.deepEqual(session.history.size, { undo: 2, redo: 0 }, 'the drag and the level change');
+    assert.equal(session.history.peekUndo().label, 'editor');
+    assert.ok(session.undo() && session.level === 0, 'undo goes back to level 0');
+    assert.ok(session.positions().every((x, i) => Math.abs(x - shape[i]) <= 1e-12), 'the shape as it was');
+    const original = loadModel(a, 'spiky-ball').positions;
+    assert.ok(session.undo() && session.positions().every((x, i) => Math.abs(x - original[i]) <= 1e-9), 'and the drag undoes');
+    assert.ok(session.redo() && session.redo() && session.level === 1, 'redone');
+    // compared with the same change made in place
+    const inPlace = new EditingSession(plain, { level: 0, path: 'auto' });
+    inPlace.open(loadModel(plain, 'spiky-ball'), { name: 'spiky' });
+    inPlace.moveHandles([2], [0.2, -0.1, 0.05]);
+    inPlace.setLevel(1);
+    const [mine, theirs] = [drags(session.editor), drags(inPlace.editor)];
+    for (let i = 0; i < mine.length; i++) {
+      assert.ok(Math.abs(mine[i].volume - theirs[i].volume) <= 1e-12 * Math.abs(theirs[i].volume), `volume after drag ${i}`);
+      assert.ok(mine[i].positions.every((x, k) => Math.abs(x - theirs[i].positions[k]) <= 1e-9), `shape after drag ${i}`);
+    }
+    session.dispose();
+    inPlace.dispose();
+    throwsMrvol(() => new EditingSession(a).adoptRebuilt(taken, { level: 1, scheme: 'loop' }), /no model is open/);
+  });
+
+  test('taken over in slices (the page keeps drawing between them): the same mesh and editor as at once', async () => {
+    const [a, b, c] = await Promise.all([createMrvol(), createMrvol(), createMrvol()]);
+    for (const m of [a, b, c]) warmUp(m);
+    const spiky = loadModel(a, 'spiky-ball');
+    const mr = a.openMesh(spiky);
+    const transfer = a.transferable(mr, buildEditor(a, mr, { level: 0, scheme: 'loop' }), { scheme: 'loop' });
+    const fractions = [];
+    const sliceBytes = 1 << 20;
+    const sliced = await b.adoptTransferredInSlices(structuredClone(transfer), { sliceBytes, between: async (f) => { fractions.push(f); } });
+    assert.equal(fractions.length, Math.ceil(transfer.memory.byteLength / sliceBytes), 'one wait per slice');
+    assert.ok(fractions.every((f, i) => f > 0 && f <= 1 && (i === 0 || f > fractions[i - 1])), 'the fraction copied grows');
+    assert.equal(fractions.at(-1), 1);
+    const whole = c.adoptTransferred(transfer);
+    const [e1, e2] = [sliced, whole].map((m) => m.createEditor({ level: 0, scheme: 'loop', path: 'matrix-free' }));
+    assert.equal(e1.path(), 'polynomial');
+    assert.deepEqual(drags(e1), drags(e2));
+    for (const m of [sliced, whole, mr]) m.delete();
+    await assert.rejects(() => b.adoptTransferredInSlices({ memory: new Uint8Array(4) }), /expects what transferable\(\) gave/);
   });
 });

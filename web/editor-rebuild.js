@@ -1,0 +1,75 @@
+// A big model's editor at another level or scheme, made in a worker (editor-worker.js) and taken
+// over as on opening (file-open.js adopt: the memory copied in slices, the page drawing between
+// them), with progress and cancel in the status strip; the session then swaps it in, keeping the
+// shape, the reference volume and the undo history (lib/three/session.mjs adoptRebuilt). Smaller
+// models, quads and editors the worker does not make (the limit surface, the centre of mass kept,
+// the tensor path) are rebuilt on the page's thread as before: quick, or not this path's to make.
+import { startBusyJob, endBusyJob, cancelled, adopt, freshInstance, showFileProgress } from './file-open.js';
+import { beginStages, addStage, pageStage } from './open-stages.js';
+
+// From this many fine vertices the editor is made in the worker (at 164k the polynomial takes ~1 s).
+export const WORKER_REBUILD_VERTICES = 100_000;
+
+/** Whether this session's editor at `target` ({ level, scheme }) is made in the worker. */
+export function rebuildsInWorker(session, target) {
+  const model = session.model;
+  return Boolean(model && session.editor && !session.quad && session.path === 'auto' && session.surface === 'mesh' &&
+    !session.keepCentroid && model.info.vertices >= WORKER_REBUILD_VERTICES && target.scheme !== 'catmull-clark');
+}
+
+/**
+ * Makes the editor at `target` in the worker and hands it to the session (`apply(mr)`: the caller
+ * swaps it in). Resolves true when applied, false when cancelled; rejects with the worker's error.
+ */
+export async function rebuildInWorker(session, target, { name, apply }) {
+  beginStages(`editor at level ${target.level}, ${target.scheme}`);
+  const { mr } = session.model;
+  const sent = pageStage('mesh, hierarchy and shape copied for the worker', () => ({
+    mesh: { positions: mr.positions(), faces: mr.faces() }, hierarchy: mr.hierarchyArrays(), positions: session.positions(),
+  }));
+  const worker = new Worker(new URL('./editor-worker.js', import.meta.url), { type: 'module', name: 'mrvol-editor' });
+  const instance = freshInstance(); // made while the worker works
+  const label = `Making the level ${target.level} editor of ${name} (${target.scheme})`;
+  showFileProgress(`${label}…`, 0);
+  let job;
+  const transfer = await new Promise((resolve, reject) => {
+    job = startBusyJob(worker, () => resolve(null)); // cancelled
+    worker.onmessage = ({ data }) => {
+      if (cancelled(job)) return;
+      if (data.type === 'progress') showFileProgress(`${label}: ${data.stage}…`, 0.9 * data.fraction);
+      else if (data.type === 'done') {
+        for (const s of data.stages) addStage(s.stage, s.thread, s.ms, s.bytes ? { bytes: s.bytes } : {});
+        worker.terminate();
+        resolve(data.transfer);
+      } else {
+        endBusyJob(job);
+        reject(new Error(data.message));
+      }
+    };
+    worker.onerror = (e) => {
+      e.preventDefault?.();
+      endBusyJob(job);
+      reject(new Error(e.message || 'the editor worker could not start'));
+    };
+    const { mesh, hierarchy, positions } = sent;
+    const buffers = [mesh.positions.buffer, mesh.faces.buffer, positions.buffer,
+      ...['vertexCount', 'coarseFaces', 'ends', 'wings', 'boundary', 'inputIndex'].map((k) => hierarchy[k].buffer)];
+    worker.postMessage({ mesh, hierarchy, positions, level: target.level, scheme: target.scheme }, [...new Set(buffers)]);
+  });
+  if (!transfer) return false;
+  let adopted;
+  try {
+    adopted = await adopt(transfer, {
+      progress: (f) => showFileProgress(`${label}: taking the editor over…`, 0.9 + 0.1 * f),
+      cancelled: () => cancelled(job),
+      instance,
+    });
+  } catch (e) {
+    if (e.cancelled) return false;
+    throw e;
+  }
+  endBusyJob(job);
+  if (!adopted) throw new Error('the editor made in the worker could not be taken over');
+  pageStage('editor swapped in (cage, view)', () => apply(adopted));
+  return true;
+}
