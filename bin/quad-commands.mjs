@@ -108,17 +108,25 @@ export const QUAD_COMMANDS = {
     const free = values.free ?? 'cage';
     const freeList = free === 'cage' || free === 'all' ? null : cli.parseList(free, 'free');
     const detailLevels = values['free-details'] ? cli.parseList(values['free-details'], 'free-details') : [];
-    for (const unsupported of ['surface', 'keep'])
-      if (values[unsupported] !== undefined && values[unsupported] !== (unsupported === 'surface' ? 'mesh' : 'volume'))
-        throw new cli.UsageError(`--${unsupported} ${values[unsupported]} is not available for catmull-clark (the bilinear patches' volume is kept)`);
+    if (values.surface !== undefined && values.surface !== 'mesh')
+      throw new cli.UsageError(`--surface ${values.surface} is not available for catmull-clark (the bilinear patches' volume is kept)`);
+    const keep = (values.keep ?? 'volume').split(',').map((k) => k.trim());
+    if (keep.some((k) => k !== 'volume' && k !== 'centroid') || !keep.includes('volume'))
+      throw new cli.UsageError(`--keep expects volume or volume,centroid, got '${values.keep}'`);
+    const centroid = keep.includes('centroid');
+    if (centroid && (gradientPath === 'tensor' || gradientPath === 'polynomial' || values.theta))
+      throw new cli.UsageError('--keep centroid runs matrix-free (--path auto or matrix-free, no --theta)');
     const mr = await openQuads(mrvol, path, cli);
     let theta, editor;
     try {
       const level = levelIn(mr, cli.integer(values.level, 'level', mr.lowestLevel), path);
       const preserve = values['no-preserve'] === undefined;
       // auto: the polynomial built from the fine quads on a coarse cage, else matrix-free (quadGradientPath).
-      const chosen = values.theta ? 'tensor' : quadGradientPath(mr, { level, path: gradientPath });
+      const chosen = values.theta ? 'tensor' : centroid ? 'matrix-free' : quadGradientPath(mr, { level, path: gradientPath });
       editor = mr.createEditor({ level, path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });
+      // The bilinear patches' centre of mass, kept where it is now (with the volume).
+      const centroidBefore = Array.from(editor.centroid());
+      if (centroid) editor.keepCentroid(true);
       editor.setFreeSet({ cage: freeList ?? (free === 'all' ? 'all' : 'minus-held'), detailLevels });
       if (preserve && chosen === 'tensor') {
         try {
@@ -139,11 +147,13 @@ export const QUAD_COMMANDS = {
         scheme: 'catmull-clark', volumeReference: report.volumeReference, volumeTarget: report.volumeTarget,
         volumeResult: report.volumeResult, relativeError: report.relativeError, iterations: report.iterations,
         substeps: report.substeps, stepMs: Math.round(stepMs * 1000) / 1000, path: preserve ? report.path : 'none',
-        output: values.output,
+        keep, centroidBefore, centroidAfter: Array.from(editor.centroid()), output: values.output,
       };
+      const drift = Math.hypot(...result.centroidAfter.map((x, k) => x - centroidBefore[k]));
       cli.print(values, result, (r) => [
         `reference volume ${r.volumeReference}`, `target volume    ${r.volumeTarget}`,
         `result volume    ${r.volumeResult} (relative error ${r.relativeError})`,
+        `centre of mass   ${r.centroidBefore.join(' ')} -> ${r.centroidAfter.join(' ')} (moved ${drift}${centroid ? ', kept' : ''})`,
         `correction       ${r.iterations} iterations, ${r.substeps} sub-steps, ${r.stepMs} ms, ${r.path} gradient`,
         `wrote            ${r.output}`].join('\n'));
     } finally {

@@ -50,8 +50,7 @@ export function setUpBalance({ session, viewer, onChanged = () => {} }) {
     surface.disabled = session.model !== null && !session.canKeepLimit;
     surface.parentElement.title = surface.disabled ? 'A quad mesh keeps the volume of its bilinear patches (the limit surface is that of Loop triangle meshes)'
       : 'Whose volume is kept: the triangle mesh, or the smooth Loop limit surface it stands for (closed meshes)';
-    keep.parentElement.title = session.surface !== 'limit' && keep.disabled ? 'The quad editor keeps the volume only, not the centre of mass'
-      : keep.disabled ? 'The centre of mass is kept for the mesh surface only'
+    keep.parentElement.title = keep.disabled ? 'The centre of mass is kept for the mesh surface only'
       : 'Keep the centre of mass where it is while dragging (four constraints: the volume and the three first moments)';
   }
 
@@ -66,9 +65,9 @@ export function setUpBalance({ session, viewer, onChanged = () => {} }) {
       readout.textContent = 'no centre of mass (zero volume)';
       return;
     }
-    if (!c) {  // an editor without centroids (a quad model's)
+    if (!c) {  // an editor without centroids
       marker.visible = false;
-      readout.textContent = 'centre of mass: not computed for quad meshes';
+      readout.textContent = 'centre of mass: not computed for this model';
       viewer.requestRender();
       return;
     }

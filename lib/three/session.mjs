@@ -22,7 +22,7 @@
 // Quad models (a QuadMultiresMesh, or a mesh { positions, quads }: lib/quad.mjs) edit the same way
 // with the catmull-clark scheme and the bilinear-patch volume: model.quads holds the quads,
 // model.faces the triangles they are drawn with (each quad split in two), the cage's edges are the
-// level-e quads' sides. What the quad editor lacks (limit surface, centre of mass; painted regions
+// level-e quads' sides. What the quad editor lacks (the limit surface; painted regions
 // and parts until it has them) is refused with a message; `freeSetModes` says which free sets work.
 import { DEFAULT_SCHEME, chooseGradientPath } from '../api.mjs';
 import { History } from './history.mjs';
@@ -101,9 +101,8 @@ export class EditingSession extends EventTarget {
   get quad() { return Boolean(this.model?.quads); }
   /** The free-set modes the current editor takes (FREE_SET_MODES for triangle models). */
   get freeSetModes() { return this.#freeSetModes; }
-  /** Whether the centre of mass can be kept and the limit surface's volume be kept (triangle models). */
-  // quad editors have keepCentroid (it refuses) but no centre of mass: decided by the kind of model
-  get canKeepCentroid() { return typeof this.editor?.keepCentroid === 'function' && !this.quad; }
+  /** Whether the centre of mass can be kept (both kinds of model) and the limit surface's volume (triangles). */
+  get canKeepCentroid() { return typeof this.editor?.keepCentroid === 'function'; }
   get canKeepLimit() { return Boolean(this.model) && !this.quad; }
 
   #emit(type, detail = {}) {

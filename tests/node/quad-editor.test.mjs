@@ -219,7 +219,18 @@ describe('mrvol edit --scheme catmull-clark --path', () => {
     assert.ok(relErr(edited('details.obj'), volume) < 1e-5);
     usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--path', 'fast', '--move', '5:0,0,1', '-o', file('x.obj')),
       /--path must be auto, polynomial, tensor or matrix-free/);
-    usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--keep', 'volume,centroid', '--move', '5:0,0,1', '-o', file('x.obj')),
-      /--keep volume,centroid is not available for catmull-clark/);
+    // The bilinear centre of mass kept with the volume (matrix-free): it stays where it was, the volume too.
+    const kept = json(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--keep', 'volume,centroid',
+      '--move', '5:0,0,0.4', '-o', file('kept.obj'), '--json'));
+    assert.equal(kept.path, 'matrix-free');
+    assert.ok(relErr(edited('kept.obj'), volume) < 1e-5);
+    const size = Math.cbrt(Math.abs(volume));
+    assert.ok(Math.hypot(...kept.centroidAfter.map((x, k) => x - kept.centroidBefore[k])) < 1e-5 * size, JSON.stringify(kept));
+    const free = json(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--move', '5:0,0,0.4', '-o', file('free.obj'), '--json'));
+    assert.ok(Math.hypot(...free.centroidAfter.map((x, k) => x - free.centroidBefore[k])) > 1e-3 * size, 'an unkept drag moves the centre');
+    usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--keep', 'volume,centroid', '--path', 'polynomial',
+      '--move', '5:0,0,1', '-o', file('x.obj')), /--keep centroid runs matrix-free/);
+    usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--keep', 'volume,inertia', '--move', '5:0,0,1', '-o', file('x.obj')),
+      /--keep expects volume or volume,centroid/);
   });
 });

@@ -133,9 +133,16 @@ test('what a quad model refuses, with a message; a triangle model after it goes 
   assert.throws(() => session.setSurface('limit'), /bilinear-patch volume/);
   assert.equal(session.surface, 'mesh');
   assert.ok(session.freeSetModes.includes('minus-held') && session.freeSetModes.includes('all'));
-  assert.equal(session.canKeepCentroid, false);
-  assert.equal(session.centroid(), null); // the app's balance readout says so instead of a wrong reason
-  assert.throws(() => session.setKeepCentroid(true), /volume only/);
+  // The bilinear patches' centre of mass is kept with the volume through a drag.
+  assert.equal(session.canKeepCentroid, true);
+  const before = Array.from(session.centroid());
+  const volume = session.editor.volume();
+  session.setKeepCentroid(true);
+  assert.ok(session.moveHandles([1], [0, 0.2, 0]));
+  const after = Array.from(session.centroid());
+  assert.ok(Math.hypot(...after.map((x, k) => x - before[k])) < 1e-5, `${before} -> ${after}`);
+  assert.ok(Math.abs(session.editor.volume() - volume) < 1e-6 * Math.abs(volume));
+  session.setKeepCentroid(false);
   session.setFreeSet({ mode: 'all' });
   assert.equal(session.freeSet.mode, 'all');
   assert.ok(session.moveHandles([1], [0, 0.2, 0]));
