@@ -7,16 +7,10 @@
 // Messages out: { type: 'progress', stage, fraction }, { type: 'done', transfer, stages }, { type: 'error', message }
 import { loadMrvol } from './mrvol.js';
 import { warmUp, buildEditor } from './module-transfer.js';
+import { workerStages } from './open-stages.js';
 
-const stages = [];
-function timed(stage, fn) {
-  const t = performance.now();
-  try {
-    return fn();
-  } finally {
-    stages.push({ stage, thread: 'worker', ms: Math.round((performance.now() - t) * 10) / 10 });
-  }
-}
+// the time of each stage here (sent with the result)
+const { list: stages, timed } = workerStages();
 
 self.onmessage = async ({ data: { mesh, hierarchy, positions, level, scheme } }) => {
   try {

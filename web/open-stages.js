@@ -32,3 +32,21 @@ export function pageStage(stage, fn) {
 export function openStages() {
   return { what: stages.what ?? null, since: started === null ? null : Math.round(performance.now() - started), stages: stages.map((s) => ({ ...s })) };
 }
+
+/**
+ * A worker's own list of stages, sent to the page with its result: timed(stage, fn) runs fn as one
+ * stage, add(stage, ms, details) records one measured otherwise.
+ */
+export function workerStages() {
+  const list = [];
+  const add = (stage, ms, details = {}) => { list.push({ stage, thread: 'worker', ms: Math.round(ms * 10) / 10, ...details }); };
+  function timed(stage, fn) {
+    const t = performance.now();
+    try {
+      return fn();
+    } finally {
+      add(stage, performance.now() - t);
+    }
+  }
+  return { list, add, timed };
+}

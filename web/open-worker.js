@@ -17,21 +17,14 @@ import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
 import { openParsed } from './models.js';
 import { warmUp, buildEditor } from './module-transfer.js';
+import { workerStages } from './open-stages.js';
 
 const outOfMemory = (e) => e instanceof RangeError || /memory|bad_alloc/i.test(e?.message ?? '');
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
 
-// the time of each stage here (web/open-stages.js: sent with the result)
-const stages = [];
-function timed(stage, fn) {
-  const t = performance.now();
-  try {
-    return fn();
-  } finally {
-    stages.push({ stage, thread: 'worker', ms: Math.round((performance.now() - t) * 10) / 10 });
-  }
-}
+// the time of each stage here (sent with the result)
+const { list: stages, add: addStage, timed } = workerStages();
 
 /** The file's bytes, read in chunks with progress (a File's stream; `bytes` as they are). */
 async function readBytes(file) {
@@ -81,7 +74,7 @@ self.onmessage = async ({ data: job }) => {
     mrvolLoading.catch(() => {}); // awaited below
     const reading = performance.now();
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
-    stages.push({ stage: 'file read', thread: 'worker', ms: Math.round((performance.now() - reading) * 10) / 10, bytes: bytes.byteLength });
+    addStage('file read', performance.now() - reading, { bytes: bytes.byteLength });
     const claimed = claimedVertices(bytes, job.name);
     if (claimed > MAX_VERTICES) {
       post({ type: 'error', message: sizeMessage({ vertices: claimed, claimed: true }), size: true });
@@ -89,7 +82,7 @@ self.onmessage = async ({ data: job }) => {
     }
     const waiting = performance.now();
     const mrvol = await mrvolLoading;
-    stages.push({ stage: 'core loaded (waited for)', thread: 'worker', ms: Math.round((performance.now() - waiting) * 10) / 10 });
+    addStage('core loaded (waited for)', performance.now() - waiting);
     const format = mrvol.detectFormat(bytes, job.name);
     post({ type: 'progress', stage: `parsing the ${format.toUpperCase()} file`, fraction: 0.5 });
     let mesh;
