@@ -459,6 +459,14 @@ export interface ReadMeshOptions {
   resources?: Record<string, Uint8Array> | Map<string, Uint8Array> | Array<[string, Uint8Array]>;
 }
 
+/** A chunked OBJ reader (Mrvol.createObjReader). */
+export interface ObjReader {
+  push(chunk: Uint8Array): void;
+  finish(): ObjMesh;
+  cancel(): void;
+  readonly bytesRead: number;
+}
+
 /** The API object: what wrapModule() and createMrvol() return. */
 export interface Mrvol {
   MrvolError: typeof MrvolError;
@@ -467,6 +475,12 @@ export interface Mrvol {
    * indices, polygons triangulated, and the line of each vertex and face.
    */
   readObj(input: Uint8Array | string): ObjMesh;
+  /**
+   * An OBJ file read in chunks as they arrive: push(bytes) each chunk (split anywhere), then finish()
+   * gives what readObj gives for the whole file. Errors (MrvolError, with the line) come from the push
+   * that completes the bad line, or from finish; the reader is then spent. cancel() frees one left unfinished.
+   */
+  createObjReader(options?: { size?: number }): ObjReader;
   /** OBJ text: `v` lines (17 significant digits) then `f` lines, vertex order kept. */
   writeObj(mesh: Mesh): string;
   /**
@@ -575,6 +589,13 @@ export interface CreateMrvolOptions {
  * Rejects with MrvolError if the module cannot be found or loaded.
  */
 export function createMrvol(options?: CreateMrvolOptions): Promise<Mrvol>;
+
+/**
+ * Node only: reads an OBJ file from disk in chunks straight into the WASM reader (Node never holds the
+ * whole file). Returns what readObj gives; onProgress(fraction) after each chunk.
+ */
+export function readObjFile(mrvol: Mrvol, path: string,
+                            options?: { chunkBytes?: number; onProgress?: (fraction: number) => void }): Promise<ObjMesh>;
 
 /** The estimate of MultiresMesh.estimateTheta. */
 export interface ThetaEstimate {
