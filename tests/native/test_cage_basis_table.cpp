@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "fixtures.h"
+#include "shuffled_subdivision.h"
 #include "mrvol/cage_basis_table.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
@@ -104,12 +105,7 @@ TEST(CageBasisTable, ColumnsAreTheZeroDetailSynthesisAtEveryLevel) {
 }
 
 TEST(CageBasisTable, RowsInAShuffledOrder) {
-  const fixtures::Fixture fx = fixtures::baseFixtures()[0];
-  const Hierarchy sub = Hierarchy::subdivide(fx.base, fx.levels);
-  TriangleMesh fine{std::vector<double>(3 * sub.fineVertexCount(), 0.0), sub.fineFaces()};
-  std::copy(fx.base.positions.begin(), fx.base.positions.end(), fine.positions.begin());
-  WaveletTransform(sub, SchemeOptions{}).synthesize(fine.positions.data(), 0);
-  const fixtures::Shuffled shuffled = fixtures::shuffle(fine, 5);
+  const fixtures::Shuffled shuffled = fixtures::shuffledSubdivision(5);
   const Hierarchy h = Hierarchy::detect(shuffled.mesh);
   const WaveletTransform wt(h, SchemeOptions{});
   for (int level = 0; level < h.levels; ++level) checkTable(h, wt, level, "shuffled level " + std::to_string(level));

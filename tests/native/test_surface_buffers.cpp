@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "fixtures.h"
+#include "shuffled_subdivision.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
 #include "mrvol/surface_buffers.h"
@@ -104,12 +105,7 @@ TEST(SurfaceBuffers, FollowTheEditsInTheHierarchyOrder) {
 }
 
 TEST(SurfaceBuffers, FollowTheEditsInAShuffledOrder) {
-  const fixtures::Fixture fx = fixtures::baseFixtures()[0];
-  const Hierarchy sub = Hierarchy::subdivide(fx.base, fx.levels);
-  TriangleMesh fine{std::vector<double>(3 * sub.fineVertexCount(), 0.0), sub.fineFaces()};
-  std::copy(fx.base.positions.begin(), fx.base.positions.end(), fine.positions.begin());
-  WaveletTransform(sub, SchemeOptions{}).synthesize(fine.positions.data(), 0);
-  const fixtures::Shuffled shuffled = fixtures::shuffle(fine, 5);
+  const fixtures::Shuffled shuffled = fixtures::shuffledSubdivision(5);
   const Hierarchy h = Hierarchy::detect(shuffled.mesh);
   bool reordered = false;
   for (size_t v = 0; v < h.inputIndex.size(); ++v) reordered = reordered || h.inputIndex[v] != v;
