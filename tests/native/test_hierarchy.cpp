@@ -572,3 +572,42 @@ TEST(Corners, HubsOfHighValenceAreWalkedByBinarySearchWithTheSameAnswers) {
     if (open) EXPECT_EQ(ring[0], 2 + 1u);  // starts at the boundary neighbour v with face (u, v, .) only
   }
 }
+
+// MultiresMesh validates and detects in a local vertex numbering (vertex_order.h): the hierarchy
+// it keeps must be the one detection in the caller's numbering finds, array for array (numbering,
+// level faces, ends and wings in order, boundary), and the faces the caller's own.
+TEST(Hierarchy, LocalNumberingGivesTheCallersHierarchy) {
+  std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  for (const auto& fx : fixtures::baseFixtures())
+    for (int levels : {0, 2})
+      for (unsigned seed : {5u, 6u})
+        meshes.emplace_back(fx.name + " levels " + std::to_string(levels) + " seed " + std::to_string(seed),
+                            shuffle(subdivided(fx.base, levels), seed).mesh);
+  TriangleMesh triangle;
+  triangle.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  triangle.faces = {0, 1, 2};
+  meshes.emplace_back("open triangle, 3 levels", shuffle(subdivided(triangle, 3), 9).mesh);
+  const TriangleMesh ico2 = subdivided(fixtures::icosahedron(), 2);
+  meshes.emplace_back("two components", shuffle(disjointUnion(ico2, subdivided(fixtures::torus(), 2), 10), 4).mesh);
+  meshes.emplace_back("subdivided, unshuffled", ico2);
+  for (const auto& [name, mesh] : meshes) {
+    const Hierarchy expected = Hierarchy::detect(mesh);
+    const MultiresMesh opened(mesh);
+    const Hierarchy& h = opened.hierarchy();
+    EXPECT_EQ(h.levels, expected.levels) << name;
+    EXPECT_EQ(h.vertexCount, expected.vertexCount) << name;
+    EXPECT_EQ(h.faces, expected.faces) << name;
+    EXPECT_EQ(h.ends, expected.ends) << name;
+    EXPECT_EQ(h.wings, expected.wings) << name;
+    EXPECT_EQ(h.boundary, expected.boundary) << name;
+    EXPECT_EQ(h.inputIndex, expected.inputIndex) << name;
+    EXPECT_EQ(h.hierarchyIndex, expected.hierarchyIndex) << name;
+    EXPECT_EQ(opened.faces(), mesh.faces) << name;
+    const MeshTopology t = validateMesh(mesh);
+    EXPECT_EQ(opened.topology().edges, t.edges) << name;
+    EXPECT_EQ(opened.topology().boundaryEdges, t.boundaryEdges) << name;
+    EXPECT_EQ(opened.topology().components, t.components) << name;
+    EXPECT_EQ(opened.topology().genus, t.genus) << name;
+    EXPECT_EQ(opened.info(mesh.positions).volume, meshVolume(mesh)) << name;
+  }
+}

@@ -141,7 +141,15 @@ val js_volume(val positions, val faces, val lines) {
 }
 
 MultiresMesh* js_openMesh(val positions, val faces, int maxLevels, val lines) {
-  return guarded([&] { return new MultiresMesh(toMesh(positions, faces), maxLevels, toLines(lines).get()); });
+  return guarded([&] {
+    // The OBJ lines only name what a refused mesh has wrong: copied into the heap for that only.
+    try {
+      return new MultiresMesh(toMesh(positions, faces), maxLevels);
+    } catch (const Error&) {
+      if (lines.isUndefined() || lines.isNull()) throw;
+    }
+    return new MultiresMesh(toMesh(positions, faces), maxLevels, toLines(lines).get());
+  });
 }
 // A detected hierarchy handed to another instance of the module (hierarchy_transfer.h).
 val js_hierarchyArrays(const MultiresMesh& m) {

@@ -283,7 +283,7 @@ Hierarchy Hierarchy::detect(const TriangleMesh& fine, int maxLevels, bool valida
 }
 
 Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, size_t vertexCount, int maxLevels,
-                                     VertexCorners* fineCorners) {
+                                     VertexCorners* fineCorners, const std::vector<uint32_t>* localToCaller) {
   const uint32_t nv = uint32_t(vertexCount);
   // The corner lists of the level being detected: the fine ones given or built, then each coarse
   // level's from its validation.
@@ -322,6 +322,27 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
     alive = std::move(nextAlive);
     ++found;
   }
+  corners = VertexCorners();  // freed before the hierarchy's arrays are made
+  if (localToCaller) {
+    // Back to the caller's numbering; ends as the caller's numbering orders them (lower index
+    // first: detection orders each pair by index, and compaction keeps the order).
+    const std::vector<uint32_t>& caller = *localToCaller;
+    std::vector<int> callerBornAt(nv);
+    for (uint32_t v = 0; v < nv; ++v) callerBornAt[caller[v]] = bornAt[v];
+    std::vector<int>().swap(bornAt);
+    std::vector<uint32_t> callerEnds(2 * size_t(nv), kNone);
+    for (uint32_t v = 0; v < nv; ++v)
+      if (endsInput[2 * v] != kNone) {
+        const uint32_t a = caller[endsInput[2 * v]], b = caller[endsInput[2 * v + 1]];
+        callerEnds[2 * size_t(caller[v])] = std::min(a, b);
+        callerEnds[2 * size_t(caller[v]) + 1] = std::max(a, b);
+      }
+    std::vector<uint32_t>().swap(endsInput);
+    bornAt = std::move(callerBornAt);
+    endsInput = std::move(callerEnds);
+    for (size_t l = 1; l < levelFaces.size(); ++l)
+      for (auto& v : levelFaces[l]) v = caller[v];
+  }
   Hierarchy h;
   h.levels = found;
   // Depth = levels - 1 - bornAt; base vertices have bornAt -1. Number by depth, then caller order.
@@ -337,7 +358,10 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
   }
   for (int l = 0; l <= found; ++l) {
     std::vector<uint32_t> faces = l == found ? fineFaces : std::move(levelFaces[found - l]);
-    for (auto& v : faces) v = h.hierarchyIndex[v];
+    if (l == found && localToCaller)
+      for (auto& v : faces) v = h.hierarchyIndex[(*localToCaller)[v]];
+    else
+      for (auto& v : faces) v = h.hierarchyIndex[v];
     h.faces.push_back(std::move(faces));
   }
   h.ends.assign(2 * size_t(nv), kNone);

@@ -227,6 +227,23 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines, Ve
   return topo;
 }
 
+Vec3 volumeReferencePoint(const double* positions, size_t nv, const std::vector<char>& onBoundary) {
+  if (nv == 0) return {};
+  Vec3 sum;
+  size_t count = 0;
+  for (size_t u = 0; u < nv; ++u)
+    if (onBoundary[u]) {
+      sum.x += positions[3 * u], sum.y += positions[3 * u + 1], sum.z += positions[3 * u + 2];
+      ++count;
+    }
+  if (count > 0) return {sum.x / count, sum.y / count, sum.z / count};
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) lo[k] = hi[k] = positions[k];
+  for (size_t v = 0; v < nv; ++v)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], positions[3 * v + k]), hi[k] = std::max(hi[k], positions[3 * v + k]);
+  return {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+}
+
 Vec3 volumeReferencePoint(const TriangleMesh& mesh) {
   const size_t nv = mesh.vertexCount();
   if (nv == 0) return {};
@@ -236,19 +253,7 @@ Vec3 volumeReferencePoint(const TriangleMesh& mesh) {
   for (uint32_t u = 0; u < nv; ++u)
     for (uint32_t c = corners.begin(u); c < corners.end(u); ++c)
       if (corners.cornerTo(corners.next[c], u) == kNone) onBoundary[u] = onBoundary[corners.next[c]] = 1;
-  Vec3 sum;
-  size_t count = 0;
-  for (size_t u = 0; u < nv; ++u)
-    if (onBoundary[u]) {
-      sum.x += mesh.positions[3 * u], sum.y += mesh.positions[3 * u + 1], sum.z += mesh.positions[3 * u + 2];
-      ++count;
-    }
-  if (count > 0) return {sum.x / count, sum.y / count, sum.z / count};
-  double lo[3], hi[3];
-  for (int k = 0; k < 3; ++k) lo[k] = hi[k] = mesh.positions[k];
-  for (size_t v = 0; v < nv; ++v)
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], mesh.positions[3 * v + k]), hi[k] = std::max(hi[k], mesh.positions[3 * v + k]);
-  return {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+  return volumeReferencePoint(mesh.positions.data(), nv, onBoundary);
 }
 
 double meshVolume(const double* p, const uint32_t* faces, size_t faceCount, Vec3 o) {

@@ -6,23 +6,34 @@
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
 #include "mrvol/limit_volume.h"
+#include "mrvol/vertex_order.h"
 
 namespace mrvol {
 
-MultiresMesh::MultiresMesh(const TriangleMesh& mesh, int maxLevels, const SourceLines* lines) : faces_(mesh.faces) {
-  if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
-  VertexCorners corners;  // validation's, handed to detection
-  topology_ = validateMesh(mesh, lines, &corners);
-  hierarchy_ = Hierarchy::detectValidated(mesh.faces, mesh.vertexCount(), maxLevels, &corners);
-}
+MultiresMesh::MultiresMesh(const TriangleMesh& mesh, int maxLevels, const SourceLines* lines)
+    : MultiresMesh(TriangleMesh(mesh), maxLevels, lines) {}
 
 MultiresMesh::MultiresMesh(TriangleMesh&& mesh, int maxLevels, const SourceLines* lines) {
   if (maxLevels < 0) throw Error("maxLevels must be at least 0, got " + std::to_string(maxLevels));
-  VertexCorners corners;
-  topology_ = validateMesh(mesh, lines, &corners);
+  // Validation and detection run in a local vertex numbering (vertex_order.h: far fewer cache
+  // misses); a mesh it refuses is validated again in the caller's numbering, so that the message
+  // names the same vertex, face and line as ever.
+  const std::vector<uint32_t> localToCaller = renumberByFirstAppearance(mesh.faces, mesh.vertexCount());
+  VertexCorners corners;  // validation's, handed to detection
+  bool local = !localToCaller.empty();
+  if (local) {
+    try {
+      topology_ = validateMesh(mesh, nullptr, &corners);
+    } catch (const Error&) {
+      restoreNumbering(mesh.faces, localToCaller);
+      local = false;
+    }
+  }
+  if (!local) topology_ = validateMesh(mesh, lines, &corners);
   const size_t vertexCount = mesh.vertexCount();
   std::vector<double>().swap(mesh.positions);  // detection needs the faces only
-  hierarchy_ = Hierarchy::detectValidated(mesh.faces, vertexCount, maxLevels, &corners);
+  hierarchy_ = Hierarchy::detectValidated(mesh.faces, vertexCount, maxLevels, &corners, local ? &localToCaller : nullptr);
+  if (local) restoreNumbering(mesh.faces, localToCaller);
   faces_ = std::move(mesh.faces);
 }
 
@@ -77,8 +88,15 @@ void MultiresMesh::checkPositions(const std::vector<double>& positions) const { 
 MeshInfo MultiresMesh::info(const std::vector<double>& positions) const {
   checkPositions(positions);
   MeshInfo info = hierarchyInfo(hierarchy_, topology_, faces_.size() / 3);
-  info.volume = meshVolume(TriangleMesh{positions, faces_});
+  info.volume = meshVolume(positions.data(), faces_.data(), faces_.size() / 3, volumeReferencePoint(positions));
   return info;
+}
+
+Vec3 MultiresMesh::volumeReferencePoint(const std::vector<double>& positions) const {
+  std::vector<char> onBoundary(vertexCount(), 0);
+  if (!topology_.closed)
+    for (size_t v = 0; v < onBoundary.size(); ++v) onBoundary[v] = char(hierarchy_.boundary[hierarchy_.hierarchyIndex[v]]);
+  return mrvol::volumeReferencePoint(positions.data(), onBoundary.size(), onBoundary);
 }
 
 std::vector<uint32_t> MultiresMesh::levelFaces(int level) const {
@@ -253,7 +271,7 @@ double MultiresMesh::limitVolume(const std::vector<double>& positions) const {
   const FineForm& form = limitForm();
   std::vector<double> x(positions.size());
   hierarchy_.toHierarchyOrder(positions.data(), x.data());
-  return form.evaluate(x.data(), volumeReferencePoint(TriangleMesh{positions, faces_}));
+  return form.evaluate(x.data(), volumeReferencePoint(positions));
 }
 
 VolumeTensor MultiresMesh::computeLimitTensor(int level, const SchemeOptions& scheme, TensorStorage storage,
@@ -271,7 +289,7 @@ double MultiresMesh::tensorVolumeOf(const VolumeTensor& tensor, const SchemeOpti
                                     const std::vector<double>& positions) const {
   checkPositions(positions);
   const WaveletTransform& wt = transform(scheme);
-  const Vec3 o = volumeReferencePoint(TriangleMesh{positions, faces_});
+  const Vec3 o = volumeReferencePoint(positions);
   const size_t n = vertexCount();
   std::vector<double> x(3 * n);
   hierarchy_.toHierarchyOrder(positions.data(), x.data());

@@ -381,6 +381,22 @@ struct ObjReader::Parser {
       uint32_t v[3], vt[3], vn[3];
       bool hasTex = false, hasNormal = false;
       auto corner = [&](std::string_view token, uint32_t& vi, uint32_t& ti, uint32_t& ni) {
+        // The common form, a plain index of at most 9 digits (no sign, no slash), in one loop;
+        // anything else (and every error) goes the general way below.
+        if (token.size() <= 9) {
+          uint32_t value = 0;
+          size_t i = 0;
+          for (; i < token.size(); ++i) {
+            const unsigned digit = unsigned(token[i]) - '0';
+            if (digit > 9) break;
+            value = value * 10 + digit;
+          }
+          if (i == token.size() && value != 0) {
+            vi = value - 1;
+            ti = ni = kNoIndex;
+            return;
+          }
+        }
         const size_t slash = token.find('/');
         vi = parseIndex(token.substr(0, slash), token, line, vertices, "face");
         ti = ni = kNoIndex;

@@ -38,8 +38,12 @@ struct Hierarchy {
   static Hierarchy detect(const TriangleMesh& fine, int maxLevels = 16, bool validated = false);
   // The same on a validated mesh given by its faces and vertex count (positions play no part);
   // `fineCorners`, when given, are the fine faces' corner lists (validateMesh's), taken over.
+  // `localToCaller`, when given: the faces (and corners) are in a local numbering of the caller's
+  // vertices (vertex_order.h), local -> caller index; the hierarchy returned is the very one the
+  // caller's numbering gives (indices, order, ends).
   static Hierarchy detectValidated(const std::vector<uint32_t>& fineFaces, size_t vertexCount, int maxLevels,
-                                   VertexCorners* fineCorners = nullptr);
+                                   VertexCorners* fineCorners = nullptr,
+                                   const std::vector<uint32_t>* localToCaller = nullptr);
 
   // Reorders per-vertex 3-vectors between the caller's order and the hierarchy's.
   void toHierarchyOrder(const double* input, double* out) const;

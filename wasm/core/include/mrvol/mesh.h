@@ -90,6 +90,9 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines, Ve
 // then the centroid of its boundary vertices, which editing keeps fixed.
 struct Vec3 { double x = 0, y = 0, z = 0; };
 Vec3 volumeReferencePoint(const TriangleMesh& mesh);
+// The same point from boundary flags the caller already has (onBoundary[v], 1 for a boundary
+// vertex), so that a large mesh needs no corner lists and no copy of its arrays for it.
+Vec3 volumeReferencePoint(const double* positions, size_t vertexCount, const std::vector<char>& onBoundary);
 double meshVolume(const TriangleMesh& mesh);
 double meshVolume(const double* positions, const uint32_t* faces, size_t faceCount, Vec3 origin);
 

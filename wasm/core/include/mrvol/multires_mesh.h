@@ -117,6 +117,9 @@ class MultiresMesh {
  private:
   MultiresMesh() = default;
   void checkLevel(int level) const;
+  // volumeReferencePoint of the caller's positions, from the hierarchy's boundary flags (no corner
+  // lists, no copy of the arrays).
+  Vec3 volumeReferencePoint(const std::vector<double>& positions) const;
   const std::vector<LiftingStep>& stepsOfLevel(int level, const SchemeOptions& scheme) const;
   const std::vector<LiftingStep>& checkedSteps(int level, int steps, const SchemeOptions& scheme) const;
   double tensorVolumeOf(const VolumeTensor& tensor, const SchemeOptions& scheme, const FineForm& fine,
