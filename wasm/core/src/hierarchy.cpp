@@ -152,6 +152,7 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   std::vector<uint32_t> tileOfFace(nf, kNone);
   std::vector<uint8_t> isCenter(nf, 0);
   std::vector<uint32_t> coarse;
+  coarse.reserve(3 * (nf / 4));  // exact for a split: no growth by reallocation on a large mesh
 
   // Grows the tiling of one component from a face taken as a tile's centre. Undo on failure.
   auto grow = [&](uint32_t seed) -> bool {
@@ -232,6 +233,9 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
       if (s != kNone && tileOfFace[s] == kNone && grow(s)) { grown = true; break; }
     if (!grown) return false;
   }
+  // The tiling's own arrays are done with: freed before the checks' arrays are made.
+  std::vector<uint32_t>().swap(tileOfFace);
+  std::vector<uint8_t>().swap(isCenter);
   size_t evens = 0, odds = 0;
   for (uint32_t v = 0; v < vertexCount; ++v) {
     if (role[v] == kUnknown) return false;
@@ -241,10 +245,13 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   if (4 * (coarse.size() / 3) != nf || evens + odds != vertexCount) return false;
   // Each coarse edge has one midpoint.
   std::vector<uint64_t> edgeKeys;
+  edgeKeys.reserve(odds);
   for (uint32_t v = 0; v < vertexCount; ++v)
     if (role[v] == kOdd) edgeKeys.push_back(uint64_t(ends[2 * v]) << 32 | ends[2 * v + 1]);
   std::sort(edgeKeys.begin(), edgeKeys.end());
   if (std::adjacent_find(edgeKeys.begin(), edgeKeys.end()) != edgeKeys.end()) return false;
+  const size_t coarseEdges = edgeKeys.size();
+  std::vector<uint64_t>().swap(edgeKeys);
   // The coarse mesh must be a valid manifold with interior valence >= 3 (no pillow of two faces).
   std::vector<uint32_t> evenIndex(vertexCount, kNone);
   uint32_t ne = 0;
@@ -254,13 +261,14 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   coarseMesh.positions.assign(3 * size_t(ne), 0.0);
   coarseMesh.faces.resize(coarse.size());
   for (size_t i = 0; i < coarse.size(); ++i) coarseMesh.faces[i] = evenIndex[coarse[i]];
+  std::vector<uint32_t>().swap(evenIndex);
   VertexCorners coarseCorners;
   try {
     validateMesh(coarseMesh, nullptr, &coarseCorners);
   } catch (const Error&) {
     return false;
   }
-  if (edgeKeys.size() + ne != vertexCount) return false;
+  if (coarseEdges + ne != vertexCount) return false;
   std::vector<uint32_t> ring;
   for (uint32_t v = 0; v < ne; ++v) {
     bool isBoundary = false;
