@@ -28,6 +28,7 @@
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
 #include "mrvol/mesh.h"
+#include "mrvol/multires_mesh.h"
 #include "../native/fixtures.h"
 #include "reference_mesh.h"
 
@@ -373,6 +374,14 @@ void run(const uint8_t* data, size_t size) {
 
   const Hierarchy h = Hierarchy::detect(input);
   checkConsistent(h, input);
+  // MultiresMesh detects in a local vertex numbering (vertex_order.h): the very same hierarchy.
+  if (input.faceCount() <= 4096) {
+    const mrvol::MultiresMesh opened(input);
+    const Hierarchy& o = opened.hierarchy();
+    check(o.levels == h.levels && o.vertexCount == h.vertexCount && o.faces == h.faces && o.ends == h.ends &&
+          o.wings == h.wings && o.boundary == h.boundary && o.inputIndex == h.inputIndex &&
+          o.hierarchyIndex == h.hierarchyIndex && opened.faces() == input.faces);
+  }
   const int expected = levels + intrinsicLevels(kind);
   check(h.levels <= expected);
   if (!corrupted) {
