@@ -13,102 +13,148 @@ namespace mrvol {
 // A unit at each cage vertex carried through the zero-detail synthesis steps on sparse rows. A
 // lift rewrites the rows of its targets (targets and sources are disjoint), merged through a dense
 // accumulator over the cage; the steps that read only zero details are skipped, as in
-// synthesizeZeroDetails.
+// synthesizeZeroDetails. Rows live in a pool: vertex v's is [begin[v], begin[v] + length[v]); a
+// lift appends its targets' new rows (the sources' rows stay put while it reads them) and leaves
+// every other row where it is; the pool is compacted once per level, into vertex order.
 CageBasis cageBasis(const WaveletTransform& transform, int level) {
   const Hierarchy& h = transform.hierarchy();
   if (level < 0 || level > h.levels)
     throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(h.levels));
   const uint32_t cage = h.vertexCount[level];
+  const size_t n = h.fineVertexCount();
+  std::vector<uint64_t> begin(n, 0);
+  std::vector<uint32_t> length(n, 0);
   CageBasis rows;
   rows.index.resize(cage);
   std::iota(rows.index.begin(), rows.index.end(), 0u);
   rows.value.assign(cage, 1.0);
-  rows.offset.resize(size_t(cage) + 1);
-  std::iota(rows.offset.begin(), rows.offset.end(), uint64_t(0));
+  for (uint32_t c = 0; c < cage; ++c) begin[c] = c, length[c] = 1;
   std::vector<double> acc(cage, 0.0);
   std::vector<uint8_t> touched(cage, 0);
   std::vector<uint32_t> list;
-  CageBasis next;
+  std::vector<uint32_t> compactIndex;
+  std::vector<double> compactValue;
   for (int l = level + 1; l <= h.levels; ++l) {
-    rows.offset.resize(size_t(h.vertexCount[l]) + 1, rows.offset.back());  // the new vertices: zero rows
     for (const LiftingStep& step : transform.synthesisSteps(l)) {
       if (step.readsOnlyDetails) continue;
       if (step.scaling) {
-        for (size_t r = 0; r < step.targets.size(); ++r)
-          for (uint64_t p = rows.offset[step.targets[r]]; p < rows.offset[step.targets[r] + 1]; ++p) rows.value[p] *= step.weights[r];
+        for (size_t r = 0; r < step.targets.size(); ++r) {
+          const uint32_t t = step.targets[r];
+          for (uint64_t p = begin[t]; p < begin[t] + length[t]; ++p) rows.value[p] *= step.weights[r];
+        }
         continue;
       }
-      const uint32_t vertices = h.vertexCount[l];
-      next.offset.assign(1, 0);
-      next.offset.reserve(size_t(vertices) + 1);
-      next.index.clear();
-      next.value.clear();
-      next.index.reserve(2 * rows.index.size());  // a level's first lift about doubles the entries
-      next.value.reserve(2 * rows.index.size());
-      size_t r = 0;  // targets are ascending
-      for (uint32_t v = 0; v < vertices; ++v) {
-        const uint64_t begin = rows.offset[v], end = rows.offset[v + 1];
-        if (r < step.targets.size() && step.targets[r] == v) {
-          auto add = [&](uint32_t from, double w) {
-            for (uint64_t p = rows.offset[from]; p < rows.offset[from + 1]; ++p) {
-              const uint32_t c = rows.index[p];
-              if (!touched[c]) touched[c] = 1, list.push_back(c);
-              acc[c] += w * rows.value[p];
-            }
-          };
-          add(v, 1.0);
-          for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) add(step.sources[k], step.weights[k]);
-          std::sort(list.begin(), list.end());
-          for (uint32_t c : list) {
-            if (acc[c] != 0.0) next.index.push_back(c), next.value.push_back(acc[c]);
-            acc[c] = 0.0, touched[c] = 0;
-          }
-          list.clear();
-          ++r;
-        } else {
-          next.index.insert(next.index.end(), rows.index.begin() + begin, rows.index.begin() + end);
-          next.value.insert(next.value.end(), rows.value.begin() + begin, rows.value.begin() + end);
+      {  // room for the new rows at once (each at most its inputs' lengths, at most the cage)
+        uint64_t bound = 0;
+        for (size_t r = 0; r < step.targets.size(); ++r) {
+          uint64_t m = length[step.targets[r]];
+          for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) m += length[step.sources[k]];
+          bound += std::min<uint64_t>(m, cage);
         }
-        next.offset.push_back(next.index.size());
+        rows.index.reserve(rows.index.size() + bound), rows.value.reserve(rows.value.size() + bound);
       }
-      std::swap(rows, next);
+      for (size_t r = 0; r < step.targets.size(); ++r) {
+        const uint32_t t = step.targets[r];
+        const auto add = [&](uint32_t from, double w) {
+          for (uint64_t p = begin[from], end = begin[from] + length[from]; p < end; ++p) {
+            const uint32_t c = rows.index[p];
+            if (!touched[c]) touched[c] = 1, list.push_back(c);
+            acc[c] += w * rows.value[p];
+          }
+        };
+        add(t, 1.0);
+        for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) add(step.sources[k], step.weights[k]);
+        std::sort(list.begin(), list.end());
+        begin[t] = rows.index.size(), length[t] = 0;
+        for (uint32_t c : list) {
+          if (acc[c] != 0.0) rows.index.push_back(c), rows.value.push_back(acc[c]), ++length[t];
+          acc[c] = 0.0, touched[c] = 0;
+        }
+        list.clear();
+      }
     }
+    size_t live = 0;
+    for (uint32_t v = 0; v < h.vertexCount[l]; ++v) live += length[v];
+    compactIndex.clear(), compactValue.clear();
+    compactIndex.reserve(live), compactValue.reserve(live);
+    for (uint32_t v = 0; v < h.vertexCount[l]; ++v) {
+      const uint64_t b = begin[v];
+      begin[v] = compactIndex.size();
+      compactIndex.insert(compactIndex.end(), rows.index.begin() + b, rows.index.begin() + b + length[v]);
+      compactValue.insert(compactValue.end(), rows.value.begin() + b, rows.value.begin() + b + length[v]);
+    }
+    std::swap(rows.index, compactIndex), std::swap(rows.value, compactValue);
   }
+  // After the last compaction (or none) the rows lie in vertex order.
+  rows.offset.resize(n + 1);
+  for (size_t v = 0; v < n; ++v) rows.offset[v] = begin[v];
+  rows.offset[n] = rows.index.size();
   return rows;
 }
 
 namespace {
 
-// The level-e face holding each fine triangle: a level-l triangle lies in the level-(l-1) face
-// whose corners are its older corners and the ends of its corners born at level l.
+// The level-e face holding each fine triangle. Each vertex's place in the level-e mesh first, in
+// hierarchy order (a vertex's ends come before it): at a cage vertex, on a level-e edge or inside a
+// level-e face; a vertex born at the midpoint of its ends lies inside the face of an end that lies
+// inside one, else on the edge or inside the face the cage vertices of its ends' places span. A
+// triangle lies in the face of a vertex inside one, else in the face of its vertices' cage vertices.
 std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
   const auto& coarse = h.faces[level];
   VertexCorners corners(coarse.data(), coarse.size() / 3, h.vertexCount[level]);
+  const auto faceOf = [&](uint32_t a, uint32_t b, uint32_t c) {
+    for (uint32_t k = corners.begin(a); k < corners.end(a); ++k)
+      if ((corners.next[k] == b && corners.prev[k] == c) || (corners.next[k] == c && corners.prev[k] == b)) return corners.face[k];
+    return kNone;
+  };
+  // Place: a cage vertex (a, kNone), a level-e edge (a < b) or a level-e face (kNone, face).
+  struct Place { uint32_t a, b; };
+  const size_t n = h.fineVertexCount();
+  const uint32_t cage = h.vertexCount[level];
+  std::vector<Place> place(n);
+  for (uint32_t v = 0; v < cage; ++v) place[v] = {v, kNone};
+  // The face of the cage vertices of some places (kNone when they span no face or more than one).
+  const auto spanned = [&](const Place* places, int count) {
+    uint32_t u[6];
+    int m = 0;
+    for (int i = 0; i < count; ++i)
+      for (uint32_t x : {places[i].a, places[i].b})
+        if (x != kNone && std::find(u, u + m, x) == u + m) u[m++] = x;
+    return m == 3 ? faceOf(u[0], u[1], u[2]) : kNone;
+  };
+  for (size_t v = cage; v < n; ++v) {
+    const Place ends[2] = {place[h.ends[2 * v]], place[h.ends[2 * v + 1]]};
+    const bool inside0 = ends[0].a == kNone, inside1 = ends[1].a == kNone;
+    if (inside0 || inside1) {
+      if (inside0 && inside1 && ends[0].b != ends[1].b)
+        throw Error("vertex " + std::to_string(v) + " has its ends inside two level-" + std::to_string(level) + " faces");
+      place[v] = inside0 ? ends[0] : ends[1];
+      continue;
+    }
+    uint32_t u[4];
+    int m = 0;
+    for (const Place& e : ends)
+      for (uint32_t x : {e.a, e.b})
+        if (x != kNone && std::find(u, u + m, x) == u + m) u[m++] = x;
+    if (m == 2) {
+      place[v] = {std::min(u[0], u[1]), std::max(u[0], u[1])};
+    } else {
+      const uint32_t face = spanned(ends, 2);
+      if (face == kNone) throw Error("vertex " + std::to_string(v) + " lies in no level-" + std::to_string(level) + " face");
+      place[v] = {kNone, face};
+    }
+  }
   const auto& fine = h.fineFaces();
   std::vector<uint32_t> region(fine.size() / 3);
   for (size_t t = 0; t < region.size(); ++t) {
-    uint32_t v[3] = {fine[3 * t], fine[3 * t + 1], fine[3 * t + 2]};
-    for (int l = h.levels; l > level; --l) {
-      uint32_t up[6];
-      int n = 0;
-      auto add = [&](uint32_t x) {
-        for (int k = 0; k < n; ++k)
-          if (up[k] == x) return;
-        up[n++] = x;
-      };
-      for (uint32_t x : v) {
-        if (x < h.vertexCount[l - 1]) add(x);
-        else add(h.ends[2 * size_t(x)]), add(h.ends[2 * size_t(x) + 1]);
-      }
-      if (n != 3) throw Error("fine triangle " + std::to_string(t) + " has no parent face at level " + std::to_string(l - 1));
-      v[0] = up[0], v[1] = up[1], v[2] = up[2];
-    }
-    std::sort(v, v + 3);
+    const Place p[3] = {place[fine[3 * t]], place[fine[3 * t + 1]], place[fine[3 * t + 2]]};
     uint32_t face = kNone;
-    for (uint32_t c = corners.begin(v[0]); c < corners.end(v[0]) && face == kNone; ++c)
-      if ((corners.next[c] == v[1] && corners.prev[c] == v[2]) || (corners.next[c] == v[2] && corners.prev[c] == v[1]))
-        face = corners.face[c];
-    if (face == kNone) throw Error("fine triangle " + std::to_string(t) + " lies in no level-" + std::to_string(level) + " face");
+    bool twoFaces = false;
+    for (const Place& x : p)
+      if (x.a == kNone) twoFaces = twoFaces || (face != kNone && face != x.b), face = x.b;
+    if (face == kNone) face = spanned(p, 3);
+    if (face == kNone || twoFaces)
+      throw Error("fine triangle " + std::to_string(t) + " lies in no level-" + std::to_string(level) + " face");
     region[t] = face;
   }
   return region;
@@ -117,14 +163,22 @@ std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
 // Index of the pair (i, j), i < j, among the pairs of [0, S) in lexicographic order.
 inline size_t pairIndex(size_t i, size_t j, size_t S) { return i * (2 * S - i - 1) / 2 + (j - i - 1); }
 
-struct TripleKey {
-  uint32_t i, j, k;
-  uint64_t position;  // where its slot goes in tripleSlot_
+// A term's key after its first cage vertex ((j, k) or j), and where its slot goes.
+struct Keyed {
+  uint64_t key, position;
 };
-struct PairKey {
-  uint32_t i, j;
-  uint64_t position;
-};
+
+// Sorts [begin, end) by key; each distinct key gets a slot from newSlot(key) (in ascending order),
+// written to slot[position] for each of its copies.
+template <class NewSlot>
+void uniqueKeys(Keyed* begin, Keyed* end, NewSlot&& newSlot, uint32_t* slot) {
+  std::sort(begin, end, [](const Keyed& x, const Keyed& y) { return x.key < y.key; });
+  uint32_t current = 0;
+  for (Keyed* p = begin; p < end; ++p) {
+    if (p == begin || p->key != p[-1].key) current = newSlot(p->key);
+    slot[p->position] = current;
+  }
+}
 
 }  // namespace
 
@@ -233,11 +287,12 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
   }
 
   std::vector<uint32_t> localOf(n, kNone), slotOf(cageSize_, kNone);
-  std::vector<TripleKey> tripleKeys;
-  std::vector<PairKey> pairKeys;
   regionCage_.assign(1, 0), regionVertex_.assign(1, 0), regionWeight_.assign(1, 0), regionRun_.assign(1, 0);
   regionTriple_.assign(1, 0), regionPair_.assign(1, 0);
   runStart_.assign(1, 0);
+  triangleB_.reserve(form.size()), triangleC_.reserve(form.size()), triangleWeight_.reserve(form.size());
+  regionCage_.reserve(regions + 1), regionVertex_.reserve(regions + 1), regionWeight_.reserve(regions + 1);
+  regionRun_.reserve(regions + 1), regionTriple_.reserve(regions + 1), regionPair_.reserve(regions + 1);
   for (size_t r = 0; r < regions; ++r) {
     // Its fine vertices, ascending.
     const size_t vertexBegin = vertex_.size();
@@ -287,21 +342,13 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     }
     if (!carried.empty()) runStart_.push_back(uint32_t(triangleB_.size()));
 
-    // The terms it touches: every triple and pair of its cage vertices.
+    // The terms it touches: every triple and pair of its cage vertices (slots made below).
     const uint64_t triples = uint64_t(s) * (s - 1) * (s - 2) / 6;
-    if (tripleKeys.size() + triples > maxTerms)
+    if (regionTriple_.back() + triples > maxTerms)
       throw Error("the level-" + std::to_string(level) + " cage polynomial would touch more than " + std::to_string(maxTerms) +
                   " cage triples (" + std::to_string(cageSize_) + " cage vertices): use the matrix-free path at this level");
-    const uint32_t* g = &cage_[cageBegin];
-    uint64_t position = regionTriple_.back();
-    for (size_t i = 0; i < s; ++i)
-      for (size_t j = i + 1; j < s; ++j)
-        for (size_t k = j + 1; k < s; ++k) tripleKeys.push_back({g[i], g[j], g[k], position++});
-    regionTriple_.push_back(position);
-    position = regionPair_.back();
-    for (size_t i = 0; i < s; ++i)
-      for (size_t j = i + 1; j < s; ++j) pairKeys.push_back({g[i], g[j], position++});
-    regionPair_.push_back(position);
+    regionTriple_.push_back(regionTriple_.back() + triples);
+    regionPair_.push_back(regionPair_.back() + uint64_t(s) * (s - 1) / 2);
 
     for (uint32_t i = 0; i < count; ++i) localOf[vertex_[vertexBegin + i]] = kNone;
     for (size_t i = 0; i < s; ++i) slotOf[cage_[cageBegin + i]] = kNone;
@@ -312,23 +359,53 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
   }
 
   // The polynomial's terms: the union over the regions, ascending; each region's slots into it.
-  std::sort(tripleKeys.begin(), tripleKeys.end(), [](const TripleKey& x, const TripleKey& y) {
-    return x.i != y.i ? x.i < y.i : x.j != y.j ? x.j < y.j : x.k < y.k;
-  });
-  tripleSlot_.resize(tripleKeys.size());
-  for (size_t p = 0; p < tripleKeys.size(); ++p) {
-    const TripleKey& t = tripleKeys[p];
-    if (p == 0 || t.i != tripleKeys[p - 1].i || t.j != tripleKeys[p - 1].j || t.k != tripleKeys[p - 1].k)
-      tripleI_.push_back(t.i), tripleJ_.push_back(t.j), tripleK_.push_back(t.k);
-    tripleSlot_[t.position] = uint32_t(tripleI_.size() - 1);
+  // Keys bucketed by their first cage vertex (a counting sort), each bucket sorted by the rest.
+  std::vector<uint64_t> tripleStart(size_t(cageSize_) + 1, 0), pairStart(size_t(cageSize_) + 1, 0);
+  for (size_t r = 0; r < regions; ++r) {
+    const uint32_t* g = &cage_[regionCage_[r]];
+    const size_t s = regionCage_[r + 1] - regionCage_[r];
+    for (size_t i = 0; i < s; ++i) {
+      const uint64_t rest = s - 1 - i;
+      tripleStart[g[i] + 1] += rest * (rest - (rest > 0)) / 2, pairStart[g[i] + 1] += rest;
+    }
   }
-  std::sort(pairKeys.begin(), pairKeys.end(), [](const PairKey& x, const PairKey& y) { return x.i != y.i ? x.i < y.i : x.j < y.j; });
-  pairSlot_.resize(pairKeys.size());
-  for (size_t p = 0; p < pairKeys.size(); ++p) {
-    const PairKey& t = pairKeys[p];
-    if (p == 0 || t.i != pairKeys[p - 1].i || t.j != pairKeys[p - 1].j) pairI_.push_back(t.i), pairJ_.push_back(t.j);
-    pairSlot_[t.position] = uint32_t(pairI_.size() - 1);
+  std::partial_sum(tripleStart.begin(), tripleStart.end(), tripleStart.begin());
+  std::partial_sum(pairStart.begin(), pairStart.end(), pairStart.begin());
+  std::vector<Keyed> keys(tripleStart.back());
+  {
+    std::vector<uint64_t> fill(tripleStart.begin(), tripleStart.end() - 1);
+    for (size_t r = 0; r < regions; ++r) {
+      const uint32_t* g = &cage_[regionCage_[r]];
+      const size_t s = regionCage_[r + 1] - regionCage_[r];
+      uint64_t position = regionTriple_[r];
+      for (size_t i = 0; i < s; ++i)
+        for (size_t j = i + 1; j < s; ++j)
+          for (size_t k = j + 1; k < s; ++k) keys[fill[g[i]]++] = {uint64_t(g[j]) << 32 | g[k], position++};
+    }
   }
+  tripleSlot_.resize(keys.size());
+  for (uint32_t c = 0; c < cageSize_; ++c)
+    uniqueKeys(keys.data() + tripleStart[c], keys.data() + tripleStart[c + 1], [&](uint64_t key) {
+      tripleI_.push_back(c), tripleJ_.push_back(uint32_t(key >> 32)), tripleK_.push_back(uint32_t(key));
+      return uint32_t(tripleI_.size() - 1);
+    }, tripleSlot_.data());
+  keys.assign(pairStart.back(), Keyed{});
+  {
+    std::vector<uint64_t> fill(pairStart.begin(), pairStart.end() - 1);
+    for (size_t r = 0; r < regions; ++r) {
+      const uint32_t* g = &cage_[regionCage_[r]];
+      const size_t s = regionCage_[r + 1] - regionCage_[r];
+      uint64_t position = regionPair_[r];
+      for (size_t i = 0; i < s; ++i)
+        for (size_t j = i + 1; j < s; ++j) keys[fill[g[i]]++] = {g[j], position++};
+    }
+  }
+  pairSlot_.resize(keys.size());
+  for (uint32_t c = 0; c < cageSize_; ++c)
+    uniqueKeys(keys.data() + pairStart[c], keys.data() + pairStart[c + 1], [&](uint64_t key) {
+      pairI_.push_back(c), pairJ_.push_back(uint32_t(key));
+      return uint32_t(pairI_.size() - 1);
+    }, pairSlot_.data());
 }
 
 size_t CagePolynomialBuilder::bytes() const {

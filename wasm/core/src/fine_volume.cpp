@@ -12,14 +12,30 @@ namespace {
 // The edge table of FineEdgeVolume for a validated closed or bounded manifold.
 std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t outside) {
   struct Half { uint64_t key; uint32_t b, c, a; };  // b -> c, with a opposite
-  std::vector<Half> halves;
-  halves.reserve(faces.size());
+  // Sorted by (key, b): a counting sort by the smaller end, then each bucket (a few halves) by
+  // insertion (linear time; no key is repeated more than twice on a valid mesh).
+  for (uint32_t v : faces)
+    if (v >= outside) throw Error("face vertex " + std::to_string(v) + " is out of range (" + std::to_string(outside) + " vertices)");
+  std::vector<uint32_t> start(size_t(outside) + 2, 0);
+  for (size_t f = 0; f < faces.size(); f += 3)
+    for (int k = 0; k < 3; ++k) ++start[size_t(std::min(faces[f + (k + 1) % 3], faces[f + (k + 2) % 3])) + 1];
+  for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+  std::vector<Half> halves(faces.size());
   for (size_t f = 0; f < faces.size(); f += 3)
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = faces[f + k], b = faces[f + (k + 1) % 3], c = faces[f + (k + 2) % 3];
-      halves.push_back({uint64_t(std::min(b, c)) << 32 | std::max(b, c), b, c, a});
+      halves[start[std::min(b, c)]++] = {uint64_t(std::min(b, c)) << 32 | std::max(b, c), b, c, a};
     }
-  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) { return x.key != y.key ? x.key < y.key : x.b < y.b; });
+  for (size_t v = start.size() - 1; v > 0; --v) start[v] = start[v - 1];  // back to the buckets' starts
+  start[0] = 0;
+  const auto before = [](const Half& x, const Half& y) { return x.key != y.key ? x.key < y.key : x.b < y.b; };
+  for (size_t v = 0; v + 1 < start.size(); ++v)
+    for (uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {
+      const Half x = halves[i];
+      uint32_t j = i;
+      for (; j > start[v] && before(x, halves[j - 1]); --j) halves[j] = halves[j - 1];
+      halves[j] = x;
+    }
   std::vector<uint32_t> edges;
   edges.reserve(halves.size() / 2 * 4 + 8);
   for (size_t i = 0; i < halves.size();) {

@@ -181,8 +181,15 @@ std::vector<LiftingStep> loopLevel(const Hierarchy& h, int l, const SchemeOption
   LevelView view(h, l);
   StepBuilder update, oddPredict, evenPredict;
   std::vector<std::pair<uint32_t, double>> normalize;
+  // Room for the triplets at once: about 2 + 2 per corner of an even vertex (its incident and link
+  // odds, its P_e), 4 per odd vertex (the boundary's few extra grow the vectors).
+  const size_t fineCorners = h.faces[l].size();
+  update.triplets.reserve(fineCorners / 2 + view.evenCount);
+  evenPredict.triplets.reserve(fineCorners / 3 + view.evenCount);
+  oddPredict.triplets.reserve(4 * size_t(view.fineCount - view.evenCount));
+  normalize.reserve(view.evenCount);
   for (uint32_t v = 0; v < view.evenCount; ++v) {
-    std::vector<uint32_t> inc = view.incident(v);
+    const std::vector<uint32_t>& inc = view.incident(v);  // view.ring, untouched until the next vertex
     const int n = int(inc.size());
     if (view.isBoundaryEven(v)) {
       // Synthesis of the boundary even rule c = 2 (x - (x_e1 + x_e2) / 4): x = c / 2 + (x_e1 + x_e2) / 4.

@@ -24,9 +24,7 @@ struct StepBuilder {
   // Sorted by (target, source), duplicates summed in insertion order (as the std::map did).
   void compile() {
     if (compiled) return;
-    std::stable_sort(triplets.begin(), triplets.end(), [](const Triplet& a, const Triplet& b) {
-      return a.t != b.t ? a.t < b.t : a.s < b.s;
-    });
+    sortStably();
     size_t out = 0;
     for (size_t i = 0; i < triplets.size();) {
       Triplet acc = triplets[i];
@@ -38,6 +36,35 @@ struct StepBuilder {
     }
     triplets.resize(out);
     compiled = true;
+  }
+  // As std::stable_sort by (target, source), in linear time: a counting sort by target (stable),
+  // then each row (a few triplets) by source, stably.
+  void sortStably() {
+    if (triplets.empty()) return;
+    uint32_t low = triplets[0].t, high = low;
+    for (const Triplet& x : triplets) low = std::min(low, x.t), high = std::max(high, x.t);
+    if (high - low > 4 * triplets.size()) {  // sparse targets: the buckets would cost more
+      std::stable_sort(triplets.begin(), triplets.end(), [](const Triplet& a, const Triplet& b) {
+        return a.t != b.t ? a.t < b.t : a.s < b.s;
+      });
+      return;
+    }
+    std::vector<uint32_t> start(size_t(high - low) + 2, 0);
+    for (const Triplet& x : triplets) ++start[size_t(x.t - low) + 1];
+    for (size_t t = 1; t < start.size(); ++t) start[t] += start[t - 1];
+    std::vector<Triplet> sorted(triplets.size());
+    {
+      std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+      for (const Triplet& x : triplets) sorted[fill[x.t - low]++] = x;
+    }
+    for (size_t t = 0; t + 1 < start.size(); ++t)
+      for (uint32_t i = start[t] + 1; i < start[t + 1]; ++i) {
+        const Triplet x = sorted[i];
+        uint32_t j = i;
+        for (; j > start[t] && sorted[j - 1].s > x.s; --j) sorted[j] = sorted[j - 1];
+        sorted[j] = x;
+      }
+    triplets = std::move(sorted);
   }
   template <class F> void forEach(F&& f) {
     compile();
