@@ -120,6 +120,9 @@ describe('web editor: tools', { timeout: 400_000 }, () => {
       assert.ok(help.includes(key), `the help names ${key}`);
     const canvas = page.locator('#view canvas');
     await canvas.focus();
+    await page.keyboard.press('Tab'); // a selection to clear (the test before may have left one)
+    await page.keyboard.press('Escape');
+    assert.deepEqual(await debug('selection'), [], 'Esc clears the selection');
     await page.keyboard.press(']');
     assert.deepEqual(await debug('selection'), [0]);
     await page.keyboard.press(']');
@@ -154,8 +157,6 @@ describe('web editor: tools', { timeout: 400_000 }, () => {
     await page.keyboard.press('Control+z');
     await page.keyboard.press('Control+Shift+z');
     assert.ok(close(await at(), nudged, 1e-9), 'Ctrl+Shift+Z redoes it too');
-    await page.keyboard.press('Escape');
-    assert.deepEqual(await debug('selection'), [], 'Esc clears the selection');
   });
 
   test('the teaching views are linked from the panel, and link back', async () => {
