@@ -246,7 +246,8 @@ export async function mount({ mrvol, layout, el }) {
     const table = el('table', { class: 'learn-block-table', testid: `tensor-table-${l}` });
     table.append(el('tr', {}, el('th', { text: `θ${sup(l)}` }), ...CLASS_NAMES.map((name, c) =>
       // the class's colour as a swatch beside text in the text colour (coloured text failed WCAG contrast)
-      el('th', { title: name }, el('i', { class: 'learn-swatch', style: `background:${CLASS_COLORS[c]}` }), `${c} coarse`))));
+      el('th', { title: name }, el('i', { class: 'learn-swatch', style: `background:${CLASS_COLORS[c]}` }), `${c}`))));
+    table.prepend(el('caption', { text: 'stored entries by their number of coarse indices' }));
     table.append(el('tr', {}, el('td', { text: 'stored' }), ...classCounts.map((c) => el('td', { text: String(c) }))));
     tableBox.append(table);
     const blocks = [...blockCounts].sort(([a], [b]) => a.localeCompare(b));
