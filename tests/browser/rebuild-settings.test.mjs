@@ -138,4 +138,23 @@ describe('web editor: a big model\'s editor made in the worker with any settings
     assert.equal(back.path, 'polynomial');
     assert.deepEqual(page.problems, []);
   });
+  test('reopened after a reload with the limit surface stored: the file\'s worker makes that editor', { timeout: 600_000 }, async () => {
+    if (await debug('modelName') !== 'spiky-164k.obj') {
+      await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'spiky-164k.obj', mimeType: 'text/plain', buffer: bigObj });
+      await page.waitForFunction(() => window.mrvolDebug.modelName() === 'spiky-164k.obj' && window.mrvolDebug.ready(), null, { timeout: 300_000 });
+    }
+    const level = (await debug('settings')).level;
+    if ((await debug('editorSettings')).surface !== 'limit')
+      await rebuiltInWorker(() => page.selectOption('[data-testid="surface-select"]', 'limit'), `editor at level ${level}, loop`);
+    const reference = await debug('referenceVolume');
+    await page.waitForTimeout(1500); // the save (debounced) is written
+    await page.reload();
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'spiky-164k.obj' && window.mrvolDebug.ready(), null, { timeout: 300_000 });
+    assert.equal((await debug('modelFile')).editorFrom, 'worker', 'the editor taken from the file\'s worker');
+    const editor = await debug('editorSettings');
+    assert.deepEqual({ surface: editor.surface, madeElsewhere: editor.madeElsewhere, level: editor.level }, { surface: 'limit', madeElsewhere: true, level });
+    assert.ok(Math.abs(await debug('referenceVolume') - reference) <= 1e-12 * Math.abs(reference), 'the limit surface\'s reference back');
+    assert.equal(await page.locator('[data-testid="surface-select"]').inputValue(), 'limit');
+    assert.deepEqual(page.problems, []);
+  });
 });
