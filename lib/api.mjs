@@ -538,17 +538,19 @@ export function wrapModule(module) {
     }
     #editors = new Set();
     // An editor made elsewhere for these positions (adoptTransferred): the first createEditor at its
-    // level and scheme (mesh surface, volume only, no theta) returns it as it was made, path included.
+    // level, scheme, surface and keep (no theta) returns it as it was made, path included.
     #prepared = null;
     _prepareEditor(raw, { level, ...options }) {
       const editor = new VolumeEditor(raw, this.#live(), schemeArgs(options));
       editor.adopted = true;
+      editor.madeElsewhere = true; // stays (adopted goes with the first usePolynomial)
       this.#editors.add(editor);
-      this.#prepared = { editor, level, scheme: schemeArgs(options) };
+      this.#prepared = { editor, level, scheme: schemeArgs(options), surface: editor.surface(), centroid: editor.keepsCentroid() };
     }
     #takePrepared(options, scheme, surface) {
       const p = this.#prepared;
-      if (!p || options.theta || surface !== 'mesh' || keepArg(options.keep).includes('centroid') || levelArg(options.level) !== p.level ||
+      if (!p || options.theta || surface !== p.surface || keepArg(options.keep).includes('centroid') !== p.centroid ||
+          levelArg(options.level) !== p.level ||
           scheme.scheme !== p.scheme.scheme || scheme.alpha !== p.scheme.alpha || scheme.beta !== p.scheme.beta) return null;
       this.#prepared = null;
       return p.editor;

@@ -14,8 +14,11 @@ function element(html) {
   return t.content.firstChild;
 }
 
-/** Adds the switches above the panel and the marker to the view; follows `session`. */
-export function setUpBalance({ session, viewer, onChanged = () => {} }) {
+/**
+ * Adds the switches above the panel and the marker to the view; follows `session`. `changeSurface`
+ * makes the surface switch's editor (the app's makes a big model's in a worker; may be async).
+ */
+export function setUpBalance({ session, viewer, onChanged = () => {}, changeSurface = (surface) => session.setSurface(surface) }) {
   const box = element(`
     <section class="balance" data-testid="balance" aria-label="Balance and surface">
       <label class="check" title="Keep the centre of mass where it is while dragging (four constraints: the volume and the three first moments)">
@@ -116,9 +119,9 @@ export function setUpBalance({ session, viewer, onChanged = () => {} }) {
     drawSoon();
     onChanged();
   });
-  surface.addEventListener('change', () => {
+  surface.addEventListener('change', async () => {
     try {
-      session.setSurface(surface.value);
+      await changeSurface(surface.value);
     } catch (e) {
       showError(`The ${surface.value} surface cannot be used: ${e.message}`);
     }

@@ -23,6 +23,9 @@ export function installDebugHook(app) {
     modelName: () => app.model?.name ?? null,
     cageSize: () => app.session?.cageSize ?? 0,
     gradientPath: () => editor()?.path() ?? null,
+    /** The editor in use: whose volume it keeps, whether it keeps the centre of mass, its path, whether a worker made it. */
+    editorSettings: () => (editor() ? { surface: editor().surface?.() ?? 'mesh', keepsCentroid: editor().keepsCentroid?.() ?? false,
+      path: editor().path(), madeElsewhere: editor().madeElsewhere === true, level: editor().level } : null),
     historySize: () => app.session?.history.size ?? { undo: 0, redo: 0 },
     /** The core's report of the last drag step (volumes, iterations, path), or null. */
     lastReport: () => {

@@ -1,20 +1,24 @@
 // A big model's editor at another level or scheme, made in a worker (editor-worker.js) and taken
 // over as on opening (file-open.js adopt: the memory copied in slices, the page drawing between
 // them), with progress and cancel in the status strip; the session then swaps it in, keeping the
-// shape, the reference volume and the undo history (lib/three/session.mjs adoptRebuilt). Smaller
-// models, quads and editors the worker does not make (the limit surface, the centre of mass kept,
-// the tensor path) are rebuilt on the page's thread as before: quick, or not this path's to make.
+// shape, the reference volume and the undo history (lib/three/session.mjs adoptRebuilt). The
+// worker makes the editor the session's settings call for (the limit surface, the centre of mass
+// kept, the tensor path's matrix-free editor until theta^e comes: module-transfer.js buildEditor).
+// Smaller models and quads are rebuilt on the page's thread: quick, or not this path's to make.
 import { startBusyJob, endBusyJob, cancelled, adopt, freshInstance, showFileProgress } from './file-open.js';
 import { beginStages, addStage, pageStage } from './open-stages.js';
 
 // From this many fine vertices the editor is made in the worker (at 164k the polynomial takes ~1 s).
 export const WORKER_REBUILD_VERTICES = 100_000;
 
-/** Whether this session's editor at `target` ({ level, scheme }) is made in the worker. */
+/**
+ * Whether this session's editor at `target` ({ level, scheme }, and maybe { surface, keepCentroid }:
+ * a surface switch or its undo) is made in the worker.
+ */
 export function rebuildsInWorker(session, target) {
   const model = session.model;
-  return Boolean(model && session.editor && !session.quad && session.path === 'auto' && session.surface === 'mesh' &&
-    !session.keepCentroid && model.info.vertices >= WORKER_REBUILD_VERTICES && target.scheme !== 'catmull-clark');
+  return Boolean(model && session.editor && !session.quad && model.info.vertices >= WORKER_REBUILD_VERTICES &&
+    target.scheme !== 'catmull-clark');
 }
 
 /**
@@ -29,7 +33,8 @@ export async function rebuildInWorker(session, target, { name, apply }) {
   }));
   const worker = new Worker(new URL('./editor-worker.js', import.meta.url), { type: 'module', name: 'mrvol-editor' });
   const instance = freshInstance(); // made while the worker works
-  const label = `Making the level ${target.level} editor of ${name} (${target.scheme})`;
+  const surface = target.surface && target.surface !== session.surface ? `, ${target.surface === 'limit' ? 'limit' : 'mesh'} surface` : '';
+  const label = `Making the level ${target.level} editor of ${name} (${target.scheme}${surface})`;
   showFileProgress(`${label}…`, 0);
   let job;
   const transfer = await new Promise((resolve, reject) => {
@@ -54,7 +59,9 @@ export async function rebuildInWorker(session, target, { name, apply }) {
     const { mesh, hierarchy, positions } = sent;
     const buffers = [mesh.positions.buffer, mesh.faces.buffer, positions.buffer,
       ...['vertexCount', 'coarseFaces', 'ends', 'wings', 'boundary', 'inputIndex'].map((k) => hierarchy[k].buffer)];
-    worker.postMessage({ mesh, hierarchy, positions, level: target.level, scheme: target.scheme }, [...new Set(buffers)]);
+    const editor = { level: target.level, scheme: target.scheme, surface: target.surface ?? session.surface,
+      keepCentroid: target.keepCentroid ?? session.keepCentroid, path: session.path };
+    worker.postMessage({ mesh, hierarchy, positions, editor }, [...new Set(buffers)]);
   });
   if (!transfer) return false;
   let adopted;

@@ -128,7 +128,11 @@ function saveNow() {
   const saving = app.store.save({ ...stored, history });
   if (timed) addStage('session saved: the page\'s part', 'page', performance.now() - started);
   saving.then(() => {
-    if (timed && app.store.lastWorkerMs !== null && openStages().what === what) addStage('session saved: written to IndexedDB', 'worker', app.store.lastWorkerMs);
+    if (timed && app.store.lastWorkerMs !== null && openStages().what === what) {
+      const read = app.store.lastFileRead; // the file read (from its File) or encoded there, not copied here
+      if (read) addStage(`session saved: the file ${read.from === 'file' ? 'read from disk' : read.from === 'text' ? 'encoded' : 'taken'} for IndexedDB`, 'worker', read.ms, { bytes: read.bytes });
+      addStage('session saved: written to IndexedDB', 'worker', app.store.lastWorkerMs);
+    }
     showStorageProblem(app.store.problem);
     refreshRecent();
   });
@@ -275,7 +279,8 @@ async function openModel(source, restore = null) {
         return openProjectText(text, source.name);
       }
       const read = await readMeshFile(app.mrvol, { file: source.file, bytes: source.bytes, name: source.name,
-        editor: { level: app.settings.level, scheme: app.settings.scheme, positions: restore?.positions } });
+        editor: { level: app.settings.level, scheme: app.settings.scheme, positions: restore?.positions,
+                  surface: app.settings.surface === 'limit' ? 'limit' : 'mesh', keepCentroid: app.settings.keepBalance, path: sessionPath() } });
       if (generation !== app.loadGeneration) return false;
       // the page makes the editor itself only when the worker's could not be taken: say so first
       const big = read.bytes.byteLength > BIG_FILE_BYTES && !read.opened;
@@ -284,7 +289,8 @@ async function openModel(source, restore = null) {
         await nextPaint(); // the indicator shows before the page is busy with the hierarchy
       }
       try {
-        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes }, read.mesh, restore, read);
+        // the File too: the first save hands it to the store's worker, which reads it there (no copy here)
+        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes, file: source.file }, read.mesh, restore, read);
       } finally {
         if (big) showFileProgress(null);
       }
@@ -366,15 +372,25 @@ async function rebuildEditor() {
   saveSoon();
 }
 
+/** The surface switch (balance.js): a big model's editor for the other surface made in the worker. */
+function changeSurface(surface) {
+  const { session } = app;
+  const target = { level: session.level, scheme: session.scheme, surface };
+  if (app.rebuilding || !session.editor || surface === session.surface) return undefined;
+  if (rebuildsInWorker(session, target))
+    return rebuildBig(target, (mr) => session.adoptRebuilt(mr, target), `The ${surface} surface cannot be used`);
+  return session.setSurface(surface);
+}
+
 /** The editor at target made in a worker, then `apply(mr)` swaps it in; drags and undo wait meanwhile. */
-async function rebuildBig(target, apply) {
+async function rebuildBig(target, apply, failed = `The level ${target.level} editor could not be made`) {
   app.rebuilding = true;
   app.ready = false; // no drags on the editor being replaced
   try {
     const swapped = await rebuildInWorker(app.session, target, { name: app.model.name, apply });
     if (!swapped) syncSettings(); // cancelled: the panel shows the editor kept
   } catch (e) {
-    showError(`The level ${target.level} editor could not be made: ${e.message}`);
+    showError(`${failed}: ${e.message}`);
     syncSettings();
   } finally {
     app.rebuilding = false;
@@ -515,6 +531,9 @@ function undo() {
   const step = app.session.editor && !app.session.dragging ? app.session.history.peekUndo() : null;
   if (step?.label === 'editor' && rebuildsInWorker(app.session, step.before))
     return rebuildBig(step.before, (mr) => { app.session.history.undo(); app.session.adoptRebuilt(mr, step.before, { record: false }); });
+  const surface = step?.label === 'surface' ? surfaceTarget(step.before) : null;
+  if (surface && rebuildsInWorker(app.session, surface))
+    return rebuildBig(surface, (mr) => { app.session.history.undo(); app.session.adoptRebuilt(mr, surface, { record: false, reason: 'undo' }); });
   if (app.session.undo()) saveSoon();
 }
 
@@ -523,7 +542,15 @@ function redo() {
   const step = app.session.editor && !app.session.dragging ? app.session.history.peekRedo() : null;
   if (step?.label === 'editor' && rebuildsInWorker(app.session, step.after))
     return rebuildBig(step.after, (mr) => { app.session.history.redo(); app.session.adoptRebuilt(mr, step.after, { record: false }); });
+  const surface = step?.label === 'surface' ? surfaceTarget(step.after) : null;
+  if (surface && rebuildsInWorker(app.session, surface))
+    return rebuildBig(surface, (mr) => { app.session.history.redo(); app.session.adoptRebuilt(mr, surface, { record: false, reason: 'redo' }); });
   if (app.session.redo()) saveSoon();
+}
+
+/** A surface undo step's side ({ surface, keepCentroid, reference }) as a rebuild's target at the current level and scheme. */
+function surfaceTarget(state) {
+  return { level: app.session.level, scheme: app.session.scheme, ...state };
 }
 
 // ---- tools: screenshot, share link, project file, keyboard help ----------------------------------------
@@ -672,8 +699,7 @@ const actions = {
   changeTolerance: () => saveSoon(),
   changeGradient: () => {
     app.session.path = sessionPath();
-    if (app.session.editor) app.session.setLevel(app.session.level); // rebuilt on the chosen path
-    saveSoon();
+    rebuildEditor(); // on the chosen path (a big model's in the worker)
   },
   changeFreeSet: () => { app.freeSet.changeMode(); saveSoon(); },
   changeTool: () => { app.freeSet.changeTool(); saveSoon(); },
@@ -861,7 +887,7 @@ async function start() {
   session.addEventListener('model', () => chart.reset());
   session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
   followSessionInView(session);
-  app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: () => { syncSettings(); saveSoon(); } });
+  app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: () => { syncSettings(); saveSoon(); }, changeSurface });
   const cache = await cacheOpening;
   app.theta.cache = cache;
   app.stats.cacheAt = performance.now();

@@ -7,7 +7,7 @@
 // the copy is only right when both instances built those tables alike. So both run warmUp() (the
 // same calls, the ones the worker's work makes, on a small mesh) before anything else: the worker
 // on starting, the page on the fresh instance before it takes the copy.
-import { chooseGradientPath } from '../lib/api.mjs';
+import { triangleGradientChoice } from '../lib/three/session.mjs';
 
 const ICOSAHEDRON = {
   positions: new Float64Array([0, -0.525731, 0.850651, 0.850651, 0, 0.525731, 0.850651, 0, -0.525731, -0.850651, 0, -0.525731,
@@ -50,6 +50,17 @@ function warmUpSteps(mrvol) {
       mr.info();
     },
     () => {
+      // the limit surface's and the kept centre of mass's calls too (a rebuild with them: editor-worker.js),
+      // and theta^e's estimate (the session's rule on a fine cage: triangleGradientChoice)
+      mr.estimateTheta({ level: 0, scheme: 'loop' });
+      for (const settings of [{ surface: 'limit' }, { keepCentroid: true }, { path: 'matrix-free' }]) {
+        const other = buildEditor(mrvol, mr, { level: 0, scheme: 'loop', ...settings });
+        other.surface();
+        other.keepsCentroid();
+        other.delete();
+      }
+    },
+    () => {
       editor = buildEditor(mrvol, mr, { level: 0, scheme: 'loop' });
       editor.positions();
     },
@@ -61,10 +72,15 @@ function warmUpSteps(mrvol) {
   ];
 }
 
-/** The editor the page's session would make first (lib/three/session.mjs at path 'auto'). */
-export function buildEditor(mrvol, mr, { level, scheme }) {
-  const options = { level, scheme };
-  const editor = mr.createEditor({ ...options, path: 'matrix-free' });
-  if (chooseGradientPath(mr, options).path === 'polynomial') editor.usePolynomial();
+/**
+ * The editor the page's session would make (lib/three/session.mjs #buildEditor) for its settings:
+ * the surface whose volume is kept, the centre of mass kept or not, the session's path ('auto': the
+ * cage polynomial where the session would take it; 'matrix-free': until theta^e comes).
+ */
+export function buildEditor(mrvol, mr, { level, scheme, surface = 'mesh', keepCentroid = false, path = 'auto' }) {
+  const keep = keepCentroid && surface !== 'limit' ? ['volume', 'centroid'] : undefined; // as EditingSession.open
+  const editor = mr.createEditor({ level, scheme, path: 'matrix-free', surface, keep });
+  // as the session: 'auto' takes the polynomial where its rule does; 'matrix-free' waits for theta^e
+  if (path === 'auto' && triangleGradientChoice(mr, { level, scheme, surface, path }).path === 'polynomial') editor.usePolynomial();
   return editor;
 }

@@ -49,7 +49,7 @@ async function readBytes(file) {
  * The page's first editor made here and the module's memory to hand over (lib/api.mjs
  * transferable), or null when that does not work out (memory, say): the page then makes the editor.
  */
-function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions }) {
+function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions, surface, keepCentroid, path }) {
   post({ type: 'progress', stage: 'making the editor', fraction: 0.8 });
   // a stored session's shape (the page sets it again: the same values keep this editor)
   if (positions instanceof Float64Array && positions.length === mesh.positions.length) {
@@ -58,7 +58,7 @@ function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions }) {
     } catch { /* not a shape of this mesh: the page says so */ }
   }
   try {
-    const editor = timed('editor made', () => buildEditor(mrvol, mr, { level: Math.min(level, info.levels), scheme }));
+    const editor = timed('editor made', () => buildEditor(mrvol, mr, { level: Math.min(level, info.levels), scheme, surface, keepCentroid, path }));
     post({ type: 'progress', stage: 'handing the editor over', fraction: 0.95 });
     return timed('memory copied for the page', () => mrvol.transferable(mr, editor, { scheme }));
   } catch {

@@ -77,6 +77,7 @@ export function showVolumes(session) {
   set('volume-error', error.toExponential(2), error);
   const report = session.lastReport;
   set('step-iterations', report ? String(report.iterations) : '–');
+  set('step-iterations-word', report?.iterations === 1 ? 'iteration' : 'iterations');
   set('step-ms', session.lastStepMs === null ? '–' : session.lastStepMs.toFixed(2));
   set('step-path', report ? report.path : editor.path());
   showFreeSet(session);

@@ -67,24 +67,42 @@ export class SessionStore {
   #requests = 0;
   /** ms of the last write in the worker (for the open stages), or null. */
   lastWorkerMs = null;
+  /** How the last save's file reached the worker ({ from: 'file' | 'text' | 'bytes', ms, bytes }), or null. */
+  lastFileRead = null;
 
-  /** save() through the worker: the file's bytes (a copy) sent once per model, the positions moved. */
+  #textBytes = new Map(); // id -> the stored file's size in bytes (with #textStored)
+
+  /**
+   * What the worker stores of the file, sent once per model, copied nowhere on this thread: the
+   * File it was opened from (the worker reads it), or the text (encoded there); only bytes without
+   * their File (a project's) are copied here.
+   */
+  static #fileForWorker(model) {
+    if (model.file instanceof Blob && (!model.bytes || model.file.size === model.bytes.byteLength)) return model.file;
+    if (model.bytes) return model.bytes.slice();
+    return typeof model.text === 'string' ? model.text : undefined;
+  }
+
+  /** save() through the worker: the file sent once per model (see #fileForWorker), the positions moved. */
   #saveInWorker(id, { model, settings, fingerprint, positions, reference, history }) {
-    const sendText = model.kind === 'file' && !this.#textStored.has(id);
-    const text = model.bytes ?? (typeof model.text === 'string' ? new TextEncoder().encode(model.text) : null);
-    const bytes = sendText && model.bytes ? model.bytes.slice() : sendText ? text : undefined;
+    const sendText = model.kind === 'file' && !(this.#textStored.has(id) && this.#textBytes.has(id));
+    const file = sendText ? SessionStore.#fileForWorker(model) : undefined;
     const record = {
-      model: { kind: model.kind, name: model.name, format: model.format, bytes, textStored: !sendText, textBytes: text?.byteLength ?? 0,
+      model: { kind: model.kind, name: model.name, format: model.format, file, textStored: !sendText, textBytes: this.#textBytes.get(id) ?? 0,
                binary: Boolean(model.bytes) },
       settings, fingerprint, positions, reference, history, id,
     };
-    const transfer = [bytes?.buffer, positions?.buffer].filter((b) => b instanceof ArrayBuffer);
+    const transfer = [file instanceof Uint8Array ? file.buffer : null, positions?.buffer].filter((b) => b instanceof ArrayBuffer);
     const request = ++this.#requests;
     return new Promise((resolve) => {
-      this.#replies.set(request, ({ ok, problem, ms }) => {
-        if (ok && model.kind === 'file') this.#textStored.add(id);
+      this.#replies.set(request, ({ ok, problem, ms, textBytes, fileRead }) => {
+        if (ok && model.kind === 'file') {
+          this.#textStored.add(id);
+          if (Number.isInteger(textBytes)) this.#textBytes.set(id, textBytes);
+        }
         this.problem = problem;
         this.lastWorkerMs = ms;
+        this.lastFileRead = fileRead ?? null;
         resolve(ok);
       });
       try {
@@ -166,6 +184,7 @@ export class SessionStore {
         if (record.binary) file = bytes;
         else text = new TextDecoder().decode(bytes);
         this.#textStored.add(record.id);
+        this.#textBytes.set(record.id, record.textBytes);
       }
       let positions = null;
       if (record.positionChunks) {
@@ -202,6 +221,7 @@ export class SessionStore {
       tx.objectStore('chunks').delete(chunkRange(`${id}:positions`));
       await tx.done;
       this.#textStored.delete(id);
+      this.#textBytes.delete(id);
     } catch { /* nothing to do */ }
   }
 

@@ -52,9 +52,10 @@ export class ThetaSource {
   }
 
   #arrived(source, theta, started) {
+    const duration = (ms) => (ms < 1000 ? `${Math.round(ms)} ms` : `${(ms / 1000).toFixed(1)} s`);
     const info = theta.info();
     this.#setState(source, `${thetaName(info.level)}: ${(info.nnzStored / 1e6).toFixed(2)} million numbers, ` +
-      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ready in ${Math.round(performance.now() - started)} ms`);
+      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ready in ${duration(performance.now() - started)}`);
     this.stats.thetaReadyAt ??= performance.now();
   }
 

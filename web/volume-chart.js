@@ -8,7 +8,7 @@ const CHART_POINTS = 240;
 const LAMBDA_POINTS = 300;
 const SVG = 'http://www.w3.org/2000/svg';
 const W = 280;
-const LEFT = 62, RIGHT = 4;
+const LEFT = 70, RIGHT = 4; // LEFT: room for a preserved volume's middle tick written in full (3.622788675)
 // Two plots stacked: [top, bottom] of each one's drawing area, legend lines above each.
 const VOLUME = { legend: 10, top: 16, bottom: 70 };
 const LAMBDA = { legend: 88, top: 94, bottom: 138 };
@@ -140,7 +140,7 @@ export class VolumeChart {
     this.lambdaPlot.draw(this.lambdas.length ? [this.lambdas] : [], Math.max(20, this.lambdas.length));
     this.svg.dataset.ticks = JSON.stringify(this.volumePlot.tickValues);
     this.svg.dataset.lambdaTicks = JSON.stringify(this.lambdaPlot.tickValues);
-    this.lambdaEmpty.textContent = this.lambdas.length ? '' : 'drag a handle: λ of each step shows here';
+    this.lambdaEmpty.textContent = this.lambdas.length ? '' : 'λ of each drag step shows here';
     this.title.textContent = n === 0 ? 'Volume chart: no data yet'
       : `Volume over the last ${n} changes: now ${this.current[n - 1].toPrecision(8)}, to keep ${this.reference[n - 1].toPrecision(8)}` +
         (this.lambdas.length ? `; multiplier λ of the last drag step ${this.lambdas[this.lambdas.length - 1].toExponential(3)}` : '');

@@ -42,6 +42,20 @@ export const MAX_PARTS = 8;
 
 const emptyParts = () => Array.from({ length: MAX_PARTS }, () => []);
 
+/**
+ * The gradient path a session picks for a triangle model's editor at `level` (gradientChoice): the
+ * web app's editor worker makes big models' editors with the same choice. options: { level, scheme,
+ * alpha, beta, surface ('mesh' | 'limit'), path (the session's: 'auto' | 'matrix-free') }.
+ */
+export function triangleGradientChoice(mr, { surface = 'mesh', path = 'auto', ...options }) {
+  // A mesh theta is no use for the limit surface's volume (its own theta is not computed here).
+  if (surface === 'limit') return { path: 'matrix-free', estimate: null, reason: "not used: the limit surface's volume runs matrix-free" };
+  // a coarse cage needs no estimate of theta^e (a second or more on a big mesh)
+  if (path === 'auto' && chooseGradientPath(mr, options).path === 'polynomial') return { path: 'polynomial', estimate: null };
+  const choice = chooseGradientPath(mr, { ...options, thetaInBackground: true });
+  return path === 'auto' && choice.path === 'tensor' ? { ...choice, path: 'polynomial' } : choice;
+}
+
 export class EditingSession extends EventTarget {
   /** The model: { name, mr, info, fingerprint, faces (triangles), quads (quad models) or null, depths }, or null. */
   model = null;
@@ -197,15 +211,22 @@ export class EditingSession extends EventTarget {
    * module, at the current shape, whose first createEditor at `after` ({ level, scheme }) is made
    * already (lib/api.mjs adoptTransferred; the web app makes big models' editors in a worker). The
    * session owns `mr` from now on; the mesh before goes with its editor and tensors. The reference
-   * volume, free set and history stay.
+   * volume, free set and history stay. `after` may also change the surface as setSurface does
+   * ({ surface, keepCentroid, reference }: one 'surface' undo step; the new surface's volume now is
+   * its reference unless `reference` is given, as when undoing). `reason` ('undo', 'redo'): the
+   * change event said when the caller took a history step back or forth for this.
    */
-  adoptRebuilt(mr, after, { record = true } = {}) {
+  adoptRebuilt(mr, after, { record = true, reason = null } = {}) {
     if (!this.editor) throw new this.#mrvol.MrvolError('no model is open');
     if (mr.vertexCount !== undefined && mr.vertexCount !== this.model.info.vertices)
       throw new this.#mrvol.MrvolError(`the mesh handed over has ${mr.vertexCount} vertices, this model ${this.model.info.vertices}`);
     this.cancelDrag();
     const before = { level: this.level, scheme: this.scheme };
-    const reference = (this.editor.surface?.() ?? 'mesh') === this.surface ? this.editor.referenceVolume() : null;
+    const surfaceBefore = this.#surfaceState();
+    const surface = after.surface ?? this.surface;
+    const changesSurface = surface !== this.surface || (after.keepCentroid !== undefined && after.keepCentroid !== this.keepCentroid);
+    let reference = (this.editor.surface?.() ?? 'mesh') === surface ? this.editor.referenceVolume() : null;
+    if (Number.isFinite(after.reference)) reference = after.reference;
     const old = this.model.mr, owned = this.#ownsMesh;
     for (const { theta } of this.#thetas.values()) theta.delete();
     this.#thetas.clear();
@@ -216,8 +237,14 @@ export class EditingSession extends EventTarget {
     this.#ownsMesh = true;
     this.level = after.level;
     this.scheme = after.scheme;
+    this.surface = surface;
+    if (after.keepCentroid !== undefined) this.keepCentroid = after.keepCentroid;
+    if (surface === 'limit') this.keepCentroid = false;
     this.#buildEditor(reference);
-    if (record && (before.level !== after.level || before.scheme !== after.scheme)) this.history.push(before, after, 'editor');
+    if (record && changesSurface) this.history.push(surfaceBefore, this.#surfaceState(), 'surface');
+    else if (record && (before.level !== after.level || before.scheme !== after.scheme))
+      this.history.push(before, { level: after.level, scheme: after.scheme }, 'editor');
+    if (reason) this.#emit('change', { reason });
   }
 
   /** Level and scheme together; a rebuilt editor is one undo step. */
@@ -322,7 +349,9 @@ export class EditingSession extends EventTarget {
     // where the cage is coarse (no tensor needed), else matrix-free until theta^e arrives.
     const path = this.path === 'auto' ? this.gradientChoice().path : 'matrix-free';
     // created matrix-free, then the polynomial: the same editor, measured faster than createEditor's own path
-    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free', surface: this.surface });
+    // keep: as an editor made in a worker was (lib/api.mjs hands it over for the same options)
+    const keep = this.keepCentroid && !this.quad ? ['volume', 'centroid'] : undefined;
+    const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free', surface: this.surface, keep });
     if (path === 'polynomial' && typeof editor.usePolynomial === 'function') editor.usePolynomial();
     if (reference !== null) editor.setReferenceVolume(reference);
     if (this.keepCentroid && typeof editor.keepCentroid === 'function') editor.keepCentroid(true);
@@ -580,21 +609,15 @@ export class EditingSession extends EventTarget {
    * 'polynomial' on a coarse cage, else 'matrix-free'; { path, estimate, reason (when not the estimate) }.
    */
   gradientChoice() {
-    // A mesh theta is no use for the limit surface's volume (its own theta is not computed here).
-    if (this.surface === 'limit') return { path: 'matrix-free', estimate: null, reason: "not used: the limit surface's volume runs matrix-free" };
     // Quads: theta^e is not computed in the background (the app's worker builds triangle tensors);
     // the cage polynomial where the quad editor has it and the cage is coarse, else matrix-free.
-    if (this.quad) {
+    if (this.quad && this.surface !== 'limit') {
       const polynomial = !this.editor || typeof this.editor.usePolynomial === 'function';
       const coarse = polynomial && this.path === 'auto' && this.model.info.levels - this.level >= COARSE_CAGE_LEVELS;
       return coarse ? { path: 'polynomial', estimate: null }
         : { path: 'matrix-free', estimate: null, reason: 'not used: a quad mesh edits matrix-free (the bilinear-patch volume of the fine quads)' };
     }
-    const options = { level: this.level, ...this.schemeOptions };
-    // a coarse cage needs no estimate of theta^e (a second or more on a big mesh)
-    if (this.path === 'auto' && chooseGradientPath(this.model.mr, options).path === 'polynomial') return { path: 'polynomial', estimate: null };
-    const choice = chooseGradientPath(this.model.mr, { ...options, thetaInBackground: true });
-    return this.path === 'auto' && choice.path === 'tensor' ? { ...choice, path: 'polynomial' } : choice;
+    return triangleGradientChoice(this.model.mr, { level: this.level, ...this.schemeOptions, surface: this.surface, path: this.path });
   }
 
   /** The tensor kept for the current level and scheme, or null. */

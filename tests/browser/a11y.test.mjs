@@ -50,6 +50,18 @@ describe('web editor: accessibility and themes', { timeout: 400_000 }, () => {
           await page.locator('[data-testid="keys-dialog"]').waitFor({ state: 'visible' });
           await audit(page, `${sizeName} ${scheme} keys dialog`);
           await page.keyboard.press('Escape');
+          await page.evaluate(() => document.getElementById('glossary').showModal());
+          await audit(page, `${sizeName} ${scheme} glossary`);
+          await page.keyboard.press('Escape');
+          // the teaching views too (drawn light in either theme: readable text on their white)
+          for (const view of ['learn/levels', 'learn/tensor', 'learn/lifting', 'demo/bunny']) {
+            await page.goto(`${server.url}#${view}`);
+            await page.locator('[data-testid="learn"]').waitFor({ state: 'visible', timeout: 60_000 });
+            await page.locator('.learn-readouts td').first().waitFor({ timeout: 60_000 });
+            await settle(page);
+            if (view === 'learn/levels') await page.screenshot({ path: join(RESULTS_DIR, `a11y-${sizeName}-${scheme}-learn-levels.png`) });
+            await audit(page, `${sizeName} ${scheme} #${view}`);
+          }
           assert.deepEqual(page.problems, []);
         } finally {
           await browser.close();

@@ -113,6 +113,52 @@ describe('web editor: tools', { timeout: 400_000 }, () => {
     assert.equal((await debug('historySize')).undo, history.undo + 2);
   });
 
+  // Each key the help lists (the drag keys: editor.test's Escape during a drag; ? and F above).
+  test('every key of the help: ] [ Tab Shift+Tab, the four arrows and Shift, Esc, Ctrl+Z, Ctrl+Y, Ctrl+Shift+Z', async () => {
+    const help = await page.locator('[data-testid="keys-dialog"] table').textContent();
+    for (const key of ['Tab', 'Shift+Tab', ']', '[', 'arrow keys', 'Shift', 'Esc', 'Ctrl+Z', 'Ctrl+Shift+Z', 'Ctrl+Y', 'F', '?'])
+      assert.ok(help.includes(key), `the help names ${key}`);
+    const canvas = page.locator('#view canvas');
+    await canvas.focus();
+    await page.keyboard.press('Tab'); // a selection to clear (the test before may have left one)
+    await page.keyboard.press('Escape');
+    assert.deepEqual(await debug('selection'), [], 'Esc clears the selection');
+    await page.keyboard.press(']');
+    assert.deepEqual(await debug('selection'), [0]);
+    await page.keyboard.press(']');
+    assert.deepEqual(await debug('selection'), [1]);
+    await page.keyboard.press('[');
+    assert.deepEqual(await debug('selection'), [0]);
+    await page.keyboard.press('Shift+Tab'); // before the first: the view lets the focus go
+    assert.deepEqual(await debug('selection'), []);
+    assert.equal(await canvas.evaluate((c) => document.activeElement === c), false);
+    await canvas.focus();
+    await page.keyboard.press('Tab');
+    assert.deepEqual(await debug('selection'), [0]);
+    // each arrow moves handle 0 by 2% of the radius, with Shift by 10%: the held handle goes exactly there
+    const at = async () => (await debug('cagePositions')).slice(0, 3);
+    const moves = [];
+    for (const key of ['ArrowLeft', 'ArrowRight', 'ArrowUp', 'ArrowDown', 'Shift+ArrowLeft']) {
+      const before = await at();
+      await page.keyboard.press(key);
+      const after = await at();
+      moves.push(Math.hypot(after[0] - before[0], after[1] - before[1], after[2] - before[2]));
+    }
+    assert.ok(moves.slice(0, 4).every((m) => m > 0 && Math.abs(m / moves[0] - 1) < 1e-6), `the arrows move alike: ${moves}`);
+    assert.ok(Math.abs(moves[4] / moves[0] - 5) < 1e-6, `Shift moves five times as far: ${moves}`);
+    assert.ok((await readouts(page)).error <= 1e-5, 'the volume kept');
+    const nudged = await at();
+    const history = await debug('historySize');
+    await page.keyboard.press('Control+z');
+    assert.ok(!close(await at(), nudged, 1e-12), 'Ctrl+Z undoes the last nudge');
+    assert.deepEqual(await debug('historySize'), { undo: history.undo - 1, redo: history.redo + 1 });
+    await page.keyboard.press('Control+y');
+    assert.ok(close(await at(), nudged, 1e-9), 'Ctrl+Y redoes it');
+    await page.keyboard.press('Control+z');
+    await page.keyboard.press('Control+Shift+z');
+    assert.ok(close(await at(), nudged, 1e-9), 'Ctrl+Shift+Z redoes it too');
+  });
+
   test('the teaching views are linked from the panel, and link back', async () => {
     const link = page.locator('[data-testid="learn-link-learn-levels"]');
     assert.equal(await link.getAttribute('href'), '#learn/levels');

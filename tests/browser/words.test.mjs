@@ -1,6 +1,6 @@
-// Words in the editor: every control has a tooltip, the glossary (cage, level e, detail, theta,
-// free set, tolerance) opens from the panel, and the readouts name their quantities in plain
-// language with the symbol beside them.
+// Words in the editor: every control has a tooltip (in the teaching views too), the glossary (cage,
+// level e, detail, theta, free set, tolerance) opens from the panel, and the readouts name their
+// quantities in plain language with the symbol beside them.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
@@ -8,7 +8,7 @@ import { openApp, settle, RESULTS_DIR } from './harness.mjs';
 
 let browser, page;
 
-describe('web editor: tooltips, glossary, readout words', { timeout: 180_000 }, () => {
+describe('web editor: tooltips, glossary, readout words', { timeout: 400_000 }, () => {
   before(async () => ({ browser, page } = await openApp()));
   after(() => browser?.close());
 
@@ -47,5 +47,20 @@ describe('web editor: tooltips, glossary, readout words', { timeout: 180_000 }, 
     assert.doesNotMatch(await page.locator('[data-testid="readouts"]').textContent(), /M entries|\bit,/);
     const approx = await page.locator('[data-testid="approx-level-row"]').textContent();
     assert.match(approx, /approximation level l/);
+  });
+  test('every control of every teaching view has a tooltip, the nav links too; the level buttons made later as well', { timeout: 240_000 }, async () => {
+    const views = ['learn/levels', 'demo/ball', 'demo/skinning', 'learn/tensor', 'demo/bunny', 'demo/balance', 'learn/lifting'];
+    for (const view of views) {
+      await page.goto(`${browser.url}#${view}`);
+      await page.waitForFunction(() => window.mrvolLearn?.ready(), null, { timeout: 90_000 });
+      await page.locator('.learn-readouts td').first().waitFor({ timeout: 60_000 });
+      if (view === 'learn/levels') await page.locator('[data-testid="levels-compare"]').check(); // rebuilds the view's controls
+      const missing = await page.evaluate(() => [...document.querySelectorAll('#learn button, #learn input, #learn select, #learn a')]
+        .filter((el) => el.getClientRects().length > 0 && !el.closest('[title]')?.title?.trim())
+        .map((el) => `${el.tagName} ${el.dataset.testid ?? ''} "${el.textContent.trim().slice(0, 30)}"`));
+      assert.deepEqual(missing, [], `#${view}`);
+    }
+    const routes = await page.locator('[data-testid="learn-nav"] a[data-route]').evaluateAll((links) => links.map((a) => a.dataset.route));
+    assert.deepEqual(routes.sort(), [...views].sort(), 'every view of the nav bar checked');
   });
 });

@@ -127,6 +127,82 @@ describe('a mesh and editor taken over by another instance', () => {
     throwsMrvol(() => new EditingSession(a).adoptRebuilt(taken, { level: 1, scheme: 'loop' }), /no model is open/);
   });
 
+  // The editor worker makes the editor the session's settings call for: the limit surface, the centre of
+  // mass kept, the tensor path's matrix-free editor (until theta^e comes); the session takes that one.
+  for (const settings of [{ surface: 'limit' }, { keepCentroid: true }, { path: 'matrix-free' }]) {
+    test(`a session swaps in an editor made elsewhere with ${JSON.stringify(settings)}: the one made there, edits as in place`, async () => {
+      const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+      for (const m of [a, b]) warmUp(m);
+      const open = (mrvol) => {
+        const s = new EditingSession(mrvol, { level: 0, path: settings.path ?? 'auto' });
+        s.open(loadModel(mrvol, 'spiky-ball'), { name: 'spiky' });
+        if (settings.surface) s.setSurface(settings.surface);
+        if (settings.keepCentroid) s.setKeepCentroid(true);
+        s.moveHandles([2], [0.2, -0.1, 0.05]);
+        return s;
+      };
+      const session = open(a);
+      const reference = session.referenceVolume(), shape = session.positions(), steps = session.history.size.undo;
+      const { mr } = session.model;
+      const other = b.openMeshWithHierarchy({ positions: mr.positions(), faces: mr.faces() }, mr.hierarchyArrays());
+      other.setPositions(shape);
+      const made = buildEditor(b, other, { level: 1, scheme: 'loop', surface: session.surface, keepCentroid: session.keepCentroid, path: session.path });
+      const transfer = b.transferable(other, made, { scheme: 'loop' });
+      const taken = await createMrvol().then((c) => (warmUp(c), c.adoptTransferredInSlices(transfer)));
+      session.adoptRebuilt(taken, { level: 1, scheme: 'loop' });
+      assert.equal(session.editor.madeElsewhere, true, 'the editor made in the other instance, not a second one');
+      assert.equal(session.editor.surface(), settings.surface ?? 'mesh');
+      assert.equal(session.editor.keepsCentroid(), Boolean(settings.keepCentroid));
+      assert.ok(Math.abs(session.referenceVolume() - reference) <= 1e-12 * Math.abs(reference), 'the reference stays');
+      assert.deepEqual(session.history.size, { undo: steps + 1, redo: 0 }, 'the level change is one more step');
+      const inPlace = open(plain);
+      inPlace.setLevel(1);
+      assert.equal(inPlace.editor.madeElsewhere, undefined);
+      assert.equal(session.editor.path(), inPlace.editor.path(), 'the path the session picks');
+      const [mine, theirs] = [drags(session.editor), drags(inPlace.editor)];
+      for (let i = 0; i < mine.length; i++) {
+        assert.ok(Math.abs(mine[i].volume - theirs[i].volume) <= 1e-12 * Math.abs(theirs[i].volume), `volume after drag ${i}`);
+        assert.ok(mine[i].positions.every((x, k) => Math.abs(x - theirs[i].positions[k]) <= 1e-9), `shape after drag ${i}`);
+      }
+      if (settings.keepCentroid) {
+        const [c, r] = [session.centroid(), session.referenceCentroid()];
+        assert.ok(Math.hypot(c[0] - r[0], c[1] - r[1], c[2] - r[2]) < 1e-3, 'the centre of mass stays with the adopted editor');
+      }
+      assert.ok(session.undo() && session.level === 0, 'undo goes back to level 0');
+      session.dispose();
+      inPlace.dispose();
+    });
+  }
+
+  test('a surface switch made elsewhere: one surface undo step, the limit volume its reference; undone with the mesh reference', async () => {
+    const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+    for (const m of [a, b]) warmUp(m);
+    const session = new EditingSession(a, { level: 0, path: 'auto' });
+    session.open(loadModel(a, 'spiky-ball'), { name: 'spiky' });
+    session.setKeepCentroid(true);
+    session.moveHandles([2], [0.2, -0.1, 0.05]);
+    const meshReference = session.referenceVolume(), steps = session.history.size.undo;
+    const { mr } = session.model;
+    const other = b.openMeshWithHierarchy({ positions: mr.positions(), faces: mr.faces() }, mr.hierarchyArrays());
+    other.setPositions(session.positions());
+    const shaped = a.openMesh({ positions: session.positions(), faces: mr.faces() });
+    const limitVolume = shaped.info({ surface: 'limit' }).volume;
+    shaped.delete();
+    const target = { level: 0, scheme: 'loop', surface: 'limit' };
+    const made = buildEditor(b, other, { ...target, keepCentroid: session.keepCentroid, path: session.path });
+    const taken = await createMrvol().then((c) => (warmUp(c), c.adoptTransferredInSlices(b.transferable(other, made, { scheme: 'loop' }))));
+    session.adoptRebuilt(taken, target);
+    assert.equal(session.editor.madeElsewhere, true);
+    assert.deepEqual([session.surface, session.keepCentroid, session.editor.surface()], ['limit', false, 'limit']);
+    assert.ok(Math.abs(session.referenceVolume() - limitVolume) <= 1e-12 * Math.abs(limitVolume), 'the limit surface\'s volume now is its reference');
+    assert.deepEqual(session.history.size, { undo: steps + 1, redo: 0 });
+    assert.equal(session.history.peekUndo().label, 'surface');
+    assert.ok(session.undo(), 'undone here');
+    assert.deepEqual([session.surface, session.keepCentroid, session.editor.surface()], ['mesh', true, 'mesh']);
+    assert.equal(session.referenceVolume(), meshReference, 'the mesh reference back');
+    session.dispose();
+  });
+
   test('taken over in slices (the page keeps drawing between them): the same mesh and editor as at once', async () => {
     const [a, b, c] = await Promise.all([createMrvol(), createMrvol(), createMrvol()]);
     for (const m of [a, b, c]) warmUp(m);

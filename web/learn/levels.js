@@ -63,7 +63,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   const play = el('div', { class: 'learn-row' });
   layout.controls.append(play);
   const set = readoutTable(layout.readouts, [
-    ['model', 'levels-model-info'], ['level l', 'levels-current'], ['vertices of M^l', 'levels-cage-size'],
+    ['model', 'levels-model-info'], ['level l', 'levels-current'], ['vertices of Mˡ', 'levels-cage-size'],
     ['details zeroed', 'levels-zeroed'], ['max |d^l|', 'levels-dmax'], ['volume (approx.)', 'levels-volume'],
     ['volume (fine)', 'levels-volume-fine'], ['wavelet', 'levels-wavelet-info'],
   ]);
@@ -202,7 +202,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       legend = colorbar(layout.stage, { title: `wavelet ψ of d${sup(w.depth - 1)} at vertex ${w.vertex} (${schemes[0]})`, lo: (-w.max).toPrecision(2), hi: w.max.toPrecision(2), colors: (t) => diverging(2 * t - 1), testid: 'levels-colorbar' });
       set('levels-wavelet-info', `vertex ${w.vertex} (d${sup(w.depth - 1)}): support ${w.support} of ${depths.length} vertices, max ${w.max.toPrecision(3)}`, w.vertex);
     } else {
-      set('levels-wavelet-info', 'off (the button below shows one)');
+      set('levels-wavelet-info', 'off (the single wavelet button above shows one)');
       if (s.details === 'colour') {
         const d = loadScheme(schemes[0]).dmax;
         legend = colorbar(layout.stage, { title: '|d| of the zeroed details (square-root scale)', lo: '0', hi: d.toPrecision(3), testid: 'levels-colorbar' });

@@ -4,6 +4,7 @@
 // (lib/api.mjs through ../mrvol.js) and a layout to draw into, and returns { dispose, debug }.
 import { loadMrvol } from '../mrvol.js';
 import './learn.css';
+import { NAV_TITLES, titleControls } from './titles.js';
 
 export const VIEWS = [
   { route: 'learn/levels', title: 'Levels', load: () => import('./levels.js') },
@@ -37,9 +38,10 @@ function el(tag, attributes = {}, ...children) {
 function buildLayout() {
   document.body.classList.add('learn-mode');
   const nav = el('nav', { class: 'learn-nav', testid: 'learn-nav' });
-  nav.append(el('a', { href: './', class: 'learn-editor-link', text: '← editor' }));
+  nav.append(el('a', { href: './', class: 'learn-editor-link', text: '← editor', title: 'Back to the editor (with its model and edits)' }));
   for (const view of VIEWS)
-    nav.append(el('a', { href: `#${view.route}`, 'data-route': view.route, testid: `nav-${view.route.replace('/', '-')}`, text: view.title }));
+    nav.append(el('a', { href: `#${view.route}`, 'data-route': view.route, testid: `nav-${view.route.replace('/', '-')}`, text: view.title,
+      title: NAV_TITLES[view.route] ?? view.title }));
   const stage = el('div', { class: 'learn-stage', testid: 'learn-stage' });
   const text = el('div', { class: 'learn-text', testid: 'learn-text' });
   const controls = el('div', { class: 'learn-controls', testid: 'learn-controls' });
@@ -98,6 +100,9 @@ async function show(route) {
 /** Runs the teaching views instead of the editor. */
 export async function startLearn() {
   state.layout = buildLayout();
+  // controls a view makes, now or later (the level buttons of #learn/levels), get their tooltips
+  const { root } = state.layout;
+  new MutationObserver(() => titleControls(root)).observe(root, { subtree: true, childList: true });
   Object.defineProperty(window, 'mrvolLearn', {
     value: Object.freeze({
       route: () => learnRoute(),

@@ -244,7 +244,10 @@ export async function mount({ mrvol, layout, el }) {
     grid.append(row);
     // Entry counts per block class, and per block of depth groups.
     const table = el('table', { class: 'learn-block-table', testid: `tensor-table-${l}` });
-    table.append(el('tr', {}, el('th', { text: `θ${sup(l)}` }), ...CLASS_NAMES.map((name, c) => el('th', { style: `color:${CLASS_COLORS[c]}`, text: `${c} coarse` }))));
+    table.append(el('tr', {}, el('th', { text: `θ${sup(l)}` }), ...CLASS_NAMES.map((name, c) =>
+      // the class's colour as a swatch beside text in the text colour (coloured text failed WCAG contrast)
+      el('th', { title: name }, el('i', { class: 'learn-swatch', style: `background:${CLASS_COLORS[c]}` }), `${c}`))));
+    table.prepend(el('caption', { text: 'stored entries by their number of coarse indices' }));
     table.append(el('tr', {}, el('td', { text: 'stored' }), ...classCounts.map((c) => el('td', { text: String(c) }))));
     tableBox.append(table);
     const blocks = [...blockCounts].sort(([a], [b]) => a.localeCompare(b));
