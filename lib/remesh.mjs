@@ -576,14 +576,14 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
  * (the farthest first), one of the result vertices nearest it (a corner of its closest result
  * triangle or a neighbour of one) moves onto it, and the `rings` rings around that vertex follow
  * with a linear falloff, each back onto the surface (closest point). A drag is kept only if it
- * flips no triangle, brings no input vertex near the patch farther from the result than it was
- * (or than the threshold) and moves no patch face farther from the input; otherwise a smaller
- * drag (3/4, 1/2 of the way), then the next candidate. Vertices on features (`fixed`) stay.
+ * flips no triangle and brings no input vertex near the patch farther from the result, and no
+ * patch face's centroid farther from the input, than it was or than `tolerance` of the diagonal;
+ * otherwise a smaller drag (3/4, 1/2 of the way), then the next candidate. Vertices on features (`fixed`) stay.
  * `rounds` rounds, each over far input vertices `spacing` of the diagonal apart. Deterministic.
  */
-function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, rings = 3, candidates = 2, rounds = 2, spacing = 0.01, perRound = 200 } = {}) {
+function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tolerance = 0.0045, rings = 3, candidates = 2, rounds = 2, spacing = 0.01, perRound = 200 } = {}) {
   const input = surface.mesh.positions, inputCount = input.length / 3;
-  const limit = threshold * surface.diagonal, slack = 1e-9 * surface.diagonal;
+  const limit = threshold * surface.diagonal, slack = 1e-9 * surface.diagonal, allowed = tolerance * surface.diagonal;
   const vertexCount = positions.length / 3;
   const { neighbours: adjacency, vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const grid = pointGrid(input, 0.01 * surface.diagonal);
@@ -655,8 +655,8 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, ring
               positions[3 * w] = p.x, positions[3 * w + 1] = p.y, positions[3 * w + 2] = p.z;
             }
             const good = flippedFaces({ positions, faces }, surface, faceList, 0, twins).every((f) => flippedBefore.has(f)) &&
-              nearInput.every((j, q) => distanceAfter(j, ring) <= Math.max(inputBefore[q], limit) + slack) &&
-              faceList.every((f, q) => centroidDistance(surface, positions, faces, f) <= Math.max(facesBefore[q], limit) + slack);
+              nearInput.every((j, q) => distanceAfter(j, ring) <= Math.max(inputBefore[q], allowed) + slack) &&
+              faceList.every((f, q) => centroidDistance(surface, positions, faces, f) <= Math.max(facesBefore[q], allowed) + slack);
             if (good) {
               for (const [w] of ring) used[w] = 1;
               done = true;
@@ -1191,7 +1191,7 @@ export async function remesh(mrvol, input, options = {}) {
     let offset = 0;
     for (const part of result.parts) fixed.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
     const dragged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
-    dragToTips(surface, dragged.positions, dragged.faces, fixed);
+    dragToTips(surface, dragged.positions, dragged.faces, fixed, { threshold: goal / 2, tolerance: 0.9 * goal });
     const held = { kind: fixed };
     if (resultFlipped(dragged, surface, held).length <= resultFlipped(result.mesh, surface, held).length) {
       const m = measure(dragged, mesh, surface, maxSamples);
