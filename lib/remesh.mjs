@@ -572,8 +572,8 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
 /**
  * Tips the fit still misses (a claw, a horn, a lip the base cut off: rays and relaxation never
  * climb them, and attractToInput()'s pulls of one triangle's corners fold there) are reached by
- * dragging a patch: for each input vertex farther than `threshold` of the diagonal from the result
- * (the farthest first), one of the result vertices nearest it (a corner of its closest result
+ * dragging a patch: for each input vertex or face centroid farther than `threshold` of the diagonal
+ * from the result (the farthest first), one of the result vertices nearest it (a corner of its closest result
  * triangle or a neighbour of one) moves onto it, and the `rings` rings around that vertex follow
  * with a linear falloff, each back onto the surface (closest point). A drag is kept only if it
  * flips no triangle and brings no input vertex near the patch farther from the result, and no
@@ -582,7 +582,14 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
  * `rounds` rounds, each over far input vertices `spacing` of the diagonal apart. Deterministic.
  */
 function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tolerance = 0.0045, rings = 3, candidates = 2, rounds = 2, spacing = 0.01, perRound = 200 } = {}) {
-  const input = surface.mesh.positions, inputCount = input.length / 3;
+  // Targets: the input's vertices and face centroids (a large face's middle can be the far part).
+  const { positions: inputPositions, faces: inputFaces } = surface.mesh, inputVertices = inputPositions.length / 3;
+  const input = new Float64Array(inputPositions.length + inputFaces.length);
+  input.set(inputPositions);
+  for (let f = 0; f < inputFaces.length / 3; f++)
+    for (let k = 0; k < 3; k++)
+      input[3 * inputVertices + 3 * f + k] = (inputPositions[3 * inputFaces[3 * f] + k] + inputPositions[3 * inputFaces[3 * f + 1] + k] + inputPositions[3 * inputFaces[3 * f + 2] + k]) / 3;
+  const inputCount = input.length / 3;
   const limit = threshold * surface.diagonal, slack = 1e-9 * surface.diagonal, allowed = tolerance * surface.diagonal;
   const vertexCount = positions.length / 3;
   const { neighbours: adjacency, vertexFaces: around, twins } = connectivity(faces, vertexCount);
