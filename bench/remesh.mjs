@@ -121,7 +121,10 @@ core's readers, with the defaults and \`repair: true\` (what \`mrvol remesh FILE
 default levels (from 2, more while the two-sided Hausdorff distance is above 0.5% and the vertices stay
 within max(2x the input's, 10000); then tips kept in the base and larger bases for the pieces still far), sharp features kept
 (the last two rows give the levels and base size: then the tips are kept in a base of that size and held on
-their tip vertex during the fit, the closer fit kept). One
+their tip vertex during the fit, the closer fit kept); then, if the chosen fit is still above 0.5%, it is
+dragged onto the input points it misses (dragToTips: a patch of 3 rings follows one vertex onto a far
+input vertex or face centroid, kept only if nothing flips and nothing near gets farther than 0.45%; kept
+if closer). One
 run per row after a warm-up; the last column is when the row was measured (the slow models run apart:
 \`node bench/remesh.mjs dragon-871k\`). Hausdorff: sampled both ways (vertices, centroids and three interior points
 per face), relative to the bounding-box diagonal of the (repaired) input. Time: the whole pipeline (repair,

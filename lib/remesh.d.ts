@@ -41,6 +41,11 @@ export interface RemeshOptions {
   maxSamples?: number;
   /** Return a result with flipped triangles instead of refusing it (default false). */
   allowFlipped?: boolean;
+  /**
+   * A result still above `hausdorffGoal` is dragged onto the input vertices it misses (tips the base
+   * cut off), kept if closer and not more folded (default true).
+   */
+  dragTips?: boolean;
   /** Called between stages with the rough fraction done (0..1) and the stage's name. */
   onProgress?: (fraction: number, stage: string) => void;
 }

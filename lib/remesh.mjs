@@ -569,6 +569,198 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
   if (accepted && retry) positions.set(accepted);
 }
 
+/**
+ * Tips the fit still misses (a claw, a horn, a lip the base cut off: rays and relaxation never
+ * climb them, and attractToInput()'s pulls of one triangle's corners fold there) are reached by
+ * dragging a patch: for each input vertex or face centroid farther than `threshold` of the diagonal
+ * from the result (the farthest first), one of the result vertices nearest it (a corner of its closest result
+ * triangle or a neighbour of one) moves onto it, and the `rings` rings around that vertex follow
+ * with a linear falloff, each back onto the surface (closest point). A drag is kept only if it
+ * flips no triangle and brings no input vertex near the patch farther from the result, and no
+ * patch face's centroid farther from the input, than it was or than `tolerance` of the diagonal;
+ * otherwise a smaller drag (3/4, 1/2 of the way), then the next candidate. Vertices on features (`fixed`) stay.
+ * `rounds` rounds, each over far input vertices `spacing` of the diagonal apart. Deterministic.
+ */
+function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tolerance = 0.0045, rings = 3, candidates = 2, rounds = 2, spacing = 0.01, perRound = 200 } = {}) {
+  // Targets: the input's vertices and face centroids (a large face's middle can be the far part).
+  const { positions: inputPositions, faces: inputFaces } = surface.mesh, inputVertices = inputPositions.length / 3;
+  const input = new Float64Array(inputPositions.length + inputFaces.length);
+  input.set(inputPositions);
+  for (let f = 0; f < inputFaces.length / 3; f++)
+    for (let k = 0; k < 3; k++)
+      input[3 * inputVertices + 3 * f + k] = (inputPositions[3 * inputFaces[3 * f] + k] + inputPositions[3 * inputFaces[3 * f + 1] + k] + inputPositions[3 * inputFaces[3 * f + 2] + k]) / 3;
+  const inputCount = input.length / 3;
+  const limit = threshold * surface.diagonal, slack = 1e-9 * surface.diagonal, allowed = tolerance * surface.diagonal;
+  const vertexCount = positions.length / 3;
+  const { neighbours: adjacency, vertexFaces: around, twins } = connectivity(faces, vertexCount);
+  const grid = pointGrid(input, 0.01 * surface.diagonal);
+  const apart = spacing * surface.diagonal;
+  for (let round = 0; round < rounds; round++) {
+    const result = new Surface({ positions, faces }, { normals: false });
+    const index = result.bvh.geometry.index.array;
+    // The result's BVH is of the round's start (drags of a round are apart, and touch no vertex
+    // twice): an input vertex's distance after a drag is the smaller of its distance to the
+    // patch's faces and, if its closest face then was not one of them, that distance.
+    const distanceAfter = (j, patch) => {
+      const x = input[3 * j], y = input[3 * j + 1], z = input[3 * j + 2];
+      const hit = result.closest(x, y, z);
+      let d = patch.has(index[3 * hit.faceIndex]) && patch.has(index[3 * hit.faceIndex + 1]) && patch.has(index[3 * hit.faceIndex + 2]) ? Infinity : hit.distance;
+      for (const f of patchFaces) d = Math.min(d, pointTriangleDistance(x, y, z, positions, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]));
+      return d;
+    };
+    let patchFaces = [];
+    const far = [];
+    for (let i = 0; i < inputCount; i++) {
+      const hit = result.closest(input[3 * i], input[3 * i + 1], input[3 * i + 2]);
+      if (hit.distance > limit) far.push([hit.distance, i]);
+    }
+    if (far.length === 0) break;
+    far.sort((x, y) => y[0] - x[0] || x[1] - y[1]);
+    const used = new Uint8Array(vertexCount);
+    let kept = 0;
+    // A few apart per round (a tip's other far vertices come in the next rounds).
+    const tips = [];
+    for (const [, i] of far) {
+      if (tips.length >= perRound) break;
+      if (!tips.some((j) => Math.hypot(input[3 * i] - input[3 * j], input[3 * i + 1] - input[3 * j + 1], input[3 * i + 2] - input[3 * j + 2]) < apart)) tips.push(i);
+    }
+    for (const i of tips) {
+      const tx = input[3 * i], ty = input[3 * i + 1], tz = input[3 * i + 2];
+      const hit = result.closest(tx, ty, tz);
+      if (hit.distance <= limit) continue;  // an earlier drag reached it
+      const corners = [index[3 * hit.faceIndex], index[3 * hit.faceIndex + 1], index[3 * hit.faceIndex + 2]];
+      const near = new Set(corners);
+      for (const u of corners) for (let e = adjacency.offsets[u]; e < adjacency.offsets[u + 1]; e++) near.add(adjacency.list[e]);
+      const order = [...near].filter((u) => !fixed[u] && !used[u])
+        .map((u) => [Math.hypot(positions[3 * u] - tx, positions[3 * u + 1] - ty, positions[3 * u + 2] - tz), u])
+        .sort((x, y) => x[0] - y[0] || x[1] - y[1]).slice(0, candidates);
+      let done = false;
+      for (const [, v] of order) {
+        const ox = tx - positions[3 * v], oy = ty - positions[3 * v + 1], oz = tz - positions[3 * v + 2];
+        {
+          const k = rings, ring = ringsOf(adjacency, v, k + 1);
+          // Patches of one round do not overlap (the BVH is the round's).
+          if ([...ring.keys()].some((w) => used[w])) continue;
+          const faceSet = new Set();
+          for (const [w] of ring) for (let e = around.offsets[w]; e < around.offsets[w + 1]; e++) faceSet.add(around.list[e]);
+          const faceList = [...faceSet].sort((x, y) => x - y);
+          patchFaces = faceList;
+          const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, faceList, 0, twins));
+          let radius = 0;
+          for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, Math.hypot(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
+          const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + Math.hypot(ox, oy, oz));
+          const inputBefore = nearInput.map((j) => result.closest(input[3 * j], input[3 * j + 1], input[3 * j + 2]).distance);
+          const facesBefore = faceList.map((f) => centroidDistance(surface, positions, faces, f));
+          const saved = [];
+          for (const [w] of ring) saved.push(w, positions[3 * w], positions[3 * w + 1], positions[3 * w + 2]);
+          for (const share of [1, 0.75, 0.5]) {
+            for (const [w, r] of ring) {
+              if (r > k || fixed[w]) continue;
+              const s = share * (1 - r / (k + 1));
+              const p = w === v && share === 1 ? { x: tx, y: ty, z: tz }
+                : surface.closest(positions[3 * w] + s * ox, positions[3 * w + 1] + s * oy, positions[3 * w + 2] + s * oz).point;
+              positions[3 * w] = p.x, positions[3 * w + 1] = p.y, positions[3 * w + 2] = p.z;
+            }
+            const good = flippedFaces({ positions, faces }, surface, faceList, 0, twins).every((f) => flippedBefore.has(f)) &&
+              nearInput.every((j, q) => distanceAfter(j, ring) <= Math.max(inputBefore[q], allowed) + slack) &&
+              faceList.every((f, q) => centroidDistance(surface, positions, faces, f) <= Math.max(facesBefore[q], allowed) + slack);
+            if (good) {
+              for (const [w] of ring) used[w] = 1;
+              done = true;
+              break;
+            }
+            for (let q = 0; q < saved.length; q += 4) positions[3 * saved[q]] = saved[q + 1], positions[3 * saved[q] + 1] = saved[q + 2], positions[3 * saved[q] + 2] = saved[q + 3];
+          }
+        }
+        if (done) break;
+      }
+      if (done) kept++;
+    }
+    if (kept === 0) break;
+  }
+}
+
+/** Distance from the centroid of face f to the surface. */
+function centroidDistance(surface, p, faces, f) {
+  const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2];
+  return surface.closest((p[a] + p[b] + p[c]) / 3, (p[a + 1] + p[b + 1] + p[c + 1]) / 3, (p[a + 2] + p[b + 2] + p[c + 2]) / 3).distance;
+}
+
+/** Distance from (x, y, z) to the triangle a, b, c of p (Ericson's closest point, as in closestPointQuery()). */
+function pointTriangleDistance(x, y, z, p, a, b, c) {
+  const ax = p[3 * a], ay = p[3 * a + 1], az = p[3 * a + 2];
+  const abx = p[3 * b] - ax, aby = p[3 * b + 1] - ay, abz = p[3 * b + 2] - az;
+  const acx = p[3 * c] - ax, acy = p[3 * c + 1] - ay, acz = p[3 * c + 2] - az;
+  const apx = x - ax, apy = y - ay, apz = z - az;
+  const d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
+  let qx, qy, qz;
+  if (d1 <= 0 && d2 <= 0) return Math.hypot(apx, apy, apz);
+  const bpx = x - p[3 * b], bpy = y - p[3 * b + 1], bpz = z - p[3 * b + 2];
+  const d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
+  if (d3 >= 0 && d4 <= d3) return Math.hypot(bpx, bpy, bpz);
+  const vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const t = d1 / (d1 - d3);
+    qx = ax + abx * t, qy = ay + aby * t, qz = az + abz * t;
+    return Math.hypot(x - qx, y - qy, z - qz);
+  }
+  const cpx = x - p[3 * c], cpy = y - p[3 * c + 1], cpz = z - p[3 * c + 2];
+  const d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
+  if (d6 >= 0 && d5 <= d6) return Math.hypot(cpx, cpy, cpz);
+  const vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const t = d2 / (d2 - d6);
+    qx = ax + acx * t, qy = ay + acy * t, qz = az + acz * t;
+    return Math.hypot(x - qx, y - qy, z - qz);
+  }
+  const va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+    const t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    qx = p[3 * b] + (p[3 * c] - p[3 * b]) * t, qy = p[3 * b + 1] + (p[3 * c + 1] - p[3 * b + 1]) * t, qz = p[3 * b + 2] + (p[3 * c + 2] - p[3 * b + 2]) * t;
+    return Math.hypot(x - qx, y - qy, z - qz);
+  }
+  const den = 1 / (va + vb + vc), v = vb * den, w = vc * den;
+  qx = ax + abx * v + acx * w, qy = ay + aby * v + acy * w, qz = az + abz * v + acz * w;
+  return Math.hypot(x - qx, y - qy, z - qz);
+}
+
+/** Ring index (0 = v) of every vertex within `k` edges of v. */
+function ringsOf(adjacency, v, k) {
+  const ring = new Map([[v, 0]]);
+  let front = [v];
+  for (let r = 1; r <= k; r++) {
+    const next = [];
+    for (const u of front)
+      for (let e = adjacency.offsets[u]; e < adjacency.offsets[u + 1]; e++)
+        if (!ring.has(adjacency.list[e])) ring.set(adjacency.list[e], r), next.push(adjacency.list[e]);
+    front = next;
+  }
+  return ring;
+}
+
+/** A uniform grid over points (flat xyz): `within(x, y, z, r)` lists those within r of a point. */
+function pointGrid(points, cell) {
+  // Cells hashed to numbers (a collision only adds candidates, which are checked).
+  const cells = new Map(), key = (a, b, c) => ((a * 73856093) ^ (b * 19349663) ^ (c * 83492791)) | 0;
+  for (let i = 0; i < points.length / 3; i++) {
+    const k = key(Math.floor(points[3 * i] / cell), Math.floor(points[3 * i + 1] / cell), Math.floor(points[3 * i + 2] / cell));
+    if (!cells.has(k)) cells.set(k, []);
+    cells.get(k).push(i);
+  }
+  return {
+    within(x, y, z, r) {
+      const out = [];
+      for (let a = Math.floor((x - r) / cell); a <= Math.floor((x + r) / cell); a++)
+        for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
+          for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++)
+            for (const i of cells.get(key(a, b, c)) ?? [])
+              if (Math.hypot(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
+      // (A collision can list a point twice.)
+      return [...new Set(out)];
+    },
+  };
+}
+
 /** Barycentric coordinates of the point q (on or near the triangle a, b, c). */
 function barycentric(p, a, b, c, qx, qy, qz) {
   const u0 = p[3 * b] - p[3 * a], u1 = p[3 * b + 1] - p[3 * a + 1], u2 = p[3 * b + 2] - p[3 * a + 2];
@@ -636,11 +828,11 @@ const RESULT_AGAINST = -0.25;
  * normal at the closest point to their centroid (cosine below `against`) and against an edge
  * neighbour's, or that are degenerate.
  */
-export function flippedFaces(mesh, surface, onlyFaces = null, against = 0) {
+export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins = null) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3;
-  // Edge-adjacent faces: the face on the other side of each directed edge.
-  const across = connectivity(faces, p.length / 3).twins;
+  // Edge-adjacent faces: the face on the other side of each directed edge (given, or found).
+  const across = twins ?? connectivity(faces, p.length / 3).twins;
   // Unit face normals, computed when first needed (a check near a few vertices needs few).
   const normals = new Float64Array(faces.length), known = new Uint8Array(faceCount);
   const normal = (f) => {
@@ -998,6 +1190,21 @@ export async function remesh(mrvol, input, options = {}) {
     }
   }
 
+  // Tips still missed: the chosen result dragged onto them (dragToTips), kept if closer and not
+  // more folded (checked against the whole input: pieces apart are never closer than that).
+  if (distance(measured) > goal && options.dragTips !== false) {
+    progress(0.92, 'reaching tips');
+    const fixed = new Uint8Array(result.mesh.positions.length / 3);
+    let offset = 0;
+    for (const part of result.parts) fixed.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
+    const dragged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
+    dragToTips(surface, dragged.positions, dragged.faces, fixed, { threshold: goal / 2, tolerance: 0.9 * goal });
+    const held = { kind: fixed };
+    if (resultFlipped(dragged, surface, held).length <= resultFlipped(result.mesh, surface, held).length) {
+      const m = measure(dragged, mesh, surface, maxSamples);
+      if (distance(m) < distance(measured)) result = { ...result, mesh: dragged }, measured = m;
+    }
+  }
   const volume = mrvol.volume(result.mesh);
   const constraints = result.constraints;
   return {

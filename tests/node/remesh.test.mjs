@@ -114,6 +114,17 @@ describe('remesh (API)', () => {
     assert.equal(r.vertices, (r.faces / 2) + 2 - 2 * r.input.genus);
   });
 
+  test('the decimated dragon with the defaults: the tips the fit misses are dragged onto, closer, no fold, same connectivity', async () => {
+    const without = await remesh(mrvol, dragonMesh(), { repair: true, dragTips: false });
+    assert.ok(without.hausdorff > 0.005, `without the drag ${without.hausdorff}`);
+    const r = await remesh(mrvol, dragonMesh(), { repair: true });
+    assert.equal(r.flippedTriangles, 0);
+    // The drag moves vertices only: the same semi-regular mesh, closer to the input.
+    assert.deepEqual(r.mesh.faces, without.mesh.faces);
+    assert.ok(r.hausdorff < without.hausdorff, `${r.hausdorff} with the drag, ${without.hausdorff} without`);
+    assert.ok(r.hausdorffFromInput < without.hausdorffFromInput, `input to result ${r.hausdorffFromInput} / ${without.hausdorffFromInput}`);
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
