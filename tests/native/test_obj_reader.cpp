@@ -144,7 +144,8 @@ TEST(ObjReader, PlainLinesReadInOnePassEqualTheGeneralPath) {
     std::vector<std::string> lines = {"v 0 0 0", "v 1 0 0", "v 0 1 0", "v 0 0 1", "f 1 2 3", "vt 0 0"};
     for (uint32_t l = 0, n = 1 + next(4); l < n; ++l) {
       std::string line = keywords[next(keywordCount)];
-      for (uint32_t k = 0, m = next(6); k < m; ++k) line += std::string(next(4) ? " " : "\t") + tokens[next(tokenCount)];
+      for (uint32_t k = 0, m = next(6); k < m; ++k)
+        line += std::string(next(4) ? " " : "\t") + tokens[next(tokenCount)];
       if (next(5) == 0) line += " ";
       lines.push_back(line);
     }

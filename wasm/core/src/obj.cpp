@@ -358,7 +358,8 @@ struct ObjReader::Parser {
       while (p < stop && classOf(*p) == kBlank) ++p;
       const char* first = p;
       uint32_t value = 0;
-      for (unsigned digit; p < stop && p - first < 9 && (digit = unsigned(*p) - '0') <= 9; ++p) value = value * 10 + digit;
+      for (unsigned digit; p < stop && p - first < 9 && (digit = unsigned(*p) - '0') <= 9; ++p)
+        value = value * 10 + digit;
       if (value == 0 || (p < stop && classOf(*p) != kBlank)) return false;  // also no digits
       index = value - 1;
     }
