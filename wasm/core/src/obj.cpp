@@ -330,7 +330,55 @@ struct ObjReader::Parser {
     line = scanner.line;
   }
 
+  // The common lines, "v x y z" and "f a b c" with plain indices, read in one pass over their
+  // bytes (fast_float parses in place, no tokens first). Any other form, and every error, returns
+  // false having changed nothing: the general path below then reads (or refuses) the line.
+  bool plainVertex(const char* p, const char* stop, size_t line) {
+    double x[3];
+    for (double& value : x) {
+      while (p < stop && classOf(*p) == kBlank) ++p;
+      const char* digits = p + (p < stop && *p == '-');
+      if (digits >= stop || !((*digits >= '0' && *digits <= '9') || *digits == '.')) return false;
+      const auto result = fast_float::from_chars(p, stop, value);
+      if (result.ec != std::errc() || result.ptr == digits || result.ptr - p > 63 ||
+          (result.ptr < stop && classOf(*result.ptr) != kBlank) || !(std::fabs(value) <= kMaxCoordinate))
+        return false;
+      p = result.ptr;
+    }
+    while (p < stop && classOf(*p) == kBlank) ++p;
+    if (p != stop) return false;
+    mesh.positions.insert(mesh.positions.end(), x, x + 3);
+    if (keepLines) vertexLines.push_back(uint32_t(line));
+    return true;
+  }
+
+  bool plainTriangle(const char* p, const char* stop, size_t line) {
+    uint32_t v[3];
+    for (uint32_t& index : v) {
+      while (p < stop && classOf(*p) == kBlank) ++p;
+      const char* first = p;
+      uint32_t value = 0;
+      for (unsigned digit; p < stop && p - first < 9 && (digit = unsigned(*p) - '0') <= 9; ++p)
+        value = value * 10 + digit;
+      if (value == 0 || (p < stop && classOf(*p) != kBlank)) return false;  // also no digits
+      index = value - 1;
+    }
+    while (p < stop && classOf(*p) == kBlank) ++p;
+    if (p != stop) return false;
+    mesh.faces.insert(mesh.faces.end(), v, v + 3);
+    faceLines.push_back(uint32_t(line));
+    if (keepExtras && !cornerTex.empty()) {  // as the general path: no attributes at these corners
+      cornerTex.insert(cornerTex.end(), 3, kNoIndex);
+      cornerNormal.insert(cornerNormal.end(), 3, kNoIndex);
+    }
+    return true;
+  }
+
   void statement(const char* begin, const char* stop, size_t line) {
+    if (stop - begin >= 2 && classOf(begin[1]) == kBlank) {
+      if (begin[0] == 'v' && plainVertex(begin + 2, stop, line)) return;
+      if (begin[0] == 'f' && plainTriangle(begin + 2, stop, line)) return;
+    }
     std::string_view tokens[8];
     const bool extras = keepExtras;
     const char* p = begin;
