@@ -40,6 +40,13 @@ function wasmMimePlugin() {
   };
 }
 
+// Cross-origin isolation (SharedArrayBuffer): the threaded WASM module (lib/browser.mjs) runs its
+// pool of workers only on an isolated page. Every resource of the app is same-origin.
+const isolationHeaders = {
+  'Cross-Origin-Opener-Policy': 'same-origin',
+  'Cross-Origin-Embedder-Policy': 'require-corp',
+};
+
 export default defineConfig({
   root: join(repo, 'web'),
   publicDir: join(repo, 'public'),
@@ -50,8 +57,9 @@ export default defineConfig({
     host: '127.0.0.1',
     port: 5173,
     fs: { allow: [repo] },
+    headers: isolationHeaders,
   },
-  preview: { host: '127.0.0.1', port: 5173 },
+  preview: { host: '127.0.0.1', port: 5173, headers: isolationHeaders },
   optimizeDeps: {
     // Pre-bundled at start-up, so that the first page load never triggers a re-optimization reload.
     include: ['three', 'three/addons/controls/OrbitControls.js', 'lil-gui', 'idb'],

@@ -601,6 +601,11 @@ export function wrapModule(module) {
   };
 
   return {
+    /** How many threads the core's big loops run on (1: the single-thread module). */
+    get threads() {
+      return module._threadCount();
+    },
+
     /**
      * Reads a mesh file of any format mrvol knows (OBJ, STL, PLY, OFF, glTF, GLB), told by
      * `format` or else by `name`'s extension and the content. `resources` ({ uri: Uint8Array } or

@@ -23,6 +23,8 @@ export function installDebugHook(app) {
     modelName: () => app.model?.name ?? null,
     cageSize: () => app.session?.cageSize ?? 0,
     gradientPath: () => editor()?.path() ?? null,
+    /** Threads of the page's core instance (1: the single-thread module; more where the page is cross-origin isolated). */
+    coreThreads: () => app.mrvol?.threads ?? null,
     historySize: () => app.session?.history.size ?? { undo: 0, redo: 0 },
     /** The core's report of the last drag step (volumes, iterations, path), or null. */
     lastReport: () => {
