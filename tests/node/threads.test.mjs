@@ -7,7 +7,8 @@ import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
 import { existsSync } from 'node:fs';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
-import { loadModel, rng, shuffleMesh } from './helpers.mjs';
+import { readFileSync } from 'node:fs';
+import { loadModel, model, rng, runCliSync, shuffleMesh, tempFolder } from './helpers.mjs';
 
 const threaded = existsSync(new URL('../../build/wasm/mrvol-node-mt.mjs', import.meta.url));
 
@@ -49,6 +50,8 @@ function drag(mrvol, levels, level, { drags = 6, tolerance } = {}) {
 }
 
 describe('threads', { skip: threaded ? false : 'the threaded build is not there (node scripts/setup.mjs)' }, () => {
+  const file = tempFolder('mrvol-threads-');
+
   test('threads: 1 is the single-thread build; the default and threads: 3 run threads', () => {
     assert.equal(single.threads, 1);
     assert.equal(multi.threads, 3);
@@ -67,6 +70,19 @@ describe('threads', { skip: threaded ? false : 'the threaded build is not there 
       }
     });
   }
+
+  test('the CLI: --threads 1 and --threads 2 write the same file; a bad count is a usage error', () => {
+    const outputs = [1, 2].map((threads) => {
+      const out = file(`edited-${threads}.obj`);
+      const r = runCliSync(['edit', model('spiky-ball'), '--move', '3:0.2,0,0.1', '--tolerance', '1e-10', '--threads', String(threads), '-o', out]);
+      assert.equal(r.status, 0, r.stderr);
+      return readFileSync(out, 'utf8');
+    });
+    assert.equal(outputs[1], outputs[0]);
+    const bad = runCliSync(['volume', model('spiky-ball'), '--threads', '0']);
+    assert.equal(bad.status, 2);
+    assert.match(bad.stderr, /--threads must be in 1\.\.16/);
+  });
 
   test('bad thread counts are refused by name', async () => {
     for (const threads of [0, -1, 1.5, 17, '2'])
