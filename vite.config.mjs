@@ -95,6 +95,9 @@ export default defineConfig({
     outDir: join(repo, 'build/web'),
     emptyOutDir: true,
     target: 'es2022',
+    // Never inline the threaded module's classic worker script as a data: URL (an opaque origin
+    // could not import the module it runs, nor share its memory).
+    assetsInlineLimit: (file) => (file.endsWith('.worker.js') ? false : undefined),
     chunkSizeWarningLimit: 1024, // three.js is most of the 660 kB bundle
   },
 });

@@ -40,7 +40,10 @@ export async function loadMrvol(compiled) {
 export async function loadPageMrvol() {
   if (!canUseThreads()) return loadMrvol();
   try {
-    return await createMrvol();
+    // A pool worker that never loads would keep the threaded module waiting: bounded.
+    let timer;
+    const late = new Promise((_, reject) => (timer = setTimeout(() => reject(new Error('not ready after 30 s')), 30_000)));
+    return await Promise.race([createMrvol(), late]).finally(() => clearTimeout(timer));
   } catch (e) {
     console.warn(`the threaded core did not load (${e.message}): the single-thread one instead`);
     return loadMrvol();
