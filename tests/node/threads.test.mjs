@@ -84,6 +84,16 @@ describe('threads', { skip: threaded ? false : 'the threaded build is not there 
     assert.match(bad.stderr, /--threads must be in 1\.\.16/);
   });
 
+  test("a threaded instance refuses to take over another instance's memory image", () => {
+    const mr = single.openMesh(loadModel(single, 'spiky-ball'));
+    const ed = mr.createEditor({ level: 0 });
+    const transfer = single.transferable(mr, ed);
+    assert.throws(() => multi.adoptTransferred(transfer),
+                  (e) => e instanceof MrvolError && /adoptTransferred needs a single-thread instance/.test(e.message));
+    ed.delete?.();
+    mr.delete();
+  });
+
   test('bad thread counts are refused by name', async () => {
     for (const threads of [0, -1, 1.5, 17, '2'])
       await assert.rejects(createMrvol({ threads }), (e) => e instanceof MrvolError && /threads must be an integer/.test(e.message));
