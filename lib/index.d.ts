@@ -523,7 +523,7 @@ export interface Mrvol {
    * instance that ran the same calls first (web/module-transfer.js warmUp).
    */
   transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions & { /** false: the calls alone, no copy (warming an instance up) */ memory?: boolean }): TransferredEditor;
-  /** Takes over what transferable gave, in an instance made for it (its memory is replaced). */
+  /** Takes over what transferable gave, in an instance made for it (its memory is replaced); a single-thread one (threads: 1): a threaded instance refuses. */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /**
    * adoptTransferred with the memory copied a slice at a time, awaiting `between(fraction copied)`
