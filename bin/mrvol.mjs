@@ -89,6 +89,8 @@ const OPTION_HELP = {
   'max-hole': '--max-hole m                     remesh --repair: close holes of at most m edges (default 100)',
   smooth: '--smooth k                       remesh --repair: k Taubin smoothing steps after the repair',
   json: '--json                           print the result as JSON',
+  threads: '--threads n                      threads for the core\'s big loops (default: the cores, at most 8;\n' +
+           '                                 1: the single-thread WASM build)',
   output: '-o, --output FILE                output file',
 };
 
@@ -159,6 +161,7 @@ const OPTIONS = {
   repair: { type: 'boolean' },
   'max-hole': { type: 'string' },
   smooth: { type: 'string' },
+  threads: { type: 'string' },
   help: { type: 'boolean', short: 'h' },
   version: { type: 'boolean' },
 };
@@ -635,7 +638,9 @@ export async function main(argv) {
   }
   try {
     if (values.scheme === 'catmull-clark' && !QUAD_COMMANDS[command]) throw new UsageError(`${command} has no --scheme catmull-clark`);
-    const mrvol = await createMrvol();
+    const threads = values.threads === undefined ? undefined : integer(values.threads, 'threads');
+    if (threads !== undefined && (threads < 1 || threads > 16)) throw new UsageError(`--threads must be in 1..16, got ${threads}`);
+    const mrvol = await createMrvol({ threads });
     if (values.scheme === 'catmull-clark') await QUAD_COMMANDS[command](mrvol, values, rest, QUAD_CLI);
     else await COMMANDS[command](mrvol, values, rest);
     return 0;

@@ -591,6 +591,9 @@ export function wrapModule(module) {
   const reserveForTransfer = ({ memory, mesh, editor, positions } = {}) => {
     if (!(memory instanceof Uint8Array) || !(positions instanceof Float64Array) || !Number.isFinite(mesh) || !Number.isFinite(editor))
       throw new MrvolError('adoptTransferred expects what transferable() gave');
+    // A threaded instance's memory also holds its threads' state: a copied image would overwrite it.
+    if (module._threadCount() > 1)
+      throw new MrvolError('adoptTransferred needs a single-thread instance: createMrvol({ threads: 1 })');
     if (memory.byteLength > module.HEAPU8.byteLength) call(module._reserveMemory, memory.byteLength);
     if (memory.byteLength > module.HEAPU8.byteLength)
       throw new MrvolError(`out of memory: ${Math.round(memory.byteLength / 2 ** 20)} MB do not fit this WebAssembly module`);
@@ -603,6 +606,11 @@ export function wrapModule(module) {
   };
 
   return {
+    /** How many threads the core's big loops run on (1: the single-thread module). */
+    get threads() {
+      return module._threadCount();
+    },
+
     /**
      * Reads a mesh file of any format mrvol knows (OBJ, STL, PLY, OFF, glTF, GLB), told by
      * `format` or else by `name`'s extension and the content. `resources` ({ uri: Uint8Array } or

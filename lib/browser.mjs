@@ -55,17 +55,36 @@ async function compile(options) {
   }
 }
 
-/**
- * Loads the WASM core and returns the API.
- * @param {{ wasmUrl?: string | URL, locateFile?: (path: string, prefix: string) => string,
- *           wasmBinary?: ArrayBuffer | ArrayBufferView, wasmModule?: WebAssembly.Module }} [options]
- */
-export async function createMrvol(options = {}) {
-  const wasmModule = await compile(options);
+// The threaded build's files, found as the single-thread ones are (bundlers copy them for these URLs).
+const threadedUrls = () => ({
+  factory: new URL('../build/wasm/mrvol-web-mt.mjs', import.meta.url).href,
+  wasm: new URL('../build/wasm/mrvol-web-mt.wasm', import.meta.url).href,
+  worker: new URL('../build/wasm/mrvol-web-mt.worker.js', import.meta.url).href,
+});
+
+/** Whether this page or worker can run the threaded module (SharedArrayBuffer: cross-origin isolated). */
+export function canUseThreads() {
+  return globalThis.crossOriginIsolated === true && typeof SharedArrayBuffer === 'function';
+}
+
+function threadsArg(options) {
+  const { threads } = options;
+  if (threads !== undefined && (!Number.isInteger(threads) || threads < 1 || threads > 16))
+    throw new MrvolError(`threads must be an integer from 1 to 16, got ${threads}`);
+  // The .wasm given (bytes, compiled module, URL) is the single-thread one's.
+  const named = options.wasmModule !== undefined || options.wasmBinary !== undefined || options.wasmUrl !== undefined;
+  if (threads === 1 || (named && threads === undefined) || !canUseThreads()) return 1;
+  if (named) throw new MrvolError('threads > 1 loads the threaded build: give threadedUrls, not wasmModule, wasmBinary or wasmUrl');
+  return threads ?? Math.max(1, Math.min(8, globalThis.navigator?.hardwareConcurrency ?? 1));
+}
+
+// Resolves with emscripten's module once instantiated, or rejects with why.
+async function instantiate(factory, wasmModule, extra = {}) {
   let failed;
   const failure = new Promise((_, reject) => (failed = reject));
-  const raw = await Promise.race([
-    createMrvolModule({
+  return Promise.race([
+    factory({
+      ...extra,
       // emscripten calls this instead of fetching the file itself: the module is compiled above.
       instantiateWasm(imports, receiveInstance) {
         WebAssembly.instantiate(wasmModule, imports).then((instance) => receiveInstance(instance, wasmModule), failed);
@@ -74,5 +93,36 @@ export async function createMrvol(options = {}) {
     }),
     failure,
   ]);
+}
+
+/**
+ * Loads the WASM core and returns the API.
+ * @param {{ wasmUrl?: string | URL, locateFile?: (path: string, prefix: string) => string,
+ *           wasmBinary?: ArrayBuffer | ArrayBufferView, wasmModule?: WebAssembly.Module,
+ *           threads?: number, threadedUrls?: { factory: string, wasm: string, worker: string } }} [options]
+ *   threads: how many threads the core's big loops run on. Where the page is cross-origin isolated
+ *   (COOP: same-origin and COEP: require-corp; SharedArrayBuffer exists) the threaded build
+ *   (mrvol-web-mt: its .mjs, .wasm and the classic-script .worker.js of its pool, at threadedUrls
+ *   or beside this file) runs them on that many (default: the cores, at most 8); elsewhere, with
+ *   threads: 1, and when the single-thread module's .wasm is given, the single-thread build.
+ */
+export async function createMrvol(options = {}) {
+  const threads = threadsArg(options);
+  if (threads === 1) return wrapModule(await instantiate(createMrvolModule, await compile(options)));
+  const urls = options.threadedUrls ?? threadedUrls();
+  let factory;
+  try {
+    ({ default: factory } = await import(/* @vite-ignore */ urls.factory));
+  } catch (e) {
+    throw new MrvolError(`could not load the threaded WASM module from ${urls.factory}: ${e.message}`);
+  }
+  const wasmModule = await compile({ wasmUrl: urls.wasm });
+  const raw = await instantiate(factory, wasmModule, {
+    mrvolThreadPool: threads - 1,  // the pool's workers (the calling thread is one)
+    // The pool's workers run the classic script beside the module and import the module's own file.
+    locateFile: (path, prefix) => (path.endsWith('.worker.js') ? urls.worker : prefix + path),
+    mainScriptUrlOrBlob: urls.factory,
+  });
+  raw._setThreadCount(threads);
   return wrapModule(raw);
 }

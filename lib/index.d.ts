@@ -470,6 +470,8 @@ export interface ObjReader {
 /** The API object: what wrapModule() and createMrvol() return. */
 export interface Mrvol {
   MrvolError: typeof MrvolError;
+  /** How many threads the core's big loops run on (1: the single-thread build). */
+  readonly threads: number;
   /**
    * Parses an OBJ file (its bytes, e.g. a Node Buffer, or its text) into a mesh with 0-based
    * indices, polygons triangulated, and the line of each vertex and face.
@@ -521,7 +523,7 @@ export interface Mrvol {
    * instance that ran the same calls first (web/module-transfer.js warmUp).
    */
   transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions & { /** false: the calls alone, no copy (warming an instance up) */ memory?: boolean }): TransferredEditor;
-  /** Takes over what transferable gave, in an instance made for it (its memory is replaced). */
+  /** Takes over what transferable gave, in an instance made for it (its memory is replaced); a single-thread one (threads: 1): a threaded instance refuses. */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /**
    * adoptTransferred with the memory copied a slice at a time, awaiting `between(fraction copied)`
@@ -581,7 +583,24 @@ export interface CreateMrvolOptions {
    * worker). Typed as object so that the declarations need no DOM library.
    */
   wasmModule?: object;
+  /**
+   * Threads for the core's big loops (1..16; the renderer's surface passes, the cage basis table).
+   * More than 1 loads the threaded build (`mrvol-node-mt` / `mrvol-web-mt`: WASM pthreads, a pool
+   * of workers running `*.worker.js` beside the module): in Node whenever it is built; in browsers
+   * only where the page is cross-origin isolated (COOP same-origin, COEP require-corp), else the
+   * single-thread build. Default: the cores, at most 8 (and 1 when the single-thread module's
+   * wasmUrl, wasmBinary or wasmModule is given). 1: the single-thread build.
+   */
+  threads?: number;
+  /**
+   * Browser entry only: where the threaded build's files are (default: beside the entry point,
+   * build/wasm/): its factory .mjs, its .wasm and its pool's classic-script worker.
+   */
+  threadedUrls?: { factory: string; wasm: string; worker: string };
 }
+
+/** Browser entry only: whether this page or worker can run the threaded build (cross-origin isolated). */
+export function canUseThreads(): boolean;
 
 /**
  * Loads the WASM core and returns the API: in Node (lib/node.mjs) the Node build, read from

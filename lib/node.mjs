@@ -1,6 +1,8 @@
 // Node entry point: loads the Node build of the WASM module (build/wasm, made by `npm test`,
 // `npm start` or `npm pack`) and returns the public API.
+import { existsSync } from 'node:fs';
 import { open, readFile } from 'node:fs/promises';
+import { availableParallelism } from 'node:os';
 import { wrapModule, MrvolError } from './api.mjs';
 
 export { MrvolError, wrapModule };
@@ -8,13 +10,13 @@ export { MrvolError, wrapModule };
 const buildDir = new URL('../build/wasm/', import.meta.url);
 
 // The .wasm bytes: given, or read from wasmUrl / locateFile's answer / the build folder.
-async function wasmBytes({ wasmBinary, wasmUrl, locateFile }) {
+async function wasmBytes({ wasmBinary, wasmUrl, locateFile }, file = 'mrvol-node.wasm') {
   if (wasmBinary !== undefined) {
     if (!(wasmBinary instanceof ArrayBuffer || ArrayBuffer.isView(wasmBinary)))
       throw new MrvolError('wasmBinary must be an ArrayBuffer or a typed array');
     return wasmBinary;
   }
-  const where = wasmUrl ?? (locateFile ? locateFile('mrvol-node.wasm', buildDir.href) : new URL('mrvol-node.wasm', buildDir));
+  const where = wasmUrl ?? (locateFile ? locateFile(file, buildDir.href) : new URL(file, buildDir));
   const path = typeof where !== 'string' ? new URL(where.href) : where.startsWith('file:') ? new URL(where) : where;
   try {
     return await readFile(path);
@@ -24,22 +26,59 @@ async function wasmBytes({ wasmBinary, wasmUrl, locateFile }) {
   }
 }
 
-/**
- * Loads the WASM core and returns the API.
- * @param {{ wasmBinary?: ArrayBuffer | ArrayBufferView, wasmUrl?: string | URL,
- *           locateFile?: (path: string, prefix: string) => string }} [options]
- *   where the .wasm is when not in build/wasm beside lib/ (a path or file: URL), or its bytes
- * @returns {Promise<ReturnType<typeof wrapModule>>}
- */
-export async function createMrvol(options = {}) {
-  let factory;
+// Threads by default: the cores there are, at most this many (the surface passes are bound by
+// memory traffic beyond a few).
+const DEFAULT_MAX_THREADS = 8;
+
+function threadsArg(threads) {
+  if (threads === undefined) return Math.max(1, Math.min(DEFAULT_MAX_THREADS, availableParallelism()));
+  if (!Number.isInteger(threads) || threads < 1 || threads > 16)
+    throw new MrvolError(`threads must be an integer from 1 to 16, got ${threads}`);
+  return threads;
+}
+
+async function importFactory(file) {
   try {
-    ({ default: factory } = await import(new URL('mrvol-node.mjs', buildDir).href));
+    return (await import(new URL(file, buildDir).href)).default;
   } catch (e) {
     throw new MrvolError(`the WASM module is not built (${e.message}); run 'npm test' or 'node scripts/setup.mjs'`);
   }
-  // emscripten 3.1.6 would fetch() the .wasm under Node too: hand it the bytes.
-  const module = await factory({ wasmBinary: await wasmBytes(options) });
+}
+
+/**
+ * Loads the WASM core and returns the API.
+ * @param {{ wasmBinary?: ArrayBuffer | ArrayBufferView, wasmUrl?: string | URL,
+ *           locateFile?: (path: string, prefix: string) => string, threads?: number }} [options]
+ *   where the .wasm is when not in build/wasm beside lib/ (a path or file: URL), or its bytes
+ *   (these name the single-thread module's file); threads: how many threads the core's big loops
+ *   run on (the surface passes, the cage basis table): the threaded build (mrvol-node-mt, a pool of
+ *   worker_threads) when it is there, else, and with threads: 1, the single-thread one. Default:
+ *   the machine's cores, at most DEFAULT_MAX_THREADS; 1 when wasmBinary or wasmUrl is given.
+ * @returns {Promise<ReturnType<typeof wrapModule>>}
+ */
+export async function createMrvol(options = {}) {
+  const named = options.wasmBinary !== undefined || options.wasmUrl !== undefined;
+  const threads = named && options.threads === undefined ? 1 : threadsArg(options.threads);
+  if (threads > 1 && named) throw new MrvolError('threads > 1 loads the threaded build: give locateFile, not wasmBinary or wasmUrl');
+  const threaded = threads > 1 && (options.threads !== undefined || existsSync(new URL('mrvol-node-mt.mjs', buildDir)));
+  if (!threaded) {
+    const factory = await importFactory('mrvol-node.mjs');
+    // emscripten 3.1.6 would fetch() the .wasm under Node too: hand it the bytes.
+    const module = await factory({ wasmBinary: await wasmBytes(options) });
+    return wrapModule(module);
+  }
+  const factory = await importFactory('mrvol-node-mt.mjs');
+  // The pool's workers (threads - 1: the calling thread is one) start with the module; each
+  // loads mrvol-node-mt.worker.js beside the .mjs.
+  const module = await factory({
+    wasmBinary: await wasmBytes(options, 'mrvol-node-mt.wasm'),
+    mrvolThreadPool: threads - 1,
+    ...(options.locateFile ? { locateFile: (path, prefix) => options.locateFile(path, prefix) } : {}),
+  });
+  module._setThreadCount(threads);
+  // The pool's workers must not keep Node running once the caller is done.
+  for (const worker of module.PThread?.unusedWorkers ?? []) worker.unref?.();
+  for (const worker of module.PThread?.runningWorkers ?? []) worker.unref?.();
   return wrapModule(module);
 }
 

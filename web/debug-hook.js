@@ -26,6 +26,8 @@ export function installDebugHook(app) {
     /** The editor in use: whose volume it keeps, whether it keeps the centre of mass, its path, whether a worker made it. */
     editorSettings: () => (editor() ? { surface: editor().surface?.() ?? 'mesh', keepsCentroid: editor().keepsCentroid?.() ?? false,
       path: editor().path(), madeElsewhere: editor().madeElsewhere === true, level: editor().level } : null),
+    /** Threads of the page's core instance (1: the single-thread module; more where the page is cross-origin isolated). */
+    coreThreads: () => app.mrvol?.threads ?? null,
     historySize: () => app.session?.history.size ?? { undo: 0, redo: 0 },
     /** The core's report of the last drag step (volumes, iterations, path), or null. */
     lastReport: () => {

@@ -5,7 +5,7 @@
 import { sampleModels } from 'virtual:mrvol-models';
 import { DEFAULT_SCHEME } from '../lib/api.mjs';
 import { EditingSession } from '../lib/three/session.mjs';
-import { loadMrvol } from './mrvol.js';
+import { loadPageMrvol } from './mrvol.js';
 import { Viewer } from './viewer.js';
 import { CageDragger } from './drag.js';
 import { ThetaCache, thetaKey } from './theta-cache.js';
@@ -773,7 +773,7 @@ async function start() {
   app.stats.scriptAt = performance.now();
   installDebugHook(app);
   // The core, the cache and the model file load in parallel.
-  const coreLoading = loadMrvol();
+  const coreLoading = loadPageMrvol(); // threaded where the page is cross-origin isolated
   const cacheOpening = ThetaCache.open();
   const view = document.getElementById('view');
   app.viewer = new Viewer(view);

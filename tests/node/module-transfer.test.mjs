@@ -13,7 +13,7 @@ import { EditingSession } from '../../lib/three/session.mjs';
 
 let maker, taker, plain;
 before(async () => {
-  [maker, taker, plain] = await Promise.all([createMrvol(), createMrvol(), createMrvol()]);
+  [maker, taker, plain] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
   warmUp(maker);
   warmUp(taker);
 });
@@ -69,7 +69,7 @@ describe('a mesh and editor taken over by another instance', () => {
   });
 
   test('positions set after the take-over drop the made editor: createEditor makes a new one for them', async () => {
-    const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+    const [a, b] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
     warmUp(a);
     warmUp(b);
     const spiky = loadModel(a, 'spiky-ball');
@@ -86,7 +86,7 @@ describe('a mesh and editor taken over by another instance', () => {
   });
 
   test('a session swaps in an editor made elsewhere at another level: shape, reference and history kept; undo goes back', async () => {
-    const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+    const [a, b] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
     for (const m of [a, b]) warmUp(m);
     const session = new EditingSession(a, { level: 0, path: 'auto' });
     session.open(loadModel(a, 'spiky-ball'), { name: 'spiky' });
@@ -204,7 +204,7 @@ describe('a mesh and editor taken over by another instance', () => {
   });
 
   test('taken over in slices (the page keeps drawing between them): the same mesh and editor as at once', async () => {
-    const [a, b, c] = await Promise.all([createMrvol(), createMrvol(), createMrvol()]);
+    const [a, b, c] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
     for (const m of [a, b, c]) warmUp(m);
     const spiky = loadModel(a, 'spiky-ball');
     const mr = a.openMesh(spiky);

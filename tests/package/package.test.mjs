@@ -58,7 +58,12 @@ test('the tarball: the four WASM files, lib, bin, examples, README, LICENSE; not
     'lib/remesh.d.ts', 'bin/mrvol.mjs', 'bin/progress.mjs', 'examples/node/edit.mjs', 'examples/models/spiky-ball.obj',
     'README.md', 'LICENSE', 'package.json'])
     assert.ok(files.includes(f), `${f} is in the tarball`);
-  const allowed = /^(lib\/|bin\/|build\/wasm\/mrvol-(node|web)\.(mjs|wasm)$|examples\/|README\.md$|LICENSE$|package\.json$)/;
+  // The threaded builds (mrvol-*-mt: their pools' .worker.js, and build/wasm/package.json that makes
+  // those CommonJS under Node) beside the single-thread ones.
+  for (const f of ['build/wasm/mrvol-node-mt.mjs', 'build/wasm/mrvol-node-mt.wasm', 'build/wasm/mrvol-node-mt.worker.js',
+    'build/wasm/mrvol-web-mt.mjs', 'build/wasm/mrvol-web-mt.wasm', 'build/wasm/mrvol-web-mt.worker.js', 'build/wasm/package.json'])
+    assert.ok(files.includes(f), `${f} is in the tarball`);
+  const allowed = /^(lib\/|bin\/|build\/wasm\/mrvol-(node|web)(-mt)?\.(mjs|wasm)$|build\/wasm\/mrvol-(node|web)-mt\.worker\.js$|build\/wasm\/package\.json$|examples\/|README\.md$|LICENSE$|package\.json$)/;
   assert.deepEqual(files.filter((f) => !allowed.test(f)), [], 'only what the package needs');
   assert.ok(packed.size < MAX_TARBALL_BYTES, `tarball ${packed.size} bytes`);
   const pkg = JSON.parse(readFileSync(join(installed, 'package.json'), 'utf8'));

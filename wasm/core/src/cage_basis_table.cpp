@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "mrvol/thread_pool.h"
+
 #ifdef __wasm_simd128__
 #include <wasm_simd128.h>
 #endif
@@ -128,24 +130,27 @@ void CageBasisTable::apply(const float* base4, const float* delta4, const float 
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
   const float* w = weight_.data();
+  // Rows are independent (each writes its own out4 and out3 entries): blocks of them on the pool's threads.
+  parallelFor(0, n, kRowsPerBlock, [&](size_t first, size_t end) {
 #ifdef __wasm_simd128__
-  const v128_t o = wasm_f32x4_make(origin[0], origin[1], origin[2], 0.0f);
-  for (size_t v = 0; v < n; ++v) {
-    const v128_t p = rowSum(base4, delta4, c, w, start[v], start[v + 1], v);
-    wasm_v128_store(out4 + 4 * v, p);
-    float q[4];
-    wasm_v128_store(q, wasm_f32x4_add(p, o));
-    std::memcpy(out3 + 3 * size_t(outIndex[v]), q, 3 * sizeof(float));
-  }
+    const v128_t o = wasm_f32x4_make(origin[0], origin[1], origin[2], 0.0f);
+    for (size_t v = first; v < end; ++v) {
+      const v128_t p = rowSum(base4, delta4, c, w, start[v], start[v + 1], v);
+      wasm_v128_store(out4 + 4 * v, p);
+      float q[4];
+      wasm_v128_store(q, wasm_f32x4_add(p, o));
+      std::memcpy(out3 + 3 * size_t(outIndex[v]), q, 3 * sizeof(float));
+    }
 #else
-  for (size_t v = 0; v < n; ++v) {
-    float p[3];
-    rowSum(base4, delta4, c, w, start[v], start[v + 1], v, p);
-    out4[4 * v] = p[0], out4[4 * v + 1] = p[1], out4[4 * v + 2] = p[2], out4[4 * v + 3] = 0.0f;
-    float* q = out3 + 3 * size_t(outIndex[v]);
-    q[0] = p[0] + origin[0], q[1] = p[1] + origin[1], q[2] = p[2] + origin[2];
-  }
+    for (size_t v = first; v < end; ++v) {
+      float p[3];
+      rowSum(base4, delta4, c, w, start[v], start[v + 1], v, p);
+      out4[4 * v] = p[0], out4[4 * v + 1] = p[1], out4[4 * v + 2] = p[2], out4[4 * v + 3] = 0.0f;
+      float* q = out3 + 3 * size_t(outIndex[v]);
+      q[0] = p[0] + origin[0], q[1] = p[1] + origin[1], q[2] = p[2] + origin[2];
+    }
 #endif
+  });
 }
 
 void CageBasisTable::applyRows(const uint32_t* vertices, size_t count, const float* base4, const float* delta4, const float origin[3],

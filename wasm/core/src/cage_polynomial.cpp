@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "mrvol/thread_pool.h"
 #include "mrvol/vector3.h"
 
 #ifdef __wasm_simd128__
@@ -49,6 +50,30 @@ void CagePolynomial::indexRuns() {
     if (p == 0 || tripleI[p] != tripleI[p - 1] || tripleJ[p] != tripleJ[p - 1])
       runStart.push_back(uint32_t(p)), runI.push_back(tripleI[p]), runJ.push_back(tripleJ[p]);
   runStart.push_back(uint32_t(tripleT.size()));
+  // Scatter blocks: at most kMaxScatterBlocks, each of at least 8 partial gradients' worth of
+  // triples (zeroing and adding a partial stays small against its scatter).
+  const size_t triples = tripleT.size(), runs = runI.size();
+  const size_t blocks = std::clamp<size_t>(triples / std::max<size_t>(1, 8 * 3 * size_t(cageSize)), 1, kMaxScatterBlocks);
+  scatterRun_.assign(1, 0);
+  for (size_t b = 1, r = 0; b < blocks; ++b) {
+    const size_t cut = triples * b / blocks;
+    while (r < runs && runStart[r] < cut) ++r;
+    scatterRun_.push_back(uint32_t(r));
+  }
+  scatterRun_.push_back(uint32_t(runs));
+}
+
+void CagePolynomial::gatherRuns(const double* v, double* sums) const {
+  const uint32_t* tk = tripleK.data();
+  const double* tt = tripleT.data();
+  const uint32_t* start = runStart.data();
+  parallelFor(0, runI.size(), kRunsPerBlock, [&](size_t first, size_t end) {
+    for (size_t r = first; r < end; ++r) {
+      double* w = sums + 3 * r;
+      w[0] = w[1] = w[2] = 0;
+      gatherRun(tt, tk, start[r], start[r + 1], v, w);
+    }
+  });
 }
 
 template <class F>
@@ -99,6 +124,45 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
   const uint32_t* tk = tripleK.data();
   const double* tt = tripleT.data();
   const bool indexed = runStart.size() == runI.size() + 1 && !runI.empty() && runStart.back() == tripleT.size();
+  if (indexed && scatterRun_.size() >= 2 && scatterRun_.back() == runI.size()) {
+    // The runs' sums (gathered on the pool's threads unless formed at this cage), then the value and
+    // the runs' crosses in run order, then the gradient's scatter in fixed blocks.
+    const double* sums = runSums(c);
+    if (!sums) {
+      runSums_.resize(3 * runI.size());
+      gatherRuns(c, runSums_.data());
+      keepRunSums(c);
+      sums = runSums_.data();
+    }
+    for (size_t r = 0; r < runI.size(); ++r) {
+      const double *ci = c + 3 * runI[r], *cj = c + 3 * runJ[r], *w = sums + 3 * r;
+      cross(cj, w, t);
+      v += dot(ci, t);
+      if (g) {
+        axpy(1.0, t, g + 3 * runI[r]);
+        cross(w, ci, t);
+        axpy(1.0, t, g + 3 * runJ[r]);
+      }
+    }
+    if (!g) return v;
+    const size_t blocks = scatterRun_.size() - 1, m3 = 3 * size_t(cageSize);
+    partials_.assign(blocks * m3, 0.0);
+    parallelFor(0, blocks, 1, [&](size_t first, size_t end) {
+      for (size_t b = first; b < end; ++b) {
+        double* partial = partials_.data() + b * m3;
+        for (size_t r = scatterRun_[b]; r < scatterRun_[b + 1]; ++r) {
+          double u[3];
+          cross(c + 3 * runI[r], c + 3 * runJ[r], u);
+          scatterRun(tt, tk, runStart[r], runStart[r + 1], u, partial);
+        }
+      }
+    });
+    for (size_t b = 0; b < blocks; ++b) {
+      const double* partial = partials_.data() + b * m3;
+      for (size_t i = 0; i < m3; ++i) g[i] += partial[i];
+    }
+    return v;
+  }
   const double* sums = indexed ? runSums(c) : nullptr;
   double* fill = nullptr;
   if (indexed && !sums) runSums_.resize(3 * runI.size()), fill = runSums_.data();
@@ -143,6 +207,28 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
   const uint32_t* tk = tripleK.data();
   const double* tt = tripleT.data();
   const double* sums = runSums(c);  // the runs' sums over c when the value was taken at c
+  const bool indexed = runStart.size() == runI.size() + 1 && !runI.empty() && runStart.back() == tripleT.size();
+  if (indexed) {
+    // The runs' sums over g (and over c unless formed) on the pool's threads, then the terms in run order.
+    const size_t runs = runI.size();
+    directionSums_.resize(3 * runs * (sums ? 1 : 2));
+    gatherRuns(g, directionSums_.data());
+    if (!sums) gatherRuns(c, directionSums_.data() + 3 * runs);
+    const double* cSums = sums ? sums : directionSums_.data() + 3 * runs;
+    for (size_t r = 0; r < runs; ++r) {
+      const double *wc = cSums + 3 * r, *wg = directionSums_.data() + 3 * r;
+      const double *ci = c + 3 * runI[r], *cj = c + 3 * runJ[r], *gi = g + 3 * runI[r], *gj = g + 3 * runJ[r];
+      cross(cj, wc, t);
+      k[0] += dot(ci, t), k[1] += dot(gi, t);
+      cross(gj, wc, t);
+      k[1] += dot(ci, t), k[2] += dot(gi, t);
+      cross(cj, wg, t);
+      k[1] += dot(ci, t), k[2] += dot(gi, t);
+      cross(gj, wg, t);
+      k[2] += dot(ci, t), k[3] += dot(gi, t);
+    }
+    return;
+  }
   size_t run = 0;
   forEachRun([&](uint32_t i, uint32_t j, size_t p, size_t end) {
     double wc[3] = {0, 0, 0}, wg[3] = {0, 0, 0};

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "mrvol/thread_pool.h"
 #include "mrvol/volume_editor.h"
 
 #ifdef __wasm_simd128__
@@ -159,18 +160,23 @@ void SurfaceBuffers::writePositions(const double* fine, Vec3 o) {
     return;
   }
   positionsRange_[0] = 0, positionsRange_[1] = uint32_t(n);
+  // Every whole pass below writes each vertex's own entries: blocks of vertices on the pool's threads.
   if (callerIsHierarchyOrder_) {
-    for (size_t i = 0; i < n; ++i) {  // contiguous: the compiler vectorizes it
-      out[3 * i] = float(fine[3 * i] + o.x);
-      out[3 * i + 1] = float(fine[3 * i + 1] + o.y);
-      out[3 * i + 2] = float(fine[3 * i + 2] + o.z);
-    }
+    parallelFor(0, n, kVerticesPerBlock, [&](size_t first, size_t end) {
+      for (size_t i = first; i < end; ++i) {  // contiguous: the compiler vectorizes it
+        out[3 * i] = float(fine[3 * i] + o.x);
+        out[3 * i + 1] = float(fine[3 * i + 1] + o.y);
+        out[3 * i + 2] = float(fine[3 * i + 2] + o.z);
+      }
+    });
     return;
   }
-  for (size_t h = 0; h < n; ++h) {
-    float* p = out + 3 * size_t(caller[h]);
-    p[0] = float(fine[3 * h] + o.x), p[1] = float(fine[3 * h + 1] + o.y), p[2] = float(fine[3 * h + 2] + o.z);
-  }
+  parallelFor(0, n, kVerticesPerBlock, [&](size_t first, size_t end) {
+    for (size_t h = first; h < end; ++h) {
+      float* p = out + 3 * size_t(caller[h]);
+      p[0] = float(fine[3 * h] + o.x), p[1] = float(fine[3 * h + 1] + o.y), p[2] = float(fine[3 * h + 2] + o.z);
+    }
+  });
 }
 
 void SurfaceBuffers::writeRelative(const double* fine) {
@@ -179,10 +185,13 @@ void SurfaceBuffers::writeRelative(const double* fine) {
   const uint32_t* caller = hierarchy_->inputIndex.data();
   relative_.resize(4 * n);
   float* r = relative_.data();
-  for (size_t h = 0; h < n; ++h) {
-    float* p = r + 4 * size_t(slot_[caller[h]]);
-    p[0] = float(fine[3 * h]), p[1] = float(fine[3 * h + 1]), p[2] = float(fine[3 * h + 2]), p[3] = 0.0f;
-  }
+  const uint32_t* slot = slot_.data();
+  parallelFor(0, n, kVerticesPerBlock, [&](size_t first, size_t end) {
+    for (size_t h = first; h < end; ++h) {
+      float* p = r + 4 * size_t(slot[caller[h]]);
+      p[0] = float(fine[3 * h]), p[1] = float(fine[3 * h + 1]), p[2] = float(fine[3 * h + 2]), p[3] = 0.0f;
+    }
+  });
 }
 
 void SurfaceBuffers::buildRing() {
@@ -349,11 +358,14 @@ void SurfaceBuffers::gatherNormals() {
   float* out = normals_.data();
   const uint8_t* closed = closedRing_.data();
   const uint32_t* order = order_.data();
-  for (size_t i = 0; i < n; ++i) {
-    float normal[4];
-    vertexNormal(r, ring + start[i], ring + start[i + 1], closed[i], i, normal);
-    std::memcpy(out + 3 * size_t(order[i]), normal, 3 * sizeof(float));
-  }
+  // Each vertex gathers its own normal from its ring (no sums across vertices): blocks on the pool's threads.
+  parallelFor(0, n, kVerticesPerBlock, [&](size_t first, size_t end) {
+    for (size_t i = first; i < end; ++i) {
+      float normal[4];
+      vertexNormal(r, ring + start[i], ring + start[i + 1], closed[i], i, normal);
+      std::memcpy(out + 3 * size_t(order[i]), normal, 3 * sizeof(float));
+    }
+  });
   normalsRange_[0] = 0, normalsRange_[1] = uint32_t(n);
 }
 

@@ -17,6 +17,7 @@ class CageBasisTable {
  public:
   static constexpr uint32_t kMaxCage = 65535;         // cage indices are 16-bit; larger cages: no table (empty())
   static constexpr size_t kMaxEntriesPerVertex = 24;  // longer rows on average: no table
+  static constexpr size_t kRowsPerBlock = 16384;      // apply's smallest block for a thread
 
   // Row callerIndex[h] is the hierarchy vertex h's (any one-to-one numbering: the caller's vertex
   // order, or the renderer buffers' own).
@@ -28,7 +29,8 @@ class CageBasisTable {
 
   // For every row v: out4[v] = base4[v] + sum over its row of w * delta4[c] (4 floats a row, lane 3
   // zero), and out3[outIndex[v]] = out4[v] + origin (3 floats a vertex: the rows may be in an order of
-  // their own, the output in the caller's).
+  // their own, the output in the caller's). On the thread pool's threads (thread_pool.h): the same
+  // results at any thread count.
   void apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3, const uint32_t* outIndex) const;
   // The same for the listed rows only.
   void applyRows(const uint32_t* vertices, size_t count, const float* base4, const float* delta4, const float origin[3],

@@ -41,6 +41,16 @@ struct CagePolynomial {
   void keepRunSums(const double* cage) const;       // marks runSums_ (just filled) as formed for cage
   mutable std::vector<double> runSums_, runsAtCage_;
   mutable bool runSumsValid_ = false;
+  // The triples' passes on the thread pool (thread_pool.h), with the same bits on any thread count:
+  // the gathers (one sum per run) in blocks of runs; the gradient's scatter into one partial
+  // gradient per scatter block, the blocks fixed by the triples (scatterRun_: their first runs, cut
+  // by indexRuns at equal triple counts; fewer blocks for a cage large against its triples), the
+  // partials added in block order.
+  void gatherRuns(const double* v, double* sums) const;  // indexed runs: sums[3 r] = sum_k T c_k of run r
+  static constexpr size_t kRunsPerBlock = 2048;
+  static constexpr size_t kMaxScatterBlocks = 8;
+  std::vector<uint32_t> scatterRun_;
+  mutable std::vector<double> partials_, directionSums_;
 };
 
 // Contracts the cage rows of theta^e (Cage storage) with the details of `coefficients` (level-e

@@ -25,6 +25,10 @@ class VolumeEditor;
 
 class SurfaceBuffers {
  public:
+  // The whole passes (positions, relative positions, normals) run on the thread pool's threads
+  // (thread_pool.h), in blocks of at least this many vertices; the same results at any thread count.
+  static constexpr size_t kVerticesPerBlock = 16384;
+
   explicit SurfaceBuffers(const Hierarchy& hierarchy);
 
   // Brings the buffers in step with the editor (one editor per buffers): from its cage through a

@@ -1,0 +1,123 @@
+// The thread pool (thread_pool.h): every index of a parallelFor runs once, in blocks that do not
+// depend on timing; errors come back to the caller; nested loops run inline. And the passes that
+// use it (the renderer's buffers) give the same bits on 1, 2 and 3 threads.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "shuffled_subdivision.h"
+#include "mrvol/hierarchy.h"
+#include "mrvol/lifting.h"
+#include "mrvol/surface_buffers.h"
+#include "mrvol/thread_pool.h"
+#include "mrvol/volume_editor.h"
+
+using namespace mrvol;
+
+namespace {
+
+// Restores one thread and no grain cap when a test ends, whatever happens in it.
+struct Threads {
+  explicit Threads(unsigned count, size_t grainCap = 0) {
+    setThreadCount(count);
+    setGrainCap(grainCap);
+  }
+  ~Threads() {
+    setGrainCap(0);
+    setThreadCount(1);
+  }
+};
+
+}  // namespace
+
+TEST(ThreadPool, RunsEveryIndexOnceInContiguousBlocks) {
+  for (unsigned threads : {1u, 2u, 3u, 5u}) {
+    Threads t(threads);
+    EXPECT_EQ(threadCount(), threads);
+    for (size_t n : {size_t(0), size_t(1), size_t(7), size_t(1000), size_t(100003)})
+      for (size_t grain : {size_t(1), size_t(64), size_t(50000)}) {
+        std::vector<std::atomic<int>> hits(n);
+        std::atomic<int> blocks{0};
+        parallelFor(3, 3 + n, grain, [&](size_t first, size_t end) {
+          ASSERT_LE(3u, first);
+          ASSERT_LE(end, 3 + n);
+          ASSERT_LT(first, end);
+          ++blocks;
+          for (size_t i = first; i < end; ++i) ++hits[i - 3];
+        });
+        for (size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 1) << threads << " threads, n " << n << ", index " << i;
+        const size_t most = std::max<size_t>(1, std::min<size_t>(threads, n / grain));
+        if (n > 0) EXPECT_EQ(size_t(blocks.load()), most) << threads << " threads, n " << n << ", grain " << grain;
+      }
+  }
+}
+
+TEST(ThreadPool, ErrorsReachTheCallerAndNestedLoopsRunInline) {
+  Threads t(3);
+  EXPECT_THROW(parallelFor(0, 300, 1, [](size_t first, size_t) {
+                 if (first > 0) throw std::runtime_error("block failed");
+               }),
+               std::runtime_error);
+  // The pool still works after an error, and a loop inside a loop is one block.
+  std::atomic<int> inner{0};
+  std::atomic<size_t> sum{0};
+  parallelFor(0, 300, 1, [&](size_t first, size_t end) {
+    parallelFor(first, end, 1, [&](size_t a, size_t b) {
+      ++inner;
+      for (size_t i = a; i < b; ++i) sum += i;
+    });
+  });
+  EXPECT_EQ(inner.load(), 3);
+  EXPECT_EQ(sum.load(), size_t(299 * 300 / 2));
+  EXPECT_EQ(setThreadCount(0), 1u);
+  EXPECT_EQ(setThreadCount(1000), kMaxThreads);
+}
+
+// Drags a shuffled subdivided mesh at the coarsest level (a cage basis table) and at the finest (the
+// fine positions) and keeps every buffer the renderer reads after each step.
+std::vector<std::vector<float>> dragBuffers(unsigned threads) {
+  Threads t(threads, 97);  // small blocks: this mesh has a few thousand vertices
+  const fixtures::Shuffled shuffled = fixtures::shuffledSubdivision(11);
+  const Hierarchy h = Hierarchy::detect(shuffled.mesh);
+  std::vector<std::vector<float>> out;
+  for (int level : {0, h.levels - 1}) {
+    WaveletTransform wt(h, SchemeOptions{});
+    VolumeEditor editor(h, wt, level, shuffled.mesh.positions.data());
+    editor.usePolynomial();
+    SurfaceBuffers buffers(h);
+    std::vector<uint8_t> held(editor.cageSize(), 0);
+    for (int drag = 0; drag < 6; ++drag) {
+      std::vector<double> target = editor.cagePositions();
+      const uint32_t c = uint32_t(drag * 5 + 1) % editor.cageSize();
+      target[3 * c] += 0.04, target[3 * c + 1] -= 0.02;
+      std::fill(held.begin(), held.end(), 0), held[c] = 1;
+      EditOptions options;
+      options.preserve = true;
+      editor.deformCage(target, held, options);
+      if (level == 0) {
+        buffers.update(editor, true);
+      } else {
+        FinePositions::Changes changes;
+        editor.takeFinePositionChanges(changes);
+        buffers.update(editor.finePositions().data(), editor.referencePoint(), editor.finePositionsVersion(), changes, true);
+      }
+      const size_t n = 3 * buffers.vertexCount();
+      out.emplace_back(buffers.positions(), buffers.positions() + n);
+      out.emplace_back(buffers.normals(), buffers.normals() + n);
+    }
+  }
+  return out;
+}
+
+TEST(ThreadPool, SurfaceBuffersAreTheSameOnAnyThreadCount) {
+  const std::vector<std::vector<float>> one = dragBuffers(1);
+  ASSERT_FALSE(one.empty());
+  for (unsigned threads : {2u, 3u}) {
+    const std::vector<std::vector<float>> many = dragBuffers(threads);
+    ASSERT_EQ(many.size(), one.size());
+    for (size_t k = 0; k < one.size(); ++k) EXPECT_EQ(many[k], one[k]) << threads << " threads, buffer " << k;
+  }
+}
