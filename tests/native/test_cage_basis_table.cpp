@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "fixtures.h"
 #include "shuffled_subdivision.h"
 #include "mrvol/cage_basis_table.h"
+#include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
 
@@ -17,10 +19,13 @@ using namespace mrvol;
 
 namespace {
 
-void checkTable(const Hierarchy& h, const WaveletTransform& wt, int level, const std::string& where) {
+void checkTable(const Hierarchy& h, const WaveletTransform& wt, int level, const std::string& where,
+                const CageBasisTable* given = nullptr) {
   const size_t n = h.fineVertexCount();
   const uint32_t cage = h.vertexCount[level];
-  const CageBasisTable table(wt, level, h.inputIndex.data());
+  std::unique_ptr<CageBasisTable> own;
+  if (!given) own = std::make_unique<CageBasisTable>(wt, level, h.inputIndex.data());
+  const CageBasisTable& table = given ? *given : *own;
   ASSERT_FALSE(table.empty()) << where;
   ASSERT_EQ(table.vertexCount(), n) << where;
   ASSERT_EQ(table.cageSize(), cage) << where;
@@ -109,6 +114,25 @@ TEST(CageBasisTable, RowsInAShuffledOrder) {
   const Hierarchy h = Hierarchy::detect(shuffled.mesh);
   const WaveletTransform wt(h, SchemeOptions{});
   for (int level = 0; level < h.levels; ++level) checkTable(h, wt, level, "shuffled level " + std::to_string(level));
+}
+
+// The polynomial builder's rows, handed over (basisOut), make a table that passes the same checks,
+// with the same entries as the table's own rows (rounded to float once instead of at every step).
+TEST(CageBasisTable, FromThePolynomialBuildersRows) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    const Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    const WaveletTransform wt(h, SchemeOptions{});
+    for (int level = 0; level < h.levels; ++level) {
+      const std::string where = fx.name + " handed over, level " + std::to_string(level);
+      CageBasis basis;
+      const CagePolynomialBuilder builder(wt, level, 8'000'000, &basis);
+      ASSERT_EQ(basis.offset.size(), h.fineVertexCount() + 1) << where;
+      EXPECT_EQ(basis.index.size(), builder.basisEntries()) << where;
+      const CageBasisTable handed(basis, h.vertexCount[level], h.inputIndex.data()), own(wt, level, h.inputIndex.data());
+      checkTable(h, wt, level, where, &handed);
+      EXPECT_EQ(handed.entryCount(), own.entryCount()) << where;
+    }
+  }
 }
 
 TEST(CageBasisTable, NoTableAtTheFinestLevel) {

@@ -88,6 +88,33 @@ CageBasisTable::CageBasisTable(const WaveletTransform& transform, int level, con
     std::copy(weight.begin() + begin[h], weight.begin() + begin[h] + length[h], weight_.begin() + start[caller[h]]);
   }
   index = {}, weight = {}, begin = {}, length = {};
+  setColumns(std::move(start), cage);
+}
+
+CageBasisTable::CageBasisTable(const CageBasis& basis, uint32_t cage, const uint32_t* caller) {
+  const size_t n = basis.offset.size() - 1;
+  if (cage > kMaxCage || basis.index.size() > kMaxEntriesPerVertex * n) return;
+  const auto kept = [](double w) { return std::abs(w) >= 1e-9; };
+  // Rows in the caller's order, then the columns' pattern (each column in increasing vertex order).
+  std::vector<uint32_t> start(n + 1, 0);
+  for (size_t h = 0; h < n; ++h) {
+    uint32_t length = 0;
+    for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p) length += kept(basis.value[p]);
+    start[caller[h] + 1] = length;
+  }
+  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  cage_.resize(start[n]);
+  weight_.resize(start[n]);
+  for (size_t h = 0; h < n; ++h) {
+    uint32_t k = start[caller[h]];
+    for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
+      if (kept(basis.value[p])) cage_[k] = uint16_t(basis.index[p]), weight_[k++] = float(basis.value[p]);
+  }
+  setColumns(std::move(start), cage);
+}
+
+void CageBasisTable::setColumns(std::vector<uint32_t> start, uint32_t cage) {
+  const size_t n = start.size() - 1;
   columnStart_.assign(size_t(cage) + 1, 0);
   for (uint16_t c : cage_) ++columnStart_[c + 1];
   for (uint32_t c = 0; c < cage; ++c) columnStart_[c + 1] += columnStart_[c];

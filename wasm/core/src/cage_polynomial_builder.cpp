@@ -255,11 +255,11 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
 
 }  // namespace
 
-CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms)
-    : CagePolynomialBuilder(transform, level, triangleRegions(transform.hierarchy(), level), maxTerms) {}
+CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms, CageBasis* basisOut)
+    : CagePolynomialBuilder(transform, level, triangleRegions(transform.hierarchy(), level), maxTerms, basisOut) {}
 
 CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, int level, const RegionForm& regionForm,
-                                             uint64_t maxTerms)
+                                             uint64_t maxTerms, CageBasis* basisOut)
     : transform_(&transform), level_(level) {
   const Hierarchy& h = transform.hierarchy();
   checkedLevel(h, level);
@@ -270,7 +270,7 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     throw Error("the volume form needs 3 corners and a region per term");
   for (uint32_t v : form.corners)
     if (v >= n) throw Error("the volume form names vertex " + std::to_string(v) + " of a mesh of " + std::to_string(n));
-  const CageBasis basis = cageBasis(transform, level);
+  CageBasis basis = cageBasis(transform, level);
   basisEntries_ = basis.index.size();
 
   // Terms by region (counting sort).
@@ -406,6 +406,7 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
       pairI_.push_back(c), pairJ_.push_back(uint32_t(key));
       return uint32_t(pairI_.size() - 1);
     }, pairSlot_.data());
+  if (basisOut) *basisOut = std::move(basis);
 }
 
 size_t CagePolynomialBuilder::bytes() const {

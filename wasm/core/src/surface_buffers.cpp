@@ -41,7 +41,9 @@ void SurfaceBuffers::update(const VolumeEditor& editor, bool withNormals) {
       // Rows in the buffers' own (local) order.
       std::vector<uint32_t> rowOf(vertexCount_);
       for (size_t h = 0; h < vertexCount_; ++h) rowOf[h] = slot_[hierarchy_->inputIndex[h]];
-      table_ = std::make_unique<CageBasisTable>(editor.transform(), editor.level(), rowOf.data());
+      const std::unique_ptr<CageBasis> basis = editor.takeCageBasis();  // the polynomial builder's, if any
+      table_ = basis ? std::make_unique<CageBasisTable>(*basis, editor.cageSize(), rowOf.data())
+                     : std::make_unique<CageBasisTable>(editor.transform(), editor.level(), rowOf.data());
       if (table_->empty()) table_.reset();
     }
   }

@@ -67,13 +67,15 @@ bool VolumeEditor::usePolynomial(uint64_t maxTerms) {
     return false;
   }
   std::unique_ptr<CagePolynomialBuilder> builder;
+  auto basis = cageBasisTaken_ ? nullptr : std::make_unique<CageBasis>();
   try {
-    builder = std::make_unique<CagePolynomialBuilder>(*transform_, level_, maxTerms);
+    builder = std::make_unique<CagePolynomialBuilder>(*transform_, level_, maxTerms, basis.get());
   } catch (const Error&) {  // too many cage triples: no faster than the fine mesh
     useMatrixFree();
     return false;
   }
   polynomial_.useBuilder(std::move(builder), volume());
+  cageBasis_ = std::move(basis);
   solver_.reset();
   return true;
 }

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/lifting.h"
 
 namespace mrvol {
@@ -22,6 +23,10 @@ class CageBasisTable {
   // Row callerIndex[h] is the hierarchy vertex h's (any one-to-one numbering: the caller's vertex
   // order, or the renderer buffers' own).
   CageBasisTable(const WaveletTransform& transform, int level, const uint32_t* callerIndex);
+  // The same from rows made already in double (a CagePolynomialBuilder's: the rows are made once per
+  // editor), rounded once to float (the constructor above rounds at every step: it may differ in the
+  // last bit); weights below float's resolution of the sum are dropped.
+  CageBasisTable(const CageBasis& basis, uint32_t cageSize, const uint32_t* callerIndex);
   bool empty() const { return rowStart_.empty(); }
   size_t entryCount() const { return weight_.size(); }
   size_t vertexCount() const { return rowStart_.empty() ? 0 : rowStart_.size() - 1; }
@@ -42,6 +47,8 @@ class CageBasisTable {
   void row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const;
 
  private:
+  void setColumns(std::vector<uint32_t> rowStart, uint32_t cage);  // the columns' pattern of the rows in cage_
+
   std::vector<uint32_t> rowStart_;  // N + 1
   std::vector<uint16_t> cage_;      // cage index of each entry
   std::vector<float> weight_;

@@ -47,9 +47,12 @@ class CagePolynomialBuilder {
   // fine level, the grouping of the fine triangles by level-e face, and the polynomial's terms.
   // Throws Error when the faces would touch more than maxTerms cage triples in all (a fine cage:
   // about 220 per level-e face for Loop; such a polynomial is no faster than the matrix-free path).
-  CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms = 8'000'000);
+  // basisOut, when given, receives the cage basis rows (cageBasis) it made, for a CageBasisTable
+  // (the rows are not made twice); else they are freed.
+  CagePolynomialBuilder(const WaveletTransform& transform, int level, uint64_t maxTerms = 8'000'000, CageBasis* basisOut = nullptr);
   // The same for any volume form grouped by regions (quad meshes: bilinearPatchRegions, quad_volume.h).
-  CagePolynomialBuilder(const WaveletTransform& transform, int level, const RegionForm& form, uint64_t maxTerms = 8'000'000);
+  CagePolynomialBuilder(const WaveletTransform& transform, int level, const RegionForm& form, uint64_t maxTerms = 8'000'000,
+                        CageBasis* basisOut = nullptr);
 
   // coefficients: 3 N level-e coefficients in hierarchy order; only the details are read. The
   // polynomial's variables are the cage coefficients minus any point o (VolumeEditor's origin),

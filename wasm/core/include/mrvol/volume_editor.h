@@ -44,6 +44,10 @@ class VolumeEditor final : public CageEditor {
   // is rebuilt when a correction has moved the details (free detail levels). Returns false, and
   // runs matrix-free, when the builder refuses (more than maxTerms cage triples).
   bool usePolynomial(uint64_t maxTerms = 8'000'000);
+  // The cage basis rows the polynomial's builder made, handed over once (to the renderer's
+  // CageBasisTable, so that they are not made again); null when none are waiting. After the first
+  // call none are kept any more (a later usePolynomial would keep them for no one).
+  std::unique_ptr<CageBasis> takeCageBasis() const { return cageBasisTaken_ = true, std::move(cageBasis_); }
 
   // Localized preservation: parts of the cage (cage order indices), each keeping its own volume
   // (the volume of the fine triangles it dominates, as a cone to the reference point). Empty: one
@@ -69,6 +73,8 @@ class VolumeEditor final : public CageEditor {
   std::unique_ptr<FormVolume> limitVolume_;
   std::vector<TriangleSetVolume> parts_;
   std::vector<double> partReference_;
+  mutable std::unique_ptr<CageBasis> cageBasis_;  // until takeCageBasis
+  mutable bool cageBasisTaken_ = false;
 };
 
 }  // namespace mrvol
