@@ -5,6 +5,7 @@
 // worker makes the editor the session's settings call for (the limit surface, the centre of mass
 // kept, the tensor path's matrix-free editor until theta^e comes: module-transfer.js buildEditor).
 // Smaller models and quads are rebuilt on the page's thread: quick, or not this path's to make.
+// A big cached theta^e (any model) is read from IndexedDB and given to the editor in the worker too.
 import { startBusyJob, endBusyJob, cancelled, adopt, freshInstance, showFileProgress } from './file-open.js';
 import { beginStages, addStage, pageStage } from './open-stages.js';
 
@@ -21,12 +22,29 @@ export function rebuildsInWorker(session, target) {
     target.scheme !== 'catmull-clark');
 }
 
+// From this many bytes a cached theta^e is read and handed to the editor in the worker (the
+// dragon sample's θ⁰ is ~320 MB: seconds of reading on the page's thread); smaller ones on the page.
+export const WORKER_THETA_BYTES = 16 * 2 ** 20;
+
+/**
+ * Whether a cached theta^e of `bytes` for this session's current editor is read in the worker:
+ * { worker: true } or { worker: false, why } (words for the readout when it is big but cannot be).
+ */
+export function thetaInWorker(session, bytes) {
+  if (!(bytes >= WORKER_THETA_BYTES)) return { worker: false, why: null };
+  if (!session.editor || session.quad) return { worker: false, why: 'a quad mesh\'s editor is not made in the worker' };
+  if (session.scheme === 'catmull-clark') return { worker: false, why: 'the editor worker does not make Catmull-Clark editors' };
+  return { worker: true };
+}
+
 /**
  * Makes the editor at `target` in the worker and hands it to the session (`apply(mr)`: the caller
  * swaps it in). Resolves true when applied, false when cancelled; rejects with the worker's error.
+ * With `theta` ({ key }): the worker reads that cached theta^e and makes the editor with it;
+ * `apply(mr, thetaInfo)` then gets its info.
  */
-export async function rebuildInWorker(session, target, { name, apply }) {
-  beginStages(`editor at level ${target.level}, ${target.scheme}`);
+export async function rebuildInWorker(session, target, { name, apply, theta = null }) {
+  beginStages(`editor at level ${target.level}, ${target.scheme}${theta ? ', θ from the cache' : ''}`);
   const { mr } = session.model;
   const sent = pageStage('mesh, hierarchy and shape copied for the worker', () => ({
     mesh: { positions: mr.positions(), faces: mr.faces() }, hierarchy: mr.hierarchyArrays(), positions: session.positions(),
@@ -34,9 +52,9 @@ export async function rebuildInWorker(session, target, { name, apply }) {
   const worker = new Worker(new URL('./editor-worker.js', import.meta.url), { type: 'module', name: 'mrvol-editor' });
   const instance = freshInstance(); // made while the worker works
   const surface = target.surface && target.surface !== session.surface ? `, ${target.surface === 'limit' ? 'limit' : 'mesh'} surface` : '';
-  const label = `Making the level ${target.level} editor of ${name} (${target.scheme}${surface})`;
+  const label = `Making the level ${target.level} editor of ${name} (${target.scheme}${surface}${theta ? ', θ from the cache' : ''})`;
   showFileProgress(`${label}…`, 0);
-  let job;
+  let job, thetaInfo = null;
   const transfer = await new Promise((resolve, reject) => {
     job = startBusyJob(worker, () => resolve(null)); // cancelled
     worker.onmessage = ({ data }) => {
@@ -45,6 +63,7 @@ export async function rebuildInWorker(session, target, { name, apply }) {
       else if (data.type === 'done') {
         for (const s of data.stages) addStage(s.stage, s.thread, s.ms, s.bytes ? { bytes: s.bytes } : {});
         worker.terminate();
+        thetaInfo = data.theta;
         resolve(data.transfer);
       } else {
         endBusyJob(job);
@@ -61,7 +80,7 @@ export async function rebuildInWorker(session, target, { name, apply }) {
       ...['vertexCount', 'coarseFaces', 'ends', 'wings', 'boundary', 'inputIndex'].map((k) => hierarchy[k].buffer)];
     const editor = { level: target.level, scheme: target.scheme, surface: target.surface ?? session.surface,
       keepCentroid: target.keepCentroid ?? session.keepCentroid, path: session.path };
-    worker.postMessage({ mesh, hierarchy, positions, editor }, [...new Set(buffers)]);
+    worker.postMessage({ mesh, hierarchy, positions, editor, theta }, [...new Set(buffers)]);
   });
   if (!transfer) return false;
   let adopted;
@@ -77,6 +96,6 @@ export async function rebuildInWorker(session, target, { name, apply }) {
   }
   endBusyJob(job);
   if (!adopted) throw new Error('the editor made in the worker could not be taken over');
-  pageStage('editor swapped in (cage, view)', () => apply(adopted));
+  pageStage('editor swapped in (cage, view)', () => apply(adopted, thetaInfo));
   return true;
 }

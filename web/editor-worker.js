@@ -3,20 +3,37 @@
 // hierarchy the page's mesh has (no detection again: a few linear passes), sets the current shape,
 // makes the editor the page's session would make (module-transfer.js buildEditor: the cage
 // polynomial, the limit surface's form, the kept centre of mass's moments) and hands over a copy of
-// its module's memory, as the file's worker does on opening.
+// its module's memory, as the file's worker does on opening. With `theta` (a key of the θ cache) it
+// reads theta^e from IndexedDB here and hands it to the editor (the tensor path: the editor keeps
+// the cage polynomial contracted from it, so θ itself is freed before the copy).
 // Message in:   { mesh: { positions, faces }, hierarchy (MultiresMesh.hierarchyArrays()), positions (the shape now),
-//                editor: { level, scheme, surface, keepCentroid, path } (the session's settings) }
-// Messages out: { type: 'progress', stage, fraction }, { type: 'done', transfer, stages }, { type: 'error', message }
+//                editor: { level, scheme, surface, keepCentroid, path } (the session's settings), theta?: { key } }
+// Messages out: { type: 'progress', stage, fraction }, { type: 'done', transfer, stages, theta (its info) },
+//               { type: 'error', message }
 import { loadMrvol } from './mrvol.js';
 import { warmUp, buildEditor } from './module-transfer.js';
 import { workerStages } from './open-stages.js';
+import { ThetaCache } from './theta-cache.js';
 
 // the time of each stage here (sent with the result)
-const { list: stages, timed } = workerStages();
+const { list: stages, timed, add } = workerStages();
 
-self.onmessage = async ({ data: { mesh, hierarchy, positions, editor: settings } }) => {
+/** The cached θ file of `key`, read here (IndexedDB in the worker); throws when it is not there. */
+async function cachedTheta(key) {
+  const started = performance.now();
+  const cache = await ThetaCache.open();
+  if (!cache.available) throw new Error(`no θ cache in the editor worker (${cache.reason})`);
+  const bytes = await cache.get(key);
+  if (!bytes) throw new Error('θ is no longer in the cache');
+  add('θ read from the cache (IndexedDB)', performance.now() - started, { bytes: bytes.byteLength });
+  return bytes;
+}
+
+self.onmessage = async ({ data: { mesh, hierarchy, positions, editor: settings, theta: wanted } }) => {
   try {
     self.postMessage({ type: 'progress', stage: 'starting', fraction: 0 });
+    const reading = wanted ? cachedTheta(wanted.key) : null;
+    reading?.catch(() => {}); // awaited below
     const mrvol = await loadMrvol();
     timed('core warmed up', () => warmUp(mrvol));
     self.postMessage({ type: 'progress', stage: 'opening the mesh', fraction: 0.1 });
@@ -24,10 +41,23 @@ self.onmessage = async ({ data: { mesh, hierarchy, positions, editor: settings }
     mr.setPositions(positions);
     self.postMessage({ type: 'progress', stage: 'making the editor', fraction: 0.2 });
     const editor = timed('editor made', () => buildEditor(mrvol, mr, settings));
+    let thetaInfo = null;
+    if (reading) {
+      self.postMessage({ type: 'progress', stage: 'reading θ from the cache', fraction: 0.3 });
+      const bytes = await reading;
+      const theta = timed('θ read (readTheta)', () => mrvol.readTheta(bytes));
+      try {
+        thetaInfo = theta.info();
+        self.postMessage({ type: 'progress', stage: 'handing θ to the editor', fraction: 0.6 });
+        timed('editor made with θ (useTheta)', () => editor.useTheta(theta));
+      } finally {
+        theta.delete(); // the editor keeps the polynomial contracted from it
+      }
+    }
     self.postMessage({ type: 'progress', stage: 'handing the editor over', fraction: 0.9 });
     const transfer = timed('memory copied for the page', () => mrvol.transferable(mr, editor, { scheme: settings.scheme }));
     stages.at(-1).bytes = transfer.memory.byteLength;
-    self.postMessage({ type: 'done', transfer, stages }, [transfer.memory.buffer, transfer.positions.buffer]);
+    self.postMessage({ type: 'done', transfer, stages, theta: thetaInfo }, [transfer.memory.buffer, transfer.positions.buffer]);
   } catch (e) {
     self.postMessage({ type: 'error', message: e?.message ?? String(e) });
   }

@@ -19,7 +19,7 @@ import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
 import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
 import { pageStage, addStage, openStages } from './open-stages.js';
-import { rebuildsInWorker, rebuildInWorker } from './editor-rebuild.js';
+import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
 import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
@@ -382,15 +382,21 @@ function changeSurface(surface) {
   return session.setSurface(surface);
 }
 
-/** The editor at target made in a worker, then `apply(mr)` swaps it in; drags and undo wait meanwhile. */
-async function rebuildBig(target, apply, failed = `The level ${target.level} editor could not be made`) {
+/**
+ * The editor at target made in a worker, then `apply(mr)` swaps it in; drags and undo wait meanwhile.
+ * `failed`: the error's words (null: not shown, the caller says); `options`: rebuildInWorker's (theta).
+ * Resolves to { swapped, error }.
+ */
+async function rebuildBig(target, apply, failed = `The level ${target.level} editor could not be made`, options = {}) {
   app.rebuilding = true;
   app.ready = false; // no drags on the editor being replaced
+  let swapped = false, error = null;
   try {
-    const swapped = await rebuildInWorker(app.session, target, { name: app.model.name, apply });
+    swapped = await rebuildInWorker(app.session, target, { name: app.model.name, apply, ...options });
     if (!swapped) syncSettings(); // cancelled: the panel shows the editor kept
   } catch (e) {
-    showError(`${failed}: ${e.message}`);
+    error = e;
+    if (failed) showError(`${failed}: ${e.message}`);
     syncSettings();
   } finally {
     app.rebuilding = false;
@@ -398,6 +404,7 @@ async function rebuildBig(target, apply, failed = `The level ${target.level} edi
     app.viewer.requestRender();
   }
   saveSoon();
+  return { swapped, error };
 }
 
 /** The settings and panel follow what undo and redo changed in the session: level, scheme, preservation, balance, surface. */
@@ -851,7 +858,8 @@ async function start() {
   if (useStored && typeof stored.fingerprint === 'string' && app.settings.gradient === 'tensor') {
     // The stored session says which theta the editor will want: read it while the core loads.
     const key = thetaKey({ fingerprint: stored.fingerprint, ...DEFAULT_SCHEME, scheme: app.settings.scheme, level: app.settings.level });
-    prefetch = { key, bytes: cacheOpening.then((cache) => cache.get(key)) };
+    // a big one is read in the editor worker instead (theta-source.js)
+    prefetch = { key, bytes: cacheOpening.then(async (cache) => ((await cache.size(key)) >= WORKER_THETA_BYTES ? null : cache.get(key))) };
   }
 
   const jobs = new ThetaJobs();
@@ -866,7 +874,11 @@ async function start() {
     level: app.settings.level, scheme: app.settings.scheme, preserve: app.settings.preserve, tolerance: app.settings.tolerance, path: sessionPath(),
   });
   app.session = session;
-  app.theta = new ThetaSource(session, { jobs, stats: app.stats, showCache: (entries, note) => app.panel.showCache(entries, note) });
+  app.theta = new ThetaSource(session, {
+    jobs, stats: app.stats, showCache: (entries, note) => app.panel.showCache(entries, note),
+    rebuild: (target, apply, options) => (app.rebuilding ? { swapped: false, error: new Error('another editor is being made') }
+      : rebuildBig(target, apply, null, options)),
+  });
   app.theta.prefetch = prefetch;
   app.layers = new Layers(session, app.viewer, app.settings, (ms) => pushStat(app.stats.layers, ms));
   app.freeSet = new FreeSetTools({ session, viewer: app.viewer, panel: app.panel, settings: app.settings, defaults: DEFAULT_SETTINGS });

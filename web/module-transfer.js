@@ -32,7 +32,7 @@ export async function warmUpInSteps(mrvol, between) {
 
 // The same calls in the same order, whichever way they are run.
 function warmUpSteps(mrvol) {
-  let ball, bytes, mesh, mr, editor;
+  let ball, bytes, mesh, mr, editor, thetaBytes;
   return [
     () => {
       ball = mrvol.subdivide(ICOSAHEDRON, { levels: 3 });
@@ -49,16 +49,33 @@ function warmUpSteps(mrvol) {
       again.delete();
       mr.info();
     },
+    // the limit surface's and the kept centre of mass's calls too (a rebuild with them: editor-worker.js),
+    // and theta^e's estimate (the session's rule on a fine cage: triangleGradientChoice); a step each
+    () => mr.estimateTheta({ level: 0, scheme: 'loop' }),
+    ...[{ surface: 'limit' }, { keepCentroid: true }, { path: 'matrix-free' }].map((settings) => () => {
+      const other = buildEditor(mrvol, mr, { level: 0, scheme: 'loop', ...settings });
+      other.surface();
+      other.keepsCentroid();
+      other.delete();
+    }),
     () => {
-      // the limit surface's and the kept centre of mass's calls too (a rebuild with them: editor-worker.js),
-      // and theta^e's estimate (the session's rule on a fine cage: triangleGradientChoice)
-      mr.estimateTheta({ level: 0, scheme: 'loop' });
-      for (const settings of [{ surface: 'limit' }, { keepCentroid: true }, { path: 'matrix-free' }]) {
-        const other = buildEditor(mrvol, mr, { level: 0, scheme: 'loop', ...settings });
-        other.surface();
-        other.keepsCentroid();
-        other.delete();
-      }
+      // the tensor path's calls (editor-worker.js reads a cached theta^e and hands it to the editor),
+      // on a 42-vertex ball: on the 642-vertex one theta^0 takes most of a second
+      const small = mrvol.subdivide(ICOSAHEDRON, { levels: 1 });
+      const computed = small.computeTheta({ level: 0, scheme: 'loop' });
+      thetaBytes = computed.bytes();
+      computed.delete();
+      small.delete();
+    },
+    () => {
+      const small = mrvol.subdivide(ICOSAHEDRON, { levels: 1 });
+      const theta = mrvol.readTheta(thetaBytes);
+      theta.info();
+      const other = buildEditor(mrvol, small, { level: 0, scheme: 'loop', path: 'matrix-free' });
+      other.useTheta(theta);
+      other.delete();
+      theta.delete();
+      small.delete();
     },
     () => {
       editor = buildEditor(mrvol, mr, { level: 0, scheme: 'loop' });

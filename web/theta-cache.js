@@ -58,6 +58,16 @@ export class ThetaCache {
     return cache;
   }
 
+  /** The size in bytes of the cached theta file (its listing alone, no tensor read), or null. */
+  async size(key) {
+    if (!this.#db) return null;
+    try {
+      return (await this.#db.get('theta-meta', key))?.bytes ?? null;
+    } catch {
+      return null;
+    }
+  }
+
   /** The cached theta file, or null. */
   async get(key) {
     if (!this.#db) return null;

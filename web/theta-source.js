@@ -2,6 +2,7 @@
 // level and scheme), the IndexedDB cache, or the worker. Until it arrives the editor runs
 // matrix-free; the rule of when a tensor is worth it is the API's (chooseGradientPath).
 import { thetaKey } from './theta-cache.js';
+import { thetaInWorker } from './editor-rebuild.js';
 import { thetaName, showTheta, showProgress, notice, noticeText, showCacheStatus } from './readouts.js';
 
 export class ThetaSource {
@@ -13,13 +14,17 @@ export class ThetaSource {
   pending = false;
   status = '';
   #generation = 0;
+  #workerStarted = null; // { key, at }: the cached theta^e being read in the editor worker
 
   /**
    * @param {import('../lib/three/session.mjs').EditingSession} session
-   * @param {{ jobs: import('./theta-jobs.js').ThetaJobs, stats: object, showCache: (entries, note?) => void }} deps
+   * @param {{ jobs: import('./theta-jobs.js').ThetaJobs, stats: object, showCache: (entries, note?) => void,
+   *   rebuild?: (target, apply, options) => Promise<{ swapped, error }> }} deps `rebuild`: makes the editor in the
+   *   worker as main.js rebuildBig does (drags wait), here with a cached theta^e read and handed over there
    */
-  constructor(session, { jobs, stats, showCache }) {
+  constructor(session, { jobs, stats, showCache, rebuild = null }) {
     this.session = session;
+    this.rebuild = rebuild;
     this.jobs = jobs;
     this.stats = stats;
     this.showCache = showCache;
@@ -51,11 +56,12 @@ export class ThetaSource {
     showTheta(this);
   }
 
-  #arrived(source, theta, started) {
+  /** `theta`: the tensor, or its info when it was handed to an editor made in the worker. */
+  #arrived(source, theta, started, where = '') {
     const duration = (ms) => (ms < 1000 ? `${Math.round(ms)} ms` : `${(ms / 1000).toFixed(1)} s`);
-    const info = theta.info();
+    const info = typeof theta.info === 'function' ? theta.info() : theta;
     this.#setState(source, `${thetaName(info.level)}: ${(info.nnzStored / 1e6).toFixed(2)} million numbers, ` +
-      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ready in ${duration(performance.now() - started)}`);
+      `${(info.bytes / 2 ** 20).toFixed(1)} MB, ready in ${duration(performance.now() - started)}${where}`);
     this.stats.thetaReadyAt ??= performance.now();
   }
 
@@ -89,18 +95,26 @@ export class ThetaSource {
     }
     const stored = session.storedTheta();
     if (stored && session.editor.path() === 'tensor') {
-      this.#arrived(stored.source, stored.theta, started);
+      const inWorker = this.#workerStarted?.key === key;
+      const where = stored.theta ? '' : ' (read and handed to the editor in a worker)';
+      this.#arrived(stored.source, stored.theta ?? stored.info, inWorker ? this.#workerStarted.at : started, where);
+      this.#workerStarted = null;
       return;
     }
     this.#setState(null, this.cache?.available ? 'looking in the cache…' : '');
 
     let job = null;
     if (this.cache?.available) {
+      // read ahead at start-up (main.js): a small θ's bytes; null when absent or big (read in the worker)
       const prefetched = this.prefetch?.key === key ? this.prefetch.bytes : null;
       this.prefetch = null;
-      if (!prefetched) job = this.#startJob(generation);
       const lookup = performance.now();
-      const bytes = (await prefetched) ?? (await this.cache.get(key));
+      const early = prefetched ? await prefetched : null;
+      if (stale()) return;
+      if (!early && this.rebuild && await this.#fromCacheInWorker(key, started, stale)) return;
+      if (stale()) return;
+      if (!prefetched) job = this.#startJob(generation);
+      const bytes = early ?? (await this.cache.get(key));
       this.stats.cacheLookupMs ??= performance.now() - lookup;
       if (stale()) return;
       if (bytes) {
@@ -129,6 +143,36 @@ export class ThetaSource {
       }
     }
     this.#finishJob(generation, key, started, job ?? this.#startJob(generation));
+  }
+
+  /**
+   * A big cached theta^e (`source`: 'cache', or 'computed' just now and stored): the editor made
+   * with it in the editor worker (read from IndexedDB there),
+   * the page only taking the editor over. True when that was done (or cancelled: the editor kept
+   * runs matrix-free); false to go on here (small or absent; or a path the worker cannot make, said).
+   */
+  async #fromCacheInWorker(key, started, stale, source = 'cache') {
+    const session = this.session;
+    const bytes = await this.cache.size(key);
+    if (stale()) return true;
+    const { worker, why } = thetaInWorker(session, bytes);
+    if (!worker) {
+      if (why) this.#setState(null, `reading the cached θ on the page's thread (${why})`);
+      return false;
+    }
+    const target = { level: session.level, scheme: session.scheme };
+    this.#workerStarted = { key, at: started };
+    this.#setState(null, `${source === 'cache' ? 'reading the cached θ' : 'reading θ back'} in a worker (editing waits)`);
+    const { swapped, error } = await this.rebuild(target,
+      (mr, info) => session.adoptRebuilt(mr, target, { record: false, theta: { source, info } }), { theta: { key } });
+    if (swapped) return true; // the editor swapped in asked for θ again: request() found it in the editor
+    this.#workerStarted = null;
+    if (!error) {
+      this.#setState(null, 'cancelled: editing runs matrix-free', false);
+      return true;
+    }
+    notice(`The cached θ could not be read in a worker (${error.message}): it is read on the page's thread.`);
+    return false;
   }
 
   /** Posts the theta job to the worker. Resolves to { result } or { error }; never rejects. */
@@ -160,6 +204,14 @@ export class ThetaSource {
       return;
     }
     const received = performance.now();
+    this.stats.thetaMs = result.ms;
+    let cached = null;
+    // a big θ goes to the editor worker through the cache (read and handed over there, not here)
+    if (this.cache?.available && this.rebuild && thetaInWorker(this.session, result.bytes.byteLength).worker) {
+      cached = await this.#store(key, result.bytes);
+      if (stale()) return;
+      if (cached.ok && await this.#fromCacheInWorker(key, started, stale, 'computed')) return;
+    }
     let theta;
     try {
       theta = this.session.mrvol.readTheta(result.bytes);
@@ -173,21 +225,24 @@ export class ThetaSource {
       this.#setState(null, `θ was refused (${used.reason}); editing runs matrix-free`, false);
       return;
     }
-    this.stats.thetaMs = result.ms;
     this.stats.thetaJob = { roundTrip: received - posted, ...result.timings, readAndUse: performance.now() - received };
     this.#arrived('computed', theta, started);
-    if (this.cache?.available) {
-      const stored = await this.cache.put(key, result.bytes, { model: this.session.model?.name });
-      if (!stored.ok) {
-        notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
-        showCacheStatus(`IndexedDB (the last write failed: ${stored.reason})`);
-      } else {
-        // a failure said earlier is over
-        if (noticeText().startsWith('θ is not cached')) notice('');
-        showCacheStatus('IndexedDB');
-      }
-      this.refreshCacheList();
+    if (this.cache?.available && !cached) await this.#store(key, result.bytes);
+  }
+
+  /** Writes a θ file to the cache, saying a failure (and its end) in words; resolves to put's { ok, reason }. */
+  async #store(key, bytes) {
+    const stored = await this.cache.put(key, bytes, { model: this.session.model?.name });
+    if (!stored.ok) {
+      notice(`θ is not cached: ${stored.reason}. Editing goes on; θ will be computed again next time.`);
+      showCacheStatus(`IndexedDB (the last write failed: ${stored.reason})`);
+    } else {
+      // a failure said earlier is over
+      if (noticeText().startsWith('θ is not cached')) notice('');
+      showCacheStatus('IndexedDB');
     }
+    this.refreshCacheList();
+    return stored;
   }
 
   /** Forgets the tensor of the current level (memory and cache) and computes it again. */

@@ -178,7 +178,7 @@ export class EditingSession extends EventTarget {
 
   #closeModel() {
     this.cancelDrag();
-    for (const { theta } of this.#thetas.values()) theta.delete();
+    for (const { theta } of this.#thetas.values()) theta?.delete();
     this.#thetas.clear();
     this.editor?.delete();
     this.editor = null;
@@ -214,9 +214,10 @@ export class EditingSession extends EventTarget {
    * volume, free set and history stay. `after` may also change the surface as setSurface does
    * ({ surface, keepCentroid, reference }: one 'surface' undo step; the new surface's volume now is
    * its reference unless `reference` is given, as when undoing). `reason` ('undo', 'redo'): the
-   * change event said when the caller took a history step back or forth for this.
+   * change event said when the caller took a history step back or forth for this. `theta`
+   * ({ source, info }): the editor was made with theta^e there (its tensor path needs no tensor here).
    */
-  adoptRebuilt(mr, after, { record = true, reason = null } = {}) {
+  adoptRebuilt(mr, after, { record = true, reason = null, theta = null } = {}) {
     if (!this.editor) throw new this.#mrvol.MrvolError('no model is open');
     if (mr.vertexCount !== undefined && mr.vertexCount !== this.model.info.vertices)
       throw new this.#mrvol.MrvolError(`the mesh handed over has ${mr.vertexCount} vertices, this model ${this.model.info.vertices}`);
@@ -228,7 +229,7 @@ export class EditingSession extends EventTarget {
     let reference = (this.editor.surface?.() ?? 'mesh') === surface ? this.editor.referenceVolume() : null;
     if (Number.isFinite(after.reference)) reference = after.reference;
     const old = this.model.mr, owned = this.#ownsMesh;
-    for (const { theta } of this.#thetas.values()) theta.delete();
+    for (const { theta } of this.#thetas.values()) theta?.delete();
     this.#thetas.clear();
     this.editor.delete();
     this.editor = null;
@@ -240,6 +241,8 @@ export class EditingSession extends EventTarget {
     this.surface = surface;
     if (after.keepCentroid !== undefined) this.keepCentroid = after.keepCentroid;
     if (surface === 'limit') this.keepCentroid = false;
+    // the editor came with theta^e handed to it where it was made: its slot says so (no tensor here)
+    if (theta) this.#thetas.set(this.#thetaSlot(), { theta: null, source: theta.source, info: theta.info });
     this.#buildEditor(reference);
     if (record && changesSurface) this.history.push(surfaceBefore, this.#surfaceState(), 'surface');
     else if (record && (before.level !== after.level || before.scheme !== after.scheme))
@@ -366,7 +369,7 @@ export class EditingSession extends EventTarget {
     this.lastStepMs = null;
     this.thetaSource = null;
     const stored = this.#thetas.get(this.#thetaSlot());
-    if (stored && this.#tryTheta(stored.theta)) this.thetaSource = stored.source;
+    if (stored && (stored.theta ? this.#tryTheta(stored.theta) : this.editor.path() === 'tensor')) this.thetaSource = stored.source;
     this.setFreeSet(this.freeSet, { quiet: true });
     if (!announce) return;
     this.#announceEditor();
@@ -620,7 +623,10 @@ export class EditingSession extends EventTarget {
     return triangleGradientChoice(this.model.mr, { level: this.level, ...this.schemeOptions, surface: this.surface, path: this.path });
   }
 
-  /** The tensor kept for the current level and scheme, or null. */
+  /**
+   * The tensor kept for the current level and scheme, or null: { theta, source }, or { theta: null,
+   * source, info } when it was handed to an editor made elsewhere (adoptRebuilt).
+   */
   storedTheta() { return this.#thetas.get(this.#thetaSlot()) ?? null; }
 
   /**
@@ -635,7 +641,7 @@ export class EditingSession extends EventTarget {
     }
     const slot = this.#thetaSlot();
     const old = this.#thetas.get(slot);
-    if (old && old.theta !== theta) old.theta.delete();
+    if (old && old.theta !== theta) old.theta?.delete();
     this.#thetas.set(slot, { theta, source });
     this.thetaSource = source;
     this.#emit('theta', { source, path: this.editor.path() });
@@ -648,7 +654,7 @@ export class EditingSession extends EventTarget {
     if (this.path === 'auto' && this.gradientChoice().path === 'polynomial' && typeof this.editor?.usePolynomial === 'function')
       this.editor.usePolynomial();
     else this.editor?.useMatrixFree();
-    this.#thetas.get(slot)?.theta.delete();
+    this.#thetas.get(slot)?.theta?.delete();
     this.#thetas.delete(slot);
     this.thetaSource = null;
     this.#emit('theta', { source: null, path: this.editor?.path() ?? 'matrix-free' });
