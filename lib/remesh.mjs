@@ -11,7 +11,7 @@
 // parameter and uses only npm packages that run in both. The core entries (lib/api.mjs,
 // lib/node.mjs, lib/browser.mjs) do not load it, nor three.js, three-mesh-bvh or meshoptimizer.
 import { MeshoptSimplifier } from 'meshoptimizer';
-import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Vector3 } from 'three';
+import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
@@ -686,42 +686,12 @@ function centroidDistance(surface, p, faces, f) {
   return surface.closest((p[a] + p[b] + p[c]) / 3, (p[a + 1] + p[b + 1] + p[c + 1]) / 3, (p[a + 2] + p[b + 2] + p[c + 2]) / 3).distance;
 }
 
-/** Distance from (x, y, z) to the triangle a, b, c of p (Ericson's closest point, as in closestPointQuery()). */
+// Distance from (x, y, z) to triangle (a, b, c) of positions p: three's Triangle.closestPointToPoint.
+const triangleScratch = new Triangle(), pointScratch = new Vector3(), closestScratch = new Vector3();
 function pointTriangleDistance(x, y, z, p, a, b, c) {
-  const ax = p[3 * a], ay = p[3 * a + 1], az = p[3 * a + 2];
-  const abx = p[3 * b] - ax, aby = p[3 * b + 1] - ay, abz = p[3 * b + 2] - az;
-  const acx = p[3 * c] - ax, acy = p[3 * c + 1] - ay, acz = p[3 * c + 2] - az;
-  const apx = x - ax, apy = y - ay, apz = z - az;
-  const d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
-  let qx, qy, qz;
-  if (d1 <= 0 && d2 <= 0) return Math.hypot(apx, apy, apz);
-  const bpx = x - p[3 * b], bpy = y - p[3 * b + 1], bpz = z - p[3 * b + 2];
-  const d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
-  if (d3 >= 0 && d4 <= d3) return Math.hypot(bpx, bpy, bpz);
-  const vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const t = d1 / (d1 - d3);
-    qx = ax + abx * t, qy = ay + aby * t, qz = az + abz * t;
-    return Math.hypot(x - qx, y - qy, z - qz);
-  }
-  const cpx = x - p[3 * c], cpy = y - p[3 * c + 1], cpz = z - p[3 * c + 2];
-  const d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
-  if (d6 >= 0 && d5 <= d6) return Math.hypot(cpx, cpy, cpz);
-  const vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const t = d2 / (d2 - d6);
-    qx = ax + acx * t, qy = ay + acy * t, qz = az + acz * t;
-    return Math.hypot(x - qx, y - qy, z - qz);
-  }
-  const va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-    const t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    qx = p[3 * b] + (p[3 * c] - p[3 * b]) * t, qy = p[3 * b + 1] + (p[3 * c + 1] - p[3 * b + 1]) * t, qz = p[3 * b + 2] + (p[3 * c + 2] - p[3 * b + 2]) * t;
-    return Math.hypot(x - qx, y - qy, z - qz);
-  }
-  const den = 1 / (va + vb + vc), v = vb * den, w = vc * den;
-  qx = ax + abx * v + acx * w, qy = ay + aby * v + acy * w, qz = az + abz * v + acz * w;
-  return Math.hypot(x - qx, y - qy, z - qz);
+  triangleScratch.a.fromArray(p, 3 * a), triangleScratch.b.fromArray(p, 3 * b), triangleScratch.c.fromArray(p, 3 * c);
+  pointScratch.set(x, y, z);
+  return triangleScratch.closestPointToPoint(pointScratch, closestScratch).distanceTo(pointScratch);
 }
 
 /** Ring index (0 = v) of every vertex within `k` edges of v. */
