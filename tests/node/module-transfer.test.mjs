@@ -131,7 +131,7 @@ describe('a mesh and editor taken over by another instance', () => {
   // mass kept, the tensor path's matrix-free editor (until theta^e comes); the session takes that one.
   for (const settings of [{ surface: 'limit' }, { keepCentroid: true }, { path: 'matrix-free' }]) {
     test(`a session swaps in an editor made elsewhere with ${JSON.stringify(settings)}: the one made there, edits as in place`, async () => {
-      const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+      const [a, b] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
       for (const m of [a, b]) warmUp(m);
       const open = (mrvol) => {
         const s = new EditingSession(mrvol, { level: 0, path: settings.path ?? 'auto' });
@@ -148,7 +148,7 @@ describe('a mesh and editor taken over by another instance', () => {
       other.setPositions(shape);
       const made = buildEditor(b, other, { level: 1, scheme: 'loop', surface: session.surface, keepCentroid: session.keepCentroid, path: session.path });
       const transfer = b.transferable(other, made, { scheme: 'loop' });
-      const taken = await createMrvol().then((c) => (warmUp(c), c.adoptTransferredInSlices(transfer)));
+      const taken = await createMrvol({ threads: 1 }).then((c) => (warmUp(c), c.adoptTransferredInSlices(transfer)));
       session.adoptRebuilt(taken, { level: 1, scheme: 'loop' });
       assert.equal(session.editor.madeElsewhere, true, 'the editor made in the other instance, not a second one');
       assert.equal(session.editor.surface(), settings.surface ?? 'mesh');
@@ -175,7 +175,7 @@ describe('a mesh and editor taken over by another instance', () => {
   }
 
   test('a surface switch made elsewhere: one surface undo step, the limit volume its reference; undone with the mesh reference', async () => {
-    const [a, b] = await Promise.all([createMrvol(), createMrvol()]);
+    const [a, b] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
     for (const m of [a, b]) warmUp(m);
     const session = new EditingSession(a, { level: 0, path: 'auto' });
     session.open(loadModel(a, 'spiky-ball'), { name: 'spiky' });
@@ -190,7 +190,7 @@ describe('a mesh and editor taken over by another instance', () => {
     shaped.delete();
     const target = { level: 0, scheme: 'loop', surface: 'limit' };
     const made = buildEditor(b, other, { ...target, keepCentroid: session.keepCentroid, path: session.path });
-    const taken = await createMrvol().then((c) => (warmUp(c), c.adoptTransferredInSlices(b.transferable(other, made, { scheme: 'loop' }))));
+    const taken = await createMrvol({ threads: 1 }).then((c) => (warmUp(c), c.adoptTransferredInSlices(b.transferable(other, made, { scheme: 'loop' }))));
     session.adoptRebuilt(taken, target);
     assert.equal(session.editor.madeElsewhere, true);
     assert.deepEqual([session.surface, session.keepCentroid, session.editor.surface()], ['limit', false, 'limit']);
