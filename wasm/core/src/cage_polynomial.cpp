@@ -191,6 +191,20 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
   return v;
 }
 
+// One run's part of the cubic along g: (c_i + s g_i) . ((c_j + s g_j) x (wc + s wg)), its coefficients added to k.
+static inline void addRunCubic(const double* ci, const double* cj, const double* gi, const double* gj,
+                               const double* wc, const double* wg, double* k) {
+  double t[3];
+  cross(cj, wc, t);
+  k[0] += dot(ci, t), k[1] += dot(gi, t);
+  cross(gj, wc, t);
+  k[1] += dot(ci, t), k[2] += dot(gi, t);
+  cross(cj, wg, t);
+  k[1] += dot(ci, t), k[2] += dot(gi, t);
+  cross(gj, wg, t);
+  k[2] += dot(ci, t), k[3] += dot(gi, t);
+}
+
 void CagePolynomial::alongDirection(const double* c, const double* g, double* k) const {
   // Expands Theta(c + s g) term by term: (c_i + s g_i) . ((c_j + s g_j) x (c_k + s g_k)).
   k[0] = constant, k[1] = k[2] = k[3] = 0;
@@ -218,14 +232,7 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
     for (size_t r = 0; r < runs; ++r) {
       const double *wc = cSums + 3 * r, *wg = directionSums_.data() + 3 * r;
       const double *ci = c + 3 * runI[r], *cj = c + 3 * runJ[r], *gi = g + 3 * runI[r], *gj = g + 3 * runJ[r];
-      cross(cj, wc, t);
-      k[0] += dot(ci, t), k[1] += dot(gi, t);
-      cross(gj, wc, t);
-      k[1] += dot(ci, t), k[2] += dot(gi, t);
-      cross(cj, wg, t);
-      k[1] += dot(ci, t), k[2] += dot(gi, t);
-      cross(gj, wg, t);
-      k[2] += dot(ci, t), k[3] += dot(gi, t);
+      addRunCubic(ci, cj, gi, gj, wc, wg, k);
     }
     return;
   }
@@ -240,14 +247,7 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
     }
     ++run;
     const double *ci = c + 3 * i, *cj = c + 3 * j, *gi = g + 3 * i, *gj = g + 3 * j;
-    cross(cj, wc, t);
-    k[0] += dot(ci, t), k[1] += dot(gi, t);
-    cross(gj, wc, t);
-    k[1] += dot(ci, t), k[2] += dot(gi, t);
-    cross(cj, wg, t);
-    k[1] += dot(ci, t), k[2] += dot(gi, t);
-    cross(gj, wg, t);
-    k[2] += dot(ci, t), k[3] += dot(gi, t);
+    addRunCubic(ci, cj, gi, gj, wc, wg, k);
   });
 }
 
