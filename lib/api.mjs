@@ -217,10 +217,28 @@ export function wrapModule(module) {
     cageVertices() { return call((r) => r.cageVertices(), this.#live()); }
     /** Cage order index of a caller's vertex; throws if it is not a level-e cage vertex. */
     cageIndexOf(vertex) {
+      const known = this.#cageIndex.get(vertex); // a drag asks for the same vertex every step
+      if (known !== undefined) return this.#live(), known;
       if (!Number.isInteger(vertex)) throw new MrvolError('vertex index must be a non-negative integer');
-      return call((r) => r.cageIndexOf(vertex), this.#live());
+      const index = call((r) => r.cageIndexOf(vertex), this.#live());
+      this.#cageIndex.set(vertex, index);
+      return index;
     }
+    #cageIndex = new Map();
     cagePositions() { return call((r) => r.cagePositions(), this.#live()); }
+    // The cage coefficients in place (WASM memory; the view made again after the memory grew).
+    #cageView = null;
+    #dragTarget = null;
+    /** cagePositions() into a buffer kept for drags (moveVertices): no call into WASM, no allocation. */
+    _dragTarget() {
+      const raw = this.#live();
+      const buffer = module.HEAPU8.buffer;
+      if (this.#cageView?.buffer !== buffer)
+        this.#cageView = new Float64Array(buffer, call((r) => r.cageAddress(), raw), 3 * this.cageSize);
+      this.#dragTarget ??= new Float64Array(3 * this.cageSize);
+      this.#dragTarget.set(this.#cageView);
+      return this.#dragTarget;
+    }
     /** Fine positions, caller's vertex order. */
     positions() { return call((r) => r.positions(), this.#live()); }
     coefficients() { return call((r) => r.coefficients(), this.#live()); }
@@ -275,7 +293,7 @@ export function wrapModule(module) {
      */
     deformCage(target, held, options = {}) {
       if (!(target instanceof Float64Array)) throw new MrvolError('target must be a Float64Array');
-      return call((r) => r.deformCage(target, Uint8Array.from(held), options), this.#live());
+      return call((r) => r.deformCage(target, held instanceof Uint8Array ? held : Uint8Array.from(held), options), this.#live());
     }
     /**
      * Convenience for drags: moves = [{ vertex, position: [x, y, z] } | { vertex, offset: [dx, dy, dz] }]

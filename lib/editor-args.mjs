@@ -3,10 +3,11 @@
 
 /**
  * A drag as a cage target: moves = [{ vertex, position: [x, y, z] } | { vertex, offset: [dx, dy, dz] }]
- * with caller vertex indices; those vertices are held. Returns { target, held } for deformCage.
+ * with caller vertex indices; those vertices are held. Returns { target, held } for deformCage
+ * (target: the editor's drag buffer when it keeps one, rewritten by the next call).
  */
 export function cageTargetOf(editor, moves) {
-  const target = editor.cagePositions();
+  const target = editor._dragTarget ? editor._dragTarget() : editor.cagePositions();
   const held = new Uint8Array(editor.cageSize);
   for (const move of moves) {
     const c = editor.cageIndexOf(move.vertex);

@@ -253,6 +253,26 @@ TEST(CageBasis, RowsAreTheZeroDetailSynthesisOfTheCage) {
     }
 }
 
+TEST(CageBasis, DenseColumnsGiveTheSparseRowsBitForBit) {
+  // The dense columns (small cages; in one chunk or in chunks of a few columns) and the sparse rows
+  // make the same rows: the same indices and the same weights to the bit.
+  for (const auto& c : cases())
+    for (const auto& options : fixtures::allSchemes()) {
+      WaveletTransform wt(c.h, options);
+      for (int e = 0; e <= c.h.levels; ++e) {
+        SCOPED_TRACE(c.name + " " + fixtures::label(options) + " e=" + std::to_string(e));
+        const CageBasis sparse = cageBasis(wt, e, 0);
+        const size_t columnBytes = 8 * c.h.fineVertexCount();
+        for (size_t bytes : {size_t(64) << 20, columnBytes, 3 * columnBytes}) {
+          const CageBasis dense = cageBasis(wt, e, ~0u, bytes);
+          ASSERT_EQ(dense.offset, sparse.offset) << bytes;
+          ASSERT_EQ(dense.index, sparse.index) << bytes;
+          for (size_t k = 0; k < sparse.value.size(); ++k) ASSERT_EQ(dense.value[k], sparse.value[k]) << "entry " << k;
+        }
+      }
+    }
+}
+
 TEST(CagePolynomialBuilder, RegionsCoverTheMeshOnce) {
   // Level-e faces as regions: one per face; each region's cage vertices include its corners.
   for (const auto& fx : fixtures::baseFixtures()) {

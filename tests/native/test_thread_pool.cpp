@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shuffled_subdivision.h"
+#include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
 #include "mrvol/surface_buffers.h"
@@ -119,5 +120,39 @@ TEST(ThreadPool, SurfaceBuffersAreTheSameOnAnyThreadCount) {
     const std::vector<std::vector<float>> many = dragBuffers(threads);
     ASSERT_EQ(many.size(), one.size());
     for (size_t k = 0; k < one.size(); ++k) EXPECT_EQ(many[k], one[k]) << threads << " threads, buffer " << k;
+  }
+}
+
+// The editor's set-up on the pool: the Loop transform's levels, the cage basis columns and the
+// polynomial's regions give the same steps and the same polynomial, bit for bit, on any thread count.
+TEST(ThreadPool, EditorSetUpIsTheSameOnAnyThreadCount) {
+  const fixtures::Shuffled shuffled = fixtures::shuffledSubdivision(11);
+  const Hierarchy h = Hierarchy::detect(shuffled.mesh);
+  auto setUp = [&](unsigned threads, int level) {
+    Threads t(threads, 7);
+    WaveletTransform wt(h, SchemeOptions{});
+    std::vector<double> x = shuffled.mesh.positions;
+    std::vector<double> coefficients(x.size());
+    h.toHierarchyOrder(x.data(), coefficients.data());
+    wt.analyze(coefficients.data(), level);
+    CagePolynomialBuilder builder(wt, level);
+    std::vector<std::vector<double>> steps;
+    for (int l = 1; l <= h.levels; ++l)
+      for (const LiftingStep& s : wt.synthesisSteps(l)) {
+        steps.push_back(s.weights);
+        steps.emplace_back(s.sources.begin(), s.sources.end());
+      }
+    const CagePolynomial p = builder.build(coefficients.data());
+    steps.push_back(p.linear), steps.push_back(p.pairQ), steps.push_back(p.tripleT), steps.push_back({p.constant});
+    steps.emplace_back(p.tripleK.begin(), p.tripleK.end());
+    return steps;
+  };
+  for (int level : {0, 1, h.levels - 2}) {
+    const auto one = setUp(1, level);
+    for (unsigned threads : {2u, 3u}) {
+      const auto many = setUp(threads, level);
+      ASSERT_EQ(many.size(), one.size());
+      for (size_t k = 0; k < one.size(); ++k) EXPECT_EQ(many[k], one[k]) << threads << " threads, level " << level << ", array " << k;
+    }
   }
 }

@@ -192,6 +192,9 @@ MultiresMesh* js_openWithHierarchy(val faces, val arrays) {
 // for the copy.
 double js_meshAddress(const MultiresMesh& m) { return double(reinterpret_cast<uintptr_t>(&m)); }
 double js_editorAddress(const VolumeEditor& e) { return double(reinterpret_cast<uintptr_t>(&e)); }
+// Where the editor's cage coefficients (3 * cageSize doubles, the first of its coefficients) live:
+// a drag reads them in place every step (no call, no copy out).
+double js_editorCageAddress(const VolumeEditor& e) { return double(reinterpret_cast<uintptr_t>(e.coefficientData())); }
 MultiresMesh* js_adoptMesh(double address) { return reinterpret_cast<MultiresMesh*>(uintptr_t(address)); }
 VolumeEditor* js_adoptEditor(double address) { return reinterpret_cast<VolumeEditor*>(uintptr_t(address)); }
 // Grows the memory (and emscripten's views of it) to at least `bytes`.
@@ -415,7 +418,10 @@ val js_editorCageIndexOf(const VolumeEditor& e, double v) {
     return val(double(e.cageIndexOf(uint32_t(v))));
   });
 }
-val js_editorCagePositions(const VolumeEditor& e) { return guarded([&] { return toTyped(e.cagePositions()); }); }
+// The cage is the first 3 * cageSize coefficients: copied out once (a drag asks for it every step).
+val js_editorCagePositions(const VolumeEditor& e) {
+  return guarded([&] { return val(emscripten::typed_memory_view(3 * size_t(e.cageSize()), e.coefficientData())).call<val>("slice"); });
+}
 val js_editorPositions(const VolumeEditor& e) { return guarded([&] { return toTyped(e.positions()); }); }
 val js_editorCoefficients(const VolumeEditor& e) { return guarded([&] { return toTyped(e.coefficients()); }); }
 val js_editorVolume(const VolumeEditor& e) { return guarded([&] { return val(e.volume()); }); }
@@ -549,6 +555,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
       .function("cageVertices", &js_editorCageVertices)
       .function("cageIndexOf", &js_editorCageIndexOf)
       .function("cagePositions", &js_editorCagePositions)
+      .function("cageAddress", &js_editorCageAddress)
       .function("positions", &js_editorPositions)
       .function("coefficients", &js_editorCoefficients)
       .function("volume", &js_editorVolume)

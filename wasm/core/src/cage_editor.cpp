@@ -149,11 +149,15 @@ double CageEditor::constrainedVolume(bool withGradient) {
 
 VolumeSolver& CageEditor::solver(const std::vector<uint8_t>& held) {
   VolumeConstraints& c = constraints();
+  // A drag holds the same vertices step after step: the free set is the kept solver's (every change
+  // of the free set or the rows resets the solver).
+  if (solver_ && solverConstraints_ == &c && held == solverHeld_) return *solver_;
   std::vector<uint32_t> free = free_.coefficients(*hierarchy_, level_, held);
   if (!solver_ || solverConstraints_ != &c || solver_->free() != free) {
     solver_ = std::make_unique<VolumeSolver>(c, std::move(free));
     solverConstraints_ = &c;
   }
+  solverHeld_ = held;
   return *solver_;
 }
 

@@ -61,13 +61,30 @@ void CagePolynomial::indexRuns() {
     scatterRun_.push_back(uint32_t(r));
   }
   scatterRun_.push_back(uint32_t(runs));
+  // Each block's partial gradient covers only its triples' k (from the least one on): block b's
+  // entries [3 low, 3 cageSize) live at partials_[scatterBase_[b] + 3 low ...], after block b - 1's.
+  scatterLow_.clear(), scatterBase_.clear();
+  size_t end = 0;
+  for (size_t b = 0; b + 1 < scatterRun_.size(); ++b) {
+    uint32_t low = cageSize;
+    for (size_t p = runStart[scatterRun_[b]]; p < runStart[scatterRun_[b + 1]]; ++p) low = std::min(low, tripleK[p]);
+    low = std::min(low, cageSize);
+    const size_t base = b == 0 ? 0 : end - 3 * size_t(low);  // end >= 3 cageSize from block 0 on
+    scatterLow_.push_back(low), scatterBase_.push_back(base);
+    end = base + 3 * size_t(cageSize);
+  }
+  scatterEnd_ = end;
 }
 
 void CagePolynomial::gatherRuns(const double* v, double* sums) const {
   const uint32_t* tk = tripleK.data();
   const double* tt = tripleT.data();
   const uint32_t* start = runStart.data();
-  parallelFor(0, runI.size(), kRunsPerBlock, [&](size_t first, size_t end) {
+  // Blocks of at least kTriplesPerBlock triples: a smaller sweep runs inline (a hand-off to the
+  // pool costs more than it saves on it).
+  const size_t runs = runI.size(), triples = tripleT.size();
+  const size_t grain = std::max<size_t>(kRunsPerBlock, triples > 0 ? runs * kTriplesPerBlock / triples : runs);
+  parallelFor(0, runs, grain, [&](size_t first, size_t end) {
     for (size_t r = first; r < end; ++r) {
       double* w = sums + 3 * r;
       w[0] = w[1] = w[2] = 0;
@@ -146,10 +163,14 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
     }
     if (!g) return v;
     const size_t blocks = scatterRun_.size() - 1, m3 = 3 * size_t(cageSize);
-    partials_.assign(blocks * m3, 0.0);
-    parallelFor(0, blocks, 1, [&](size_t first, size_t end) {
+    partials_.resize(scatterEnd_);
+    // On the pool's threads only when each gets kTriplesPerBlock triples (the blocks stay the same:
+    // the same bits either way).
+    const size_t grain = std::max<size_t>(1, blocks * kTriplesPerBlock / std::max<size_t>(1, tripleT.size()));
+    parallelFor(0, blocks, grain, [&](size_t first, size_t end) {
       for (size_t b = first; b < end; ++b) {
-        double* partial = partials_.data() + b * m3;
+        double* partial = partials_.data() + scatterBase_[b];
+        std::fill(partial + 3 * size_t(scatterLow_[b]), partial + m3, 0.0);
         for (size_t r = scatterRun_[b]; r < scatterRun_[b + 1]; ++r) {
           double u[3];
           cross(c + 3 * runI[r], c + 3 * runJ[r], u);
@@ -158,8 +179,8 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
       }
     });
     for (size_t b = 0; b < blocks; ++b) {
-      const double* partial = partials_.data() + b * m3;
-      for (size_t i = 0; i < m3; ++i) g[i] += partial[i];
+      const double* partial = partials_.data() + scatterBase_[b];
+      for (size_t i = 3 * size_t(scatterLow_[b]); i < m3; ++i) g[i] += partial[i];
     }
     return v;
   }

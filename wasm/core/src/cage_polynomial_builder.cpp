@@ -7,6 +7,7 @@
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
 #include "mrvol/hierarchy.h"
+#include "mrvol/thread_pool.h"
 
 namespace mrvol {
 
@@ -16,12 +17,93 @@ namespace mrvol {
 // synthesizeZeroDetails. Rows live in a pool: vertex v's is [begin[v], begin[v] + length[v]); a
 // lift appends its targets' new rows (the sources' rows stay put while it reads them) and leaves
 // every other row where it is; the pool is compacted once per level, into vertex order.
-CageBasis cageBasis(const WaveletTransform& transform, int level) {
+namespace {
+
+constexpr size_t kDenseRowsPerBlock = 16384;
+
+// A small cage's rows by dense columns: units at the cage vertices [first, first + width) carried
+// through the same steps, `width` doubles per vertex. Per entry the same operations in the same
+// order as the sparse rows below (the target's own value, then each source's weighted value; a
+// scaling multiplies), so the same bits; the exact zeros are dropped as there.
+CageBasis denseCageColumns(const WaveletTransform& transform, int level, uint32_t first, uint32_t width) {
+  const Hierarchy& h = transform.hierarchy();
+  const size_t n = h.fineVertexCount();
+  std::vector<double> x(n * width, 0.0);
+  for (uint32_t c = 0; c < width; ++c) x[size_t(first + c) * width + c] = 1.0;
+  for (int l = level + 1; l <= h.levels; ++l)
+    for (const LiftingStep& step : transform.synthesisSteps(l)) {
+      if (step.readsOnlyDetails) continue;
+      if (step.scaling) {
+        for (size_t r = 0; r < step.targets.size(); ++r) {
+          double* xt = &x[size_t(step.targets[r]) * width];
+          for (uint32_t c = 0; c < width; ++c) xt[c] *= step.weights[r];
+        }
+        continue;
+      }
+      // Targets and sources are disjoint: the rows in blocks on the pool's threads.
+      parallelFor(0, step.targets.size(), kDenseRowsPerBlock, [&](size_t begin, size_t end) {
+        std::vector<double> acc(width);
+        for (size_t r = begin; r < end; ++r) {
+          double* xt = &x[size_t(step.targets[r]) * width];
+          std::copy(xt, xt + width, acc.begin());
+          for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) {
+            const double w = step.weights[k], *xs = &x[size_t(step.sources[k]) * width];
+            for (uint32_t c = 0; c < width; ++c) acc[c] += w * xs[c];
+          }
+          std::copy(acc.begin(), acc.end(), xt);
+        }
+      });
+    }
+  CageBasis rows;
+  rows.offset.resize(n + 1);
+  size_t live = 0;
+  for (double v : x) live += v != 0.0;
+  rows.index.reserve(live), rows.value.reserve(live);
+  for (size_t v = 0; v < n; ++v) {
+    rows.offset[v] = rows.index.size();
+    const double* xv = &x[v * width];
+    for (uint32_t c = 0; c < width; ++c)
+      if (xv[c] != 0.0) rows.index.push_back(first + c), rows.value.push_back(xv[c]);
+  }
+  rows.offset[n] = rows.index.size();
+  return rows;
+}
+
+// The dense columns in chunks of at most denseBytes.
+CageBasis denseCageBasis(const WaveletTransform& transform, int level, size_t denseBytes) {
+  const Hierarchy& h = transform.hierarchy();
+  const uint32_t cage = h.vertexCount[level];
+  const size_t n = h.fineVertexCount();
+  const uint32_t width = uint32_t(std::clamp<size_t>(denseBytes / (8 * std::max<size_t>(n, 1)), 1, cage));
+  if (width == cage) return denseCageColumns(transform, level, 0, cage);
+  std::vector<CageBasis> parts;
+  for (uint32_t first = 0; first < cage; first += width)
+    parts.push_back(denseCageColumns(transform, level, first, std::min(width, cage - first)));
+  CageBasis rows;
+  rows.offset.assign(n + 1, 0);
+  for (size_t v = 0; v < n; ++v) {
+    uint64_t length = 0;
+    for (const CageBasis& part : parts) length += part.offset[v + 1] - part.offset[v];
+    rows.offset[v + 1] = rows.offset[v] + length;
+  }
+  rows.index.reserve(rows.offset[n]), rows.value.reserve(rows.offset[n]);
+  for (size_t v = 0; v < n; ++v)
+    for (const CageBasis& part : parts) {  // chunks ascending: the row's indices ascending
+      rows.index.insert(rows.index.end(), part.index.begin() + part.offset[v], part.index.begin() + part.offset[v + 1]);
+      rows.value.insert(rows.value.end(), part.value.begin() + part.offset[v], part.value.begin() + part.offset[v + 1]);
+    }
+  return rows;
+}
+
+}  // namespace
+
+CageBasis cageBasis(const WaveletTransform& transform, int level, uint32_t denseCageUpTo, size_t denseBytes) {
   const Hierarchy& h = transform.hierarchy();
   if (level < 0 || level > h.levels)
     throw Error("level " + std::to_string(level) + " is out of range: this mesh has levels 0.." + std::to_string(h.levels));
   const uint32_t cage = h.vertexCount[level];
   const size_t n = h.fineVertexCount();
+  if (cage <= denseCageUpTo) return denseCageBasis(transform, level, denseBytes);
   std::vector<uint64_t> begin(n, 0);
   std::vector<uint32_t> length(n, 0);
   CageBasis rows;
@@ -287,6 +369,9 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
   }
 
   std::vector<uint32_t> localOf(n, kNone), slotOf(cageSize_, kNone);
+  struct Carried { uint32_t a, b, c; double w; };
+  std::vector<Carried> carried, sortedCarried;
+  std::vector<uint32_t> runCount;
   regionCage_.assign(1, 0), regionVertex_.assign(1, 0), regionWeight_.assign(1, 0), regionRun_.assign(1, 0);
   regionTriple_.assign(1, 0), regionPair_.assign(1, 0);
   runStart_.assign(1, 0);
@@ -325,14 +410,20 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     }
 
     // The terms in runs of one carrying vertex (their first corner).
-    struct Carried { uint32_t a, b, c; double w; };
-    std::vector<Carried> carried;
+    carried.clear();
     carried.reserve(termStart[r + 1] - termStart[r]);
     for (uint32_t p = termStart[r]; p < termStart[r + 1]; ++p) {
       const uint32_t* t = &form.corners[3 * size_t(terms[p])];
       carried.push_back({localOf[t[0]], localOf[t[1]], localOf[t[2]], form.weights[terms[p]]});
     }
-    std::stable_sort(carried.begin(), carried.end(), [](const Carried& x, const Carried& y) { return x.a < y.a; });
+    {  // stably by carrying vertex: a counting sort (local indices < count)
+      runCount.assign(size_t(count) + 1, 0);
+      for (const Carried& t : carried) ++runCount[t.a + 1];
+      std::partial_sum(runCount.begin(), runCount.end(), runCount.begin());
+      sortedCarried.resize(carried.size());
+      for (const Carried& t : carried) sortedCarried[runCount[t.a]++] = t;
+      std::swap(carried, sortedCarried);
+    }
     for (size_t p = 0; p < carried.size(); ++p) {
       if (p == 0 || carried[p].a != carried[p - 1].a) {
         if (p > 0) runStart_.push_back(uint32_t(triangleB_.size()));
@@ -416,6 +507,58 @@ size_t CagePolynomialBuilder::bytes() const {
          b(tripleSlot_) + b(pairSlot_) + b(tripleI_) + b(tripleJ_) + b(tripleK_) + b(pairI_) + b(pairJ_);
 }
 
+void CagePolynomialBuilder::regionMinors(size_t r, const double* detail, std::vector<double>& w, std::vector<double>& wedges,
+                                         std::vector<double>& outer, double* out) const {
+  const size_t s = regionCage_[r + 1] - regionCage_[r], S = s + 3, P = S * (S - 1) / 2;
+  const uint32_t vertexBegin = regionVertex_[r], count = regionVertex_[r + 1] - vertexBegin;
+  // Rows w_v = (cage weights, D_v) of the region's vertices.
+  w.resize(size_t(count) * S);
+  const double* weights = &weight_[regionWeight_[r]];
+  for (uint32_t i = 0; i < count; ++i) {
+    std::copy(weights + size_t(i) * s, weights + size_t(i + 1) * s, &w[size_t(i) * S]);
+    std::copy(&detail[3 * size_t(vertex_[vertexBegin + i])], &detail[3 * size_t(vertex_[vertexBegin + i]) + 3], &w[size_t(i) * S + s]);
+  }
+  // outer = sum over the carrying vertices a of w_a (x) G_a, G_a = sum of w_t w_b ^ w_c (packed i < j).
+  outer.assign(S * P, 0.0);
+  wedges.resize(P);
+  for (uint32_t run = regionRun_[r]; run < regionRun_[r + 1]; ++run) {
+    std::fill(wedges.begin(), wedges.end(), 0.0);
+    for (uint32_t t = runStart_[run]; t < runStart_[run + 1]; ++t) {
+      const double *wb = &w[size_t(triangleB_[t]) * S], *wc = &w[size_t(triangleC_[t]) * S];
+      const double weight = triangleWeight_[t];
+      double* g = wedges.data();
+      for (size_t i = 0; i + 1 < S; ++i) {
+        const double bi = weight * wb[i], ci = weight * wc[i];
+        const size_t len = S - i - 1;
+        if (bi != 0.0 || ci != 0.0)
+          for (size_t j = 0; j < len; ++j) g[j] += bi * wc[i + 1 + j] - ci * wb[i + 1 + j];
+        g += len;
+      }
+    }
+    const double* wa = &w[size_t(runVertex_[run]) * S];
+    for (size_t i = 0; i < S; ++i) {
+      const double a = wa[i];
+      if (a == 0.0) continue;
+      double* o = &outer[i * P];
+      for (size_t p = 0; p < P; ++p) o[p] += a * wedges[p];
+    }
+  }
+  // The 3 x 3 minors, alternated out of outer, in the order build() adds them to the terms:
+  // (i, j, k) all cage: a triple; (i, j, D_d): q_ij[d]; (i, D_d1, D_d2): a_i through
+  // det(x_i, e_d1, e_d2); (D, D, D): the constant.
+  auto minor = [&](size_t i, size_t j, size_t k) {
+    return outer[i * P + pairIndex(j, k, S)] - outer[j * P + pairIndex(i, k, S)] + outer[k * P + pairIndex(i, j, S)];
+  };
+  for (size_t i = 0; i < s; ++i) {
+    for (size_t j = i + 1; j < s; ++j) {
+      for (size_t k = j + 1; k < s; ++k) *out++ = minor(i, j, k);
+      for (int d = 0; d < 3; ++d) *out++ = minor(i, j, s + d);
+    }
+    *out++ = minor(i, s + 1, s + 2), *out++ = minor(i, s, s + 2), *out++ = minor(i, s, s + 1);
+  }
+  *out = minor(s, s + 1, s + 2);
+}
+
 CagePolynomial CagePolynomialBuilder::build(const double* coefficients) const {
   const Hierarchy& h = transform_->hierarchy();
   const size_t n3 = 3 * h.fineVertexCount(), cage3 = 3 * size_t(cageSize_);
@@ -426,61 +569,45 @@ CagePolynomial CagePolynomialBuilder::build(const double* coefficients) const {
 
   std::vector<double> triple(tripleI_.size(), 0.0), pair(3 * pairI_.size(), 0.0), linear(cage3, 0.0);
   double constant = 0;
-  std::vector<double> w, wedges, outer, minors;
-  for (size_t r = 0; r + 1 < regionCage_.size(); ++r) {
-    const size_t s = regionCage_[r + 1] - regionCage_[r], S = s + 3, P = S * (S - 1) / 2;
-    const uint32_t vertexBegin = regionVertex_[r], count = regionVertex_[r + 1] - vertexBegin;
-    // Rows w_v = (cage weights, D_v) of the region's vertices.
-    w.resize(size_t(count) * S);
-    const double* weights = &weight_[regionWeight_[r]];
-    for (uint32_t i = 0; i < count; ++i) {
-      std::copy(weights + size_t(i) * s, weights + size_t(i + 1) * s, &w[size_t(i) * S]);
-      std::copy(&detail[3 * size_t(vertex_[vertexBegin + i])], &detail[3 * size_t(vertex_[vertexBegin + i]) + 3], &w[size_t(i) * S + s]);
-    }
-    // outer = sum over the carrying vertices a of w_a (x) G_a, G_a = sum of w_t w_b ^ w_c (packed i < j).
-    outer.assign(S * P, 0.0);
-    wedges.resize(P);
-    for (uint32_t run = regionRun_[r]; run < regionRun_[r + 1]; ++run) {
-      std::fill(wedges.begin(), wedges.end(), 0.0);
-      for (uint32_t t = runStart_[run]; t < runStart_[run + 1]; ++t) {
-        const double *wb = &w[size_t(triangleB_[t]) * S], *wc = &w[size_t(triangleC_[t]) * S];
-        const double weight = triangleWeight_[t];
-        double* g = wedges.data();
-        for (size_t i = 0; i + 1 < S; ++i) {
-          const double bi = weight * wb[i], ci = weight * wc[i];
-          const size_t len = S - i - 1;
-          if (bi != 0.0 || ci != 0.0)
-            for (size_t j = 0; j < len; ++j) g[j] += bi * wc[i + 1 + j] - ci * wb[i + 1 + j];
-          g += len;
+  // Each region's minors (its C(s, 3) triples, 3 C(s, 2) pair entries, 3 s linear entries and a
+  // constant) are formed on the pool's threads, a chunk of regions at a time, then added to the
+  // terms in region order: the same sums in the same order at any thread count.
+  const size_t regions = regionCage_.size() - 1;
+  const auto regionSize = [&](size_t r) { return size_t(regionCage_[r + 1] - regionCage_[r]); };
+  const auto minorCount = [&](size_t r) {
+    const size_t s = regionSize(r);
+    return size_t(regionTriple_[r + 1] - regionTriple_[r]) + 3 * size_t(regionPair_[r + 1] - regionPair_[r]) + 3 * s + 1;
+  };
+  std::vector<size_t> minorStart;
+  std::vector<double> minors;
+  for (size_t chunk = 0; chunk < regions; chunk += kRegionsPerChunk) {
+    const size_t chunkEnd = std::min(regions, chunk + kRegionsPerChunk);
+    minorStart.assign(1, 0);
+    for (size_t r = chunk; r < chunkEnd; ++r) minorStart.push_back(minorStart.back() + minorCount(r));
+    minors.resize(minorStart.back());
+    parallelFor(chunk, chunkEnd, 1, [&](size_t first, size_t end) {
+      std::vector<double> w, wedges, outer;
+      for (size_t r = first; r < end; ++r) regionMinors(r, detail.data(), w, wedges, outer, &minors[minorStart[r - chunk]]);
+    });
+    for (size_t r = chunk; r < chunkEnd; ++r) {
+      const size_t s = regionSize(r);
+      const uint32_t* g = &cage_[regionCage_[r]];
+      const uint32_t* tripleSlot = &tripleSlot_[regionTriple_[r]];
+      const uint32_t* pairSlot = &pairSlot_[regionPair_[r]];
+      const double* m = &minors[minorStart[r - chunk]];
+      size_t t = 0, p = 0;
+      for (size_t i = 0; i < s; ++i) {
+        for (size_t j = i + 1; j < s; ++j) {
+          for (size_t k = j + 1; k < s; ++k) triple[tripleSlot[t++]] += *m++;
+          double* q = &pair[3 * size_t(pairSlot[p++])];
+          for (int d = 0; d < 3; ++d) q[d] += *m++;
         }
+        double* a = &linear[3 * size_t(g[i])];
+        a[0] += m[0], a[1] -= m[1], a[2] += m[2];
+        m += 3;
       }
-      const double* wa = &w[size_t(runVertex_[run]) * S];
-      for (size_t i = 0; i < S; ++i) {
-        const double a = wa[i];
-        if (a == 0.0) continue;
-        double* o = &outer[i * P];
-        for (size_t p = 0; p < P; ++p) o[p] += a * wedges[p];
-      }
+      constant += *m;
     }
-    // The 3 x 3 minors, alternated out of outer, to the terms: (i, j, k) all cage: a triple;
-    // (i, j, D_d): q_ij[d]; (i, D_d1, D_d2): a_i through det(x_i, e_d1, e_d2); (D, D, D): constant.
-    const uint32_t* g = &cage_[regionCage_[r]];
-    const uint32_t* tripleSlot = &tripleSlot_[regionTriple_[r]];
-    const uint32_t* pairSlot = &pairSlot_[regionPair_[r]];
-    auto minor = [&](size_t i, size_t j, size_t k) {
-      return outer[i * P + pairIndex(j, k, S)] - outer[j * P + pairIndex(i, k, S)] + outer[k * P + pairIndex(i, j, S)];
-    };
-    size_t t = 0, p = 0;
-    for (size_t i = 0; i < s; ++i) {
-      for (size_t j = i + 1; j < s; ++j) {
-        for (size_t k = j + 1; k < s; ++k) triple[tripleSlot[t++]] += minor(i, j, k);
-        double* q = &pair[3 * size_t(pairSlot[p++])];
-        for (int d = 0; d < 3; ++d) q[d] += minor(i, j, s + d);
-      }
-      double* a = &linear[3 * size_t(g[i])];
-      a[0] += minor(i, s + 1, s + 2), a[1] -= minor(i, s, s + 2), a[2] += minor(i, s, s + 1);
-    }
-    constant += minor(s, s + 1, s + 2);
   }
 
   CagePolynomial poly;

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <map>
 
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
 #include "mrvol/step_builder.h"
+#include "mrvol/thread_pool.h"
 
 namespace mrvol {
 
@@ -143,15 +145,17 @@ struct LevelView {
     fine.ring(v, ring);
     return ring;
   }
-  // E_link(v): odd vertices on the link edges of v (one per coarse triangle at v).
-  std::vector<uint32_t> link(uint32_t v) const {
-    std::vector<uint32_t> out;
+  // E_link(v): odd vertices on the link edges of v (one per coarse triangle at v), in linkRing
+  // (kept between vertices: no allocation per vertex).
+  std::vector<uint32_t> linkRing;
+  const std::vector<uint32_t>& link(uint32_t v) {
+    linkRing.clear();
     for (uint32_t c = fine.begin(v); c < fine.end(v); ++c) {
       uint32_t m1 = fine.next[c], m2 = fine.prev[c];
       uint32_t x = fine.opposite(m2, m1);  // centre face (m2, m1, x) of the split triangle
-      if (x != kNone) out.push_back(x);
+      if (x != kNone) linkRing.push_back(x);
     }
-    return out;
+    return linkRing;
   }
   // Boundary neighbours of a boundary even vertex at level l-1 (two for a manifold boundary).
   std::vector<uint32_t> boundaryNeighbours(uint32_t v) const {
@@ -345,7 +349,23 @@ WaveletTransform::WaveletTransform(const Hierarchy& hierarchy, const SchemeOptio
   if (options.kind == SchemeKind::CatmullClark)
     throw Error("the catmull-clark scheme works on quad meshes; this mesh is made of triangles");
   if (options.kind == SchemeKind::Loop) {
-    for (int l = 1; l <= hierarchy.levels; ++l) steps_.push_back(loopLevel(hierarchy, l, options));
+    // Levels are independent: on the pool's threads, the finest (most of the work) first so that
+    // it has a block of its own; an error is the coarsest failing level's, as in a loop.
+    const int levels = hierarchy.levels;
+    steps_.resize(size_t(levels));
+    std::vector<std::exception_ptr> errors(static_cast<size_t>(levels));
+    parallelFor(0, size_t(levels), 1, [&](size_t first, size_t end) {
+      for (size_t task = first; task < end; ++task) {
+        const int l = task == 0 ? levels : int(task);
+        try {
+          steps_[size_t(l - 1)] = loopLevel(hierarchy, l, options);
+        } catch (...) {
+          errors[size_t(l - 1)] = std::current_exception();
+        }
+      }
+    });
+    for (const auto& e : errors)
+      if (e) std::rethrow_exception(e);
   } else {
     steps_ = interpolatingLevels(hierarchy, options.kind);
   }

@@ -129,12 +129,19 @@ unsigned threadCount() {
 
 void setGrainCap(size_t cap) { grainCap = cap; }
 
-void parallelFor(size_t begin, size_t end, size_t grain, const std::function<void(size_t, size_t)>& fn) {
+namespace {
+size_t blockCount(size_t n, size_t grain) {
+  if (grainCap > 0) grain = std::min(grain, grainCap);
+  return std::min<size_t>(threadCount(), n / std::max<size_t>(grain, 1));
+}
+}  // namespace
+
+bool runsInline(size_t n, size_t grain) { return insideParallelFor || blockCount(n, grain) <= 1; }
+
+void parallelForOnPool(size_t begin, size_t end, size_t grain, const std::function<void(size_t, size_t)>& fn) {
   if (end <= begin) return;
   const size_t n = end - begin;
-  const size_t threads = threadCount();
-  if (grainCap > 0) grain = std::min(grain, grainCap);
-  const size_t blocks = std::min<size_t>(threads, n / std::max<size_t>(grain, 1));
+  const size_t blocks = blockCount(n, grain);
   if (blocks <= 1 || insideParallelFor) {
     fn(begin, end);
     return;

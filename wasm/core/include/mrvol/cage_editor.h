@@ -141,6 +141,7 @@ class CageEditor {
   // The precomputed solver, kept while the constraints and the free set stay the same.
   std::unique_ptr<VolumeSolver> solver_;
   const VolumeConstraints* solverConstraints_ = nullptr;
+  std::vector<uint8_t> solverHeld_;  // the held flags the solver's free set was made for
 };
 
 }  // namespace mrvol

@@ -48,8 +48,12 @@ struct CagePolynomial {
   // partials added in block order.
   void gatherRuns(const double* v, double* sums) const;  // indexed runs: sums[3 r] = sum_k T c_k of run r
   static constexpr size_t kRunsPerBlock = 2048;
+  static constexpr size_t kTriplesPerBlock = size_t(1) << 18;  // a sweep's least work per thread
   static constexpr size_t kMaxScatterBlocks = 8;
   std::vector<uint32_t> scatterRun_;
+  std::vector<uint32_t> scatterLow_;   // per scatter block: the least k of its triples
+  std::vector<size_t> scatterBase_;    // where its partial (indices 3 low .. 3 cageSize) lies in partials_
+  size_t scatterEnd_ = 0;
   mutable std::vector<double> partials_, directionSums_;
 };
 

@@ -31,7 +31,10 @@ struct CageBasis {
   std::vector<uint32_t> index;
   std::vector<double> value;
 };
-CageBasis cageBasis(const WaveletTransform& transform, int level);
+// A cage of at most denseCageUpTo vertices is carried as dense columns (a few passes over the
+// steps, in chunks of at most denseBytes), a larger one on sparse rows: the same rows, bit for bit.
+CageBasis cageBasis(const WaveletTransform& transform, int level, uint32_t denseCageUpTo = 32,
+                    size_t denseBytes = size_t(64) << 20);
 
 // A volume form grouped by level-e face: term t of `form` (hierarchy numbering) lies in region
 // region[t] < regionCount, and its first corner carries it (any choice is exact; see above).
@@ -89,6 +92,11 @@ class CagePolynomialBuilder {
   std::vector<uint32_t> tripleSlot_, pairSlot_;
   // The polynomial's terms, ascending (i < j < k, i < j), before the exact zeros are dropped.
   std::vector<uint32_t> tripleI_, tripleJ_, tripleK_, pairI_, pairJ_;
+
+  // Region r's minors for build(), in the order it adds them (w, wedges, outer: scratch).
+  void regionMinors(size_t r, const double* detail, std::vector<double>& w, std::vector<double>& wedges,
+                    std::vector<double>& outer, double* out) const;
+  static constexpr size_t kRegionsPerChunk = 1024;  // regions whose minors are held at once
 };
 
 }  // namespace mrvol

@@ -26,6 +26,22 @@ void setGrainCap(size_t cap);
 // of at least `grain` iterations; returns when all are done. Inline (one block) with one thread,
 // for short ranges, and when called from inside another parallelFor. An exception thrown by fn is
 // rethrown here (the first one) after every block has finished.
-void parallelFor(size_t begin, size_t end, size_t grain, const std::function<void(size_t, size_t)>& fn);
+template <class F>
+void parallelFor(size_t begin, size_t end, size_t grain, F&& fn);
+
+// Whether parallelFor runs n iterations of this grain inline (no std::function is made then: a
+// small sweep of a drag's step costs a call).
+bool runsInline(size_t n, size_t grain);
+void parallelForOnPool(size_t begin, size_t end, size_t grain, const std::function<void(size_t, size_t)>& fn);
+
+template <class F>
+void parallelFor(size_t begin, size_t end, size_t grain, F&& fn) {
+  if (end <= begin) return;
+  if (runsInline(end - begin, grain)) {
+    fn(begin, end);
+    return;
+  }
+  parallelForOnPool(begin, end, grain, fn);
+}
 
 }  // namespace mrvol
