@@ -197,7 +197,8 @@ function report(label, events) {
   let text = `\n== ${label}: main thread ${thread.pid}:${thread.tid}, ${top.length} tasks, ` +
     `${over(50)} over 50 ms, ${over(200)} over 200 ms, ${sampled.length} JS samples\n`;
   for (const t of longest) {
-    text += `\n  task at ${ms(t.ts - start).toFixed(0)} ms (from the trace's start), ${ms(t.dur).toFixed(1)} ms\n`;
+    const cpu = Number.isFinite(t.tdur) ? `, ${ms(t.tdur).toFixed(1)} ms of CPU` : '';
+    text += `\n  task at ${ms(t.ts - start).toFixed(0)} ms (from the trace's start), ${ms(t.dur).toFixed(1)} ms${cpu}\n`;
     text += `   trace events, self time by name:\n${table(selfTimes(list, t), TOP)}\n`;
     const others = otherThreads(events, thread, t);
     text += `   other threads meanwhile, top-level busy time (what the task may wait for):\n${table(others, 6)}\n`;
