@@ -57,21 +57,14 @@ function mainThreadTasks(events) {
   return { tasks, marks, measures };
 }
 
-/**
- * The tasks from the last `mark` on: { longest (wall ms), longestCpu (CPU ms), tasks }, the tasks
- * that hold a measure named `except` (another job, said apart) left out and returned as `excepted`.
- */
-export function tasksSince({ tasks, marks, measures }, mark, { except = null } = {}) {
+/** The tasks from the last `mark` on: { longest (wall ms), longestCpu (CPU ms), tasks }. */
+export function tasksSince({ tasks, marks }, mark) {
   const from = marks.get(mark)?.at(-1);
   if (from === undefined) throw new Error(`no "${mark}" mark in the trace (marks: ${[...marks.keys()].join(', ')})`);
-  const other = measures.filter((m) => m.name === except);
-  const holds = (t) => other.some((m) => m.ts >= t.ts && m.ts < t.ts + t.ms * 1000);
   const after = tasks.filter((t) => t.ts + t.ms * 1000 > from);
-  const kept = after.filter((t) => !holds(t));
   return {
-    tasks: kept,
-    excepted: after.filter(holds),
-    longest: Math.max(0, ...kept.map((t) => t.ms)),
-    longestCpu: Math.max(0, ...kept.map((t) => t.cpuMs ?? t.ms)),
+    tasks: after,
+    longest: Math.max(0, ...after.map((t) => t.ms)),
+    longestCpu: Math.max(0, ...after.map((t) => t.cpuMs ?? t.ms)),
   };
 }
