@@ -27,7 +27,7 @@ import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
 import { stepMultiplier } from './multiplier.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
-import { findSelfIntersection } from './self-intersection.js';
+import { SelfIntersectionChecker } from './self-intersection.js';
 import { setUpBalance } from './balance.js';
 import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject, SHARE_PARAMS } from './share.js';
 import { VIEWS } from './learn/router.js';
@@ -75,15 +75,17 @@ const app = {
   dragHandles: [],   // cage indices of the drag in progress
 };
 
-/** Warns under the readouts when the surface intersects itself (checked after each edit, not during drags). */
+/** Warns under the readouts when the surface intersects itself (checked after each edit, not during drags, in a worker). */
 let intersectionTimer = null;
+const intersections = new SelfIntersectionChecker();
 function checkSelfIntersection() {
   clearTimeout(intersectionTimer);
-  intersectionTimer = setTimeout(() => {
+  intersectionTimer = setTimeout(async () => {
     const { session } = app;
     const warning = document.getElementById('self-intersection');
     if (!session.editor || session.dragging) return;
-    const found = findSelfIntersection(session.positions(), session.model.faces);
+    const found = await intersections.check(session.positions(), session.model.faces);
+    if (found === undefined) return; // a later check replaced it
     warning.textContent = found?.intersects
       ? `The surface intersects itself (triangles ${found.pair[0]} and ${found.pair[1]}): the volume counts the overlap with opposite signs. Undo or move the handles apart.`
       : '';

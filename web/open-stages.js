@@ -11,6 +11,7 @@ export function beginStages(what) {
   stages = [];
   started = performance.now();
   stages.what = what;
+  performance.mark('mrvol: stages begin'); // where a trace's window of this rebuild starts (theta-cache-big)
 }
 
 /** Adds a stage: { stage, thread, ms } (and any details, e.g. bytes). */

@@ -1,6 +1,7 @@
 // Whether the surface intersects itself: a BVH of the fine triangles (three-mesh-bvh) cast against
 // itself, triangle pairs that share a vertex skipped (they touch by construction). Run after each
-// edit (not during drags); meshes over MAX_FACES triangles are not checked (null).
+// edit (not during drags), in a worker (SelfIntersectionChecker); meshes over MAX_FACES triangles are
+// not checked (null).
 import * as THREE from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 
@@ -43,4 +44,36 @@ function originalFace(faces, index, offset) {
   for (let f = 0; f < faces.length; f += 3)
     if ([faces[f], faces[f + 1], faces[f + 2]].sort((x, y) => x - y).join(',') === key) return f / 3;
   return -1;
+}
+
+/**
+ * The check in a worker (self-intersection-worker.js), the page's thread free meanwhile: check(positions,
+ * faces) resolves to findSelfIntersection's result, or to undefined when a later check replaced it.
+ * The faces are sent again only when they are another array (another model).
+ */
+export class SelfIntersectionChecker {
+  #worker = null;
+  #faces = null;
+  #latest = 0;
+  #waiting = new Map(); // id -> resolve
+
+  check(positions, faces) {
+    if (!this.#worker) {
+      this.#worker = new Worker(new URL('./self-intersection-worker.js', import.meta.url), { type: 'module', name: 'mrvol-self-intersection' });
+      this.#worker.onmessage = ({ data }) => {
+        const resolve = this.#waiting.get(data.id);
+        this.#waiting.delete(data.id);
+        if (data.error) console.warn(`the self-intersection check failed: ${data.error}`);
+        resolve?.(data.id === this.#latest && !data.error ? data.found : undefined);
+      };
+      this.#faces = null;
+    }
+    const id = ++this.#latest;
+    const message = { id, positions };
+    if (faces !== this.#faces) message.faces = faces.slice(); // the page keeps its own
+    this.#faces = faces;
+    // an array of its own is moved, not copied (never a view of the core's memory)
+    this.#worker.postMessage(message, positions.byteLength === positions.buffer.byteLength ? [positions.buffer] : []);
+    return new Promise((resolve) => this.#waiting.set(id, resolve));
+  }
 }

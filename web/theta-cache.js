@@ -3,16 +3,20 @@
 // connectivity. Editing positions never invalidates an entry, and another model with the same
 // connectivity reuses it.
 //
-// Two stores written in one transaction: 'theta' (`${key}#${i}` -> ArrayBuffer chunks of at most 32 MB,
+// Two stores written in one transaction: 'theta' (`${key}#${i}` -> ArrayBuffer chunks of 4 MB (earlier entries: 32 MB),
 // web/chunked-store.js: one value over ~133 MB is refused by Chromium) and 'theta-meta' (key ->
 // { key, bytes, chunks, model, created }), so that listing entries does not read the tensors.
 // Without IndexedDB (private modes, blocked storage) every call is a no-op and `available` is false.
 import { openDB, deleteDB } from 'idb';
-import { putChunks, getChunks, chunkRange, storageProblem } from './chunked-store.js';
+import { putChunksInTurns, getChunks, chunkRange, storageProblem } from './chunked-store.js';
 
 const DB_NAME = 'mrvol';
 const DB_VERSION = 1;
 const OPEN_TIMEOUT_MS = 5000;
+// A θ is written in chunks of this size, one a task (putChunksInTurns): each chunk's copy and
+// serialization on the page's thread stays well under 100 ms on a loaded machine. Read back whatever
+// size they were written in (the entry's chunk count).
+const WRITE_CHUNK_BYTES = 4 * 2 ** 20;
 
 export function thetaKey({ fingerprint, scheme, alpha, beta, level }) {
   return `${fingerprint}:${scheme}:${alpha}:${beta}:${level}:v1`;
@@ -97,8 +101,9 @@ export class ThetaCache {
       tx = this.#db.transaction(['theta', 'theta-meta'], 'readwrite');
       // done rejects on 'abort' as well as 'error' (a quota error aborts the transaction).
       const done = tx.done;
+      done.catch(() => {}); // awaited below, or the failure is said from tx.error
       tx.objectStore('theta').delete(chunkRange(key)).catch(() => {});
-      const chunks = putChunks(tx.objectStore('theta'), key, buffer);
+      const chunks = await putChunksInTurns(tx.objectStore('theta'), key, buffer, { chunkBytes: WRITE_CHUNK_BYTES });
       tx.objectStore('theta-meta').put({ key, bytes: buffer.byteLength, chunks, created: Date.now(), ...meta }).catch(() => {});
       await done;
       return { ok: true };

@@ -204,6 +204,7 @@ export class ThetaSource {
       return;
     }
     const received = performance.now();
+    performance.mark('mrvol: θ received'); // a trace's window of storing and handing it over starts here
     this.stats.thetaMs = result.ms;
     let cached = null;
     // a big θ goes to the editor worker through the cache (read and handed over there, not here)
