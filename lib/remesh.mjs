@@ -14,6 +14,7 @@ import { MeshoptSimplifier } from 'meshoptimizer';
 import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
+import { collapseToTarget } from './remesh-collapse.mjs';
 import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
@@ -213,13 +214,14 @@ function simplifyOnce(mesh, targetFaces, lock) {
  */
 function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock) {
   const problems = [];
-  let target = Math.max(4, targetFaces);
+  const first = Math.max(4, targetFaces);
+  let target = first;
   for (let attempt = 0; attempt < attempts; attempt++, target = Math.ceil(target * 1.5)) {
     if (target >= mesh.faces.length / 3) return { base: mesh, target, problems, simplified: false };
     let base = simplifyOnce(mesh, target, lock);
-    const check = () => {
+    const check = (m = base) => {
       try {
-        const v = mrvol.validate(base);
+        const v = mrvol.validate(m);
         if (!v.closed) return `${v.boundaryEdges} boundary edges`;
         if (v.components !== 1) return `${v.components} components`;
         if (v.genus !== genus) return `genus ${v.genus} instead of ${genus}`;
@@ -235,7 +237,17 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
       base = repair(base, { maxHoleEdges: 12 }).mesh;
       problem = check();
     }
-    if (!problem) return { base, target, problems, simplified: true };
+    if (!problem) {
+      // A larger base passed (a scan's thin parts pinched at the smaller ones): collapsed back to
+      // the size asked for by collapseToTarget() (lib/remesh-collapse.mjs), which keeps the
+      // topology, rather than a cage 1.5x larger per failed try.
+      if (attempt > 0) {
+        const smaller = collapseToTarget(base, first, lockOf(base, mesh, lock));
+        if (smaller.faces.length < base.faces.length && !check(smaller))
+          return { base: smaller, target: first, problems, simplified: true, collapsedFrom: base.faces.length / 3 };
+      }
+      return { base, target, problems, simplified: true };
+    }
     problems.push(`${target} faces: ${problem}`);
     // Tiny tunnels of a scan (genus 52 for the full dragon) close at any cage size: after two
     // tries a closed, manifold, one-piece base of another genus is taken (reported).
@@ -243,6 +255,16 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
   }
   // Nothing simpler passed: the component itself is the base (always valid).
   return { base: mesh, target, problems, simplified: false };
+}
+
+/** `lock` (a mask over the vertices of `mesh`, or null) as a mask over those of `base` (by position). */
+function lockOf(base, mesh, lock) {
+  if (!lock) return null;
+  const keys = new Set();
+  for (let v = 0; v < lock.length; v++) if (lock[v]) keys.add(positionKey(mesh.positions, v));
+  const out = new Uint8Array(base.positions.length / 3);
+  for (let v = 0; v < out.length; v++) if (keys.has(positionKey(base.positions, v))) out[v] = 1;
+  return out;
 }
 
 /** The faces of component `c` (of `ofFace`) as a mesh of their own (exact positions). */
