@@ -19,6 +19,13 @@ export interface RemeshOptions {
    * (unless given) with twice and four times the base.
    */
   baseFaces?: number;
+  /**
+   * MAPS-style fit (default false): bases made by the topology-keeping half-edge collapse straight
+   * from each piece (up to 60000 faces), which keeps every removed vertex's place on the base, and
+   * the semi-regular vertices put at their place on the input by that map instead of cast and
+   * relaxed (lib/remesh-param.mjs).
+   */
+  parametrise?: boolean;
   /** Keep only the largest connected component (default false: every component is remeshed). */
   keepLargest?: boolean;
   /** Default levels: the distance to reach (fraction of the diagonal, default 0.005). */

@@ -15,6 +15,7 @@ import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } f
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
+import { BaseParametrisation } from './remesh-param.mjs';
 import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
@@ -256,6 +257,27 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
   // Nothing simpler passed: the component itself is the base (always valid).
   return { base: mesh, target, problems, simplified: false };
 }
+
+/**
+ * A base made by collapseToTarget() straight from the piece, with its MAPS parametrisation (the
+ * base -> input map); null (the simplifier's base is taken) when the piece is too large for the
+ * plain-JS collapse or the base does not pass the checks.
+ */
+function parametrisedBase(mrvol, piece, target, lock) {
+  const mesh = piece.mesh;
+  if (target >= mesh.faces.length / 3 || mesh.faces.length / 3 > PARAMETRISE_MAX_FACES) return null;
+  const base = collapseToTarget(mesh, target, lock, { track: true });
+  try {
+    const v = mrvol.validate(base);
+    if (!v.closed || v.components !== 1 || v.genus !== piece.genus) return null;
+  } catch {
+    return null;
+  }
+  const parametrisation = new BaseParametrisation(base, mesh, base.parameters);
+  return { base: { positions: base.positions, faces: base.faces }, target, problems: [], simplified: true, parametrisation };
+}
+// Above this the Maps and Sets of the JS collapse take too long: the simplifier's base instead.
+const PARAMETRISE_MAX_FACES = 60000;
 
 /** `lock` (a mask over the vertices of `mesh`, or null) as a mask over those of `base` (by position). */
 function lockOf(base, mesh, lock) {
@@ -1037,7 +1059,8 @@ export async function remesh(mrvol, input, options = {}) {
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
-        const b = simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
+        const b = (options.parametrise && parametrisedBase(mrvol, piece, target, lock)) ||
+          simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock);
         simplifierProblems.push(...b.problems);
         if (b.genusChanged) genusChanges.add(i);
         return b;
@@ -1055,7 +1078,7 @@ export async function remesh(mrvol, input, options = {}) {
         const b = bases[i], own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
         // The same base at the same levels fits the same (deterministic): done once.
         const hold = holdTips && tipKeys.size > 0;
-        const keyOf = (held) => `${i} ${used} ${withFeatures ? 1 : 0} ${b.simplified ? 1 : 0} ${held ? 1 : 0}`;
+        const keyOf = (held) => `${i} ${used} ${withFeatures ? 1 : 0} ${b.simplified ? 1 : 0} ${held ? 1 : 0} ${b.parametrisation ? 1 : 0}`;
         const key = keyOf(hold);
         const known = (fitted.get(key) ?? []).find((k) => sameMesh(k.base, b.base));
         if (known) {
@@ -1064,7 +1087,7 @@ export async function remesh(mrvol, input, options = {}) {
         }
         const fitPart = (tips) => {
           const part = fitLevels(mrvol, own, b.base, used, relaxIterations, withFeatures, !b.simplified,
-                                 (f, stage) => progress(fraction + share * (done + weight * f), stage), tips);
+                                 (f, stage) => progress(fraction + share * (done + weight * f), stage), tips, b.parametrisation);
           const flippedNow = resultFlipped(part.mesh, own, part.constraints);
           part.untangled = flippedNow.length;
           part.flippedTriangles = part.untangled ? untangle(own, part.mesh.positions, part.mesh.faces, part.constraints, 6, true, flippedNow) : 0;
@@ -1373,13 +1396,23 @@ function inputPieces(mrvol, mesh, keepLargest, repaired) {
  * level-l mesh is relaxed tangentially and reprojected. Output in the hierarchy order of the core
  * (base vertices first).
  */
-function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, onProgress = () => {}, tips = null) {
+function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exact, onProgress = () => {}, tips = null, parametrisation = null) {
   const mr = mrvol.subdivide(base, { levels, scheme: 'linear' });
   try {
     const positions = Float64Array.from(mr.positions());
     const faces = Uint32Array.from(mr.faces());
     const depths = mr.depths();
     const vertexCount = positions.length / 3;
+    // With a MAPS parametrisation: each vertex's weights over the base's vertices (a base vertex
+    // its own, a child its parents' mean), mapped to the input instead of cast and relaxed.
+    const weightsOf = parametrisation ? new Array(vertexCount) : null;
+    if (weightsOf) {
+      const baseIndex = new Map();
+      for (let v = 0; v < base.positions.length / 3; v++) baseIndex.set(positionKey(base.positions, v), v);
+      for (let m = 0; m < vertexCount; m++) if (depths[m] === 0) weightsOf[m] = new Map([[baseIndex.get(positionKey(positions, m)), 1]]);
+    }
+    const mapped = [0, 0, 0];
+    let unmapped = 0;
     const constraints = new Constraints(features && features.edgeCount > 0 ? features : null, vertexCount);
     for (let m = 0; m < vertexCount; m++) if (depths[m] === 0) constraints.assignBase(positions, m);
     // Tips kept in the base (input vertices a fit left far) stay on their tip: relaxed, they
@@ -1424,7 +1457,19 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
           if (a < 0) a = list[e];
           else b = list[e];
         }
+        if (weightsOf) {
+          const w = new Map();
+          for (const parent of [a, b]) for (const [id, x] of weightsOf[parent]) w.set(id, (w.get(id) ?? 0) + x / 2);
+          weightsOf[m] = w;
+        }
         if (constraints.kind[m] === 2 || constraints.assignChild(positions, m, a, b, opposite(a, b))) continue;
+        if (weightsOf) {
+          if (parametrisation.map([...weightsOf[m].keys()], [...weightsOf[m].values()], mapped)) {
+            positions[3 * m] = mapped[0], positions[3 * m + 1] = mapped[1], positions[3 * m + 2] = mapped[2];
+            continue;
+          }
+          unmapped++;
+        }
         const x = (positions[3 * a] + positions[3 * b]) / 2, y = (positions[3 * a + 1] + positions[3 * b + 1]) / 2,
               z = (positions[3 * a + 2] + positions[3 * b + 2]) / 2;
         for (let k = 0; k < 3; k++) normal[k] = coarseNormals[3 * a + k] + coarseNormals[3 * b + k];
@@ -1441,14 +1486,14 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
         const p = hit ? hit.point : (fallbacks++, surface.closest(x, y, z).point);
         positions[3 * m] = p.x, positions[3 * m + 1] = p.y, positions[3 * m + 2] = p.z;
       }
-      if (relaxIterations > 0) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held, constraints);
+      if (relaxIterations > 0 && !parametrisation) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held, constraints);
     }
     if (levels > 0) {
       onProgress(work(levels) / work(levels + 1), 'fitting features');
       snapToFeatures(surface, positions, faces, relaxIterations, constraints);
       attractToInput(surface, positions, faces, {}, constraints);
     }
-    return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks, constraints, heldTips };
+    return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks, constraints, heldTips, unmapped };
   } finally {
     mr.delete();
   }
