@@ -9,7 +9,7 @@
 // A run on some models (NAME... or --quick) keeps the other rows of earlier runs (kept in
 // .cache/bench-remesh-rows.json, each with its date), so that the slow models can run apart.
 //
-//   node bench/remesh.mjs [--no-write] [--quick (no model of 48k triangles or more)] [NAME...]
+//   node bench/remesh.mjs [--no-write] [--quick (no model of 48k triangles or more)] [--parametrise] [NAME...]
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { cpus, loadavg, totalmem } from 'node:os';
@@ -21,7 +21,9 @@ import { remesh } from '../lib/remesh.mjs';
 import { CORPUS, makeCorpus } from '../scripts/corpus.mjs';
 
 const args = process.argv.slice(2);
-const write = !args.includes('--no-write');
+// --parametrise: the corpus models with `parametrise: true` (the MAPS fit), printed only.
+const parametrise = args.includes('--parametrise');
+const write = !args.includes('--no-write') && !parametrise;
 const quick = args.includes('--quick');
 const only = args.filter((a) => !a.startsWith('--'));
 const mrvol = await createMrvol();
@@ -36,7 +38,7 @@ const cases = CORPUS.filter((c) => (only.length ? only.includes(c.name) : !quick
     const m = mrvol.readMesh(readFileSync(c.file), { name: c.file });
     return { positions: m.positions, faces: m.faces };
   },
-  options: { repair: true },
+  options: { repair: true, ...(parametrise ? { parametrise: true } : {}) },
 }));
 if (!only.length) {
   cases.push({ name: 'bunny, paper size (n = 2, 250 base faces)', kind: 'scan', format: 'npm', load: () => fromPackage(bunny),

@@ -1486,6 +1486,7 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
         const p = hit ? hit.point : (fallbacks++, surface.closest(x, y, z).point);
         positions[3 * m] = p.x, positions[3 * m + 1] = p.y, positions[3 * m + 2] = p.z;
       }
+      // Mapped vertices are not relaxed: relaxed (all, or all but the base's), the dragon-11k went 0.78% -> 0.79-0.85%.
       if (relaxIterations > 0 && !parametrisation) relaxTangentially(surface, positions, fine, adjacency, relaxIterations, 0.5, held, constraints);
     }
     if (levels > 0) {
