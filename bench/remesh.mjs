@@ -69,7 +69,8 @@ for (const c of cases) {
     msPer100k: Math.round((ms * 100000) / inputFaces), cpuMsPer100k: Math.round((cpuMs * 100000) / inputFaces),
     ...(r ? { components: r.components, genus: r.input.genus, levels: r.levels, tried: r.levelsTried.join(','), cage: r.baseVertices,
               vertices: r.vertices, faces: r.faces, hausdorff: r.hausdorff, toInput: r.hausdorffToInput, fromInput: r.hausdorffFromInput,
-              volumeChange: r.volumeChange, flipped: r.flippedTriangles, untangled: r.untangledTriangles,
+              volumeChange: r.volumeChange, flipped: r.flippedTriangles, untangled: r.untangledTriangles, fit: r.fit,
+              parametrisedFallback: r.parametrisedFallback,
               features: `${r.features.edges}/${r.features.corners}`,
               repaired: r.repair ? Object.entries(r.repair).filter(([k, v]) => v && k !== 'smoothIterations').map(([k, v]) => `${k} ${v}`).join(', ') : '' }
       : { error }),

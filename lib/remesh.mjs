@@ -1222,7 +1222,7 @@ export async function remesh(mrvol, input, options = {}) {
   }
   const volume = mrvol.volume(result.mesh);
   const constraints = result.constraints;
-  return {
+  const report = {
     mesh: result.mesh,
     levels: result.levels,
     levelsTried: tried.map((t) => t.levels),
@@ -1253,8 +1253,28 @@ export async function remesh(mrvol, input, options = {}) {
     genusChangedPieces: genusChanges.size,
     repair: repaired?.report ?? null,
     simplifierRetries: simplifierProblems,
+    fit: options.parametrise ? 'parametrised' : 'simplified',
+    parametrisedFallback: null,
     ms: now() - started,
   };
+  // Still far by default: the MAPS fit (parametrise) too, for the pieces it can take (closer on the
+  // teapot and bunny, farther on dragon-11k); the closer of the two without folds is kept.
+  const canParametrise = pieces.some((p) => p.mesh.faces.length / 3 > 64 && p.mesh.faces.length / 3 <= PARAMETRISE_MAX_FACES);
+  if (options.parametrise === undefined && report.hausdorff > goal && canParametrise) {
+    let other = null, error = null;
+    try {
+      other = await remesh(mrvol, input, { ...options, parametrise: true,
+                                           onProgress: (f, stage) => progress(0.95 + 0.05 * f, `parametrised fit: ${stage}`) });
+    } catch (e) {
+      if (!(e instanceof MrvolError)) throw e;
+      error = e.message;
+    }
+    const kept = !!other && other.flippedTriangles === 0 && other.hausdorff < report.hausdorff;
+    const fallback = other ? { hausdorff: other.hausdorff, flippedTriangles: other.flippedTriangles, kept } : { error, kept };
+    const chosen = kept ? other : report;
+    return { ...chosen, parametrisedFallback: fallback, ms: now() - started };
+  }
+  return report;
 }
 
 /** Whether two meshes have the same faces and positions. */

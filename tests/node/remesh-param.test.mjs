@@ -56,3 +56,27 @@ test('parametrise: the bunny remeshed through the map, unfolded and near the inp
   assert.ok(r.hausdorff < 0.015, `Hausdorff ${r.hausdorff}`);
   assert.ok(Math.abs(r.volumeChange) < 0.01, `volume change ${r.volumeChange}`);
 });
+
+test('fallback: above the goal the parametrised fit is tried too and the closer unfolded one kept; false turns it off', async () => {
+  const input = { positions: Float64Array.from(bunny.positions.flat()), faces: Uint32Array.from(bunny.cells.flat()) };
+  // A goal no fit reaches: the fallback always runs.
+  const options = { levels: 1, baseFaces: 250, hausdorffGoal: 1e-9 };
+  const off = await remesh(mrvol, input, { ...options, parametrise: false });
+  assert.equal(off.fit, 'simplified');
+  assert.equal(off.parametrisedFallback, null);
+  const forced = await remesh(mrvol, input, { ...options, parametrise: true });
+  assert.equal(forced.fit, 'parametrised');
+  assert.equal(forced.parametrisedFallback, null);
+  const auto = await remesh(mrvol, input, options);
+  const fallback = auto.parametrisedFallback;
+  assert.ok(fallback, 'the fallback ran');
+  assert.equal(fallback.hausdorff, forced.hausdorff);
+  assert.equal(fallback.kept, forced.flippedTriangles === 0 && forced.hausdorff < off.hausdorff);
+  assert.equal(auto.fit, fallback.kept ? 'parametrised' : 'simplified');
+  assert.equal(auto.hausdorff, fallback.kept ? forced.hausdorff : off.hausdorff);
+  assert.equal(auto.flippedTriangles, 0);
+  // Within the goal the default fit stands alone.
+  const near = await remesh(mrvol, input, { ...options, hausdorffGoal: 1 });
+  assert.equal(near.parametrisedFallback, null);
+  assert.equal(near.fit, 'simplified');
+});
