@@ -40,12 +40,14 @@ const cases = CORPUS.filter((c) => (only.length ? only.includes(c.name) : !quick
   },
   options: { repair: true, ...(parametrise ? { parametrise: true } : {}) },
 }));
-if (!only.length) {
-  cases.push({ name: 'bunny, paper size (n = 2, 250 base faces)', kind: 'scan', format: 'npm', load: () => fromPackage(bunny),
-               options: { levels: 2, baseFaces: 250 } });
-  cases.push({ name: 'dragon sample (--repair --keep-largest --smooth 3, n = 2, 1200 base faces)', kind: 'scan', format: 'npm',
-               load: () => fromPackage(dragon), options: { levels: 2, baseFaces: 1200, repair: true, keepLargest: true, smooth: 3 } });
-}
+// These two run by default, or named by their first word ('bunny', 'dragon').
+const extras = [
+  { name: 'bunny, paper size (n = 2, 250 base faces)', kind: 'scan', format: 'npm', load: () => fromPackage(bunny),
+    options: { levels: 2, baseFaces: 250 } },
+  { name: 'dragon sample (--repair --keep-largest --smooth 3, n = 2, 1200 base faces)', kind: 'scan', format: 'npm',
+    load: () => fromPackage(dragon), options: { levels: 2, baseFaces: 1200, repair: true, keepLargest: true, smooth: 3 } },
+];
+cases.push(...extras.filter((c) => !only.length || only.includes(c.name.split(/[ ,]/)[0])));
 
 // Warm-up (JIT, meshoptimizer's WASM instantiation): not recorded.
 await remesh(mrvol, fromPackage(bunny), { levels: 1 }).catch(() => {});
