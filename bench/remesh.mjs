@@ -9,7 +9,7 @@
 // A run on some models (NAME... or --quick) keeps the other rows of earlier runs (kept in
 // .cache/bench-remesh-rows.json, each with its date), so that the slow models can run apart.
 //
-//   node bench/remesh.mjs [--no-write] [--quick (no model of 48k triangles or more)] [NAME...]
+//   node bench/remesh.mjs [--no-write] [--quick (no model of 48k triangles or more)] [--parametrise] [NAME...]
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { cpus, loadavg, totalmem } from 'node:os';
@@ -21,7 +21,9 @@ import { remesh } from '../lib/remesh.mjs';
 import { CORPUS, makeCorpus } from '../scripts/corpus.mjs';
 
 const args = process.argv.slice(2);
-const write = !args.includes('--no-write');
+// --parametrise: the corpus models with `parametrise: true` (the MAPS fit), printed only.
+const parametrise = args.includes('--parametrise');
+const write = !args.includes('--no-write') && !parametrise;
 const quick = args.includes('--quick');
 const only = args.filter((a) => !a.startsWith('--'));
 const mrvol = await createMrvol();
@@ -36,14 +38,16 @@ const cases = CORPUS.filter((c) => (only.length ? only.includes(c.name) : !quick
     const m = mrvol.readMesh(readFileSync(c.file), { name: c.file });
     return { positions: m.positions, faces: m.faces };
   },
-  options: { repair: true },
+  options: { repair: true, ...(parametrise ? { parametrise: true } : {}) },
 }));
-if (!only.length) {
-  cases.push({ name: 'bunny, paper size (n = 2, 250 base faces)', kind: 'scan', format: 'npm', load: () => fromPackage(bunny),
-               options: { levels: 2, baseFaces: 250 } });
-  cases.push({ name: 'dragon sample (--repair --keep-largest --smooth 3, n = 2, 1200 base faces)', kind: 'scan', format: 'npm',
-               load: () => fromPackage(dragon), options: { levels: 2, baseFaces: 1200, repair: true, keepLargest: true, smooth: 3 } });
-}
+// These two run by default, or named by their first word ('bunny', 'dragon').
+const extras = [
+  { name: 'bunny, paper size (n = 2, 250 base faces)', kind: 'scan', format: 'npm', load: () => fromPackage(bunny),
+    options: { levels: 2, baseFaces: 250 } },
+  { name: 'dragon sample (--repair --keep-largest --smooth 3, n = 2, 1200 base faces)', kind: 'scan', format: 'npm',
+    load: () => fromPackage(dragon), options: { levels: 2, baseFaces: 1200, repair: true, keepLargest: true, smooth: 3 } },
+];
+cases.push(...extras.filter((c) => !only.length || only.includes(c.name.split(/[ ,]/)[0])));
 
 // Warm-up (JIT, meshoptimizer's WASM instantiation): not recorded.
 await remesh(mrvol, fromPackage(bunny), { levels: 1 }).catch(() => {});
@@ -67,7 +71,8 @@ for (const c of cases) {
     msPer100k: Math.round((ms * 100000) / inputFaces), cpuMsPer100k: Math.round((cpuMs * 100000) / inputFaces),
     ...(r ? { components: r.components, genus: r.input.genus, levels: r.levels, tried: r.levelsTried.join(','), cage: r.baseVertices,
               vertices: r.vertices, faces: r.faces, hausdorff: r.hausdorff, toInput: r.hausdorffToInput, fromInput: r.hausdorffFromInput,
-              volumeChange: r.volumeChange, flipped: r.flippedTriangles, untangled: r.untangledTriangles,
+              volumeChange: r.volumeChange, flipped: r.flippedTriangles, untangled: r.untangledTriangles, fit: r.fit,
+              parametrisedFallback: r.parametrisedFallback,
               features: `${r.features.edges}/${r.features.corners}`,
               repaired: r.repair ? Object.entries(r.repair).filter(([k, v]) => v && k !== 'smoothIterations').map(([k, v]) => `${k} ${v}`).join(', ') : '' }
       : { error }),

@@ -578,12 +578,13 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
     hausdorff: r.hausdorff, hausdorffToInput: r.hausdorffToInput, hausdorffFromInput: r.hausdorffFromInput,
     flippedTriangles: r.flippedTriangles, volumeChange: r.volumeChange, ms: round(r.ms, 1), output: values.output,
     genus: r.input.genus, components: r.components, features: r.features, untangledTriangles: r.untangledTriangles,
-    droppedPieces: r.input.droppedPieces, repair: r.repair,
+    droppedPieces: r.input.droppedPieces, repair: r.repair, fit: r.fit, parametrisedFallback: r.parametrisedFallback,
   };
   print(values, result, (x) => [
     `wrote            ${x.output}: ${x.vertices} vertices, ${x.faces} faces, ${x.levels} levels over ${x.baseVertices} base vertices`,
     `hausdorff        ${round(100 * x.hausdorff, 3)}% of the bounding-box diagonal (to input ${round(100 * x.hausdorffToInput, 3)}%, from input ${round(100 * x.hausdorffFromInput, 3)}%)`,
     `flipped          ${x.flippedTriangles} triangles`,
+    `fit              ${x.fit}${x.parametrisedFallback ? ` (parametrised fallback ${x.parametrisedFallback.error ?? `${round(100 * x.parametrisedFallback.hausdorff, 3)}%`}, ${x.parametrisedFallback.kept ? 'kept' : 'not kept'})` : ''}`,
     `volume change    ${round(100 * x.volumeChange, 4)}%`,
     `pieces           ${x.components} component(s), genus ${x.genus}${x.droppedPieces ? `, ${x.droppedPieces} empty piece(s) dropped` : ''}`,
     `features         ${x.features.edges} crease edges, ${x.features.corners} corners (${x.features.cornerVertices} base corners held, ${x.features.creaseVertices} vertices on creases)`,

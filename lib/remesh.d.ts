@@ -19,6 +19,14 @@ export interface RemeshOptions {
    * (unless given) with twice and four times the base.
    */
   baseFaces?: number;
+  /**
+   * MAPS-style fit (default false): bases made by the topology-keeping half-edge collapse straight
+   * from each piece (up to 60000 faces), which keeps every removed vertex's place on the base, and
+   * the semi-regular vertices put at their place on the input by that map instead of cast and
+   * relaxed (lib/remesh-param.mjs). Unset: run as well when the default fit stays above the
+   * Hausdorff goal, and kept if closer without flipped triangles (see `fit` in the result); false: never.
+   */
+  parametrise?: boolean;
   /** Keep only the largest connected component (default false: every component is remeshed). */
   keepLargest?: boolean;
   /** Default levels: the distance to reach (fraction of the diagonal, default 0.005). */
@@ -99,6 +107,10 @@ export interface RemeshResult {
   repair: RepairReport | null;
   /** Simplifier outputs that failed validation (target faces: problem). */
   simplifierRetries: string[];
+  /** Which fit the result is: the simplifier's bases, cast and relaxed, or the MAPS fit (`parametrise`). */
+  fit: 'simplified' | 'parametrised';
+  /** The MAPS fit tried because the default stayed above the goal (null if not tried): its distance, or its error. */
+  parametrisedFallback: { hausdorff?: number; flippedTriangles?: number; error?: string | null; kept: boolean } | null;
   ms: number;
 }
 
