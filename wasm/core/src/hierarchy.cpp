@@ -31,11 +31,21 @@ void Hierarchy::toInputOrder(const double* ordered, double* out) const {
 
 namespace {
 
-// Wings of the odd vertices and boundary flags, from the level faces and the ends.
-void finish(Hierarchy& h) {
+// Wings of the odd vertices and boundary flags, from the level faces and the ends. `wingsKnown`:
+// h.wings already holds them (detection finds them in its tiling walk, without corner lists);
+// only the order of a boundary edge's ends and wings is settled here.
+void finish(Hierarchy& h, bool wingsKnown = false) {
   const size_t n = h.fineVertexCount();
-  h.wings.assign(2 * n, kNone);
-  for (int l = 1; l <= h.levels; ++l) {
+  if (wingsKnown) {
+    for (uint32_t e = h.vertexCount[0]; e < n; ++e)
+      if (h.wings[2 * e] == kNone) {  // keep the existing wing first
+        std::swap(h.ends[2 * e], h.ends[2 * e + 1]);
+        std::swap(h.wings[2 * e], h.wings[2 * e + 1]);
+      }
+  } else {
+    h.wings.assign(2 * n, kNone);
+  }
+  for (int l = 1; l <= h.levels && !wingsKnown; ++l) {
     const auto& coarse = h.faces[l - 1];
     VertexCorners corners(coarse.data(), coarse.size() / 3, h.vertexCount[l - 1]);
     for (uint32_t e = h.vertexCount[l - 1]; e < h.vertexCount[l]; ++e) {
@@ -133,7 +143,9 @@ enum Role : uint8_t { kUnknown = 0, kEven = 1, kOdd = 2 };
 struct Quadrisection {
   std::vector<uint32_t> coarseFaces;
   std::vector<uint8_t> role;
-  std::vector<uint32_t> ends;  // 2 per vertex
+  std::vector<uint32_t> ends;  // 2 per vertex, the lower index first
+  // 2 per vertex: w with the coarse face (ends[0], ends[1], w), then with (ends[1], ends[0], w)
+  std::vector<uint32_t> wings;
   VertexCorners coarseCorners;  // of the coarse faces in the even vertices' compact numbering
 };
 
@@ -152,7 +164,10 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   std::vector<uint32_t> tileOfFace(nf, kNone);
   std::vector<uint8_t> isCenter(nf, 0);
   std::vector<uint32_t> coarse;
+  volatile uint32_t warmSink = 0;  // keeps the cache-warming loads below from being optimised away
   coarse.reserve(3 * (nf / 4));  // exact for a split: no growth by reallocation on a large mesh
+  std::vector<uint32_t> centreOfTile;  // the fine face at the centre of each coarse face
+  centreOfTile.reserve(nf / 4);
 
   // Grows the tiling of one component from a face taken as a tile's centre. Undo on failure.
   auto grow = [&](uint32_t seed) -> bool {
@@ -174,9 +189,32 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
     bool ok = true;
     isCenter[seed] = 1;
     touchedFaces.push_back(seed);
+    // The walk's faces are scattered in memory: the next queued faces' vertices are gathered a
+    // batch at a time, loads that do not wait on each other (the walk itself is one long chain of
+    // dependent ones). The same faces in the same order: only when they are read changes.
+    constexpr size_t kBatch = 32;
+    uint32_t batch[3 * kBatch];
+    size_t batchStart = 0, batchEnd = 0;
     for (size_t qi = 0; qi < queue.size() && ok; ++qi) {
-      uint32_t f = queue[qi];
-      uint32_t p = faces[3 * f], q = faces[3 * f + 1], r = faces[3 * f + 2];
+      if (qi == batchEnd) {
+        batchStart = qi;
+        batchEnd = std::min(queue.size(), qi + kBatch);
+        const size_t n = 3 * (batchEnd - batchStart);
+        for (size_t i = batchStart; i < batchEnd; ++i)
+          for (int k = 0; k < 3; ++k) batch[3 * (i - batchStart) + k] = faces[3 * size_t(queue[i]) + k];
+        // Then what the walk reads of those vertices (their corners, their ends), in two waves of
+        // independent loads, so that the walk finds them in the cache.
+        uint32_t touched = 0;
+        for (size_t i = 0; i < n; ++i) touched ^= corners.offset[batch[i]] ^ ends[2 * size_t(batch[i])];
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t c = corners.offset[batch[i]];
+          touched ^= corners.next[c] ^ corners.prev[c] ^ corners.face[c];
+        }
+        warmSink = touched;
+      }
+      const uint32_t f = queue[qi];
+      const uint32_t* pqr = batch + 3 * (qi - batchStart);
+      const uint32_t p = pqr[0], q = pqr[1], r = pqr[2];
       // Centre (p, q, r) = (ab, bc, ca) of coarse triangle (a, b, c).
       uint32_t a = corners.opposite(p, r), b = corners.opposite(q, p), c = corners.opposite(r, q);
       if (a == kNone || b == kNone || c == kNone || a == b || b == c || a == c) { ok = false; break; }
@@ -186,6 +224,7 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
         break;
       }
       coarse.insert(coarse.end(), {a, b, c});
+      centreOfTile.push_back(f);
       const uint32_t mids[3] = {p, q, r}, from[3] = {a, b, c}, to[3] = {b, c, a};
       for (int k = 0; k < 3 && ok; ++k) {
         uint32_t m = mids[k];
@@ -214,11 +253,13 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
       }
     }
     if (!ok) {
-      for (uint32_t v : touchedVertices) role[v] = kUnknown, ends[2 * v] = ends[2 * v + 1] = kNone;
+      for (uint32_t v : touchedVertices)
+        role[v] = kUnknown, ends[2 * v] = ends[2 * v + 1] = kNone;
       for (uint32_t f : touchedFaces) tileOfFace[f] = kNone, isCenter[f] = 0;
       // Ends may have been set on vertices whose role was set by an earlier component: none, since
       // components share no vertices.
       coarse.resize(coarseBefore);
+      centreOfTile.resize(coarseBefore / 3);
     }
     return ok;
   };
@@ -236,6 +277,18 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   // The tiling's own arrays are done with: freed before the checks' arrays are made.
   std::vector<uint32_t>().swap(tileOfFace);
   std::vector<uint8_t>().swap(isCenter);
+  // Wings: the midpoint of each edge (from, to) of a coarse face (from, to, third) has the wing
+  // third on that side (made here, after the tiling's arrays are freed: a smaller peak).
+  std::vector<uint32_t> wings(2 * size_t(vertexCount), kNone);
+  for (size_t t = 0; t < centreOfTile.size(); ++t) {
+    const uint32_t* mids = &faces[3 * size_t(centreOfTile[t])];  // (ab, bc, ca) of (a, b, c)
+    const uint32_t* abc = &coarse[3 * t];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t from = abc[k], to = abc[(k + 1) % 3];
+      wings[2 * size_t(mids[k]) + (from < to ? 0 : 1)] = abc[(k + 2) % 3];
+    }
+  }
+  std::vector<uint32_t>().swap(centreOfTile);
   size_t evens = 0, odds = 0;
   for (uint32_t v = 0; v < vertexCount; ++v) {
     if (role[v] == kUnknown) return false;
@@ -243,15 +296,6 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   }
   // Counts of a 1-to-4 split: 4 F_coarse = F_fine, V_coarse + E_coarse = V_fine.
   if (4 * (coarse.size() / 3) != nf || evens + odds != vertexCount) return false;
-  // Each coarse edge has one midpoint.
-  std::vector<uint64_t> edgeKeys;
-  edgeKeys.reserve(odds);
-  for (uint32_t v = 0; v < vertexCount; ++v)
-    if (role[v] == kOdd) edgeKeys.push_back(uint64_t(ends[2 * v]) << 32 | ends[2 * v + 1]);
-  std::sort(edgeKeys.begin(), edgeKeys.end());
-  if (std::adjacent_find(edgeKeys.begin(), edgeKeys.end()) != edgeKeys.end()) return false;
-  const size_t coarseEdges = edgeKeys.size();
-  std::vector<uint64_t>().swap(edgeKeys);
   // The coarse mesh must be a valid manifold with interior valence >= 3 (no pillow of two faces).
   std::vector<uint32_t> evenIndex(vertexCount, kNone);
   uint32_t ne = 0;
@@ -263,14 +307,20 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   for (size_t i = 0; i < coarse.size(); ++i) coarseMesh.faces[i] = evenIndex[coarse[i]];
   std::vector<uint32_t>().swap(evenIndex);
   VertexCorners coarseCorners;
+  MeshTopology coarseTopology;
   try {
-    validateMesh(coarseMesh, nullptr, &coarseCorners);
+    coarseTopology = validateMesh(coarseMesh, nullptr, &coarseCorners);
   } catch (const Error&) {
     return false;
   }
-  if (coarseEdges + ne != vertexCount) return false;
+  // Each coarse edge has one midpoint: every edge of a tile's coarse face has one (the walk set its
+  // ends), so the odd vertices cover the coarse edges, once each exactly when they are as many.
+  if (coarseTopology.edges != odds) return false;
+  // An interior vertex's ring has as many vertices as it has corners: only a vertex of fewer than
+  // three corners needs its ring walked (to tell whether it is on the boundary).
   std::vector<uint32_t> ring;
   for (uint32_t v = 0; v < ne; ++v) {
+    if (coarseCorners.count(v) >= 3) continue;
     bool isBoundary = false;
     coarseCorners.ring(v, ring, &isBoundary);
     if (!isBoundary && ring.size() < 3) return false;
@@ -278,6 +328,7 @@ bool tryDetect(const std::vector<uint32_t>& faces, uint32_t vertexCount, const V
   out.coarseFaces = std::move(coarse);
   out.role = std::move(role);
   out.ends = std::move(ends);
+  out.wings = std::move(wings);
   out.coarseCorners = std::move(coarseCorners);
   return true;
 }
@@ -300,8 +351,15 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
   else if (maxLevels > 0) corners = VertexCorners(fineFaces.data(), fineFaces.size() / 3, nv);
   // Top-down: level meshes in the caller's vertex indices; depth of each vertex.
   std::vector<std::vector<uint32_t>> levelFaces{{}};  // [0]: the fine faces, read from `fine`
-  std::vector<int> bornAt(nv, -1);  // levels found from the top: 0 = born at the finest level
-  std::vector<uint32_t> endsInput(2 * size_t(nv), kNone);
+  // Per vertex (made once the finest level is detected and its corner lists freed: a smaller peak).
+  std::vector<int> bornAt;  // levels found from the top: 0 = born at the finest level, -1 = base
+  std::vector<uint32_t> endsInput, wingsInput;
+  auto makePerVertex = [&] {
+    if (!bornAt.empty()) return;
+    bornAt.assign(nv, -1);
+    endsInput.assign(2 * size_t(nv), kNone);
+    wingsInput.assign(2 * size_t(nv), kNone);
+  };
   std::vector<uint32_t> alive(nv);  // vertices of the current level, as caller indices
   std::iota(alive.begin(), alive.end(), 0u);
   int found = 0;
@@ -318,12 +376,15 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
     Quadrisection q;
     if (!tryDetect(found > 0 ? faces : fineFaces, uint32_t(alive.size()), corners, q)) break;
     corners = std::move(q.coarseCorners);
+    makePerVertex();
     std::vector<uint32_t> nextAlive;
     for (uint32_t i = 0; i < alive.size(); ++i) {
       if (q.role[i] == kEven) { nextAlive.push_back(alive[i]); continue; }
       bornAt[alive[i]] = found;
       endsInput[2 * alive[i]] = alive[q.ends[2 * i]];
       endsInput[2 * alive[i] + 1] = alive[q.ends[2 * i + 1]];
+      for (int k = 0; k < 2; ++k)
+        if (q.wings[2 * i + k] != kNone) wingsInput[2 * alive[i] + k] = alive[q.wings[2 * i + k]];
     }
     for (auto& v : q.coarseFaces) v = alive[v];
     levelFaces.push_back(std::move(q.coarseFaces));
@@ -331,6 +392,7 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
     ++found;
   }
   corners = VertexCorners();  // freed before the hierarchy's arrays are made
+  makePerVertex();
   if (localToCaller) {
     // Back to the caller's numbering; ends as the caller's numbering orders them (lower index
     // first: detection orders each pair by index, and compaction keeps the order).
@@ -338,16 +400,23 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
     std::vector<int> callerBornAt(nv);
     for (uint32_t v = 0; v < nv; ++v) callerBornAt[caller[v]] = bornAt[v];
     std::vector<int>().swap(bornAt);
-    std::vector<uint32_t> callerEnds(2 * size_t(nv), kNone);
+    std::vector<uint32_t> callerEnds(2 * size_t(nv), kNone), callerWings(2 * size_t(nv), kNone);
+    auto toCaller = [&](uint32_t v) { return v == kNone ? kNone : caller[v]; };
     for (uint32_t v = 0; v < nv; ++v)
       if (endsInput[2 * v] != kNone) {
         const uint32_t a = caller[endsInput[2 * v]], b = caller[endsInput[2 * v + 1]];
-        callerEnds[2 * size_t(caller[v])] = std::min(a, b);
-        callerEnds[2 * size_t(caller[v]) + 1] = std::max(a, b);
+        const size_t at = 2 * size_t(caller[v]);
+        const int swapped = a > b;  // the wings follow their ends' order
+        callerEnds[at] = std::min(a, b);
+        callerEnds[at + 1] = std::max(a, b);
+        callerWings[at + swapped] = toCaller(wingsInput[2 * v]);
+        callerWings[at + 1 - swapped] = toCaller(wingsInput[2 * v + 1]);
       }
     std::vector<uint32_t>().swap(endsInput);
+    std::vector<uint32_t>().swap(wingsInput);
     bornAt = std::move(callerBornAt);
     endsInput = std::move(callerEnds);
+    wingsInput = std::move(callerWings);
     for (size_t l = 1; l < levelFaces.size(); ++l)
       for (auto& v : levelFaces[l]) v = caller[v];
   }
@@ -364,21 +433,36 @@ Hierarchy Hierarchy::detectValidated(const std::vector<uint32_t>& fineFaces, siz
     }
     h.vertexCount.push_back(uint32_t(h.inputIndex.size()));
   }
-  for (int l = 0; l <= found; ++l) {
-    std::vector<uint32_t> faces = l == found ? fineFaces : std::move(levelFaces[found - l]);
-    if (l == found && localToCaller)
-      for (auto& v : faces) v = h.hierarchyIndex[(*localToCaller)[v]];
-    else
-      for (auto& v : faces) v = h.hierarchyIndex[v];
+  for (int l = 0; l < found; ++l) {
+    std::vector<uint32_t> faces = std::move(levelFaces[found - l]);
+    for (auto& v : faces) v = h.hierarchyIndex[v];
+    h.faces.push_back(std::move(faces));
+  }
+  {
+    // The fine faces, mapped as they are copied. In the local numbering through one composed
+    // table: the faces read it nearly in order (first appearance), where caller then hierarchy
+    // index would be two scattered reads per corner.
+    std::vector<uint32_t> faces(fineFaces.size());
+    if (localToCaller) {
+      std::vector<uint32_t> localToHierarchy(nv);
+      for (uint32_t v = 0; v < nv; ++v) localToHierarchy[v] = h.hierarchyIndex[(*localToCaller)[v]];
+      for (size_t i = 0; i < faces.size(); ++i) faces[i] = localToHierarchy[fineFaces[i]];
+    } else {
+      for (size_t i = 0; i < faces.size(); ++i) faces[i] = h.hierarchyIndex[fineFaces[i]];
+    }
     h.faces.push_back(std::move(faces));
   }
   h.ends.assign(2 * size_t(nv), kNone);
+  h.wings.assign(2 * size_t(nv), kNone);
   for (uint32_t v = 0; v < nv; ++v)
     if (endsInput[2 * v] != kNone) {
-      h.ends[2 * h.hierarchyIndex[v]] = h.hierarchyIndex[endsInput[2 * v]];
-      h.ends[2 * h.hierarchyIndex[v] + 1] = h.hierarchyIndex[endsInput[2 * v + 1]];
+      const size_t at = 2 * size_t(h.hierarchyIndex[v]);
+      for (int k = 0; k < 2; ++k) {
+        h.ends[at + k] = h.hierarchyIndex[endsInput[2 * v + k]];
+        h.wings[at + k] = wingsInput[2 * v + k] == kNone ? kNone : h.hierarchyIndex[wingsInput[2 * v + k]];
+      }
     }
-  finish(h);
+  finish(h, true);
   return h;
 }
 

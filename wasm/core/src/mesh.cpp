@@ -169,41 +169,47 @@ MeshTopology validateMesh(const TriangleMesh& mesh, const SourceLines* lines, Ve
   size_t edges = 0;
   std::vector<std::pair<uint32_t, uint32_t>> boundary;
   bool edgesValid = true;
+  // Vertices: the faces around each must form one fan (no bow-tie). With manifold edges, each
+  // neighbour v is at most once a corner's next and once a corner's prev, so the corners form
+  // paths and cycles: one fan is one path (a boundary vertex) or one cycle (an interior vertex).
+  // A path starts at a next v with no face (v, u, .): the edge checks' own query, so the fans are
+  // checked in the same pass (one query of another vertex's corners per corner, not two). The
+  // first vertex that fails is kept and named only once every edge has passed, as the separate
+  // passes did. Queries cost O(1) at ordinary vertices and O(log valence) at hubs (VertexCorners
+  // keeps their corners sorted).
+  uint32_t firstBadVertex = kNone;
   for (uint32_t u = 0; u < nv && edgesValid; ++u) {
     const uint32_t begin = corners.begin(u), end = corners.end(u);
+    uint32_t start = begin < end ? corners.next[begin] : kNone, pathStarts = 0;
     for (uint32_t c = begin; c < end && edgesValid; ++c) {
       const uint32_t v = corners.next[c];
       // Each directed edge once (twice: duplicate faces, a non-manifold edge or a flipped face).
       if (corners.cornerTo(u, v) != c) edgesValid = false;
       // A face (u, v, w) and its reverse (u, w, v): duplicates that pair every edge.
       if (corners.opposite(u, corners.prev[c]) == v) edgesValid = false;
-      if (corners.cornerTo(v, u) == kNone) boundary.emplace_back(std::min(u, v), std::max(u, v)), ++edges;
-      else edges += u < v;
+      if (corners.cornerTo(v, u) == kNone) {
+        boundary.emplace_back(std::min(u, v), std::max(u, v)), ++edges;
+        ++pathStarts, start = v;
+      } else {
+        edges += u < v;
+      }
     }
-  }
-  if (!edgesValid) refuseEdges(mesh, name);
-
-  // Vertices: the faces around each must form one fan (no bow-tie). With manifold edges, each
-  // neighbour v is at most once a corner's next and once a corner's prev, so the corners form
-  // paths and cycles: one fan is one path (a boundary vertex) or one cycle (an interior vertex).
-  // A path starts at a next v with no face (v, u, .). Queries cost O(1) at ordinary vertices and
-  // O(log valence) at hubs (VertexCorners keeps their corners sorted).
-  for (uint32_t u = 0; u < nv; ++u) {
-    const uint32_t k = corners.count(u);
-    if (k == 0) throw Error(name.vertex(u) + " is not used by any face");
-    uint32_t start = corners.next[corners.begin(u)], pathStarts = 0;
-    for (uint32_t c = corners.begin(u); c < corners.end(u) && pathStarts < 2; ++c)
-      if (corners.cornerTo(corners.next[c], u) == kNone) ++pathStarts, start = corners.next[c];
+    if (firstBadVertex != kNone || !edgesValid) continue;
+    const uint32_t k = end - begin;
     uint32_t walked = 0;
-    for (uint32_t v = start; walked <= k;) {
+    for (uint32_t v = start; k > 0 && pathStarts <= 1 && walked <= k;) {
       const uint32_t w = corners.opposite(u, v);
       if (w == kNone) break;
       ++walked;
       if (w == start) break;
       v = w;
     }
-    if (pathStarts > 1 || walked != k)
-      throw Error("non-manifold " + name.vertex(u) + ": its faces form more than one fan");
+    if (k == 0 || pathStarts > 1 || walked != k) firstBadVertex = u;
+  }
+  if (!edgesValid) refuseEdges(mesh, name);
+  if (firstBadVertex != kNone) {
+    if (corners.count(firstBadVertex) == 0) throw Error(name.vertex(firstBadVertex) + " is not used by any face");
+    throw Error("non-manifold " + name.vertex(firstBadVertex) + ": its faces form more than one fan");
   }
   MeshTopology topo;
   topo.edges = edges;
