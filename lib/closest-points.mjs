@@ -1,7 +1,7 @@
 // Closest points on a fixed triangle mesh, in the WASM core (wasm/core closest_points.h): a tree
 // built once, then single queries (no allocation: the answer is written into the caller's array)
 // and batches (threaded in the -pthread module). The queries talk through buffers in the module's
-// memory, read through the module's current heap views (they change when the memory grows).
+// memory (views of it made again when it grows).
 
 // Frees the trees of the objects dropped without dispose() (a tree holds ~100 bytes per triangle).
 const registry = new FinalizationRegistry((raw) => raw.delete());
@@ -27,6 +27,13 @@ export function createClosestPoints(module, mesh, MrvolError, tree = null) {
     inAt = raw.inAddress() / 8, outAt = raw.outAddress() / 8, trianglesAt = raw.trianglesAddress() / 4;
   };
   locate();
+  // Views of the module's memory, made again when it has grown (in the -pthread module a worker
+  // may grow it, leaving the module's own views short until its next call).
+  let f64 = null, u32 = null;
+  const views = () => {
+    const buffer = module.wasmMemory?.buffer ?? module.HEAPF64.buffer;
+    if (f64?.buffer !== buffer) f64 = new Float64Array(buffer), u32 = new Uint32Array(buffer);
+  };
   const live = () => {
     if (!raw) throw new MrvolError('these closest points were disposed');
     return raw;
@@ -41,9 +48,9 @@ export function createClosestPoints(module, mesh, MrvolError, tree = null) {
     closest(x, y, z, maxDistance, out) {
       const squared = live().one(x, y, z, maxDistance);
       if (squared < 0) return false;
-      const heap = module.HEAPF64;
-      out[0] = heap[outAt], out[1] = heap[outAt + 1], out[2] = heap[outAt + 2], out[3] = Math.sqrt(squared);
-      out[4] = module.HEAPU32[trianglesAt];
+      views();
+      out[0] = f64[outAt], out[1] = f64[outAt + 1], out[2] = f64[outAt + 2], out[3] = Math.sqrt(squared);
+      out[4] = u32[trianglesAt];
       return true;
     },
     /**
@@ -61,16 +68,15 @@ export function createClosestPoints(module, mesh, MrvolError, tree = null) {
         take();
         locate();
       }
-      const heap = module.HEAPF64;
-      heap.set(points, inAt);
-      if (bounds) heap.set(bounds, inAt + 3 * n);
+      views();
+      f64.set(points, inAt);
+      if (bounds) f64.set(bounds, inAt + 3 * n);
       r.many(n, !!bounds);
       take();
-      const out = module.HEAPF64;
-      const distances = out.slice(outAt + 3 * n, outAt + 4 * n);
+      views();
+      const distances = f64.slice(outAt + 3 * n, outAt + 4 * n);
       for (let i = 0; i < n; i++) distances[i] = Math.sqrt(distances[i]);
-      return { points: out.slice(outAt, outAt + 3 * n), distances,
-               triangles: module.HEAPU32.slice(trianglesAt, trianglesAt + n) };
+      return { points: f64.slice(outAt, outAt + 3 * n), distances, triangles: u32.slice(trianglesAt, trianglesAt + n) };
     },
     /**
      * The largest distance from the sample points of `other` (its vertices, then per face the
