@@ -895,27 +895,34 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
     const l = Math.hypot(n[0], n[1], n[2]);
     for (let k = 0; k < 3; k++) normals[3 * f + k] = l > 0 ? n[k] / l : 0;
   };
-  const flipped = [];
-  for (let q = 0, count = onlyFaces ? onlyFaces.length : faceCount; q < count; q++) {
+  // The faces' centroids and their closest points on the surface, in one batch.
+  const count = onlyFaces ? onlyFaces.length : faceCount;
+  const centroids = new Float64Array(3 * count), bounds = new Float64Array(count);
+  for (let q = 0; q < count; q++) {
     const f = onlyFaces ? onlyFaces[q] : q;
     const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
+    const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
+          cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
+    centroids[3 * q] = cx, centroids[3 * q + 1] = cy, centroids[3 * q + 2] = cz;
+    // The corners lie on the surface: the nearest one bounds the centroid's distance.
+    bounds[q] = 1.0001 * Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
+                                  Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
+                                  Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
+  }
+  const near = surface.closestMany(centroids, bounds);
+  const flipped = [];
+  for (let q = 0; q < count; q++) {
+    const f = onlyFaces ? onlyFaces[q] : q;
     normal(f);
     const n0 = normals[3 * f], n1 = normals[3 * f + 1], n2 = normals[3 * f + 2];
     if (n0 === 0 && n1 === 0 && n2 === 0) {
       flipped.push(f);
       continue;
     }
-    const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
-          cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
-    // The corners lie on the surface: the nearest one bounds the centroid's distance.
-    const bound = Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
-                           Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
-                           Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz));
-    const hit = surface.closest(cx, cy, cz, 1.0001 * bound + 1e-12);
-    const m = 3 * hit.faceIndex, sn = surface.smoothNormals, rn = surface.normals;
+    const m = 3 * near.triangles[q], sn = surface.smoothNormals, rn = surface.normals;
     if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= against) continue;
     // Lying on an input face that faces the same way: the input itself is crumpled there.
-    if (against < 0 && hit.distance < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
+    if (against < 0 && near.distances[q] < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
     // tip, where the input's normal is ambiguous, has neighbours that agree with it).
     for (let j = 0; j < 3; j++) {
