@@ -42,8 +42,10 @@ export function createClosestPoints(module, mesh, MrvolError, tree = null) {
     /** Triangles in the tree. */
     triangleCount,
     /**
-     * The closest point within `maxDistance` (Infinity: anywhere) of (x, y, z), written into
-     * `out` (5 numbers: x, y, z, distance, triangle index as given); false if none is that close.
+     * The closest point of (x, y, z) written into `out` (5 numbers: x, y, z, distance, triangle
+     * index as given). `maxDistance` (Infinity: none) prunes the walk: the closest point if it lies
+     * within it; else false (out untouched), or the closest of the triangles in boxes that reach
+     * within it (as three-mesh-bvh's closestPointToPoint).
      */
     closest(x, y, z, maxDistance, out) {
       const squared = live().one(x, y, z, maxDistance);

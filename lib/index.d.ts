@@ -471,8 +471,9 @@ export interface ObjReader {
 export interface ClosestPoints {
   readonly triangleCount: number;
   /**
-   * The closest point within maxDistance (Infinity: anywhere) written into out: x, y, z, distance,
-   * triangle index; false (out untouched) if nothing is that close.
+   * The closest point written into out: x, y, z, distance, triangle index. maxDistance (Infinity: none) prunes the
+   * walk: the closest point if within it; else false (out untouched), or the closest of the triangles in boxes that
+   * reach within it (as three-mesh-bvh's closestPointToPoint).
    */
   closest(x: number, y: number, z: number, maxDistance: number, out: Float64Array | number[]): boolean;
   /** Batched queries (3 numbers per point); bounds prune (a query with nothing within its bound is searched without it). */
