@@ -19,6 +19,19 @@ export function triangleNormal(p, a, b, c) {
   return [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
 }
 
+/**
+ * Unit normal of the triangle a, b, c written to out[0..2] (triangleNormal's arithmetic, divided
+ * by its length; zero for a degenerate triangle), without an array per call.
+ */
+export function unitTriangleNormal(p, a, b, c, out) {
+  const ux = p[3 * b] - p[3 * a], uy = p[3 * b + 1] - p[3 * a + 1], uz = p[3 * b + 2] - p[3 * a + 2];
+  const vx = p[3 * c] - p[3 * a], vy = p[3 * c + 1] - p[3 * a + 1], vz = p[3 * c + 2] - p[3 * a + 2];
+  const x = uy * vz - uz * vy, y = uz * vx - ux * vz, z = ux * vy - uy * vx;
+  const l = Math.hypot(x, y, z);
+  out[0] = l > 0 ? x / l : 0, out[1] = l > 0 ? y / l : 0, out[2] = l > 0 ? z / l : 0;
+  return out;
+}
+
 /** Area-weighted vertex normals, unit length. */
 export function vertexNormals(positions, faces) {
   const n = new Float64Array(positions.length), p = positions;

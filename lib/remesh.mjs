@@ -14,7 +14,7 @@ import { MeshoptSimplifier } from 'meshoptimizer';
 import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
-import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
+import { boundingDiagonal, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
 
@@ -886,15 +886,10 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
   const faceCount = faces.length / 3;
   // Edge-adjacent faces: the face on the other side of each directed edge (given, or found).
   const across = twins ?? connectivity(faces, p.length / 3).twins;
-  // Unit face normals, computed when first needed (a check near a few vertices needs few).
-  const normals = new Float64Array(faces.length), known = new Uint8Array(faceCount);
-  const normal = (f) => {
-    if (known[f]) return;
-    known[f] = 1;
-    const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
-    const l = Math.hypot(n[0], n[1], n[2]);
-    for (let k = 0; k < 3; k++) normals[3 * f + k] = l > 0 ? n[k] / l : 0;
-  };
+  // Unit face normals, made where needed (no table over the whole mesh: the drag's checks ask
+  // about a few faces of a big mesh, many times).
+  const own = new Float64Array(3), other = new Float64Array(3);
+  const normal = (f, out) => unitTriangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2], out);
   // The faces' centroids and their closest points on the surface, in one batch.
   const count = onlyFaces ? onlyFaces.length : faceCount;
   const centroids = new Float64Array(3 * count), bounds = new Float64Array(count);
@@ -913,8 +908,8 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
   const flipped = [];
   for (let q = 0; q < count; q++) {
     const f = onlyFaces ? onlyFaces[q] : q;
-    normal(f);
-    const n0 = normals[3 * f], n1 = normals[3 * f + 1], n2 = normals[3 * f + 2];
+    normal(f, own);
+    const n0 = own[0], n1 = own[1], n2 = own[2];
     if (n0 === 0 && n1 === 0 && n2 === 0) {
       flipped.push(f);
       continue;
@@ -928,8 +923,8 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
     for (let j = 0; j < 3; j++) {
       const g = across[3 * f + j];
       if (g < 0) continue;
-      normal(g);
-      if (n0 * normals[3 * g] + n1 * normals[3 * g + 1] + n2 * normals[3 * g + 2] < 0) {
+      normal(g, other);
+      if (n0 * other[0] + n1 * other[1] + n2 * other[2] < 0) {
         flipped.push(f);
         break;
       }
