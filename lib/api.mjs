@@ -3,6 +3,7 @@
 // it here.
 import { wrapQuad } from './quad.mjs';
 import { cageTargetOf, freeSetArgs } from './editor-args.mjs';
+import { createClosestPoints } from './closest-points.mjs';
 
 /** An error reported by mrvol's core, with its message as the core wrote it. */
 export class MrvolError extends Error {
@@ -699,6 +700,15 @@ export function wrapModule(module) {
     writeObj(mesh) {
       checkMesh(mesh);
       return call(module._writeObj, mesh.positions, mesh.faces);
+    },
+    /**
+     * Closest points on the mesh's triangles (a tree built once in the core, or `tree`: one built
+     * elsewhere, { bounds, first, count } per node): closest(x, y, z, maxDistance, out),
+     * closestMany(points, bounds), sampledDistanceFrom(other), dispose().
+     */
+    closestPoints(mesh, { tree } = {}) {
+      checkMesh(mesh);
+      return createClosestPoints(module, mesh, MrvolError, tree);
     },
     /** Checks manifoldness and orientation; returns { edges, boundaryEdges, components, closed, genus }. */
     validate(mesh) {

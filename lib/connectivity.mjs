@@ -82,17 +82,25 @@ class MeshConnectivity {
    */
   get twins() {
     if (this.#twins) return this.#twins;
-    const { faces } = this;
-    const { offsets, list } = this.vertexFaces;
-    const twins = new Int32Array(faces.length).fill(-1);
-    for (let f = 0; f < faces.length / 3; f++)
-      for (let j = 0; j < 3; j++) {
-        const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
-        // Faces at b in increasing order: the last with the edge b -> a.
-        for (let e = offsets[b]; e < offsets[b + 1]; e++) {
-          const g = list[e];
-          for (let k = 0; k < 3; k++) if (faces[3 * g + k] === b && faces[3 * g + (k + 1) % 3] === a) twins[3 * f + j] = g;
-        }
+    const { faces, vertexCount } = this;
+    const n = faces.length;
+    // The half-edges leaving each vertex (CSR, in increasing half-edge order, so increasing face)
+    // with their far ends: the twin of a -> b is the last b -> a among b's few.
+    const offsets = new Uint32Array(vertexCount + 1);
+    for (let h = 0; h < n; h++) offsets[faces[h] + 1]++;
+    for (let v = 0; v < vertexCount; v++) offsets[v + 1] += offsets[v];
+    const fill = offsets.slice(0, vertexCount), far = new Uint32Array(n), face = new Uint32Array(n);
+    for (let f = 0, h = 0; h < n; f++)
+      for (let j = 0; j < 3; j++, h++) {
+        const e = fill[faces[h]]++;
+        far[e] = faces[3 * f + (j + 1) % 3];
+        face[e] = f;
+      }
+    const twins = new Int32Array(n).fill(-1);
+    for (let f = 0, h = 0; h < n; f++)
+      for (let j = 0; j < 3; j++, h++) {
+        const a = faces[h], b = faces[3 * f + (j + 1) % 3];
+        for (let e = offsets[b + 1] - 1; e >= offsets[b]; e--) if (far[e] === a) { twins[h] = face[e]; break; }
       }
     return (this.#twins = twins);
   }
@@ -106,13 +114,19 @@ class MeshConnectivity {
     if (this.#edgeFaces) return this.#edgeFaces;
     const { faces, vertexCount } = this;
     const n = faces.length;
-    const low = (h) => Math.min(faces[h], faces[h - (h % 3) + ((h % 3) + 1) % 3]);
-    const high = (h) => Math.max(faces[h], faces[h - (h % 3) + ((h % 3) + 1) % 3]);
+    // Each half-edge's smaller and larger end, once.
+    const lows = new Uint32Array(n), highs = new Uint32Array(n);
+    for (let f = 0; f < n; f += 3)
+      for (let j = 0; j < 3; j++) {
+        const x = faces[f + j], y = faces[f + (j + 1) % 3];
+        lows[f + j] = x < y ? x : y;
+        highs[f + j] = x < y ? y : x;
+      }
     const start = new Uint32Array(vertexCount + 1);
-    for (let h = 0; h < n; h++) start[low(h) + 1]++;
+    for (let h = 0; h < n; h++) start[lows[h] + 1]++;
     for (let v = 0; v < vertexCount; v++) start[v + 1] += start[v];
     const fill = start.slice(0, vertexCount), bucket = new Uint32Array(n);
-    for (let h = 0; h < n; h++) bucket[fill[low(h)]++] = h;
+    for (let h = 0; h < n; h++) bucket[fill[lows[h]]++] = h;
     const a = new Uint32Array(n), b = new Uint32Array(n), offsets = new Uint32Array(n + 1), list = new Uint32Array(n);
     const taken = new Uint8Array(n);
     let count = 0, at = 0;
@@ -120,12 +134,12 @@ class MeshConnectivity {
       for (let i = start[v]; i < start[v + 1]; i++) {
         const h = bucket[i];
         if (taken[h]) continue;
-        const w = high(h);
+        const w = highs[h];
         a[count] = v, b[count] = w, offsets[count] = at;
         // Half-edges of this bucket with the same other end, in increasing order (faces increase).
         for (let j = i; j < start[v + 1]; j++) {
           const g = bucket[j];
-          if (!taken[g] && high(g) === w) taken[g] = 1, list[at++] = (g / 3) | 0;
+          if (!taken[g] && highs[g] === w) taken[g] = 1, list[at++] = (g / 3) | 0;
         }
         count++;
       }

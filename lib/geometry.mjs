@@ -19,12 +19,31 @@ export function triangleNormal(p, a, b, c) {
   return [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
 }
 
+/**
+ * Unit normal of the triangle a, b, c written to out[0..2] (triangleNormal's arithmetic, divided
+ * by its length; zero for a degenerate triangle), without an array per call.
+ */
+export function unitTriangleNormal(p, a, b, c, out) {
+  const ux = p[3 * b] - p[3 * a], uy = p[3 * b + 1] - p[3 * a + 1], uz = p[3 * b + 2] - p[3 * a + 2];
+  const vx = p[3 * c] - p[3 * a], vy = p[3 * c + 1] - p[3 * a + 1], vz = p[3 * c + 2] - p[3 * a + 2];
+  const x = uy * vz - uz * vy, y = uz * vx - ux * vz, z = ux * vy - uy * vx;
+  const l = Math.hypot(x, y, z);
+  out[0] = l > 0 ? x / l : 0, out[1] = l > 0 ? y / l : 0, out[2] = l > 0 ? z / l : 0;
+  return out;
+}
+
 /** Area-weighted vertex normals, unit length. */
 export function vertexNormals(positions, faces) {
-  const n = new Float64Array(positions.length);
+  const n = new Float64Array(positions.length), p = positions;
   for (let f = 0; f < faces.length; f += 3) {
-    const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
-    for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) n[3 * faces[f + j] + k] += t[k];
+    // triangleNormal's arithmetic, without an array per face.
+    const a = 3 * faces[f], b = 3 * faces[f + 1], c = 3 * faces[f + 2];
+    const ux = p[b] - p[a], uy = p[b + 1] - p[a + 1], uz = p[b + 2] - p[a + 2];
+    const vx = p[c] - p[a], vy = p[c + 1] - p[a + 1], vz = p[c + 2] - p[a + 2];
+    const tx = uy * vz - uz * vy, ty = uz * vx - ux * vz, tz = ux * vy - uy * vx;
+    n[a] += tx, n[a + 1] += ty, n[a + 2] += tz;
+    n[b] += tx, n[b + 1] += ty, n[b + 2] += tz;
+    n[c] += tx, n[c + 1] += ty, n[c + 2] += tz;
   }
   for (let i = 0; i < n.length; i += 3) {
     const l = Math.hypot(n[i], n[i + 1], n[i + 2]) || 1;

@@ -467,6 +467,23 @@ export interface ObjReader {
   readonly bytesRead: number;
 }
 
+/** Closest points on a fixed triangle mesh (Mrvol.closestPoints): a tree built once in the core. */
+export interface ClosestPoints {
+  readonly triangleCount: number;
+  /**
+   * The closest point written into out: x, y, z, distance, triangle index. maxDistance (Infinity: none) prunes the
+   * walk: the closest point if within it; else false (out untouched), or the closest of the triangles in boxes that
+   * reach within it (as three-mesh-bvh's closestPointToPoint).
+   */
+  closest(x: number, y: number, z: number, maxDistance: number, out: Float64Array | number[]): boolean;
+  /** Batched queries (3 numbers per point); bounds prune (a query with nothing within its bound is searched without it). */
+  closestMany(points: Float64Array, bounds?: Float64Array | null): { points: Float64Array; distances: Float64Array; triangles: Uint32Array };
+  /** Largest distance from the other mesh's samples (vertices, then 4 points per face, strided to maxSamples) to this mesh. */
+  sampledDistanceFrom(other: Mesh, maxSamples?: number): number;
+  /** Frees the tree now (else when the object is collected). */
+  dispose(): void;
+}
+
 /** The API object: what wrapModule() and createMrvol() return. */
 export interface Mrvol {
   MrvolError: typeof MrvolError;
@@ -483,6 +500,12 @@ export interface Mrvol {
    * that completes the bad line, or from finish; the reader is then spent. cancel() frees one left unfinished.
    */
   createObjReader(options?: { size?: number }): ObjReader;
+  /**
+   * Closest points on the mesh's triangles (the core's tree, or `tree`: 6 bounds (lo, hi), a first and a count per
+   * node, count 0xffffffff for an inner node whose second child is at `first`); throws MrvolError for an index out
+   * of range, a non-finite corner or a bad tree.
+   */
+  closestPoints(mesh: Mesh, options?: { tree?: { bounds: Float64Array; first: Uint32Array; count: Uint32Array } }): ClosestPoints;
   /** OBJ text: `v` lines (17 significant digits) then `f` lines, vertex order kept. */
   writeObj(mesh: Mesh): string;
   /**

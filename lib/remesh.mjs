@@ -16,7 +16,7 @@ import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
-import { boundingDiagonal, triangleNormal, vertexNormals } from './geometry.mjs';
+import { boundingDiagonal, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
 
@@ -27,19 +27,28 @@ const now = () => globalThis.performance?.now() ?? Date.now();
 // ---- the original surface as a BVH ---------------------------------------------------------------
 
 export class Surface {
-  constructor(mesh, { normals = true } = {}) {
+  /**
+   * The mrvol API whose closestPoints (a tree in the WASM core) the surfaces query; remesh sets it.
+   * null: three-mesh-bvh's tree walked in JS (closestPointQuery).
+   */
+  static core = null;
+  constructor(mesh, { normals = true, core = Surface.core } = {}) {
     this.mesh = mesh;
-    const geometry = new BufferGeometry();
-    geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
-    geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
-    this.bvh = new MeshBVH(geometry);
     this.point = new Vector3();
     this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
     this.ray = new Ray();
     this.diagonal = boundingDiagonal(mesh.positions);
+    const geometry = new BufferGeometry();
+    geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
+    geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
+    this.bvh = new MeshBVH(geometry);
+    // The BVH reorders the triangles of the index: face indices (hits, normals) follow this.index.
+    this.index = geometry.index.array;
+    // The core walks the same tree over the same float32 positions: the same answers, ties included.
+    const nodes = core && bvhNodes(this.bvh);
+    if (nodes) this.core = core, this.nodes = nodes, this.positions64 = Float64Array.from(geometry.attributes.position.array), this.found = new Float64Array(5);
     if (!normals) return;
-    // The BVH reorders the triangles of the index: face normals follow its order.
-    const index = geometry.index.array, p = mesh.positions;
+    const index = this.index, p = mesh.positions;
     this.normals = new Float64Array(index.length);
     for (let f = 0; f < index.length; f += 3) {
       const n = triangleNormal(p, index[f], index[f + 1], index[f + 2]);
@@ -69,11 +78,52 @@ export class Surface {
   }
   /**
    * Closest point: { point: Vector3, distance, faceIndex } (reused object). A bound on the
-   * distance, when known, prunes the BVH traversal (searched without it if nothing is that close).
+   * distance, when known, prunes the search (searched without it if nothing is that close).
    */
   closest(x, y, z, bound = Infinity) {
+    if (this.tree) {
+      const found = this.found;
+      if (!(bound < Infinity && this.tree.closest(x, y, z, bound, found))) this.tree.closest(x, y, z, Infinity, found);
+      this.hit.point.set(found[0], found[1], found[2]);
+      this.hit.distance = found[3];
+      this.hit.faceIndex = found[4];
+      return this.hit;
+    }
     this.closestQuery ??= closestPointQuery(this.bvh, this.hit);
     return (bound < Infinity && this.closestQuery(x, y, z, bound)) || this.closestQuery(x, y, z, Infinity);
+  }
+  /**
+   * Closest points of many points (Float64Array, 3 each; bounds as for closest, or null): { points,
+   * distances, triangles } (face indices). One batch in the core.
+   */
+  closestMany(points, bounds = null) {
+    if (this.tree) return this.tree.closestMany(points, bounds);
+    const n = points.length / 3, out = { points: new Float64Array(3 * n), distances: new Float64Array(n), triangles: new Uint32Array(n) };
+    for (let i = 0; i < n; i++) {
+      const hit = this.closest(points[3 * i], points[3 * i + 1], points[3 * i + 2], bounds ? bounds[i] : Infinity);
+      out.points[3 * i] = hit.point.x, out.points[3 * i + 1] = hit.point.y, out.points[3 * i + 2] = hit.point.z;
+      out.distances[i] = hit.distance, out.triangles[i] = hit.faceIndex;
+    }
+    return out;
+  }
+  /** Distances from the points (Float64Array, 3 each) to the surface. */
+  distances(points) {
+    return this.closestMany(points).distances;
+  }
+  /** The core's closest-point tree (built at the first query; null without the core). */
+  get tree() {
+    if (!this.core) return null;
+    this.#tree ??= this.core.closestPoints({ positions: this.positions64, faces: this.index }, { tree: this.nodes });
+    return this.#tree;
+  }
+  #tree = null;
+  /**
+   * Frees the core's tree now (else when the surface is collected: not before the remesh's
+   * synchronous run ends). A later query builds it again.
+   */
+  dispose() {
+    this.#tree?.dispose();
+    this.#tree = null;
   }
   /** Nearest hit of the line through (x,y,z) along ±n within `cap`, or null. */
   castBothWays(x, y, z, n, cap) {
@@ -89,6 +139,26 @@ export class Surface {
   normal(faceIndex) {
     return [this.normals[3 * faceIndex], this.normals[3 * faceIndex + 1], this.normals[3 * faceIndex + 2]];
   }
+}
+
+/**
+ * The nodes of three-mesh-bvh's packed tree (one root, not indirect; else null) as the core takes
+ * them (closest_points.h): per node its box, and first / count (a leaf's triangles; an inner
+ * node's second child, count 0xffffffff). Read as closestPointQuery reads them.
+ */
+export function bvhNodes(bvh) {
+  const roots = bvh._roots;
+  if (!roots || roots.length !== 1 || bvh.indirect) return null;
+  const f32 = new Float32Array(roots[0]), u16 = new Uint16Array(roots[0]), u32 = new Uint32Array(roots[0]);
+  const count = f32.length / 8;
+  const nodes = { bounds: new Float64Array(6 * count), first: new Uint32Array(count), count: new Uint32Array(count) };
+  for (let i = 0; i < count; i++) {
+    const n32 = 8 * i;
+    for (let k = 0; k < 6; k++) nodes.bounds[6 * i + k] = f32[n32 + k];
+    if (u16[2 * n32 + 15] === 0xffff) nodes.first[i] = u32[n32 + 6], nodes.count[i] = u16[2 * n32 + 14];
+    else nodes.first[i] = i + u32[n32 + 6], nodes.count[i] = 0xffffffff;
+  }
+  return nodes;
 }
 
 /**
@@ -329,6 +399,8 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
   const active = new Uint32Array(count);
   for (let i = 0, c = 0; i < vertexCount; i++) if (moves(i)) active[c++] = i;
   const next = new Float64Array(3 * count);
+  // The moved points, projected in one batch (the vertices that slide on a feature line are not).
+  const targets = new Float64Array(3 * count), bounds = new Float64Array(count), projected = new Uint32Array(count);
   // Few vertices: their normals from their own faces (the same sums, in the same face order).
   const local = count < vertexCount / 4;
   const around = local ? connectivity(faces, vertexCount).vertexFaces : null;
@@ -350,6 +422,7 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
     } else {
       all = vertexNormals(positions, faces);
     }
+    let toProject = 0;
     for (let c = 0; c < count; c++) {
       const i = active[c], m = local ? 3 * c : 3 * i, nv = local ? normals : all;
       if (kind && kind[i] === 1) {
@@ -369,8 +442,15 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
       const z = positions[3 * i + 2] + weight * (d2 - dn * nv[m + 2]);
       // The vertex was on the surface: the step is an upper bound of the distance back to it.
       const step = weight * Math.hypot(d0, d1, d2);
-      const p = surface.closest(x, y, z, 1.01 * step + 1e-12).point;
-      next[3 * c] = p.x, next[3 * c + 1] = p.y, next[3 * c + 2] = p.z;
+      const t = toProject++;
+      targets[3 * t] = x, targets[3 * t + 1] = y, targets[3 * t + 2] = z, bounds[t] = 1.01 * step + 1e-12, projected[t] = c;
+    }
+    if (toProject > 0) {
+      const onSurface = surface.closestMany(targets.subarray(0, 3 * toProject), bounds.subarray(0, toProject)).points;
+      for (let t = 0; t < toProject; t++) {
+        const c = projected[t];
+        next[3 * c] = onSurface[3 * t], next[3 * c + 1] = onSurface[3 * t + 1], next[3 * c + 2] = onSurface[3 * t + 2];
+      }
     }
     for (let c = 0; c < count; c++) {
       const i = active[c];
@@ -415,12 +495,11 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
   const adjacency = connectivity(faces, vertexCount).neighbours;
   for (let round = 0; round < 2; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
-    const index = result.bvh.geometry.index.array;
-    const candidates = [];
-    for (let i = 0; i < input.length / 3; i++) {
-      const hit = result.closest(input[3 * i], input[3 * i + 1], input[3 * i + 2]);
-      if (hit.distance > threshold) candidates.push([hit.distance, i, hit.faceIndex]);
-    }
+    const index = result.index;
+    const candidates = [], closest = result.closestMany(input);
+    result.dispose();
+    for (let i = 0; i < input.length / 3; i++)
+      if (closest.distances[i] > threshold) candidates.push([closest.distances[i], i, closest.triangles[i]]);
     if (candidates.length === 0) break;
     candidates.sort((a, b) => b[0] - a[0]);
     let moved = 0;
@@ -513,16 +592,13 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
   let accepted = null, acceptedWorst = Infinity, acceptedExcess = Infinity, step = 1, retry = false;
   for (let round = 0; round < rounds; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
-    let worst = 0, excess = 0, previous = Infinity, px = 0, py = 0, pz = 0;
+    let worst = 0, excess = 0;
+    const closest = result.closestMany(input);
+    result.dispose();
+    distance.set(closest.distances), hitPoint.set(closest.points), hitFace.set(closest.triangles);
     for (let i = 0; i < inputCount; i++) {
-      const x = input[3 * i], y = input[3 * i + 1], z = input[3 * i + 2];
-      // Distance to a surface is 1-Lipschitz: the previous vertex's distance plus the step bounds it.
-      const hit = result.closest(x, y, z, 1.0001 * (previous + Math.hypot(x - px, y - py, z - pz)) + 1e-12);
-      px = x, py = y, pz = z, previous = distance[i] = hit.distance;
-      hitPoint[3 * i] = hit.point.x, hitPoint[3 * i + 1] = hit.point.y, hitPoint[3 * i + 2] = hit.point.z;
-      hitFace[i] = hit.faceIndex;
-      worst = Math.max(worst, hit.distance);
-      if (hit.distance > limit) excess += (hit.distance - limit) ** 2;
+      worst = Math.max(worst, distance[i]);
+      if (distance[i] > limit) excess += (distance[i] - limit) ** 2;
     }
     if (worst <= limit) break;
     if (accepted && !retry && !(worst < acceptedWorst || (worst <= 1.001 * acceptedWorst && excess < acceptedExcess))) {
@@ -538,7 +614,7 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     retry = false;
     adjacency ??= connectivity(faces, vertexCount).neighbours;
-    const index = result.bvh.geometry.index.array;
+    const index = result.index;
     disp.fill(0), weight.fill(0);
     const pull = Math.max(limit, focus * worst);
     for (let i = 0; i < inputCount; i++) {
@@ -639,18 +715,23 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
   const { neighbours: adjacency, vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const grid = pointGrid(input, 0.01 * surface.diagonal);
   const apart = spacing * surface.diagonal;
+  let result = null;
   for (let round = 0; round < rounds; round++) {
-    const result = new Surface({ positions, faces }, { normals: false });
-    const index = result.bvh.geometry.index.array;
+    result?.dispose();
+    result = new Surface({ positions, faces }, { normals: false });
+    const index = result.index;
     // The result's BVH is of the round's start (drags of a round are apart, and touch no vertex
     // twice): an input vertex's distance after a drag is the smaller of its distance to the
     // patch's faces and, if its closest face then was not one of them, that distance.
-    const distanceAfter = (j, patch) => {
+    // Asked as whether that distance is within `limit`: the round's closest point of the q-th near
+    // vertex (`before`, a batch) answers first, then the patch's faces until one is that close.
+    const withinAfter = (j, q, before, patch, limit) => {
+      const f = before.triangles[q];
+      if (before.distances[q] <= limit && !(patch.has(index[3 * f]) && patch.has(index[3 * f + 1]) && patch.has(index[3 * f + 2])))
+        return true;
       const x = input[3 * j], y = input[3 * j + 1], z = input[3 * j + 2];
-      const hit = result.closest(x, y, z);
-      let d = patch.has(index[3 * hit.faceIndex]) && patch.has(index[3 * hit.faceIndex + 1]) && patch.has(index[3 * hit.faceIndex + 2]) ? Infinity : hit.distance;
-      for (const f of patchFaces) d = Math.min(d, pointTriangleDistance(x, y, z, positions, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]));
-      return d;
+      for (const g of patchFaces) if (pointTriangleDistance(x, y, z, positions, faces[3 * g], faces[3 * g + 1], faces[3 * g + 2]) <= limit) return true;
+      return false;
     };
     let patchFaces = [];
     const far = [];
@@ -693,7 +774,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
           let radius = 0;
           for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, Math.hypot(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
           const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + Math.hypot(ox, oy, oz));
-          const inputBefore = nearInput.map((j) => result.closest(input[3 * j], input[3 * j + 1], input[3 * j + 2]).distance);
+          const before = result.closestMany(Float64Array.from({ length: 3 * nearInput.length }, (_, e) => input[3 * nearInput[Math.floor(e / 3)] + e % 3]));
           const facesBefore = faceList.map((f) => centroidDistance(surface, positions, faces, f));
           const saved = [];
           for (const [w] of ring) saved.push(w, positions[3 * w], positions[3 * w + 1], positions[3 * w + 2]);
@@ -706,7 +787,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
               positions[3 * w] = p.x, positions[3 * w + 1] = p.y, positions[3 * w + 2] = p.z;
             }
             const good = flippedFaces({ positions, faces }, surface, faceList, 0, twins).every((f) => flippedBefore.has(f)) &&
-              nearInput.every((j, q) => distanceAfter(j, ring) <= Math.max(inputBefore[q], allowed) + slack) &&
+              nearInput.every((j, q) => withinAfter(j, q, before, ring, Math.max(before.distances[q], allowed) + slack)) &&
               faceList.every((f, q) => centroidDistance(surface, positions, faces, f) <= Math.max(facesBefore[q], allowed) + slack);
             if (good) {
               for (const [w] of ring) used[w] = 1;
@@ -722,6 +803,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
     }
     if (kept === 0) break;
   }
+  result?.dispose();
 }
 
 /** Distance from the centroid of face f to the surface. */
@@ -795,6 +877,7 @@ function barycentric(p, a, b, c, qx, qy, qz) {
  * points per face, strided to at most `maxSamples`) to `surface`.
  */
 function oneSidedHausdorff(mesh, surface, maxSamples) {
+  if (surface.tree) return surface.tree.sampledDistanceFrom(mesh, maxSamples);
   const { positions: p, faces } = mesh;
   const vertexCount = p.length / 3, faceCount = faces.length / 3;
   const total = vertexCount + 4 * faceCount;
@@ -847,43 +930,45 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
   const faceCount = faces.length / 3;
   // Edge-adjacent faces: the face on the other side of each directed edge (given, or found).
   const across = twins ?? connectivity(faces, p.length / 3).twins;
-  // Unit face normals, computed when first needed (a check near a few vertices needs few).
-  const normals = new Float64Array(faces.length), known = new Uint8Array(faceCount);
-  const normal = (f) => {
-    if (known[f]) return;
-    known[f] = 1;
-    const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
-    const l = Math.hypot(n[0], n[1], n[2]);
-    for (let k = 0; k < 3; k++) normals[3 * f + k] = l > 0 ? n[k] / l : 0;
-  };
-  const flipped = [];
-  for (let q = 0, count = onlyFaces ? onlyFaces.length : faceCount; q < count; q++) {
+  // Unit face normals, made where needed (no table over the whole mesh: the drag's checks ask
+  // about a few faces of a big mesh, many times).
+  const own = new Float64Array(3), other = new Float64Array(3);
+  const normal = (f, out) => unitTriangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2], out);
+  // The faces' centroids and their closest points on the surface, in one batch.
+  const count = onlyFaces ? onlyFaces.length : faceCount;
+  const centroids = new Float64Array(3 * count), bounds = new Float64Array(count);
+  for (let q = 0; q < count; q++) {
     const f = onlyFaces ? onlyFaces[q] : q;
     const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
-    normal(f);
-    const n0 = normals[3 * f], n1 = normals[3 * f + 1], n2 = normals[3 * f + 2];
+    const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
+          cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
+    centroids[3 * q] = cx, centroids[3 * q + 1] = cy, centroids[3 * q + 2] = cz;
+    // The corners lie on the surface: the nearest one bounds the centroid's distance.
+    bounds[q] = 1.0001 * Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
+                                  Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
+                                  Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
+  }
+  const near = surface.closestMany(centroids, bounds);
+  const flipped = [];
+  for (let q = 0; q < count; q++) {
+    const f = onlyFaces ? onlyFaces[q] : q;
+    normal(f, own);
+    const n0 = own[0], n1 = own[1], n2 = own[2];
     if (n0 === 0 && n1 === 0 && n2 === 0) {
       flipped.push(f);
       continue;
     }
-    const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
-          cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
-    // The corners lie on the surface: the nearest one bounds the centroid's distance.
-    const bound = Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
-                           Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
-                           Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz));
-    const hit = surface.closest(cx, cy, cz, 1.0001 * bound + 1e-12);
-    const m = 3 * hit.faceIndex, sn = surface.smoothNormals, rn = surface.normals;
+    const m = 3 * near.triangles[q], sn = surface.smoothNormals, rn = surface.normals;
     if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= against) continue;
     // Lying on an input face that faces the same way: the input itself is crumpled there.
-    if (against < 0 && hit.distance < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
+    if (against < 0 && near.distances[q] < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
     // tip, where the input's normal is ambiguous, has neighbours that agree with it).
     for (let j = 0; j < 3; j++) {
       const g = across[3 * f + j];
       if (g < 0) continue;
-      normal(g);
-      if (n0 * normals[3 * g] + n1 * normals[3 * g + 1] + n2 * normals[3 * g + 2] < 0) {
+      normal(g, other);
+      if (n0 * other[0] + n1 * other[1] + n2 * other[2] < 0) {
         flipped.push(f);
         break;
       }
@@ -990,6 +1075,8 @@ export const DEFAULT_HAUSDORFF = 0.005;
  */
 export async function remesh(mrvol, input, options = {}) {
   const { MrvolError } = mrvol;
+  // The surfaces' closest points in the core (the JS walk of three-mesh-bvh's tree without it).
+  Surface.core = typeof mrvol.closestPoints === 'function' ? mrvol : null;
   const started = now();
   const auto = options.levels === undefined;
   if (!auto && !(Number.isInteger(options.levels) && options.levels >= 0 && options.levels <= 6))
@@ -1257,9 +1344,11 @@ export async function remesh(mrvol, input, options = {}) {
     parametrisedFallback: null,
     ms: now() - started,
   };
-  // Still far by default: the MAPS fit (parametrise) too, for the pieces it can take (closer on the
-  // teapot and bunny, farther on dragon-11k); the closer of the two without folds is kept.
-  const canParametrise = pieces.some((p) => p.mesh.faces.length / 3 > 64 && p.mesh.faces.length / 3 <= PARAMETRISE_MAX_FACES);
+  // Still far by default: the MAPS fit (parametrise) too (closer on the teapot and bunny, farther on
+  // dragon-11k); the closer of the two without folds is kept. Only where it can take every piece: a
+  // piece over its limit would be fitted again as before, doubling the time of the large scans for nothing.
+  const pieceFaces = pieces.map((p) => p.mesh.faces.length / 3);
+  const canParametrise = pieceFaces.every((f) => f <= PARAMETRISE_MAX_FACES) && pieceFaces.some((f) => f > 64);
   if (options.parametrise === undefined && report.hausdorff > goal && canParametrise) {
     let other = null, error = null;
     try {
@@ -1313,8 +1402,10 @@ function lockedFeatures(mesh, keys, target) {
 /** Two-sided sampled distances between the result and the input (and the result's surface). */
 function measure(result, input, surface, maxSamples) {
   const resultSurface = new Surface(result, { normals: false });
-  return { toInput: oneSidedHausdorff(result, surface, maxSamples), fromInput: oneSidedHausdorff(input, resultSurface, maxSamples),
-           surface: resultSurface };
+  const measured = { toInput: oneSidedHausdorff(result, surface, maxSamples), fromInput: oneSidedHausdorff(input, resultSurface, maxSamples),
+                     surface: resultSurface };
+  resultSurface.dispose();  // kept measures hold no tree (one is built again if asked: addTips, farPieces)
+  return measured;
 }
 
 /**
@@ -1323,11 +1414,8 @@ function measure(result, input, surface, maxSamples) {
  * many were added.
  */
 function addTips(input, resultSurface, limit, spacing, count, keys) {
-  const p = input.positions, far = [];
-  for (let i = 0; i < p.length / 3; i++) {
-    const d = resultSurface.closest(p[3 * i], p[3 * i + 1], p[3 * i + 2]).distance;
-    if (d > limit) far.push([d, i]);
-  }
+  const p = input.positions, far = [], distances = resultSurface.distances(p);
+  for (let i = 0; i < p.length / 3; i++) if (distances[i] > limit) far.push([distances[i], i]);
   far.sort((a, b) => b[0] - a[0]);
   const chosen = [];
   for (const [, i] of far) {
@@ -1342,10 +1430,7 @@ function addTips(input, resultSurface, limit, spacing, count, keys) {
 
 /** For each piece: whether one of its vertices is farther than `limit` from the result. */
 function farPieces(pieces, resultSurface, limit) {
-  return pieces.map(({ mesh: { positions: p } }) => {
-    for (let i = 0; i < p.length / 3; i++) if (resultSurface.closest(p[3 * i], p[3 * i + 1], p[3 * i + 2]).distance > limit) return true;
-    return false;
-  });
+  return pieces.map(({ mesh: { positions: p } }) => resultSurface.distances(p).some((d) => d > limit));
 }
 
 /** `lock` (or none) with the vertices of `mesh` at the positions of `keys` added, if they fit the target. */

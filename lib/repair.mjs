@@ -162,37 +162,39 @@ function nonManifoldFaces(faces, vertexCount) {
   const around = connectivity(faces, vertexCount).vertexFaces;
   // The faces kept by the edge step (the fans of every vertex are taken from them).
   const afterEdges = drop.slice();
-  const local = [], parent = [];
+  let most = 0;
+  for (let v = 0; v < vertexCount; v++) most = Math.max(most, around.offsets[v + 1] - around.offsets[v]);
+  const local = new Uint32Array(most), parent = new Uint32Array(most);
   const find = (i) => { while (parent[i] !== i) i = parent[i] = parent[parent[i]]; return i; };
+  // The first local face at each other vertex (-1: none yet; reset after each vertex).
+  const firstAt = new Int32Array(vertexCount).fill(-1);
   for (let v = 0; v < vertexCount; v++) {
-    local.length = 0;
-    for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) if (!afterEdges[around.list[e]]) local.push(around.list[e]);
-    if (local.length < 2) continue;
-    parent.length = local.length;
-    for (let i = 0; i < local.length; i++) parent[i] = i;
-    for (let i = 0; i < local.length; i++)
-      for (let j = i + 1; j < local.length; j++) {
-        // Faces i and j share an edge at v if they share another vertex.
-        const f = 3 * local[i], g = 3 * local[j];
-        let shared = false;
-        for (let x = 0; x < 3 && !shared; x++) {
-          const w = faces[f + x];
-          if (w !== v && (faces[g] === w || faces[g + 1] === w || faces[g + 2] === w)) shared = true;
-        }
-        if (shared) parent[find(i)] = find(j);
+    let size = 0;
+    for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) if (!afterEdges[around.list[e]]) local[size++] = around.list[e];
+    if (size < 2) continue;
+    for (let i = 0; i < size; i++) parent[i] = i;
+    // Faces i and j share an edge at v if they share another vertex: each joins the first face
+    // at each of its other vertices.
+    for (let i = 0; i < size; i++)
+      for (let x = 0; x < 3; x++) {
+        const w = faces[3 * local[i] + x];
+        if (w === v) continue;
+        if (firstAt[w] < 0) firstAt[w] = i;
+        else parent[find(i)] = find(firstAt[w]);
       }
+    for (let i = 0; i < size; i++) for (let x = 0; x < 3; x++) firstAt[faces[3 * local[i] + x]] = -1;
     // One fan (the usual case): nothing to drop.
     const root = find(0);
     let one = true;
-    for (let i = 1; i < local.length && one; i++) one = find(i) === root;
+    for (let i = 1; i < size && one; i++) one = find(i) === root;
     if (one) continue;
     const sizes = new Map();
-    for (let i = 0; i < local.length; i++) sizes.set(find(i), (sizes.get(find(i)) ?? 0) + 1);
+    for (let i = 0; i < size; i++) sizes.set(find(i), (sizes.get(find(i)) ?? 0) + 1);
     const largest = [...sizes].reduce((x, y) => (y[1] > x[1] ? y : x))[0];
-    for (let i = 0; i < local.length; i++) if (find(i) !== largest) drop[local[i]] = 1;
+    for (let i = 0; i < size; i++) if (find(i) !== largest) drop[local[i]] = 1;
   }
   let count = 0;
-  for (const d of drop) count += d;
+  for (let f = 0; f < drop.length; f++) count += drop[f];
   return { drop, count };
 }
 
