@@ -57,6 +57,7 @@ for (const c of cases) {
   const mesh = c.load();
   const inputFaces = mesh.faces.length / 3;
   let r = null, error = null;
+  const load = loadavg()[0];
   const started = performance.now(), cpuStarted = process.cpuUsage();
   try {
     r = await remesh(mrvol, mesh, c.options);
@@ -67,7 +68,7 @@ for (const c of cases) {
   const cpuMs = (cpu.user + cpu.system) / 1000;
   const hGoal = c.kind === 'cad' ? H_GOAL_CAD : H_GOAL;
   const row = {
-    name: c.name, kind: c.kind, format: c.format, inputFaces, ms: Math.round(ms), cpuMs: Math.round(cpuMs),
+    name: c.name, kind: c.kind, format: c.format, inputFaces, ms: Math.round(ms), cpuMs: Math.round(cpuMs), load,
     msPer100k: Math.round((ms * 100000) / inputFaces), cpuMsPer100k: Math.round((cpuMs * 100000) / inputFaces),
     ...(r ? { components: r.components, genus: r.input.genus, levels: r.levels, tried: r.levelsTried.join(','), cage: r.baseVertices,
               vertices: r.vertices, faces: r.faces, hausdorff: r.hausdorff, toInput: r.hausdorffToInput, fromInput: r.hausdorffFromInput,
@@ -101,15 +102,16 @@ rows.splice(0, rows.length, ...[...new Set(order)].filter((name) => stored[name]
 
 const pct = (x, d = 3) => `${(100 * x).toFixed(d)}%`;
 const sec = (ms) => (ms === undefined ? '-' : `${(ms / 1000).toFixed(2)} s`);
+const loadOf = (r) => (r.load === undefined ? '-' : r.load.toFixed(1));
 const yes = (x) => (x === null ? '-' : x ? 'yes' : 'no');
 const table = [
-  '| model | kind | format | input tri | pieces / genus | cage | n (tried) | result V | Hausdorff | result→input | input→result | volume change | untangled | features (edges/corners) | wall time | CPU time | CPU s per 100k tri | ok | H goal | time goal | run |',
-  '|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|:-:|---|',
+  '| model | kind | format | input tri | pieces / genus | cage | n (tried) | result V | Hausdorff | result→input | input→result | volume change | untangled | features (edges/corners) | wall time | CPU time | CPU s per 100k tri | ok | H goal | time goal | run | load |',
+  '|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|:-:|---|---:|',
   ...rows.map((r) => r.error
-    ? `| ${r.name} | ${r.kind} | ${r.format} | ${r.inputFaces} | refused: ${r.error.replace(/\|/g, '/')} | | | | | | | | | | ${(r.ms / 1000).toFixed(2)} s | ${sec(r.cpuMs)} | | ${yes(r.succeeded)} | ${yes(r.hMet)} | ${yes(r.timeMet)} | ${r.date} |`
+    ? `| ${r.name} | ${r.kind} | ${r.format} | ${r.inputFaces} | refused: ${r.error.replace(/\|/g, '/')} | | | | | | | | | | ${(r.ms / 1000).toFixed(2)} s | ${sec(r.cpuMs)} | | ${yes(r.succeeded)} | ${yes(r.hMet)} | ${yes(r.timeMet)} | ${r.date} | ${loadOf(r)} |`
     : `| ${r.name} | ${r.kind} | ${r.format} | ${r.inputFaces} | ${r.components} / ${r.genus} | ${r.cage} | ${r.levels} (${r.tried}) | ${r.vertices} | ` +
       `${pct(r.hausdorff)} | ${pct(r.toInput)} | ${pct(r.fromInput)} | ${pct(r.volumeChange, 2)} | ${r.untangled} | ${r.features} | ` +
-      `${(r.ms / 1000).toFixed(2)} s | ${sec(r.cpuMs)} | ${r.cpuMsPer100k === undefined ? '-' : (r.cpuMsPer100k / 1000).toFixed(2)} | ${yes(r.succeeded)} | ${yes(r.hMet)} | ${yes(r.timeMet)} | ${r.date} |`),
+      `${(r.ms / 1000).toFixed(2)} s | ${sec(r.cpuMs)} | ${r.cpuMsPer100k === undefined ? '-' : (r.cpuMsPer100k / 1000).toFixed(2)} | ${yes(r.succeeded)} | ${yes(r.hMet)} | ${yes(r.timeMet)} | ${r.date} | ${loadOf(r)} |`),
 ].join('\n');
 const count = (key) => `${rows.filter((r) => r[key] === true).length} of ${rows.filter((r) => r[key] !== null).length}`;
 const repairs = rows.filter((r) => r.repaired).map((r) => `- ${r.name}: ${r.repaired}`).join('\n');
@@ -135,8 +137,8 @@ run per row after a warm-up; the last column is when the row was measured (the s
 per face), relative to the bounding-box diagonal of the (repaired) input. Time: the whole pipeline (repair,
 weld, validation, features, simplification, BVH, fits, untangling, measures), not the file reading: wall
 time, and the process's CPU time (user + system), on which the time goal is judged because the machine
-was shared with other jobs (load average 10-23 on 2 cores while these rows were measured: the wall times
-are several times what the same code takes alone, and the CPU times are inflated too).
+may be shared with other jobs: the last column is the 1-minute load average as the row started (on 2 cores;
+above ~3 the wall times are several times what the same code takes alone, and the CPU times are inflated too).
 "untangled": flipped triangles found after the fit and fixed locally (0 left in every accepted result).
 
 Goals (issue 12): every model succeeds (the Klein bottle's expected outcome is the refusal naming it
@@ -148,11 +150,9 @@ Cage sizes over 500 (the large dragons) are not forced by the topology: a closed
 has triangulations with about (7 + sqrt(1 + 48g)) / 2 vertices (29 for the 871k scan's genus 52), and a
 cage of 500 vertices leaves room for every tunnel. They come from the retries: a simplified base that
 is not one closed manifold piece of the input's genus (a scan's tiny tunnels pinch at small sizes) is
-made again 1.5 times as large, and a base whose fit folds is retried twice and four times as large.
-On dragon-203k (a run with the fits printed): the default base (1016 faces) is 3.9%, 3.8% and 4.0% away at
-2, 3 and 4 levels (more levels do not reach the claw tips it cut off); with the far tips locked in it,
-the base at 1000, 1500, 2250 and 3375 faces is not closed or not one piece after the clean-up (fins
-at the locked tips), so it grows to 5062 faces: the 2552-handle cage, and the fit within 0.589%.
+made again 1.5 times as large and then collapsed back to the size asked for (lib/remesh-collapse.mjs;
+not when the larger base is of another genus), and larger bases (2x, 4x) are tried for pieces whose fit
+stays far from the input.
 
 ## Machine
 
