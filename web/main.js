@@ -791,6 +791,7 @@ async function start() {
       app.awaitingFrame = false;
       app.ready = true;
       app.stats.readyAt ??= performance.now();
+      performance.mark('mrvol: first frame with the model');
     }
     if (app.pendingInput !== null) {
       pushStat(app.stats.frames, performance.now() - app.pendingInput);
