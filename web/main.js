@@ -329,7 +329,7 @@ function followSessionInView(session) {
   let frameNext = false;
   session.addEventListener('model', () => {
     frameNext = true;
-    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true });
+    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true, depths: session.model.quads ? null : session.model.depths });
     applyViewLayers();
     app.panel.setQuad(session.quad);
     app.panel.setLevels(session.model.info.levels);
