@@ -347,9 +347,14 @@ if (bigResults.length) {
     'upload. The session\'s first save (the file and the positions into IndexedDB) runs in a worker (web/store-worker.js);',
     'the self-intersection check skips meshes over 200k triangles. A level or scheme change of a model of 100k+',
     'vertices (and its undo) is made in a worker the same way (web/editor-rebuild.js). The longest frame gaps left',
-    'are the GPU process\'s: software WebGL (SwiftShader) draws one frame of the 655k model in seconds on this loaded',
-    'machine (a 1,280-triangle sample takes ~2 s at load 19) and the page\'s thread waits for it when it hands the',
-    'frame to the compositor; the page\'s longest task in CPU time is the figure its own work is responsible for.');
+    'are the GPU process\'s: with software compositing each frame\'s commit reads the WebGL canvas back',
+    '(GLES2::ReadPixels), and the page\'s thread waits there until SwiftShader has drawn it: seconds for the 655k',
+    'model (docs/big-file-frames.md, from `node bench/web-big-trace.mjs`). "opened" and "first frame" are seen at',
+    'animation frames (the bench\'s and Playwright\'s rAF polling), so "first frame" is when the page runs again',
+    'after that frame: editable. Since the trace the first frame is drawn once (it was three times: a second render',
+    'from the ResizeObserver, a third frame for the centre-of-mass marker), without MSAA on SwiftShader, and the',
+    'shadow of a mesh over 200k triangles is cast by a coarser level of its hierarchy; the page\'s longest task in',
+    'CPU time is the figure its own work is responsible for.');
   bigLines.push('', 'Stages (mrvolDebug.openStages(): wall ms on the thread named; the worker\'s stages on a loaded machine stretch with the load):', '');
   bigLines.push('| vertices | what | stage | thread | ms | MB |');
   bigLines.push('|---:|---|---|---|---:|---:|');

@@ -57,6 +57,7 @@ export function setUpBalance({ session, viewer, onChanged = () => {}, changeSurf
       : 'Keep the centre of mass where it is while dragging (four constraints: the volume and the three first moments)';
   }
 
+  // run in the view's frame, before it draws (viewer.requestRender(draw))
   function draw() {
     pending = false;
     if (!session.editor) return;
@@ -71,7 +72,6 @@ export function setUpBalance({ session, viewer, onChanged = () => {}, changeSurf
     if (!c) {  // an editor without centroids
       marker.visible = false;
       readout.textContent = 'centre of mass: not computed for this model';
-      viewer.requestRender();
       return;
     }
     marker.visible = true;
@@ -84,12 +84,12 @@ export function setUpBalance({ session, viewer, onChanged = () => {}, changeSurf
     box.dataset.centroid = JSON.stringify(Array.from(c));
     box.dataset.baseline = JSON.stringify(baseline);
     box.dataset.drift = String(drift);
-    viewer.requestRender();
   }
+  // in the view's next frame, before it draws (a frame of its own would draw a big mesh again)
   const drawSoon = () => {
     if (pending) return;
     pending = true;
-    requestAnimationFrame(draw);
+    viewer.requestRender(draw);
   };
 
   session.addEventListener('model', () => {

@@ -329,7 +329,7 @@ function followSessionInView(session) {
   let frameNext = false;
   session.addEventListener('model', () => {
     frameNext = true;
-    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true });
+    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true, depths: session.model.quads ? null : session.model.depths });
     applyViewLayers();
     app.panel.setQuad(session.quad);
     app.panel.setLevels(session.model.info.levels);
@@ -791,6 +791,7 @@ async function start() {
       app.awaitingFrame = false;
       app.ready = true;
       app.stats.readyAt ??= performance.now();
+      performance.mark('mrvol: first frame with the model');
     }
     if (app.pendingInput !== null) {
       pushStat(app.stats.frames, performance.now() - app.pendingInput);

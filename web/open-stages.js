@@ -17,6 +17,7 @@ export function beginStages(what) {
 /** Adds a stage: { stage, thread, ms } (and any details, e.g. bytes). */
 export function addStage(stage, thread, ms, details = {}) {
   stages.push({ stage, thread, ms: Math.round(ms * 10) / 10, ...details });
+  if (thread === 'page') performance.mark(`mrvol: ${stage}`); // where it ended, in a trace (bench/web-big-trace.mjs)
 }
 
 /** Runs fn on the page's thread as one stage; returns its result. */

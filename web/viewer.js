@@ -9,6 +9,8 @@ import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
 import { FloorShadow } from './floor-shadow.js';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
 import { SurfaceUpload } from './surface-upload.js';
+import { softwareWebGL } from './software-webgl.js';
+import { shadowFaces } from './shadow-caster.js';
 
 const MESH_COLOR = 0xc9b8a0;
 const HANDLE_COLOR = new THREE.Color(CAGE_COLOR);
@@ -24,6 +26,7 @@ const ENVIRONMENT_INTENSITY = 0.45;
 const FRAME_DIRECTION = new THREE.Vector3(0.45, 0.35, 1).normalize();
 const FRAME_MARGIN = 1.1;
 const FRAME_SAMPLES = 20_000; // points of a big mesh looked at to frame it
+const SHADOW_TRIANGLES = 200_000; // above this, the floor shadow is drawn from a coarser level
 
 /**
  * Puts the camera on FRAME_DIRECTION from the points' projected centre, at the least distance that
@@ -77,7 +80,8 @@ export class Viewer {
   /** @param {HTMLElement} container the element the canvas fills */
   constructor(container) {
     this.container = container;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true });
+    // no multisampling on software WebGL: it multiplies a big mesh's frame there (software-webgl.js)
+    this.renderer = new THREE.WebGLRenderer({ antialias: !softwareWebGL() });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
     container.appendChild(this.renderer.domElement);
     this.canvas = this.renderer.domElement;
@@ -125,6 +129,9 @@ export class Viewer {
       polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
     });
     this.mesh = null;
+    // draws nothing in the view: it only casts the floor's shadow (setMesh)
+    this.casterMaterial = new THREE.MeshBasicMaterial({ colorWrite: false, depthWrite: false, depthTest: false, side: THREE.DoubleSide });
+    this.shadowCaster = null;
     // One set of cage materials for every cage shown (their shaders compile once, in precompile()).
     this.cageMaterials = CageObject.materials({ color: CAGE_COLOR });
     this.cage = null;
@@ -149,6 +156,8 @@ export class Viewer {
     this.onFrame = null; // (renderMs) => void, called after each rendered frame
 
     this.frameRequested = false;
+    this.beforeFrame = new Set();
+    this.sized = false;
     this.resizeObserver = new ResizeObserver(() => this.resize());
     this.resizeObserver.observe(container);
     this.resize();
@@ -178,26 +187,51 @@ export class Viewer {
     }
   }
 
+  /** ResizeObserver: the drawing buffer follows the view's size, and is drawn again at once. */
   resize() {
+    // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
+    if (this.#fitSize()) {
+      this.shadow?.beforeRender();
+      this.renderer.render(this.scene, this.camera);
+    }
+  }
+
+  /**
+   * Sets the drawing buffer's and camera's size to the view's; false when they were already (a
+   * frame already drawn at this size is not drawn again: a frame of a big mesh takes seconds on
+   * software WebGL).
+   */
+  #fitSize() {
     const { clientWidth: w, clientHeight: h } = this.container;
-    if (w === 0 || h === 0) return;
+    if (w === 0 || h === 0) return false;
+    const size = this.renderer.getSize(new THREE.Vector2());
+    if (size.x === w && size.y === h && this.sized) return false;
+    this.sized = true;
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
     // FOV_DEG spans the narrower side: a framed model stays in view when a tall view (a phone, its
     // sheet folded or not) changes height.
     this.camera.fov = w >= h ? FOV_DEG : THREE.MathUtils.radToDeg(2 * Math.atan(Math.tan(THREE.MathUtils.degToRad(FOV_DEG / 2)) * h / w));
     this.camera.updateProjectionMatrix();
-    // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
-    this.shadow?.beforeRender();
-    this.renderer.render(this.scene, this.camera);
+    return true;
   }
 
-  requestRender() {
+  /**
+   * Draws the scene in the next animation frame; `before` (optional) runs in that frame first
+   * (once), e.g. to move a marker: it is drawn with this frame, not in one more.
+   */
+  requestRender(before = null) {
+    if (before) this.beforeFrame.add(before);
     if (this.frameRequested) return;
     this.frameRequested = true;
     requestAnimationFrame(() => {
       this.frameRequested = false;
       const started = performance.now();
+      // a layout change in this frame (the panel, the status strip): its size now, so that the
+      // ResizeObserver after this callback finds nothing to draw again
+      this.#fitSize();
+      for (const fn of this.beforeFrame) fn();
+      this.beforeFrame.clear();
       this.shadow.beforeRender(started);
       this.renderer.render(this.scene, this.camera);
       this.onFrame?.(performance.now() - started);
@@ -208,8 +242,8 @@ export class Viewer {
    * Replaces the fine mesh. positions: Float64Array (3 per vertex), faces: Uint32Array. With
    * `editorNormals` the normals come from the editor (updateMeshFrom), not computed here.
    */
-  setMesh(positions, faces, { editorNormals = false } = {}) {
-    for (const object of [this.mesh, this.approx, this.details]) {
+  setMesh(positions, faces, { editorNormals = false, depths = null } = {}) {
+    for (const object of [this.mesh, this.approx, this.details, this.shadowCaster]) {
       if (!object) continue;
       this.scene.remove(object);
       object.geometry.dispose();
@@ -221,6 +255,20 @@ export class Viewer {
     this.mesh.frustumCulled = false;
     this.mesh.castShadow = true;
     this.scene.add(this.mesh);
+    // a big mesh's shadow from a coarser level of its hierarchy, on the same vertices (shadow-caster.js)
+    this.shadowCaster = null;
+    const coarse = faces.length / 3 > SHADOW_TRIANGLES ? shadowFaces(faces, depths, { maxTriangles: SHADOW_TRIANGLES }) : faces;
+    if (coarse !== faces) {
+      const caster = new THREE.BufferGeometry();
+      caster.setAttribute('position', geometry.getAttribute('position')); // shared: uploaded once, follows edits
+      caster.setIndex(new THREE.BufferAttribute(coarse, 1));
+      this.shadowCaster = new THREE.Mesh(caster, this.casterMaterial);
+      this.shadowCaster.frustumCulled = false;
+      this.shadowCaster.castShadow = true;
+      this.shadowCaster.visible = this.mesh.visible;
+      this.mesh.castShadow = false;
+      this.scene.add(this.shadowCaster);
+    }
     this.shadow.fit(positions);
     // The layers (same faces) are made when first filled (updateApprox / updateDetails): a big
     // mesh opens without two more copies of its positions.
@@ -286,6 +334,7 @@ export class Viewer {
 
   setLayers({ mesh, cage, approx = this.overlay.approx, details = this.overlay.details }) {
     if (this.mesh) this.mesh.visible = mesh;
+    if (this.shadowCaster) this.shadowCaster.visible = mesh;
     if (this.shadow.floor.visible !== mesh) this.shadow.setVisible(mesh);
     this.cageGroup.visible = cage;
     this.overlay = { approx, details };

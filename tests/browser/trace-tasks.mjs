@@ -4,25 +4,29 @@
 // frame in the GPU process, other jobs on a loaded machine); CPU time is the page's own work.
 // bench/theta-handoff-trace.mjs is the fuller tool (what fills a task).
 
-const CATEGORIES = ['toplevel', 'disabled-by-default-devtools.timeline', 'devtools.timeline', 'blink.user_timing'];
+export const CATEGORIES = ['toplevel', 'disabled-by-default-devtools.timeline', 'devtools.timeline', 'blink.user_timing'];
 
 const isTask = (e) => e.ph === 'X' && (e.name === 'RunTask' || e.name === 'ThreadControllerImpl::RunTask') && Number.isFinite(e.dur);
 
-/** Starts tracing; `stop()` resolves to { tasks: [{ ts, ms, cpuMs }], marks: Map(name -> [ts]), measures: [{ name, ts, ms }] } (ts in µs). */
-export async function traceTasks(page) {
+/**
+ * Starts tracing; `stop()` resolves to { tasks: [{ ts, ms, cpuMs }], marks: Map(name -> [ts]), measures: [{ name, ts, ms }],
+ * events } (ts in µs; events: the raw trace, every process's). `categories`: more than the page's tasks (e.g. the GPU
+ * process's 'gpu', 'viz', 'cc': bench/web-big-trace.mjs).
+ */
+export async function traceTasks(page, { categories = CATEGORIES } = {}) {
   const cdp = await page.context().newCDPSession(page);
   const events = [];
   cdp.on('Tracing.dataCollected', ({ value }) => {
     for (const e of value) events.push(e);
   });
-  await cdp.send('Tracing.start', { traceConfig: { includedCategories: CATEGORIES, recordMode: 'recordAsMuchAsPossible' }, transferMode: 'ReportEvents' });
+  await cdp.send('Tracing.start', { traceConfig: { includedCategories: categories, recordMode: 'recordAsMuchAsPossible' }, transferMode: 'ReportEvents' });
   return {
     async stop() {
       const ended = new Promise((resolve) => cdp.once('Tracing.tracingComplete', resolve));
       await cdp.send('Tracing.end');
       await ended;
       await cdp.detach().catch(() => {});
-      return mainThreadTasks(events);
+      return { ...mainThreadTasks(events), events };
     },
   };
 }
