@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shuffled_subdivision.h"
+#include "mrvol/cage_polynomial.h"
 #include "mrvol/cage_polynomial_builder.h"
 #include "mrvol/hierarchy.h"
 #include "mrvol/lifting.h"
@@ -155,4 +156,44 @@ TEST(ThreadPool, EditorSetUpIsTheSameOnAnyThreadCount) {
       for (size_t k = 0; k < one.size(); ++k) EXPECT_EQ(many[k], one[k]) << threads << " threads, level " << level << ", array " << k;
     }
   }
+}
+
+// A polynomial with triples enough for the pool (2^19 and more): its value, gradient and cubic along
+// a direction have the same bits on one thread, on two with the sweeps on the pool or inline, and on two after
+// chooseSweepThreads kept whichever was faster.
+TEST(ThreadPool, PolynomialSweepsAreTheSameWhicheverWayTheyRun) {
+  CagePolynomial p;
+  p.cageSize = 3000;
+  uint64_t state = 12345;
+  auto next = [&] { return state = state * 6364136223846793005ull + 1442695040888963407ull, state >> 33; };
+  auto unit = [&] { return double(next() % 2000001) / 1e6 - 1.0; };
+  p.linear.resize(3 * size_t(p.cageSize));
+  for (double& a : p.linear) a = unit();
+  for (uint32_t i = 0; p.tripleT.size() < 600000; i = (i + 1) % (p.cageSize - 2))
+    for (uint32_t j = i + 1, n = 0; n < 3 && j < p.cageSize - 1; ++n, j += 1 + uint32_t(next() % 5))
+      for (uint32_t run = 12 + uint32_t(next() % 40), t = 0; t < run; ++t) {
+        p.tripleI.push_back(i), p.tripleJ.push_back(j);
+        p.tripleK.push_back(j + 1 + uint32_t(next() % (p.cageSize - j - 1)));
+        p.tripleT.push_back(unit());
+      }
+  p.indexRuns();
+  std::vector<double> cage(3 * size_t(p.cageSize)), direction(cage.size());
+  for (double& c : cage) c = unit();
+  for (double& d : direction) d = unit();
+  auto step = [&](const CagePolynomial& q) {
+    std::vector<double> out(cage.size() + 5);
+    out[0] = q.evaluate(cage.data(), out.data() + 5);
+    q.alongDirection(cage.data(), direction.data(), out.data() + 1);
+    return out;
+  };
+  const std::vector<double> one = step(p);
+  Threads two(2);
+  const CagePolynomial onPool = p;
+  EXPECT_EQ(step(onPool), one);
+  const CagePolynomial chosen = p;
+  chosen.chooseSweepThreads(cage.data());
+  EXPECT_EQ(step(chosen), one);
+  CagePolynomial inlineOnly = p;
+  inlineOnly.setSweepsInline(true);
+  EXPECT_EQ(step(inlineOnly), one);
 }

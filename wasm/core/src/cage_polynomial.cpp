@@ -1,6 +1,7 @@
 #include "mrvol/cage_polynomial.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "mrvol/thread_pool.h"
 #include "mrvol/vector3.h"
@@ -83,7 +84,8 @@ void CagePolynomial::gatherRuns(const double* v, double* sums) const {
   // Blocks of at least kTriplesPerBlock triples: a smaller sweep runs inline (a hand-off to the
   // pool costs more than it saves on it).
   const size_t runs = runI.size(), triples = tripleT.size();
-  const size_t grain = std::max<size_t>(kRunsPerBlock, triples > 0 ? runs * kTriplesPerBlock / triples : runs);
+  const size_t grain = sweepsInline_ ? std::max<size_t>(runs, 1)
+                                     : std::max<size_t>(kRunsPerBlock, triples > 0 ? runs * kTriplesPerBlock / triples : runs);
   parallelFor(0, runs, grain, [&](size_t first, size_t end) {
     for (size_t r = first; r < end; ++r) {
       double* w = sums + 3 * r;
@@ -166,7 +168,8 @@ double CagePolynomial::evaluate(const double* c, double* g) const {
     partials_.resize(scatterEnd_);
     // On the pool's threads only when each gets kTriplesPerBlock triples (the blocks stay the same:
     // the same bits either way).
-    const size_t grain = std::max<size_t>(1, blocks * kTriplesPerBlock / std::max<size_t>(1, tripleT.size()));
+    const size_t grain =
+        sweepsInline_ ? blocks : std::max<size_t>(1, blocks * kTriplesPerBlock / std::max<size_t>(1, tripleT.size()));
     parallelFor(0, blocks, grain, [&](size_t first, size_t end) {
       for (size_t b = first; b < end; ++b) {
         double* partial = partials_.data() + scatterBase_[b];
@@ -270,6 +273,30 @@ void CagePolynomial::alongDirection(const double* c, const double* g, double* k)
     const double *ci = c + 3 * i, *cj = c + 3 * j, *gi = g + 3 * i, *gj = g + 3 * j;
     addRunCubic(ci, cj, gi, gj, wc, wg, k);
   });
+}
+
+void CagePolynomial::chooseSweepThreads(const double* cage) const {
+  sweepsInline_ = false;
+  const bool indexed = runStart.size() == runI.size() + 1 && !runI.empty() && runStart.back() == tripleT.size();
+  if (threadCount() <= 1 || !indexed || tripleT.size() < 2 * kTriplesPerBlock) return;  // inline anyway
+  std::vector<double> gradient(3 * size_t(cageSize));
+  double k[4];
+  auto timedStep = [&](bool inlineSweeps) {
+    sweepsInline_ = inlineSweeps;
+    runSumsValid_ = false;  // the step's three sweeps: gather at the cage, scatter, gather along
+    const auto start = std::chrono::steady_clock::now();
+    evaluate(cage, gradient.data());
+    alongDirection(cage, gradient.data(), k);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  // The least of three each, interleaved (another process's turn spoils one, not a whole side).
+  double onPool = 1e300, inlineOnly = 1e300;
+  for (int round = 0; round < 3; ++round) {
+    onPool = std::min(onPool, timedStep(false));
+    inlineOnly = std::min(inlineOnly, timedStep(true));
+  }
+  sweepsInline_ = inlineOnly <= onPool;
+  runSumsValid_ = false;
 }
 
 CagePolynomial contractCageRows(const VolumeTensor& tensor, const double* x) {

@@ -9,6 +9,7 @@ void CagePolynomialPath::set(CagePolynomial poly, double volumeNow) {
   session_->shiftedCage(shifted);
   poly.constant = volumeNow - (poly.evaluate(shifted.data(), nullptr) - poly.constant);
   polynomial_ = std::make_unique<CagePolynomialVolume>(std::move(poly));
+  polynomial_->polynomial().chooseSweepThreads(shifted.data());
   constraint_ = std::make_unique<CageVolumeConstraint>(*polynomial_, *session_);
   detailsMoved_ = false;
 }

@@ -29,6 +29,13 @@ struct CagePolynomial {
   double evaluate(const double* cage, double* gradient /* 3 * cageSize or null */) const;
   // The cubic s -> Theta(cage + s direction): its coefficients k[0] + k[1] s + k[2] s^2 + k[3] s^3.
   void alongDirection(const double* cage, const double* direction, double* k) const;
+  // With more than one thread and triples enough for the pool, times a solver step's sweeps (value
+  // and gradient, then the cubic along the gradient, at `cage`) on the pool and inline, and keeps the
+  // faster for every later sweep: a hand-off and the threaded build's slower code can cost more than
+  // the split saves. Either way gives the same bits (the blocks stay the same).
+  void chooseSweepThreads(const double* cage) const;
+  bool sweepsInline() const { return sweepsInline_; }
+  void setSweepsInline(bool inlineOnly) const { sweepsInline_ = inlineOnly; }
 
  private:
   template <class F>
@@ -55,6 +62,7 @@ struct CagePolynomial {
   std::vector<size_t> scatterBase_;    // where its partial (indices 3 low .. 3 cageSize) lies in partials_
   size_t scatterEnd_ = 0;
   mutable std::vector<double> partials_, directionSums_;
+  mutable bool sweepsInline_ = false;  // chosen by chooseSweepThreads
 };
 
 // Contracts the cage rows of theta^e (Cage storage) with the details of `coefficients` (level-e
