@@ -54,18 +54,28 @@ CageBasis denseCageColumns(const WaveletTransform& transform, int level, uint32_
         }
       });
     }
+  // The nonzeros by rows: a counting pass, then each row written in place (rows in blocks on the
+  // pool's threads: each writes its own entries).
   CageBasis rows;
-  rows.offset.resize(n + 1);
-  size_t live = 0;
-  for (double v : x) live += v != 0.0;
-  rows.index.reserve(live), rows.value.reserve(live);
-  for (size_t v = 0; v < n; ++v) {
-    rows.offset[v] = rows.index.size();
-    const double* xv = &x[v * width];
-    for (uint32_t c = 0; c < width; ++c)
-      if (xv[c] != 0.0) rows.index.push_back(first + c), rows.value.push_back(xv[c]);
-  }
-  rows.offset[n] = rows.index.size();
+  rows.offset.assign(n + 1, 0);
+  parallelFor(0, n, kDenseRowsPerBlock, [&](size_t begin, size_t end) {
+    for (size_t v = begin; v < end; ++v) {
+      const double* xv = &x[v * width];
+      uint32_t live = 0;
+      for (uint32_t c = 0; c < width; ++c) live += xv[c] != 0.0;
+      rows.offset[v + 1] = live;
+    }
+  });
+  for (size_t v = 0; v < n; ++v) rows.offset[v + 1] += rows.offset[v];
+  rows.index.resize(rows.offset[n]), rows.value.resize(rows.offset[n]);
+  parallelFor(0, n, kDenseRowsPerBlock, [&](size_t begin, size_t end) {
+    for (size_t v = begin; v < end; ++v) {
+      const double* xv = &x[v * width];
+      uint64_t p = rows.offset[v];
+      for (uint32_t c = 0; c < width; ++c)
+        if (xv[c] != 0.0) rows.index[p] = first + c, rows.value[p++] = xv[c];
+    }
+  });
   return rows;
 }
 
@@ -294,6 +304,7 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
   out.form.corners.reserve(faces.size());
   out.form.weights.assign(regionOf.size(), 1.0 / 6.0);
   out.region.reserve(regionOf.size());
+  out.vertexStart.assign(1, 0);
   std::vector<uint32_t> localOf(h.fineVertexCount(), kNone), vertices;
   std::vector<int64_t> coordX, coordY;
   for (size_t r = 0; r < regions; ++r) {
@@ -331,6 +342,8 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
       out.region.push_back(uint32_t(r));
     }
     for (uint32_t v : vertices) localOf[v] = kNone;
+    out.vertices.insert(out.vertices.end(), vertices.begin(), vertices.end());
+    out.vertexStart.push_back(uint32_t(out.vertices.size()));
   }
   return out;
 }
@@ -378,15 +391,23 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
   triangleB_.reserve(form.size()), triangleC_.reserve(form.size()), triangleWeight_.reserve(form.size());
   regionCage_.reserve(regions + 1), regionVertex_.reserve(regions + 1), regionWeight_.reserve(regions + 1);
   regionRun_.reserve(regions + 1), regionTriple_.reserve(regions + 1), regionPair_.reserve(regions + 1);
+  const bool vertexListsGiven = regionForm.vertexStart.size() == regions + 1;
+  if (vertexListsGiven) vertex_.reserve(regionForm.vertices.size());
+  uint64_t weightEnd = 0;
   for (size_t r = 0; r < regions; ++r) {
     // Its fine vertices, ascending.
     const size_t vertexBegin = vertex_.size();
-    for (uint32_t p = termStart[r]; p < termStart[r + 1]; ++p)
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t v = form.corners[3 * size_t(terms[p]) + k];
-        if (localOf[v] == kNone) localOf[v] = 0, vertex_.push_back(v);
-      }
-    std::sort(vertex_.begin() + vertexBegin, vertex_.end());
+    if (vertexListsGiven) {
+      vertex_.insert(vertex_.end(), regionForm.vertices.begin() + regionForm.vertexStart[r],
+                     regionForm.vertices.begin() + regionForm.vertexStart[r + 1]);
+    } else {
+      for (uint32_t p = termStart[r]; p < termStart[r + 1]; ++p)
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t v = form.corners[3 * size_t(terms[p]) + k];
+          if (localOf[v] == kNone) localOf[v] = 0, vertex_.push_back(v);
+        }
+      std::sort(vertex_.begin() + vertexBegin, vertex_.end());
+    }
     const uint32_t count = uint32_t(vertex_.size() - vertexBegin);
     for (uint32_t i = 0; i < count; ++i) localOf[vertex_[vertexBegin + i]] = i;
 
@@ -400,14 +421,7 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     std::sort(cage_.begin() + cageBegin, cage_.end());
     const size_t s = cage_.size() - cageBegin;
     maxCage_ = std::max(maxCage_, s);
-    for (size_t i = 0; i < s; ++i) slotOf[cage_[cageBegin + i]] = uint32_t(i);
-    const size_t weightBegin = weight_.size();
-    weight_.resize(weightBegin + size_t(count) * s, 0.0);
-    for (uint32_t i = 0; i < count; ++i) {
-      const uint32_t v = vertex_[vertexBegin + i];
-      for (uint64_t p = basis.offset[v]; p < basis.offset[v + 1]; ++p)
-        weight_[weightBegin + size_t(i) * s + slotOf[basis.index[p]]] = basis.value[p];
-    }
+    weightEnd += uint64_t(count) * s;  // its dense weights: filled below, once all sizes are known
 
     // The terms in runs of one carrying vertex (their first corner).
     carried.clear();
@@ -445,9 +459,28 @@ CagePolynomialBuilder::CagePolynomialBuilder(const WaveletTransform& transform, 
     for (size_t i = 0; i < s; ++i) slotOf[cage_[cageBegin + i]] = kNone;
     regionCage_.push_back(uint32_t(cage_.size()));
     regionVertex_.push_back(uint32_t(vertex_.size()));
-    regionWeight_.push_back(weight_.size());
+    regionWeight_.push_back(weightEnd);
     regionRun_.push_back(uint32_t(runVertex_.size()));
   }
+
+  // The dense weights, one row of s per region vertex: allocated once, the regions on the pool's
+  // threads (each writes its own rows).
+  localOf = {}, slotOf = {};
+  weight_.assign(weightEnd, 0.0);
+  parallelFor(0, regions, 1, [&](size_t first, size_t end) {
+    std::vector<uint32_t> slot(cageSize_, kNone);
+    for (size_t r = first; r < end; ++r) {
+      const uint32_t* g = &cage_[regionCage_[r]];
+      const size_t s = regionCage_[r + 1] - regionCage_[r];
+      for (size_t i = 0; i < s; ++i) slot[g[i]] = uint32_t(i);
+      double* w = &weight_[regionWeight_[r]];
+      for (uint32_t i = regionVertex_[r]; i < regionVertex_[r + 1]; ++i, w += s) {
+        const uint32_t v = vertex_[i];
+        for (uint64_t p = basis.offset[v]; p < basis.offset[v + 1]; ++p) w[slot[basis.index[p]]] = basis.value[p];
+      }
+      for (size_t i = 0; i < s; ++i) slot[g[i]] = kNone;
+    }
+  });
 
   // The polynomial's terms: the union over the regions, ascending; each region's slots into it.
   // Keys bucketed by their first cage vertex (a counting sort), each bucket sorted by the rest.

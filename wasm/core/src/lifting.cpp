@@ -231,7 +231,13 @@ std::vector<LiftingStep> loopLevel(const Hierarchy& h, int l, const SchemeOption
     oddPredict.add(e, h.wings[2 * e], 1.0 / 8.0);
     oddPredict.add(e, h.wings[2 * e + 1], 1.0 / 8.0);
   }
-  return {update.lift("U"), oddPredict.lift("P_o"), scalingStep("N", std::move(normalize)), evenPredict.lift("P_e")};
+  std::vector<LiftingStep> steps;  // moved in (a braced list would copy every table)
+  steps.reserve(4);
+  steps.push_back(update.lift("U"));
+  steps.push_back(oddPredict.lift("P_o"));
+  steps.push_back(scalingStep("N", std::move(normalize)));
+  steps.push_back(evenPredict.lift("P_e"));
+  return steps;
 }
 
 // Modified Butterfly prediction weights for the odd vertex e (sources in level l-1 numbering).

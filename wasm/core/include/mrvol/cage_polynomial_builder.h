@@ -42,6 +42,9 @@ struct RegionForm {
   FineForm form;
   std::vector<uint32_t> region;
   size_t regionCount = 0;
+  // Optional (empty: the builder finds them): each region's fine vertices, ascending, in
+  // [vertexStart[r], vertexStart[r + 1]) of `vertices` (triangleRegions has them already).
+  std::vector<uint32_t> vertexStart, vertices;
 };
 
 class CagePolynomialBuilder {

@@ -41,6 +41,20 @@ struct StepBuilder {
   // then each row (a few triplets) by source, stably.
   void sortStably() {
     if (triplets.empty()) return;
+    // Added by ascending target already (the usual case: the schemes walk the targets in order):
+    // only each row by source.
+    bool byTarget = true;
+    for (size_t i = 1; i < triplets.size() && byTarget; ++i) byTarget = triplets[i - 1].t <= triplets[i].t;
+    if (byTarget) {
+      for (size_t i = 1; i < triplets.size(); ++i) {
+        if (triplets[i].t != triplets[i - 1].t || triplets[i - 1].s <= triplets[i].s) continue;
+        const Triplet x = triplets[i];
+        size_t j = i;
+        for (; j > 0 && triplets[j - 1].t == x.t && triplets[j - 1].s > x.s; --j) triplets[j] = triplets[j - 1];
+        triplets[j] = x;
+      }
+      return;
+    }
     uint32_t low = triplets[0].t, high = low;
     for (const Triplet& x : triplets) low = std::min(low, x.t), high = std::max(high, x.t);
     if (high - low > 4 * triplets.size()) {  // sparse targets: the buckets would cost more
@@ -74,6 +88,8 @@ struct StepBuilder {
     compile();
     LiftingStep st;
     st.name = name;
+    st.offsets.reserve(triplets.size() + 1), st.targets.reserve(triplets.size());
+    st.sources.reserve(triplets.size()), st.weights.reserve(triplets.size());
     st.offsets.push_back(0);
     for (size_t i = 0; i < triplets.size();) {
       uint32_t t = triplets[i].t;
@@ -82,6 +98,7 @@ struct StepBuilder {
         if (triplets[i].s != kNone && triplets[i].w != 0.0) st.sources.push_back(triplets[i].s), st.weights.push_back(triplets[i].w);
       st.offsets.push_back(uint32_t(st.sources.size()));
     }
+    st.offsets.shrink_to_fit(), st.targets.shrink_to_fit();  // rows of several triplets: room to give back
     return st;
   }
 };
