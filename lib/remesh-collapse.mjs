@@ -30,8 +30,9 @@ class Heap {
     this.ids[k] = u, this.ids[k + 1] = v, this.ids[k + 2] = su, this.ids[k + 3] = sv;
   }
   #move(to, from) {
+    const ids = this.ids, t = 4 * to, f = 4 * from;
     this.cost[to] = this.cost[from];
-    this.ids.copyWithin(4 * to, 4 * from, 4 * from + 4);
+    ids[t] = ids[f], ids[t + 1] = ids[f + 1], ids[t + 2] = ids[f + 2], ids[t + 3] = ids[f + 3];
   }
   push(cost, u, v, su, sv) {
     if (this.size === this.cost.length) this.grow(2 * this.size);
