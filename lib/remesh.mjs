@@ -633,14 +633,15 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     const before = positions.slice();
     const moved = [];
-    for (let v = 0; v < vertexCount; v++) {
-      if (weight[v] === 0) continue;
+    for (let v = 0; v < vertexCount; v++) if (weight[v] !== 0) moved.push(v);
+    // The pulled points back onto the surface in one batch.
+    const pulled = new Float64Array(3 * moved.length);
+    for (const [t, v] of moved.entries()) {
       const s = step / weight[v];
-      const p = surface.closest(positions[3 * v] + s * disp[3 * v], positions[3 * v + 1] + s * disp[3 * v + 1],
-                                positions[3 * v + 2] + s * disp[3 * v + 2]).point;
-      positions[3 * v] = p.x, positions[3 * v + 1] = p.y, positions[3 * v + 2] = p.z;
-      moved.push(v);
+      for (let k = 0; k < 3; k++) pulled[3 * t + k] = positions[3 * v + k] + s * disp[3 * v + k];
     }
+    const onSurface = surface.closestMany(pulled).points;
+    for (const [t, v] of moved.entries()) for (let k = 0; k < 3; k++) positions[3 * v + k] = onSurface[3 * t + k];
     if (moved.length === 0) break;
     // The 3-ring around the pulled corners relaxes (they are held) and is checked for folds.
     const near = new Uint8Array(vertexCount);
