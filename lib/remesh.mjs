@@ -284,6 +284,29 @@ function simplifyOnce(mesh, targetFaces, lock) {
  * until one passes. A component smaller than the target is its own base.
  */
 function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock) {
+  // The same piece, target and lock give the same base (meshoptimizer, the checks and the collapse are
+  // deterministic): made once per remesh (the fits at 2, 3, 4 levels ask for the same base; on the large
+  // scans each simplification of the whole piece costs seconds). The base is only read by its users.
+  let known = basesMade.get(mesh);
+  if (!known) basesMade.set(mesh, (known = new Map()));
+  const key = `${genus} ${targetFaces} ${attempts} ${repairBase} ${lockKey(lock)}`;
+  if (!known.has(key)) known.set(key, makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock));
+  return known.get(key);
+}
+
+/** Bases made per input piece (its mesh object): by simplifyToBase()'s arguments. */
+const basesMade = new WeakMap();
+
+/** The locked vertices of `lock` (a mask or null) as a string. */
+function lockKey(lock) {
+  if (!lock) return '-';
+  const locked = [];
+  for (let v = 0; v < lock.length; v++) if (lock[v]) locked.push(v);
+  return locked.join(',');
+}
+
+/** simplifyToBase()'s work. */
+function makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock) {
   const problems = [];
   const first = Math.max(4, targetFaces);
   let target = first;
