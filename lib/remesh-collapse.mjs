@@ -8,39 +8,63 @@
 // Made for bases of a few hundred to a few thousand faces from a mesh already simplified by
 // meshoptimizer to some thousands: plain JS, Maps and Sets.
 
-/** A binary min-heap of [cost, ...] arrays. */
+/**
+ * A binary min-heap of collapses (cost, u, v and the two stamps) in flat typed arrays: no array
+ * per entry (millions are pushed, most of them stale). The same sift steps as a heap of
+ * [cost, u, v, su, sv] arrays, so the same order, ties included.
+ */
 class Heap {
-  constructor() {
-    this.items = [];
+  constructor(capacity = 1024) {
+    this.size = 0;
+    this.grow(capacity);
   }
-  get size() {
-    return this.items.length;
+  grow(capacity) {
+    const cost = new Float64Array(capacity), ids = new Uint32Array(4 * capacity);
+    if (this.cost) cost.set(this.cost.subarray(0, this.size)), ids.set(this.ids.subarray(0, 4 * this.size));
+    this.cost = cost, this.ids = ids;
   }
-  push(item) {
-    const a = this.items;
-    a.push(item);
-    for (let i = a.length - 1; i > 0;) {
+  /** Puts the entry (cost, u, v, su, sv) at slot i. */
+  #put(i, cost, u, v, su, sv) {
+    this.cost[i] = cost;
+    const k = 4 * i;
+    this.ids[k] = u, this.ids[k + 1] = v, this.ids[k + 2] = su, this.ids[k + 3] = sv;
+  }
+  #move(to, from) {
+    const ids = this.ids, t = 4 * to, f = 4 * from;
+    this.cost[to] = this.cost[from];
+    ids[t] = ids[f], ids[t + 1] = ids[f + 1], ids[t + 2] = ids[f + 2], ids[t + 3] = ids[f + 3];
+  }
+  push(cost, u, v, su, sv) {
+    if (this.size === this.cost.length) this.grow(2 * this.size);
+    let i = this.size++;
+    // Up: parents with a larger cost move down into the hole.
+    while (i > 0) {
       const p = (i - 1) >> 1;
-      if (a[p][0] <= a[i][0]) break;
-      [a[p], a[i]] = [a[i], a[p]];
+      if (this.cost[p] <= cost) break;
+      this.#move(i, p);
       i = p;
     }
+    this.#put(i, cost, u, v, su, sv);
   }
-  pop() {
-    const a = this.items, top = a[0], last = a.pop();
-    if (a.length > 0) {
-      a[0] = last;
-      for (let i = 0; ;) {
-        const l = 2 * i + 1, r = l + 1;
-        let m = i;
-        if (l < a.length && a[l][0] < a[m][0]) m = l;
-        if (r < a.length && a[r][0] < a[m][0]) m = r;
-        if (m === i) break;
-        [a[m], a[i]] = [a[i], a[m]];
-        i = m;
-      }
+  /** Removes the cheapest entry; its u, v, su, sv into out[0..3]. */
+  pop(out) {
+    const ids = this.ids, c = this.cost;
+    out[0] = ids[0], out[1] = ids[1], out[2] = ids[2], out[3] = ids[3];
+    const n = --this.size;
+    if (n === 0) return;
+    // The last entry sifts down from the root (the smaller child moves up; the left one on ties).
+    const lastCost = c[n], lk = 4 * n, lu = ids[lk], lv = ids[lk + 1], lsu = ids[lk + 2], lsv = ids[lk + 3];
+    let i = 0;
+    for (;;) {
+      const l = 2 * i + 1, r = l + 1;
+      let m = i, mc = lastCost;
+      if (l < n && c[l] < mc) m = l, mc = c[l];
+      if (r < n && c[r] < mc) m = r;
+      if (m === i) break;
+      this.#move(i, m);
+      i = m;
     }
-    return top;
+    this.#put(i, lastCost, lu, lv, lsu, lsv);
   }
 }
 
@@ -74,14 +98,17 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
     const q = [nx * nx, nx * ny, nx * nz, nx * d, ny * ny, ny * nz, ny * d, nz * nz, nz * d, d * d];
     for (const v of [a, b, c]) for (let k = 0; k < 10; k++) quadric[10 * v + k] += w * q[k];
   }
+  // The quadric of vertex s at (x, y, z).
+  const quadricAt = (s, x, y, z) => {
+    const q = quadric, o = 10 * s;
+    return q[o] * x * x + 2 * q[o + 1] * x * y + 2 * q[o + 2] * x * z + 2 * q[o + 3] * x + q[o + 4] * y * y + 2 * q[o + 5] * y * z +
+      2 * q[o + 6] * y + q[o + 7] * z * z + 2 * q[o + 8] * z + q[o + 9];
+  };
   const error = (u, v, at) => {
     const x = p[3 * at], y = p[3 * at + 1], z = p[3 * at + 2];
     let e = 0;
-    for (const s of [u, v]) {
-      const q = quadric.subarray(10 * s, 10 * s + 10);
-      e += q[0] * x * x + 2 * q[1] * x * y + 2 * q[2] * x * z + 2 * q[3] * x + q[4] * y * y + 2 * q[5] * y * z + 2 * q[6] * y +
-        q[7] * z * z + 2 * q[8] * z + q[9];
-    }
+    e += quadricAt(u, x, y, z);
+    e += quadricAt(v, x, y, z);
     return Math.max(0, e);
   };
   const stamp = new Uint32Array(vertexCount);
@@ -89,7 +116,7 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
   // u moves onto v (u disappears).
   const offer = (u, v) => {
     if (lock?.[u]) return;
-    heap.push([error(u, v, v), u, v, stamp[u], stamp[v]]);
+    heap.push(error(u, v, v), u, v, stamp[u], stamp[v]);
   };
   for (let u = 0; u < vertexCount; u++) for (const v of neighbours[u]) offer(u, v);
 
@@ -115,8 +142,10 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
   // and its barycentrics there, carried through every later collapse.
   const tracker = track ? new Tracker(p, faces, facesOf, vertexCount, faceCount) : null;
   let remaining = faceCount;
+  const top = new Uint32Array(4);
   while (remaining > targetFaces && remaining > 4 && heap.size > 0) {
-    const [, u, v, su, sv] = heap.pop();
+    heap.pop(top);
+    const u = top[0], v = top[1], su = top[2], sv = top[3];
     if (su !== stamp[u] || sv !== stamp[v] || !neighbours[u].has(v)) continue;
     if (!allowed(u, v)) continue;
     if (tracker && !tracker.collapse(u, v)) continue;

@@ -284,6 +284,29 @@ function simplifyOnce(mesh, targetFaces, lock) {
  * until one passes. A component smaller than the target is its own base.
  */
 function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock) {
+  // The same piece, target and lock give the same base (meshoptimizer, the checks and the collapse are
+  // deterministic): made once per remesh (the fits at 2, 3, 4 levels ask for the same base; on the large
+  // scans each simplification of the whole piece costs seconds). The base is only read by its users.
+  let known = basesMade.get(mesh);
+  if (!known) basesMade.set(mesh, (known = new Map()));
+  const key = `${genus} ${targetFaces} ${attempts} ${repairBase} ${lockKey(lock)}`;
+  if (!known.has(key)) known.set(key, makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock));
+  return known.get(key);
+}
+
+/** Bases made per input piece (its mesh object): by simplifyToBase()'s arguments. */
+const basesMade = new WeakMap();
+
+/** The locked vertices of `lock` (a mask or null) as a string. */
+function lockKey(lock) {
+  if (!lock) return '-';
+  const locked = [];
+  for (let v = 0; v < lock.length; v++) if (lock[v]) locked.push(v);
+  return locked.join(',');
+}
+
+/** simplifyToBase()'s work. */
+function makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock) {
   const problems = [];
   const first = Math.max(4, targetFaces);
   let target = first;
@@ -633,14 +656,15 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     const before = positions.slice();
     const moved = [];
-    for (let v = 0; v < vertexCount; v++) {
-      if (weight[v] === 0) continue;
+    for (let v = 0; v < vertexCount; v++) if (weight[v] !== 0) moved.push(v);
+    // The pulled points back onto the surface in one batch.
+    const pulled = new Float64Array(3 * moved.length);
+    for (const [t, v] of moved.entries()) {
       const s = step / weight[v];
-      const p = surface.closest(positions[3 * v] + s * disp[3 * v], positions[3 * v + 1] + s * disp[3 * v + 1],
-                                positions[3 * v + 2] + s * disp[3 * v + 2]).point;
-      positions[3 * v] = p.x, positions[3 * v + 1] = p.y, positions[3 * v + 2] = p.z;
-      moved.push(v);
+      for (let k = 0; k < 3; k++) pulled[3 * t + k] = positions[3 * v + k] + s * disp[3 * v + k];
     }
+    const onSurface = surface.closestMany(pulled).points;
+    for (const [t, v] of moved.entries()) for (let k = 0; k < 3; k++) positions[3 * v + k] = onSurface[3 * t + k];
     if (moved.length === 0) break;
     // The 3-ring around the pulled corners relaxes (they are held) and is checked for folds.
     const near = new Uint8Array(vertexCount);
@@ -1063,6 +1087,40 @@ export function defaultBaseFaces(inputFaces) {
 export const DEFAULT_HAUSDORFF = 0.005;
 
 /**
+ * What remesh() makes of its input before any fit (the same for the default and the parametrised
+ * fit): repaired or welded, in checked pieces, their surfaces (BVHs) and the sharp features.
+ */
+function prepareInput(mrvol, input, options, progress) {
+  const { MrvolError } = mrvol;
+  // Repair (optional) or weld only; then the input must be closed 2-manifolds.
+  progress(0, options.repair ? 'repairing' : 'welding');
+  const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
+                                                   smooth: options.smooth }) : null;
+  const welded = repaired ? repaired.mesh : weld(input);
+  // A one-sided surface bounds no solid: cutting it open and filling the cuts would make up a shape.
+  if (repaired?.report.oneSidedEdges > 0)
+    throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made of it`);
+  const { pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired);
+  const mesh = pieces.length === 1 ? pieces[0].mesh : concatenate(pieces.map((p) => p.mesh));
+  const inputVolume = mrvol.volume(mesh);
+  const diagonal = boundingDiagonal(mesh.positions);
+  const inputFaces = mesh.faces.length / 3, inputVertices = mesh.positions.length / 3;
+
+  const surface = new Surface(mesh);
+  const pieceSurfaces = new Map();
+  const surfaceOf = (i) => {
+    if (pieces.length === 1) return surface;
+    if (!pieceSurfaces.has(i)) pieceSurfaces.set(i, new Surface(pieces[i].mesh));
+    return pieceSurfaces.get(i);
+  };
+  const features = options.features === false ? null : findFeatures(mesh, { angle: options.featureAngle });
+  const featureKeys = { corners: new Set([...(features?.corners ?? [])].map((v) => positionKey(mesh.positions, v))),
+                        features: new Set([...(features?.linesAt.keys() ?? [])].map((v) => positionKey(mesh.positions, v))) };
+  return { repaired, welded, pieces, genus, droppedComponents, droppedPieces, mesh, inputVolume, diagonal, inputFaces, inputVertices,
+           surface, surfaceOf, features, featureKeys };
+}
+
+/**
  * Remeshes a closed manifold triangle mesh (several components and any genus) into a
  * semi-regular one: each component simplified to a base mesh (corners kept), the bases split
  * 1-to-4 `levels` times and fitted to the input level by level, sharp features kept (corners
@@ -1072,8 +1130,9 @@ export const DEFAULT_HAUSDORFF = 0.005;
  * @param {object} mrvol the API object of createMrvol()
  * @param {{ positions: Float64Array, faces: Uint32Array }} input
  * @param {object} [options] see lib/remesh.d.ts (RemeshOptions)
+ * @param {object} [reuse] internal: prepareInput()'s result for this input and options (the fallback's second run)
  */
-export async function remesh(mrvol, input, options = {}) {
+export async function remesh(mrvol, input, options = {}, reuse = null) {
   const { MrvolError } = mrvol;
   // The surfaces' closest points in the core (the JS walk of three-mesh-bvh's tree without it).
   Surface.core = typeof mrvol.closestPoints === 'function' ? mrvol : null;
@@ -1090,31 +1149,11 @@ export async function remesh(mrvol, input, options = {}) {
   const goal = options.hausdorffGoal ?? DEFAULT_HAUSDORFF;
   const progress = (fraction, stage) => options.onProgress?.(fraction, stage);
 
-  // Repair (optional) or weld only; then the input must be closed 2-manifolds.
-  progress(0, options.repair ? 'repairing' : 'welding');
-  const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
-                                                   smooth: options.smooth }) : null;
-  const welded = repaired ? repaired.mesh : weld(input);
-  // A one-sided surface bounds no solid: cutting it open and filling the cuts would make up a shape.
-  if (repaired?.report.oneSidedEdges > 0)
-    throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made of it`);
-  const { pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired);
-  const mesh = pieces.length === 1 ? pieces[0].mesh : concatenate(pieces.map((p) => p.mesh));
-  const inputVolume = mrvol.volume(mesh);
-  const diagonal = boundingDiagonal(mesh.positions);
-  const inputFaces = mesh.faces.length / 3, inputVertices = mesh.positions.length / 3;
-
+  // The prepared input (repair, pieces, surfaces, features): the parametrised fallback reuses the first run's.
+  const prepared = reuse ?? prepareInput(mrvol, input, options, progress);
+  const { repaired, welded, pieces, genus, droppedComponents, droppedPieces, mesh, inputVolume, diagonal, inputFaces, inputVertices,
+          surface, surfaceOf, features, featureKeys } = prepared;
   await MeshoptSimplifier.ready;
-  const surface = new Surface(mesh);
-  const pieceSurfaces = new Map();
-  const surfaceOf = (i) => {
-    if (pieces.length === 1) return surface;
-    if (!pieceSurfaces.has(i)) pieceSurfaces.set(i, new Surface(pieces[i].mesh));
-    return pieceSurfaces.get(i);
-  };
-  const features = options.features === false ? null : findFeatures(mesh, { angle: options.featureAngle });
-  const featureKeys = { corners: new Set([...(features?.corners ?? [])].map((v) => positionKey(mesh.positions, v))),
-                        features: new Set([...(features?.linesAt.keys() ?? [])].map((v) => positionKey(mesh.positions, v))) };
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
 
@@ -1353,7 +1392,7 @@ export async function remesh(mrvol, input, options = {}) {
     let other = null, error = null;
     try {
       other = await remesh(mrvol, input, { ...options, parametrise: true,
-                                           onProgress: (f, stage) => progress(0.95 + 0.05 * f, `parametrised fit: ${stage}`) });
+                                           onProgress: (f, stage) => progress(0.95 + 0.05 * f, `parametrised fit: ${stage}`) }, prepared);
     } catch (e) {
       if (!(e instanceof MrvolError)) throw e;
       error = e.message;
