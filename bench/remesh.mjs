@@ -126,7 +126,8 @@ Written by \`node bench/remesh.mjs\`: \`remesh\` (lib/remesh.mjs) through the No
 corpus (scripts/corpus.mjs, made into .cache/corpus by \`node scripts/make-corpus.mjs\`), read by the WASM
 core's readers, with the defaults and \`repair: true\` (what \`mrvol remesh FILE --repair -o OUT\` does):
 default levels (from 2, more while the two-sided Hausdorff distance is above 0.5% and the vertices stay
-within max(2x the input's, 10000); then tips kept in the base and larger bases for the pieces still far), sharp features kept
+within max(2x the input's, 10000); then tips kept in the base and larger bases for the pieces still far; then bases
+of the same size simplified with their faces weighted toward the regions the first fit left far: emphasis rounds), sharp features kept
 (the last two rows give the levels and base size: then the tips are kept in a base of that size and held on
 their tip vertex during the fit, the closer fit kept); then, if the chosen fit is still above 0.5%, it is
 dragged onto the input points it misses (dragToTips: a patch of 3 rings follows one vertex onto a far

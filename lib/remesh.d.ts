@@ -54,6 +54,18 @@ export interface RemeshOptions {
    * cut off), kept if closer and not more folded (default true).
    */
   dragTips?: boolean;
+  /**
+   * A fit still above `hausdorffGoal` after the other rounds is tried again on bases of the same size
+   * simplified with their faces weighted toward the regions the first fit left far; the closest fit is
+   * kept (default true).
+   */
+  emphasis?: boolean;
+  /**
+   * Diagnostics (bench/remesh-diagnose.mjs): called with 'fitted' (a piece's fit before untangling:
+   * { piece, levels, base, mesh, flipped }), 'untangled' ({ piece, levels, mesh, flippedTriangles }) and
+   * 'chosen' (the result before the drag: { mesh, measured }). The meshes may be changed later: copy them.
+   */
+  debug?: (event: 'fitted' | 'untangled' | 'chosen', data: object) => void;
   /** Called between stages with the rough fraction done (0..1) and the stage's name. */
   onProgress?: (fraction: number, stage: string) => void;
 }

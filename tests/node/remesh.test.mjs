@@ -126,6 +126,22 @@ describe('remesh (API)', () => {
     assert.ok(r.hausdorffFromInput < without.hausdorffFromInput, `input to result ${r.hausdorffFromInput} / ${without.hausdorffFromInput}`);
   });
 
+  test('the decimated dragon: the emphasis rounds (bases weighted toward the far tips) fit closer at the same base size', async () => {
+    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, emphasis: false });
+    assert.ok(plain.hausdorff > 0.005, `without the emphasis rounds ${plain.hausdorff}`);
+    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false });
+    assert.equal(r.flippedTriangles, 0);
+    // The other rounds go as before; the emphasis rounds' fits come after them.
+    assert.deepEqual(r.fits.slice(0, plain.fits.length), plain.fits);
+    const added = r.fits.slice(plain.fits.length);
+    assert.ok(added.length >= 1, 'an emphasis round ran');
+    // Bases of about the first fit's size (the simplifier's count varies by a few faces), not larger ones.
+    for (const f of added) assert.ok(Math.abs(f.baseFaces - r.fits[0].baseFaces) <= 0.02 * r.fits[0].baseFaces, `${f.baseFaces} faces`);
+    assert.ok(Math.min(...added.map((f) => f.hausdorff)) < Math.min(...plain.fits.map((f) => f.hausdorff)), 'an emphasised fit is the closest');
+    assert.ok(r.hausdorff < plain.hausdorff, `${r.hausdorff} with the emphasis rounds, ${plain.hausdorff} without`);
+    assert.ok(r.baseVertices <= 1.02 * plain.baseVertices, `cage ${r.baseVertices} / ${plain.baseVertices}`);
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
