@@ -13,12 +13,11 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { tmpdir } from 'node:os';
 import { startTestServer, launchBrowser, waitReady, waitTheta } from '../tests/browser/harness.mjs';
+import { traceTasks, isTask } from '../tests/browser/trace-tasks.mjs';
+import { optionReader } from './cli-option.mjs';
 
 const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const i = args.indexOf(name);
-  return i >= 0 && args[i + 1] ? args[i + 1] : fallback;
-};
+const option = optionReader(args);
 const TASKS = Number(option('--tasks', '4'));
 const TOP = Number(option('--top', '12'));
 const PHASE = option('--phase', 'both');
@@ -27,23 +26,16 @@ const KEEP = args.includes('--keep');
 const CATEGORIES = ['toplevel', 'devtools.timeline', 'disabled-by-default-devtools.timeline', 'v8', 'v8.execute',
   'blink.user_timing', 'disabled-by-default-v8.gc', 'disabled-by-default-v8.cpu_profiler', 'blink', 'gpu', 'cc', 'IndexedDB', 'ipc'];
 
-/** Records a trace over `run()` (CDP Tracing on the page's session); resolves to its events. */
+/** Records a trace over `run()` (tests/browser/trace-tasks.mjs, with CATEGORIES); resolves to its events. */
 async function traced(page, run) {
-  const cdp = await page.context().newCDPSession(page);
-  const events = [];
-  cdp.on('Tracing.dataCollected', ({ value }) => {
-    for (const e of value) events.push(e);
-  });
-  await cdp.send('Tracing.start', { traceConfig: { includedCategories: CATEGORIES, recordMode: 'recordAsMuchAsPossible' }, transferMode: 'ReportEvents' });
+  const trace = await traceTasks(page, { categories: CATEGORIES });
+  let recorded;
   try {
     await run();
   } finally {
-    const ended = new Promise((resolve) => cdp.once('Tracing.tracingComplete', resolve));
-    await cdp.send('Tracing.end');
-    await ended;
-    await cdp.detach().catch(() => {});
+    recorded = await trace.stop();
   }
-  return events;
+  return recorded.events;
 }
 
 const ms = (us) => us / 1000;
@@ -63,7 +55,6 @@ function mainThread(events) {
   return { pid, tid };
 }
 
-const isTask = (e) => e.ph === 'X' && (e.name === 'RunTask' || e.name === 'ThreadControllerImpl::RunTask') && Number.isFinite(e.dur);
 
 /** Complete events (X, and B/E pairs made complete) of one thread, sorted by start. */
 function threadEvents(events, { pid, tid }) {

@@ -12,13 +12,11 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { tmpdir } from 'node:os';
 import { startTestServer, launchBrowser, waitReady, root } from '../tests/browser/harness.mjs';
-import { traceTasks, CATEGORIES } from '../tests/browser/trace-tasks.mjs';
+import { traceTasks, isTask, CATEGORIES } from '../tests/browser/trace-tasks.mjs';
+import { optionReader } from './cli-option.mjs';
 
 const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const i = args.indexOf(name);
-  return i >= 0 && args[i + 1] ? args[i + 1] : fallback;
-};
+const option = optionReader(args);
 const LEVEL = Number(option('--level', '5'));
 const TOP = Number(option('--top', '10'));
 const MODE = option('--mode', 'preview');
@@ -28,7 +26,6 @@ const MODE = option('--mode', 'preview');
 const TRACE_CATEGORIES = [...CATEGORIES, 'gpu', 'gpu.service', 'viz', 'cc', 'benchmark', 'blink', 'v8.execute',
   'disabled-by-default-v8.cpu_profiler'];
 
-const isTask = (e) => e.ph === 'X' && (e.name === 'RunTask' || e.name === 'ThreadControllerImpl::RunTask') && Number.isFinite(e.dur);
 const f1 = (us) => (us / 1000).toFixed(1);
 
 function names(events) {

@@ -10,12 +10,10 @@ import { join } from 'node:path';
 import { tmpdir } from 'node:os';
 import { startTestServer, launchBrowser, waitReady, root } from '../tests/browser/harness.mjs';
 import { createMrvol } from '../lib/node.mjs';
+import { optionReader } from './cli-option.mjs';
 
 const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const i = args.indexOf(name);
-  return i >= 0 && args[i + 1] ? args[i + 1] : fallback;
-};
+const option = optionReader(args);
 const LEVELS = Number(option('--levels', '5'));
 const MODE = option('--mode', 'dev');
 const TOP = Number(option('--top', '40'));

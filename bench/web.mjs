@@ -15,12 +15,10 @@ import { cpus, totalmem, platform, release, loadavg } from 'node:os';
 import { join } from 'node:path';
 import { startTestServer, launchBrowser, waitReady, waitGradient, visibleHandles, settle, root } from '../tests/browser/harness.mjs';
 import { createMrvol } from '../lib/node.mjs';
+import { optionReader } from './cli-option.mjs';
 
 const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const i = args.indexOf(name);
-  return i >= 0 && args[i + 1] ? args[i + 1] : fallback;
-};
+const option = optionReader(args);
 const RUNS = Number(option('--runs', '3'));
 // --models none: only the big files; the samples' tables of bench/RESULTS-web.md are kept as they are
 const MODELS = option('--models', 'spiky-ball,bunny-remeshed,dragon-remeshed').split(',').filter((m) => m && m !== 'none');

@@ -6,7 +6,8 @@
 
 export const CATEGORIES = ['toplevel', 'disabled-by-default-devtools.timeline', 'devtools.timeline', 'blink.user_timing'];
 
-const isTask = (e) => e.ph === 'X' && (e.name === 'RunTask' || e.name === 'ThreadControllerImpl::RunTask') && Number.isFinite(e.dur);
+/** A top-level task of a thread's message loop (Chromium's trace events). */
+export const isTask = (e) => e.ph === 'X' && (e.name === 'RunTask' || e.name === 'ThreadControllerImpl::RunTask') && Number.isFinite(e.dur);
 
 /**
  * Starts tracing; `stop()` resolves to { tasks: [{ ts, ms, cpuMs }], marks: Map(name -> [ts]), measures: [{ name, ts, ms }],
