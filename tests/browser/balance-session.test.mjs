@@ -36,6 +36,7 @@ describe('keep balance and surface: undo, stored session, share link, project fi
     await page.check('[data-testid="keep-balance"]');
     await dragOne();
     await page.selectOption('[data-testid="surface-select"]', 'limit');
+    await page.waitForFunction(() => document.querySelector('[data-testid="keep-balance"]').disabled); // switched
     await settle(page);
     const limitReference = (await readouts(page)).reference;
     assert.ok(Math.abs(limitReference - meshReference) > 1e-4 * meshReference, 'the limit surface has its own volume');
@@ -83,7 +84,11 @@ describe('keep balance and surface: undo, stored session, share link, project fi
 
   test('a share link carries balance and surface', async () => {
     for (const expected of [{ keep: true, surface: 'mesh' }, { keep: false, surface: 'limit' }]) {
-      if (expected.surface === 'limit') await page.selectOption('[data-testid="surface-select"]', 'limit');
+      if (expected.surface === 'limit') {
+        await page.selectOption('[data-testid="surface-select"]', 'limit');
+        // the switch is async (the limit surface's editor is made): done when balance is switched off with it
+        await page.waitForFunction(() => document.querySelector('[data-testid="keep-balance"]').disabled);
+      }
       await settle(page);
       const { reference } = await readouts(page);
       await page.locator('[data-testid="share-link"]').click();
