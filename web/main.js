@@ -29,6 +29,7 @@ import { stepMultiplier } from './multiplier.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
 import { SelfIntersectionChecker } from './self-intersection.js';
 import { setUpBalance } from './balance.js';
+import { shadowFaces } from './shadow-caster.js';
 import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject, SHARE_PARAMS } from './share.js';
 import { VIEWS } from './learn/router.js';
 import { learnRoute, startLearn, watchForLearnRoutes } from './learn/router.js';
@@ -329,7 +330,10 @@ function followSessionInView(session) {
   let frameNext = false;
   session.addEventListener('model', () => {
     frameNext = true;
-    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, { editorNormals: true, depths: session.model.quads ? null : session.model.depths });
+    app.viewer.setMesh(session.model.mr.positions(), session.model.faces, {
+      editorNormals: true,
+      shadowFaces: session.model.quads ? null : (most) => shadowFaces(session.model.mr, session.model.info.levels, session.model.faces.length / 3, most),
+    });
     applyViewLayers();
     app.panel.setQuad(session.quad);
     app.panel.setLevels(session.model.info.levels);

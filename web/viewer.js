@@ -10,7 +10,6 @@ import { FloorShadow } from './floor-shadow.js';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
 import { SurfaceUpload } from './surface-upload.js';
 import { softwareWebGL } from './software-webgl.js';
-import { shadowFaces } from './shadow-caster.js';
 
 const MESH_COLOR = 0xc9b8a0;
 const HANDLE_COLOR = new THREE.Color(CAGE_COLOR);
@@ -241,8 +240,10 @@ export class Viewer {
   /**
    * Replaces the fine mesh. positions: Float64Array (3 per vertex), faces: Uint32Array. With
    * `editorNormals` the normals come from the editor (updateMeshFrom), not computed here.
+   * `shadowFaces(maxTriangles)`: for a mesh over SHADOW_TRIANGLES, coarser faces on the same vertices
+   * to cast the floor shadow (web/shadow-caster.js), or null.
    */
-  setMesh(positions, faces, { editorNormals = false, depths = null } = {}) {
+  setMesh(positions, faces, { editorNormals = false, shadowFaces = null } = {}) {
     for (const object of [this.mesh, this.approx, this.details, this.shadowCaster]) {
       if (!object) continue;
       this.scene.remove(object);
@@ -257,8 +258,8 @@ export class Viewer {
     this.scene.add(this.mesh);
     // a big mesh's shadow from a coarser level of its hierarchy, on the same vertices (shadow-caster.js)
     this.shadowCaster = null;
-    const coarse = faces.length / 3 > SHADOW_TRIANGLES ? shadowFaces(faces, depths, { maxTriangles: SHADOW_TRIANGLES }) : faces;
-    if (coarse !== faces) {
+    const coarse = faces.length / 3 > SHADOW_TRIANGLES ? shadowFaces?.(SHADOW_TRIANGLES) : null;
+    if (coarse) {
       const caster = new THREE.BufferGeometry();
       caster.setAttribute('position', geometry.getAttribute('position')); // shared: uploaded once, follows edits
       caster.setIndex(new THREE.BufferAttribute(coarse, 1));

@@ -1,11 +1,12 @@
-// web/shadow-caster.js: a big mesh's floor shadow from a coarser level of its hierarchy, on the fine
-// mesh's vertices. Real hierarchies (the API's subdivide, then openMesh on the written OBJ, its
-// vertices shuffled): the coarse faces are a closed, consistently oriented surface on the vertices
-// of that level, each 1/4 as many per level, with nearly the fine volume; anything else is left as is.
+// web/shadow-caster.js: a big mesh's floor shadow from a coarser level of its hierarchy (the core's
+// levelFaces), on the fine mesh's vertices. Real hierarchies (the API's subdivide, then openMesh on the
+// mesh with its vertices shuffled): the coarse faces are a closed, consistently oriented surface on the
+// vertices of that level, each 1/4 as many per level, with nearly the fine volume; a mesh within the
+// bound keeps its own faces.
 import { test, before } from 'node:test';
 import assert from 'node:assert/strict';
 import { createMrvol } from '../../lib/node.mjs';
-import { shadowFaces } from '../../web/shadow-caster.js';
+import { shadowFaces, shadowLevel } from '../../web/shadow-caster.js';
 import { icosahedron, shuffleMesh } from './helpers.mjs';
 
 let mrvol;
@@ -37,30 +38,26 @@ test('coarser levels of a shuffled subdivision hierarchy: closed, oriented, a qu
   const shuffled = shuffleMesh(fine.toMesh(), 7, { shuffleFaces: true }).mesh;
   fine.delete();
   const mr = mrvol.openMesh(shuffled);
-  const faces = mr.faces(), depths = mr.depths(), positions = mr.positions();
-  mr.delete();
+  const faces = mr.faces(), depths = mr.depths(), positions = mr.positions(), levels = mr.info().levels;
   const maxDepth = depths.reduce((a, b) => Math.max(a, b), 0);
   const fineVolume = volume(positions, faces);
-  for (const [maxTriangles, levelsUp] of [[faces.length / 3, 0], [faces.length / 3 - 1, 1], [faces.length / 12 - 1, 2]]) {
-    const coarse = shadowFaces(faces, depths, { maxTriangles });
-    assert.equal(coarse.length, faces.length / 4 ** levelsUp, `${levelsUp} levels up`);
-    assert.ok(closedOriented(coarse));
-    // only the vertices of that level
-    assert.ok(coarse.every((v) => depths[v] <= maxDepth - levelsUp));
-    assert.ok(Math.abs(volume(positions, coarse) - fineVolume) < 0.05 * fineVolume, `volume ${volume(positions, coarse)} vs ${fineVolume}`);
+  try {
+    assert.equal(shadowFaces(mr, levels, faces.length / 3, faces.length / 3), null, 'within the bound: its own faces');
+    for (const [maxTriangles, levelsUp] of [[faces.length / 3 - 1, 1], [faces.length / 12 - 1, 2]]) {
+      const coarse = shadowFaces(mr, levels, faces.length / 3, maxTriangles);
+      assert.equal(coarse.length, faces.length / 4 ** levelsUp, `${levelsUp} levels up`);
+      assert.ok(closedOriented(coarse));
+      // only the vertices of that level
+      assert.ok(coarse.every((v) => depths[v] <= maxDepth - levelsUp));
+      assert.ok(Math.abs(volume(positions, coarse) - fineVolume) < 0.05 * fineVolume, `volume ${volume(positions, coarse)} vs ${fineVolume}`);
+    }
+  } finally {
+    mr.delete();
   }
 });
 
-test('faces that are not a 1-to-4 split of their depths are left as they are', () => {
-  const fine = mrvol.subdivide(icosahedron(), { levels: 2 });
-  const mr = mrvol.openMesh(fine.toMesh());
-  fine.delete();
-  const faces = mr.faces(), depths = mr.depths();
-  mr.delete();
-  assert.equal(shadowFaces(faces, null, { maxTriangles: 10 }), faces);
-  const flat = new Uint8Array(depths.length); // every vertex old: no corner faces
-  assert.equal(shadowFaces(faces, flat.fill(1), { maxTriangles: 10 }), faces);
-  const old = Array.from(depths).indexOf(0);
-  const wrong = Uint8Array.from(depths, (d, i) => (i === old ? 2 : d)); // a coarse vertex said to be new
-  assert.equal(shadowFaces(faces, wrong, { maxTriangles: 10 }), faces);
+test('the level for a bound: a quarter of the triangles per level up, never below level 0', () => {
+  assert.equal(shadowLevel(1_310_720, 5, 200_000), 3);
+  assert.equal(shadowLevel(200_000, 5, 200_000), 5);
+  assert.equal(shadowLevel(1_310_720, 1, 200_000), 0);
 });
