@@ -94,6 +94,31 @@ describe('threads', { skip: threaded ? false : 'the threaded build is not there 
     mr.delete();
   });
 
+  // Typed catch clauses under -pthread (wasm/toolchain/landing_pad_context.cpp): the bindings' catch
+  // (const std::exception&) gives the message, the core's own catch (const Error&) re-validates a
+  // refused mesh in the caller's numbering (its lines named); a miss would say "unknown error".
+  test('core errors reach JS as the MrvolError the single-thread build gives; the pool keeps working', () => {
+    const dir = new URL('../data/bad/', import.meta.url);
+    const { files } = JSON.parse(readFileSync(new URL('expected.json', dir), 'utf8'));
+    const messageOf = (mrvol, text) => {
+      try {
+        mrvol.openMesh(mrvol.readObj(text)).delete();
+      } catch (e) {
+        assert.ok(e instanceof MrvolError && e instanceof Error, `threw ${typeof e}: ${e}`);
+        return e.message;
+      }
+      assert.fail('no error');
+    };
+    for (const name of Object.keys(files).filter((f) => f.endsWith('.obj'))) {
+      const text = readFileSync(new URL(name, dir), 'utf8');
+      const message = messageOf(multi, text);
+      assert.equal(message, messageOf(single, text), name);
+      assert.ok(message.includes(files[name].errorWithLines ?? files[name].errorNode ?? files[name].error), `${name}: ${message}`);
+    }
+    const [a] = drag(single, 3, 0, { drags: 1 }), [b] = drag(multi, 3, 0, { drags: 1 });
+    assert.ok(Buffer.from(b.normals.buffer).equals(Buffer.from(a.normals.buffer)));
+  });
+
   test('bad thread counts are refused by name', async () => {
     for (const threads of [0, -1, 1.5, 17, '2'])
       await assert.rejects(createMrvol({ threads }), (e) => e instanceof MrvolError && /threads must be an integer/.test(e.message));
