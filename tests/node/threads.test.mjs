@@ -119,6 +119,15 @@ describe('threads', { skip: threaded ? false : 'the threaded build is not there 
     assert.ok(Buffer.from(b.normals.buffer).equals(Buffer.from(a.normals.buffer)));
   });
 
+  // -fexceptions would route every call that may throw, from a function with a landing pad, through
+  // a JS trampoline (invoke_*): a third of the threaded build's time in a profile of drags.
+  test('both builds catch C++ exceptions in WASM: no JS invoke_ trampolines', () => {
+    for (const file of ['mrvol-node.mjs', 'mrvol-node-mt.mjs']) {
+      const loader = readFileSync(new URL(`../../build/wasm/${file}`, import.meta.url), 'utf8');
+      assert.equal(loader.match(/\binvoke_[a-z]+\b/)?.[0], undefined, `${file} calls through JS trampolines`);
+    }
+  });
+
   test('bad thread counts are refused by name', async () => {
     for (const threads of [0, -1, 1.5, 17, '2'])
       await assert.rejects(createMrvol({ threads }), (e) => e instanceof MrvolError && /threads must be an integer/.test(e.message));
