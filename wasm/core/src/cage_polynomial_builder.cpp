@@ -191,7 +191,14 @@ namespace {
 // level-e face; a vertex born at the midpoint of its ends lies inside the face of an end that lies
 // inside one, else on the edge or inside the face the cage vertices of its ends' places span. A
 // triangle lies in the face of a vertex inside one, else in the face of its vertices' cage vertices.
-std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
+// Also each region's fine vertices, ascending, in [vertexStart[r], vertexStart[r + 1]) of
+// `vertices`: a vertex inside a level-e face is that face's, one on a level-e edge the faces' on
+// both sides, a cage vertex the faces' around it (the vertices of the region's triangles), bucketed
+// in one pass over the vertices in order (no gathering and sorting per region).
+struct RegionsOfTriangles {
+  std::vector<uint32_t> region, vertexStart, vertices;
+};
+RegionsOfTriangles regionOfTriangles(const Hierarchy& h, int level) {
   const auto& coarse = h.faces[level];
   VertexCorners corners(coarse.data(), coarse.size() / 3, h.vertexCount[level]);
   const auto faceOf = [&](uint32_t a, uint32_t b, uint32_t c) {
@@ -249,7 +256,26 @@ std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
       throw Error("fine triangle " + std::to_string(t) + " lies in no level-" + std::to_string(level) + " face");
     region[t] = face;
   }
-  return region;
+  const size_t regions = coarse.size() / 3;
+  const auto forRegionsOf = [&](uint32_t v, auto&& f) {
+    const Place& p = place[v];
+    if (p.a == kNone) return f(p.b);
+    if (p.b == kNone) {
+      for (uint32_t k = corners.begin(p.a); k < corners.end(p.a); ++k) f(corners.face[k]);
+      return;
+    }
+    for (const uint32_t k : {corners.cornerTo(p.a, p.b), corners.cornerTo(p.b, p.a)})
+      if (k != kNone) f(corners.face[k]);
+  };
+  RegionsOfTriangles out;
+  out.vertexStart.assign(regions + 1, 0);
+  for (uint32_t v = 0; v < n; ++v) forRegionsOf(v, [&](uint32_t r) { ++out.vertexStart[r + 1]; });
+  for (size_t r = 0; r < regions; ++r) out.vertexStart[r + 1] += out.vertexStart[r];
+  out.vertices.resize(out.vertexStart[regions]);
+  std::vector<uint32_t> fill(out.vertexStart.begin(), out.vertexStart.end() - 1);
+  for (uint32_t v = 0; v < n; ++v) forRegionsOf(v, [&](uint32_t r) { out.vertices[fill[r]++] = v; });
+  out.region = std::move(region);
+  return out;
 }
 
 // Index of the pair (i, j), i < j, among the pairs of [0, S) in lexicographic order.
@@ -287,7 +313,8 @@ int checkedLevel(const Hierarchy& h, int level) {
 // (0, side), a vertex born later at the midpoint of its ends): every fine triangle has one.
 RegionForm triangleRegions(const Hierarchy& h, int level) {
   checkedLevel(h, level);
-  const std::vector<uint32_t> regionOf = regionOfTriangles(h, level);
+  RegionsOfTriangles regionsOf = regionOfTriangles(h, level);
+  const std::vector<uint32_t>& regionOf = regionsOf.region;
   const auto& faces = h.fineFaces();
   const size_t regions = h.faces[level].size() / 3;
   std::vector<uint32_t> triangleStart(regions + 1, 0), triangles(regionOf.size());
@@ -304,19 +331,12 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
   out.form.corners.reserve(faces.size());
   out.form.weights.assign(regionOf.size(), 1.0 / 6.0);
   out.region.reserve(regionOf.size());
-  out.vertexStart.assign(1, 0);
-  std::vector<uint32_t> localOf(h.fineVertexCount(), kNone), vertices;
+  std::vector<uint32_t> localOf(h.fineVertexCount(), kNone);
   std::vector<int64_t> coordX, coordY;
   for (size_t r = 0; r < regions; ++r) {
     // Its fine vertices, ascending: by depth, so that the ends of a vertex come before it.
-    vertices.clear();
-    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p)
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t v = faces[3 * size_t(triangles[p]) + k];
-        if (localOf[v] == kNone) localOf[v] = 0, vertices.push_back(v);
-      }
-    std::sort(vertices.begin(), vertices.end());
-    const uint32_t count = uint32_t(vertices.size());
+    const uint32_t* vertices = regionsOf.vertices.data() + regionsOf.vertexStart[r];
+    const uint32_t count = regionsOf.vertexStart[r + 1] - regionsOf.vertexStart[r];
     for (uint32_t i = 0; i < count; ++i) localOf[vertices[i]] = i;
     coordX.assign(count, 0), coordY.assign(count, 0);
     const uint32_t* corner = &h.faces[level][3 * r];
@@ -341,10 +361,10 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
       out.form.corners.insert(out.form.corners.end(), {t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
       out.region.push_back(uint32_t(r));
     }
-    for (uint32_t v : vertices) localOf[v] = kNone;
-    out.vertices.insert(out.vertices.end(), vertices.begin(), vertices.end());
-    out.vertexStart.push_back(uint32_t(out.vertices.size()));
+    for (uint32_t i = 0; i < count; ++i) localOf[vertices[i]] = kNone;
   }
+  out.vertexStart = std::move(regionsOf.vertexStart);
+  out.vertices = std::move(regionsOf.vertices);
   return out;
 }
 
