@@ -15,6 +15,7 @@
 #include "mrvol/lifting.h"
 #include "mrvol/limit_volume.h"
 #include "mrvol/mesh.h"
+#include "mrvol/vector3.h"
 #include "mrvol/volume_function.h"
 #include "mrvol/volume_tensor.h"
 
@@ -202,12 +203,12 @@ TEST(VolumeFunction, FirstMomentsAreVolumeTimesCentroidWithTheirGradients) {
 // larger end), the half from the smaller end first. A plain sort of the half-edges gives the same sum,
 // bit for bit, on a closed and an open mesh with vertices in shuffled order.
 TEST(VolumeFunction, FineEdgeVolumeSumsEdgesInOrderOfTheirEnds) {
-  for (const TriangleMesh& base : {icosahedron(), openPatch()}) {
+  for (const TriangleMesh& base : {fixtures::icosahedron(), fixtures::openPatch()}) {
     const Hierarchy h = Hierarchy::subdivide(base, 3);
-    const Shuffled shuffled = shuffle(TriangleMesh{std::vector<double>(3 * h.fineVertexCount(), 0.0), h.fineFaces()}, 7);
+    const fixtures::Shuffled shuffled = fixtures::shuffle(TriangleMesh{std::vector<double>(3 * h.fineVertexCount(), 0.0), h.fineFaces()}, 7);
     const std::vector<uint32_t>& faces = shuffled.mesh.faces;
     const uint32_t n = uint32_t(shuffled.mesh.vertexCount());
-    std::vector<double> p = randomVector(3 * size_t(n), 11);
+    std::vector<double> p = fixtures::randomVector(3 * size_t(n), 11);
     p.insert(p.end(), {0, 0, 0});
     struct Half { uint32_t lo, hi, b, c, a; };
     std::vector<Half> halves;
@@ -232,7 +233,7 @@ TEST(VolumeFunction, FineEdgeVolumeSumsEdgesInOrderOfTheirEnds) {
 }
 
 TEST(VolumeFunction, FineEdgeVolumeRefusesAnInconsistentOrientation) {
-  std::vector<uint32_t> faces = icosahedron().faces;
+  std::vector<uint32_t> faces = fixtures::icosahedron().faces;
   std::swap(faces[1], faces[2]);  // one face turned over: its edges run the same way as their neighbours'
   try {
     FineEdgeVolume(faces, 12);
