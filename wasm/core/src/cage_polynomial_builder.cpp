@@ -338,11 +338,14 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
   const int64_t side = int64_t(1) << (h.levels - level);  // lattice steps along a level-e edge
   RegionForm out;
   out.regionCount = regions;
-  out.form.corners.reserve(faces.size());
+  out.form.corners.resize(faces.size());
   out.form.weights.assign(regionOf.size(), 1.0 / 6.0);
-  out.region.reserve(regionOf.size());
+  out.region.resize(regionOf.size());
+  uint32_t* cornerOut = out.form.corners.data();
+  uint32_t* regionOut = out.region.data();
   std::vector<uint32_t> localOf(h.fineVertexCount(), kNone);
   std::vector<int64_t> coordX, coordY;
+  std::vector<uint8_t> carries;  // per region vertex: x - y = 0 mod 3
   for (size_t r = 0; r < regions; ++r) {
     // Its fine vertices, ascending: by depth, so that the ends of a vertex come before it.
     const uint32_t* vertices = regionsOf.vertices.data() + regionsOf.vertexStart[r];
@@ -363,13 +366,16 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
         coordX[i] = (coordX[a] + coordX[b]) / 2, coordY[i] = (coordY[a] + coordY[b]) / 2;
       }
     }
+    carries.resize(count);
+    for (uint32_t i = 0; i < count; ++i) carries[i] = ((coordX[i] - coordY[i]) % 3 + 3) % 3 == 0;
     for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p) {
       const uint32_t* t = &faces[3 * size_t(triangles[p])];
       int k = 0;
-      while (k < 3 && ((coordX[localOf[t[k]]] - coordY[localOf[t[k]]]) % 3 + 3) % 3 != 0) ++k;
+      while (k < 3 && !carries[localOf[t[k]]]) ++k;
       if (k == 3) throw Error("fine triangle " + std::to_string(triangles[p]) + " is not a lattice triangle of its level-" + std::to_string(level) + " face");
-      out.form.corners.insert(out.form.corners.end(), {t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
-      out.region.push_back(uint32_t(r));
+      cornerOut[0] = t[k], cornerOut[1] = t[(k + 1) % 3], cornerOut[2] = t[(k + 2) % 3];
+      cornerOut += 3;
+      *regionOut++ = uint32_t(r);
     }
     for (uint32_t i = 0; i < count; ++i) localOf[vertices[i]] = kNone;
   }
