@@ -3,8 +3,10 @@
 // evaluations along the line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include "fixtures.h"
 #include "mrvol/cage_polynomial.h"
@@ -13,6 +15,7 @@
 #include "mrvol/lifting.h"
 #include "mrvol/limit_volume.h"
 #include "mrvol/mesh.h"
+#include "mrvol/vector3.h"
 #include "mrvol/volume_function.h"
 #include "mrvol/volume_tensor.h"
 
@@ -193,5 +196,49 @@ TEST(VolumeFunction, FirstMomentsAreVolumeTimesCentroidWithTheirGradients) {
         EXPECT_NEAR(g[i], fd, 1e-7 * (1 + std::fabs(fd))) << fx.name << " axis " << k << " coordinate " << i;
       }
     }
+  }
+}
+
+// The edge table's order is part of the value's bits (a sum in edge order): edges by (smaller end,
+// larger end), the half from the smaller end first. A plain sort of the half-edges gives the same sum,
+// bit for bit, on a closed and an open mesh with vertices in shuffled order.
+TEST(VolumeFunction, FineEdgeVolumeSumsEdgesInOrderOfTheirEnds) {
+  for (const TriangleMesh& base : {fixtures::icosahedron(), fixtures::openPatch()}) {
+    const Hierarchy h = Hierarchy::subdivide(base, 3);
+    const fixtures::Shuffled shuffled = fixtures::shuffle(TriangleMesh{std::vector<double>(3 * h.fineVertexCount(), 0.0), h.fineFaces()}, 7);
+    const std::vector<uint32_t>& faces = shuffled.mesh.faces;
+    const uint32_t n = uint32_t(shuffled.mesh.vertexCount());
+    std::vector<double> p = fixtures::randomVector(3 * size_t(n), 11);
+    p.insert(p.end(), {0, 0, 0});
+    struct Half { uint32_t lo, hi, b, c, a; };
+    std::vector<Half> halves;
+    for (size_t f = 0; f < faces.size(); f += 3)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t a = faces[f + k], b = faces[f + (k + 1) % 3], c = faces[f + (k + 2) % 3];
+        halves.push_back({std::min(b, c), std::max(b, c), b, c, a});
+      }
+    std::stable_sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
+      return std::tie(x.lo, x.hi, x.b) < std::tie(y.lo, y.hi, y.b);
+    });
+    double sum = 0, w[3];
+    for (size_t i = 0; i < halves.size();) {
+      const bool paired = i + 1 < halves.size() && halves[i + 1].lo == halves[i].lo && halves[i + 1].hi == halves[i].hi;
+      const uint32_t d = paired ? halves[i + 1].a : n;
+      cross(&p[3 * size_t(halves[i].b)], &p[3 * size_t(halves[i].c)], w);
+      sum += dotDifference(&p[3 * size_t(halves[i].a)], &p[3 * size_t(d)], w);
+      i += paired ? 2 : 1;
+    }
+    EXPECT_EQ(FineEdgeVolume(faces, n).value(p.data(), nullptr), sum / 18.0);
+  }
+}
+
+TEST(VolumeFunction, FineEdgeVolumeRefusesAnInconsistentOrientation) {
+  std::vector<uint32_t> faces = fixtures::icosahedron().faces;
+  std::swap(faces[1], faces[2]);  // one face turned over: its edges run the same way as their neighbours'
+  try {
+    FineEdgeVolume(faces, 12);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is not a manifold edge of a consistently oriented mesh"), std::string::npos) << e.what();
   }
 }

@@ -41,16 +41,26 @@ CageBasis denseCageColumns(const WaveletTransform& transform, int level, uint32_
         continue;
       }
       // Targets and sources are disjoint: the rows in blocks on the pool's threads.
+      // Columns four at a time in registers (a fixed width the compiler unrolls), the rest one by
+      // one: per entry the same additions in the same order.
+      const uint32_t wide = width & ~3u;
       parallelFor(0, step.targets.size(), kDenseRowsPerBlock, [&](size_t begin, size_t end) {
-        std::vector<double> acc(width);
         for (size_t r = begin; r < end; ++r) {
           double* xt = &x[size_t(step.targets[r]) * width];
-          std::copy(xt, xt + width, acc.begin());
-          for (uint32_t k = step.offsets[r]; k < step.offsets[r + 1]; ++k) {
-            const double w = step.weights[k], *xs = &x[size_t(step.sources[k]) * width];
-            for (uint32_t c = 0; c < width; ++c) acc[c] += w * xs[c];
+          const uint32_t k0 = step.offsets[r], k1 = step.offsets[r + 1];
+          for (uint32_t c = 0; c < wide; c += 4) {
+            double acc[4] = {xt[c], xt[c + 1], xt[c + 2], xt[c + 3]};
+            for (uint32_t k = k0; k < k1; ++k) {
+              const double w = step.weights[k], *xs = &x[size_t(step.sources[k]) * width + c];
+              for (int q = 0; q < 4; ++q) acc[q] += w * xs[q];
+            }
+            for (int q = 0; q < 4; ++q) xt[c + q] = acc[q];
           }
-          std::copy(acc.begin(), acc.end(), xt);
+          for (uint32_t c = wide; c < width; ++c) {
+            double acc = xt[c];
+            for (uint32_t k = k0; k < k1; ++k) acc += step.weights[k] * x[size_t(step.sources[k]) * width + c];
+            xt[c] = acc;
+          }
         }
       });
     }
@@ -191,7 +201,14 @@ namespace {
 // level-e face; a vertex born at the midpoint of its ends lies inside the face of an end that lies
 // inside one, else on the edge or inside the face the cage vertices of its ends' places span. A
 // triangle lies in the face of a vertex inside one, else in the face of its vertices' cage vertices.
-std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
+// Also each region's fine vertices, ascending, in [vertexStart[r], vertexStart[r + 1]) of
+// `vertices`: a vertex inside a level-e face is that face's, one on a level-e edge the faces' on
+// both sides, a cage vertex the faces' around it (the vertices of the region's triangles), bucketed
+// in one pass over the vertices in order (no gathering and sorting per region).
+struct RegionsOfTriangles {
+  std::vector<uint32_t> region, vertexStart, vertices;
+};
+RegionsOfTriangles regionOfTriangles(const Hierarchy& h, int level) {
   const auto& coarse = h.faces[level];
   VertexCorners corners(coarse.data(), coarse.size() / 3, h.vertexCount[level]);
   const auto faceOf = [&](uint32_t a, uint32_t b, uint32_t c) {
@@ -249,7 +266,26 @@ std::vector<uint32_t> regionOfTriangles(const Hierarchy& h, int level) {
       throw Error("fine triangle " + std::to_string(t) + " lies in no level-" + std::to_string(level) + " face");
     region[t] = face;
   }
-  return region;
+  const size_t regions = coarse.size() / 3;
+  const auto forRegionsOf = [&](uint32_t v, auto&& f) {
+    const Place& p = place[v];
+    if (p.a == kNone) return f(p.b);
+    if (p.b == kNone) {
+      for (uint32_t k = corners.begin(p.a); k < corners.end(p.a); ++k) f(corners.face[k]);
+      return;
+    }
+    for (const uint32_t k : {corners.cornerTo(p.a, p.b), corners.cornerTo(p.b, p.a)})
+      if (k != kNone) f(corners.face[k]);
+  };
+  RegionsOfTriangles out;
+  out.vertexStart.assign(regions + 1, 0);
+  for (uint32_t v = 0; v < n; ++v) forRegionsOf(v, [&](uint32_t r) { ++out.vertexStart[r + 1]; });
+  for (size_t r = 0; r < regions; ++r) out.vertexStart[r + 1] += out.vertexStart[r];
+  out.vertices.resize(out.vertexStart[regions]);
+  std::vector<uint32_t> fill(out.vertexStart.begin(), out.vertexStart.end() - 1);
+  for (uint32_t v = 0; v < n; ++v) forRegionsOf(v, [&](uint32_t r) { out.vertices[fill[r]++] = v; });
+  out.region = std::move(region);
+  return out;
 }
 
 // Index of the pair (i, j), i < j, among the pairs of [0, S) in lexicographic order.
@@ -287,7 +323,8 @@ int checkedLevel(const Hierarchy& h, int level) {
 // (0, side), a vertex born later at the midpoint of its ends): every fine triangle has one.
 RegionForm triangleRegions(const Hierarchy& h, int level) {
   checkedLevel(h, level);
-  const std::vector<uint32_t> regionOf = regionOfTriangles(h, level);
+  RegionsOfTriangles regionsOf = regionOfTriangles(h, level);
+  const std::vector<uint32_t>& regionOf = regionsOf.region;
   const auto& faces = h.fineFaces();
   const size_t regions = h.faces[level].size() / 3;
   std::vector<uint32_t> triangleStart(regions + 1, 0), triangles(regionOf.size());
@@ -301,22 +338,18 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
   const int64_t side = int64_t(1) << (h.levels - level);  // lattice steps along a level-e edge
   RegionForm out;
   out.regionCount = regions;
-  out.form.corners.reserve(faces.size());
+  out.form.corners.resize(faces.size());
   out.form.weights.assign(regionOf.size(), 1.0 / 6.0);
-  out.region.reserve(regionOf.size());
-  out.vertexStart.assign(1, 0);
-  std::vector<uint32_t> localOf(h.fineVertexCount(), kNone), vertices;
+  out.region.resize(regionOf.size());
+  uint32_t* cornerOut = out.form.corners.data();
+  uint32_t* regionOut = out.region.data();
+  std::vector<uint32_t> localOf(h.fineVertexCount(), kNone);
   std::vector<int64_t> coordX, coordY;
+  std::vector<uint8_t> carries;  // per region vertex: x - y = 0 mod 3
   for (size_t r = 0; r < regions; ++r) {
     // Its fine vertices, ascending: by depth, so that the ends of a vertex come before it.
-    vertices.clear();
-    for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p)
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t v = faces[3 * size_t(triangles[p]) + k];
-        if (localOf[v] == kNone) localOf[v] = 0, vertices.push_back(v);
-      }
-    std::sort(vertices.begin(), vertices.end());
-    const uint32_t count = uint32_t(vertices.size());
+    const uint32_t* vertices = regionsOf.vertices.data() + regionsOf.vertexStart[r];
+    const uint32_t count = regionsOf.vertexStart[r + 1] - regionsOf.vertexStart[r];
     for (uint32_t i = 0; i < count; ++i) localOf[vertices[i]] = i;
     coordX.assign(count, 0), coordY.assign(count, 0);
     const uint32_t* corner = &h.faces[level][3 * r];
@@ -333,18 +366,21 @@ RegionForm triangleRegions(const Hierarchy& h, int level) {
         coordX[i] = (coordX[a] + coordX[b]) / 2, coordY[i] = (coordY[a] + coordY[b]) / 2;
       }
     }
+    carries.resize(count);
+    for (uint32_t i = 0; i < count; ++i) carries[i] = ((coordX[i] - coordY[i]) % 3 + 3) % 3 == 0;
     for (uint32_t p = triangleStart[r]; p < triangleStart[r + 1]; ++p) {
       const uint32_t* t = &faces[3 * size_t(triangles[p])];
       int k = 0;
-      while (k < 3 && ((coordX[localOf[t[k]]] - coordY[localOf[t[k]]]) % 3 + 3) % 3 != 0) ++k;
+      while (k < 3 && !carries[localOf[t[k]]]) ++k;
       if (k == 3) throw Error("fine triangle " + std::to_string(triangles[p]) + " is not a lattice triangle of its level-" + std::to_string(level) + " face");
-      out.form.corners.insert(out.form.corners.end(), {t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
-      out.region.push_back(uint32_t(r));
+      cornerOut[0] = t[k], cornerOut[1] = t[(k + 1) % 3], cornerOut[2] = t[(k + 2) % 3];
+      cornerOut += 3;
+      *regionOut++ = uint32_t(r);
     }
-    for (uint32_t v : vertices) localOf[v] = kNone;
-    out.vertices.insert(out.vertices.end(), vertices.begin(), vertices.end());
-    out.vertexStart.push_back(uint32_t(out.vertices.size()));
+    for (uint32_t i = 0; i < count; ++i) localOf[vertices[i]] = kNone;
   }
+  out.vertexStart = std::move(regionsOf.vertexStart);
+  out.vertices = std::move(regionsOf.vertices);
   return out;
 }
 
@@ -553,13 +589,18 @@ void CagePolynomialBuilder::regionMinors(size_t r, const double* detail, std::ve
   }
   // outer = sum over the carrying vertices a of w_a (x) G_a, G_a = sum of w_t w_b ^ w_c (packed i < j).
   outer.assign(S * P, 0.0);
-  wedges.resize(P);
-  for (uint32_t run = regionRun_[r]; run < regionRun_[r + 1]; ++run) {
-    std::fill(wedges.begin(), wedges.end(), 0.0);
+  // The runs four at a time: their G side by side, then each entry of outer takes the four updates
+  // in run order in one pass (the same additions in the same order as run by run, a quarter of the
+  // loads and stores of outer). A zero weight's update adds a zero, which leaves any entry as it is
+  // (outer starts at +0 and a sum of nonzeros never rounds to -0), so skipping it is only for speed.
+  constexpr size_t kRuns = 4;
+  wedges.resize(kRuns * P);
+  const auto runWedges = [&](uint32_t run, double* wedge) {
+    std::fill(wedge, wedge + P, 0.0);
     for (uint32_t t = runStart_[run]; t < runStart_[run + 1]; ++t) {
       const double *wb = &w[size_t(triangleB_[t]) * S], *wc = &w[size_t(triangleC_[t]) * S];
       const double weight = triangleWeight_[t];
-      double* g = wedges.data();
+      double* g = wedge;
       for (size_t i = 0; i + 1 < S; ++i) {
         const double bi = weight * wb[i], ci = weight * wc[i];
         const size_t len = S - i - 1;
@@ -568,6 +609,22 @@ void CagePolynomialBuilder::regionMinors(size_t r, const double* detail, std::ve
         g += len;
       }
     }
+  };
+  uint32_t run = regionRun_[r];
+  for (; run + kRuns <= regionRun_[r + 1]; run += kRuns) {
+    for (size_t q = 0; q < kRuns; ++q) runWedges(run + uint32_t(q), &wedges[q * P]);
+    const double *g0 = &wedges[0], *g1 = &wedges[P], *g2 = &wedges[2 * P], *g3 = &wedges[3 * P];
+    const double *wa0 = &w[size_t(runVertex_[run]) * S], *wa1 = &w[size_t(runVertex_[run + 1]) * S],
+                 *wa2 = &w[size_t(runVertex_[run + 2]) * S], *wa3 = &w[size_t(runVertex_[run + 3]) * S];
+    for (size_t i = 0; i < S; ++i) {
+      const double a0 = wa0[i], a1 = wa1[i], a2 = wa2[i], a3 = wa3[i];
+      if (a0 == 0.0 && a1 == 0.0 && a2 == 0.0 && a3 == 0.0) continue;
+      double* o = &outer[i * P];
+      for (size_t p = 0; p < P; ++p) o[p] = o[p] + a0 * g0[p] + a1 * g1[p] + a2 * g2[p] + a3 * g3[p];
+    }
+  }
+  for (; run < regionRun_[r + 1]; ++run) {
+    runWedges(run, wedges.data());
     const double* wa = &w[size_t(runVertex_[run]) * S];
     for (size_t i = 0; i < S; ++i) {
       const double a = wa[i];

@@ -11,9 +11,12 @@ namespace mrvol {
 namespace {
 // The edge table of FineEdgeVolume for a validated closed or bounded manifold.
 std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t outside) {
-  struct Half { uint64_t key; uint32_t b, c, a; };  // b -> c, with a opposite
-  // Sorted by (key, b): a counting sort by the smaller end, then each bucket (a few halves) by
-  // insertion (linear time; no key is repeated more than twice on a valid mesh).
+  // Half-edge b -> c (a opposite) in the bucket of its smaller end: the larger end, whether b is
+  // the larger (reversed), and a (12 bytes a half: the pass is memory-bound).
+  struct Half { uint32_t other, reversed, a; };
+  // Sorted by (smaller end, larger end, reversed), i.e. by (key, b): a counting sort by the smaller
+  // end, then each bucket (a few halves) by insertion (linear time; no key is repeated more than
+  // twice on a valid mesh).
   for (uint32_t v : faces)
     if (v >= outside) throw Error("face vertex " + std::to_string(v) + " is out of range (" + std::to_string(outside) + " vertices)");
   std::vector<uint32_t> start(size_t(outside) + 2, 0);
@@ -24,11 +27,13 @@ std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t out
   for (size_t f = 0; f < faces.size(); f += 3)
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = faces[f + k], b = faces[f + (k + 1) % 3], c = faces[f + (k + 2) % 3];
-      halves[start[std::min(b, c)]++] = {uint64_t(std::min(b, c)) << 32 | std::max(b, c), b, c, a};
+      halves[start[std::min(b, c)]++] = {std::max(b, c), uint32_t(b > c), a};
     }
   for (size_t v = start.size() - 1; v > 0; --v) start[v] = start[v - 1];  // back to the buckets' starts
   start[0] = 0;
-  const auto before = [](const Half& x, const Half& y) { return x.key != y.key ? x.key < y.key : x.b < y.b; };
+  const auto before = [](const Half& x, const Half& y) {
+    return x.other != y.other ? x.other < y.other : x.reversed < y.reversed;
+  };
   for (size_t v = 0; v + 1 < start.size(); ++v)
     for (uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {
       const Half x = halves[i];
@@ -38,14 +43,16 @@ std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t out
     }
   std::vector<uint32_t> edges;
   edges.reserve(halves.size() / 2 * 4 + 8);
-  for (size_t i = 0; i < halves.size();) {
-    const Half& h = halves[i];
-    const bool paired = i + 1 < halves.size() && halves[i + 1].key == h.key;
-    if (paired && (halves[i + 1].b != h.c || (i + 2 < halves.size() && halves[i + 2].key == h.key)))
-      throw Error("edge " + std::to_string(h.b) + "-" + std::to_string(h.c) + " is not a manifold edge of a consistently oriented mesh");
-    edges.insert(edges.end(), {h.b, h.c, h.a, paired ? halves[i + 1].a : outside});
-    i += paired ? 2 : 1;
-  }
+  for (uint32_t v = 0; v + 1 < start.size(); ++v)
+    for (uint32_t i = start[v]; i < start[v + 1];) {
+      const Half& h = halves[i];
+      const uint32_t b = h.reversed ? h.other : v, c = h.reversed ? v : h.other;
+      const bool paired = i + 1 < start[v + 1] && halves[i + 1].other == h.other;
+      if (paired && (halves[i + 1].reversed == h.reversed || (i + 2 < start[v + 1] && halves[i + 2].other == h.other)))
+        throw Error("edge " + std::to_string(b) + "-" + std::to_string(c) + " is not a manifold edge of a consistently oriented mesh");
+      edges.insert(edges.end(), {b, c, h.a, paired ? halves[i + 1].a : outside});
+      i += paired ? 2 : 1;
+    }
   return edges;
 }
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <map>
+#include <memory>
 
 #include "mrvol/corners.h"
 #include "mrvol/error.h"
@@ -181,38 +182,75 @@ struct LevelView {
   }
 };
 
+// The odd vertices of level l around each even vertex, from the odd vertices' ends and wings (no
+// corner lists of the fine level): E_inc(v), the odds whose ends hold v (one per coarse edge at v),
+// and E_link(v), the odds whose wings hold v (one per coarse triangle at v), each ascending. Rows
+// of a lift are sorted by source, so the order within a set does not reach the steps.
+struct OddsAround {
+  std::vector<uint32_t> incStart, inc, linkStart, link;
+  OddsAround(const Hierarchy& h, uint32_t evenCount, uint32_t fineCount) {
+    const auto bucket = [&](const std::vector<uint32_t>& of, std::vector<uint32_t>& start, std::vector<uint32_t>& out) {
+      start.assign(size_t(evenCount) + 1, 0);
+      for (size_t i = 2 * size_t(evenCount); i < 2 * size_t(fineCount); ++i)
+        if (of[i] < evenCount) ++start[of[i] + 1];
+      for (size_t v = 0; v < evenCount; ++v) start[v + 1] += start[v];
+      out.resize(start[evenCount]);
+      std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+      for (uint32_t e = evenCount; e < fineCount; ++e)
+        for (int k = 0; k < 2; ++k)
+          if (of[2 * size_t(e) + k] < evenCount) out[fill[of[2 * size_t(e) + k]]++] = e;
+    };
+    bucket(h.ends, incStart, inc);
+    bucket(h.wings, linkStart, link);
+  }
+};
+
 std::vector<LiftingStep> loopLevel(const Hierarchy& h, int l, const SchemeOptions& o) {
-  LevelView view(h, l);
+  const uint32_t evenCount = h.vertexCount[l - 1], fineCount = h.vertexCount[l];
+  const OddsAround around(h, evenCount, fineCount);
+  const auto isBoundaryOdd = [&](uint32_t e) { return h.wings[2 * e + 1] == kNone; };
+  // Boundary neighbours of a boundary even vertex at level l-1, from the coarse corners (built only
+  // when the mesh has a boundary).
+  std::unique_ptr<VertexCorners> coarse;
+  const auto boundaryNeighbours = [&](uint32_t v) {
+    if (!coarse) coarse = std::make_unique<VertexCorners>(h.faces[l - 1].data(), h.faces[l - 1].size() / 3, evenCount);
+    std::vector<uint32_t> out;
+    for (uint32_t c = coarse->begin(v); c < coarse->end(v); ++c) {
+      if (coarse->opposite(coarse->next[c], v) == kNone) out.push_back(coarse->next[c]);
+      if (coarse->opposite(v, coarse->prev[c]) == kNone) out.push_back(coarse->prev[c]);
+    }
+    return out;
+  };
   StepBuilder update, oddPredict, evenPredict;
   std::vector<std::pair<uint32_t, double>> normalize;
   // Room for the triplets at once: about 2 + 2 per corner of an even vertex (its incident and link
   // odds, its P_e), 4 per odd vertex (the boundary's few extra grow the vectors).
   const size_t fineCorners = h.faces[l].size();
-  update.triplets.reserve(fineCorners / 2 + view.evenCount);
-  evenPredict.triplets.reserve(fineCorners / 3 + view.evenCount);
-  oddPredict.triplets.reserve(4 * size_t(view.fineCount - view.evenCount));
-  normalize.reserve(view.evenCount);
-  for (uint32_t v = 0; v < view.evenCount; ++v) {
-    const std::vector<uint32_t>& inc = view.incident(v);  // view.ring, untouched until the next vertex
-    const int n = int(inc.size());
-    if (view.isBoundaryEven(v)) {
+  update.triplets.reserve(fineCorners / 2 + evenCount);
+  evenPredict.triplets.reserve(fineCorners / 3 + evenCount);
+  oddPredict.triplets.reserve(4 * size_t(fineCount - evenCount));
+  normalize.reserve(evenCount);
+  for (uint32_t v = 0; v < evenCount; ++v) {
+    const uint32_t *inc = around.inc.data() + around.incStart[v], *incEnd = around.inc.data() + around.incStart[v + 1];
+    const int n = int(incEnd - inc);
+    if (h.boundary[v]) {
       // Synthesis of the boundary even rule c = 2 (x - (x_e1 + x_e2) / 4): x = c / 2 + (x_e1 + x_e2) / 4.
       normalize.emplace_back(v, 0.5);
       update.touch(v);
-      for (uint32_t e : inc)
-        if (view.isBoundaryOdd(e)) evenPredict.add(v, e, 0.25);
+      for (const uint32_t* e = inc; e < incEnd; ++e)
+        if (isBoundaryOdd(*e)) evenPredict.add(v, *e, 0.25);
       continue;
     }
     // U: c_v += alpha / n sum_{E_inc} d + beta / n sum_{E_link} d
-    for (uint32_t e : inc) update.add(v, e, o.alpha / n);
-    for (uint32_t e : view.link(v)) update.add(v, e, o.beta / n);
+    for (const uint32_t* e = inc; e < incEnd; ++e) update.add(v, *e, o.alpha / n);
+    for (uint32_t k = around.linkStart[v]; k < around.linkStart[v + 1]; ++k) update.add(v, around.link[k], o.beta / n);
     // N: c_v *= K(n);  P_e: x_v = c_v + mu(n) sum_{E_inc} x_e
     normalize.emplace_back(v, loopK(n));
-    for (uint32_t e : inc) evenPredict.add(v, e, loopMu(n));
+    for (const uint32_t* e = inc; e < incEnd; ++e) evenPredict.add(v, *e, loopMu(n));
   }
-  for (uint32_t e = view.evenCount; e < view.fineCount; ++e) {
+  for (uint32_t e = evenCount; e < fineCount; ++e) {
     uint32_t a = h.ends[2 * e], b = h.ends[2 * e + 1];
-    if (view.isBoundaryOdd(e)) {
+    if (isBoundaryOdd(e)) {
       // Boundary odd: x_e = d_e + (c_a + c_b) / 2; boundary update on the ends and one beyond each.
       oddPredict.add(e, a, 0.5);
       oddPredict.add(e, b, 0.5);
@@ -220,7 +258,7 @@ std::vector<LiftingStep> loopLevel(const Hierarchy& h, int l, const SchemeOption
       update.add(b, e, kLoopBoundaryUpdateEnd);
       for (uint32_t end : {a, b}) {
         uint32_t other = end == a ? b : a;
-        for (uint32_t w : view.boundaryNeighbours(end))
+        for (uint32_t w : boundaryNeighbours(end))
           if (w != other) update.add(w, e, kLoopBoundaryUpdateBeyond);
       }
       continue;

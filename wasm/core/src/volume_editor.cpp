@@ -12,16 +12,17 @@ namespace {
 // The level-e coefficients of the caller's positions, their reference point and fine positions.
 SessionCoefficients startSession(const Hierarchy& hierarchy, const WaveletTransform& transform, int level,
                                  const double* positions) {
-  TriangleMesh fine;
-  fine.positions.resize(3 * hierarchy.fineVertexCount());
-  hierarchy.toHierarchyOrder(positions, fine.positions.data());
-  for (double v : fine.positions)
+  const size_t n = hierarchy.fineVertexCount();
+  std::vector<double> x(3 * n);
+  hierarchy.toHierarchyOrder(positions, x.data());
+  for (double v : x)
     if (!std::isfinite(v)) throw Error("positions must be finite numbers");
-  fine.faces = hierarchy.fineFaces();
-  const Vec3 origin = volumeReferencePoint(fine);
-  transform.analyze(fine.positions.data(), level);
-  return SessionCoefficients{std::move(fine.positions), FinePositions(transform, level, origin), origin,
-                             hierarchy.vertexCount[level]};
+  // The boundary vertices are the hierarchy's (the same as the fine faces' open edges give, without
+  // corner lists of the fine mesh).
+  const std::vector<char> onBoundary(hierarchy.boundary.begin(), hierarchy.boundary.end());
+  const Vec3 origin = volumeReferencePoint(x.data(), n, onBoundary);
+  transform.analyze(x.data(), level);
+  return SessionCoefficients{std::move(x), FinePositions(transform, level, origin), origin, hierarchy.vertexCount[level]};
 }
 
 }  // namespace
