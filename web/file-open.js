@@ -5,6 +5,7 @@ import { MAX_FILE_BYTES, sizeMessage } from './file-limits.js';
 import { loadMrvol } from './mrvol.js';
 import { warmUpInSteps } from './module-transfer.js';
 import { addStage, beginStages } from './open-stages.js';
+import { memorySlicesFrom } from './memory-slices.js';
 
 const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
@@ -55,10 +56,11 @@ export function endBusyJob(job) {
  * The worker's mesh and editor in a fresh instance of the module (module-transfer.js): the
  * MultiresMesh, whose first createEditor at the worker's level and scheme is the editor made
  * there; null when that fails (the page then opens the mesh from the hierarchy arrays). The
- * memory (a GB or more for a big mesh) is copied in slices, the page drawing between them;
- * `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
+ * memory (a GB or more for a big mesh) comes from the worker in slices (`memory`: memory-slices.js
+ * memorySlicesFrom, which the caller feeds with the worker's messages), the page drawing between
+ * them; `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
  */
-export async function adopt(transfer, { progress = () => {}, cancelled = () => false, instance = freshInstance() } = {}) {
+export async function adopt(transfer, { memory, progress = () => {}, cancelled = () => false, instance = freshInstance() }) {
   try {
     const fresh = await pageStageAsync('core instance for the editor (waited for)', () => instance);
     const t = performance.now();
@@ -67,8 +69,10 @@ export async function adopt(transfer, { progress = () => {}, cancelled = () => f
       progress(fraction);
       return new Promise((resolve) => setTimeout(resolve, 0));
     };
-    const mr = await fresh.adoptTransferredInSlices(transfer, { between });
-    addStage('memory taken over (in slices)', 'page', performance.now() - t, { bytes: transfer.memory.byteLength });
+    const mr = await fresh.adoptTransferredInSlices({ ...transfer, memory: memory.slices }, { between });
+    const bytes = { bytes: transfer.memoryBytes };
+    addStage('memory copied for the page', 'worker', memory.workerMs, bytes); // slice by slice, while the page took them
+    addStage('memory taken over (in slices)', 'page', performance.now() - t, bytes);
     return mr;
   } catch (e) {
     if (e.cancelled) throw e;
@@ -126,6 +130,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   return new Promise((resolve, reject) => {
     const job = { worker, reject };
     running = job;
+    let memory = null; // the worker's memory coming in slices (after its 'done')
     const finish = () => {
       if (running === job) running = null;
       worker.terminate();
@@ -133,15 +138,20 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
     };
     worker.onmessage = async ({ data }) => {
       if (running !== job) return;
-      if (data.type === 'progress') {
+      if (data.type === 'memory-slice') {
+        memory?.receive(data);
+      } else if (memory && data.type === 'error') {
+        memory.fail(new Error(data.message)); // the take-over fails: the page opens the mesh itself
+      } else if (data.type === 'progress') {
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
-        worker.terminate(); // its work is done; the take-over below can still be cancelled
         for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});
         let opened = null;
         if (data.transfer) {
+          memory = memorySlicesFrom(worker, data.transfer.memoryBytes);
           try {
             opened = await adopt(data.transfer, {
+              memory,
               progress: (f) => showFileProgress(`Reading ${name} (${mb}): taking the editor over…`, 0.95 + 0.05 * f),
               cancelled: () => running !== job,
               instance,
@@ -160,6 +170,10 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
     };
     worker.onerror = (e) => {
       e.preventDefault?.();
+      if (memory) {
+        memory.fail(new Error(e.message || 'the file reader stopped')); // the page opens the mesh itself
+        return;
+      }
       finish();
       reject(new Error(e.message || 'the file reader could not start'));
     };
