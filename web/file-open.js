@@ -13,6 +13,33 @@ const WORKER_BYTES = 1_000_000;
 
 let running = null; // { worker, reject }
 
+// One file worker started ahead, once the page is idle: its script loaded and its core warmed up
+// (open-worker.js), a dropped file goes to it at once, where a worker started then took a second or
+// more before it read anything (bench/NOTES-transfer.md). Each worker reads one file; the next one
+// starts when the page is idle again. It costs an idle worker with a small module instance.
+let spare = null; // { worker, failed }
+/** Starts the spare file worker when the page is next idle (again after each file). */
+export function keepFileWorkerReady() {
+  if (spare) return;
+  spare = { worker: null, failed: false };
+  const start = () => {
+    if (!spare || spare.worker) return;
+    spare.worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+    const failed = spare;
+    spare.worker.onerror = (e) => {
+      e.preventDefault?.();
+      failed.failed = true;
+    };
+  };
+  (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(start, { timeout: 5000 });
+}
+function takeFileWorker() {
+  const ready = spare?.worker && !spare.failed ? spare.worker : null;
+  if (spare?.worker && !ready) spare.worker.terminate();
+  spare = null;
+  return ready ?? new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+}
+
 /** The progress in the status strip: fraction 0..1 (null: indeterminate) and a label; text null hides it. */
 export function showFileProgress(text, fraction = null) {
   const box = $('busy');
@@ -31,6 +58,7 @@ export function cancelFileRead() {
   running = null;
   worker.terminate();
   showFileProgress(null);
+  keepFileWorkerReady(); // for the next file
   reject(Object.assign(new Error('cancelled'), { cancelled: true }));
   return true;
 }
@@ -124,7 +152,9 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   cancelFileRead();
   beginStages(`opening ${name}`);
   const instance = editor ? freshInstance() : null; // made while the worker works
-  const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+  const worker = takeFileWorker();
+  const asked = performance.now();
+  let started = false; // the worker's first message: it has the file
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
   return new Promise((resolve, reject) => {
@@ -135,6 +165,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       if (running === job) running = null;
       worker.terminate();
       showFileProgress(null);
+      keepFileWorkerReady(); // for the next file
     };
     worker.onmessage = async ({ data }) => {
       if (running !== job) return;
@@ -143,6 +174,8 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       } else if (memory && data.type === 'error') {
         memory.fail(new Error(data.message)); // the take-over fails: the page opens the mesh itself
       } else if (data.type === 'progress') {
+        if (!started) addStage('file worker started (waited for)', 'page', performance.now() - asked);
+        started = true;
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
         for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});

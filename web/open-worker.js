@@ -69,6 +69,12 @@ function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions, surfa
   }
 }
 
+// The core loaded and warmed up as soon as the worker starts, as the page's instance will be before
+// it takes the copy: the page starts one worker ahead of any file (file-open.js), so a dropped
+// file's reading and parsing need not wait for the worker's script and core.
+const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
+mrvolLoading.catch(() => {}); // awaited by the job
+
 let sendSlice = null; // after a 'done' with a transfer: answers the page's asks for its memory
 
 self.onmessage = async ({ data: job }) => {
@@ -82,9 +88,6 @@ self.onmessage = async ({ data: job }) => {
   }
   try {
     post({ type: 'progress', stage: 'reading', fraction: 0 });
-    // warmed up at once, as the page's instance will be before it takes the copy
-    const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
-    mrvolLoading.catch(() => {}); // awaited below
     const reading = performance.now();
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
     addStage('file read', performance.now() - reading, { bytes: bytes.byteLength });
