@@ -6,7 +6,7 @@
 // kept, the tensor path's matrix-free editor until theta^e comes: module-transfer.js buildEditor).
 // Smaller models and quads are rebuilt on the page's thread: quick, or not this path's to make.
 // A big cached theta^e (any model) is read from IndexedDB and given to the editor in the worker too.
-import { startBusyJob, endBusyJob, cancelled, adopt, freshInstance, showFileProgress } from './file-open.js';
+import { startBusyJob, endBusyJob, cancelled, adopt, takeFreshInstance, showFileProgress } from './file-open.js';
 import { beginStages, addStage, pageStage } from './open-stages.js';
 import { memorySlicesFrom } from './memory-slices.js';
 
@@ -51,7 +51,7 @@ export async function rebuildInWorker(session, target, { name, apply, theta = nu
     mesh: { positions: mr.positions(), faces: mr.faces() }, hierarchy: mr.hierarchyArrays(), positions: session.positions(),
   }));
   const worker = new Worker(new URL('./editor-worker.js', import.meta.url), { type: 'module', name: 'mrvol-editor' });
-  const instance = freshInstance(); // made while the worker works
+  const instance = takeFreshInstance(); // made ahead, or while the worker works
   const surface = target.surface && target.surface !== session.surface ? `, ${target.surface === 'limit' ? 'limit' : 'mesh'} surface` : '';
   const label = `Making the level ${target.level} editor of ${name} (${target.scheme}${surface}${theta ? ', θ from the cache' : ''})`;
   showFileProgress(`${label}…`, 0);

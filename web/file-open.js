@@ -15,27 +15,42 @@ let running = null; // { worker, reject }
 
 // One file worker started ahead, once the page is idle: its script loaded and its core warmed up
 // (open-worker.js), a dropped file goes to it at once, where a worker started then took a second or
-// more before it read anything (bench/NOTES-transfer.md). Each worker reads one file; the next one
-// starts when the page is idle again. It costs an idle worker with a small module instance.
+// more before it read anything (bench/NOTES-transfer.md). With it the page's fresh instance for the
+// worker's editor (freshInstance), whose making was a long task at the drop. Each is used once; the
+// next ones start when the page is idle again. They cost an idle worker and an instance of the
+// module, each with a small heap.
 let spare = null; // { worker, failed }
-/** Starts the spare file worker when the page is next idle (again after each file). */
+let spareInstance = null; // a promise of freshInstance()
+let sparesAsked = false;
+/** Starts the spare file worker and instance that are missing when the page is next idle (again after each job). */
 export function keepFileWorkerReady() {
-  if (spare) return;
-  spare = { worker: null, failed: false };
+  if (sparesAsked || (spare && spareInstance)) return;
+  sparesAsked = true;
   const start = () => {
-    if (!spare || spare.worker) return;
-    spare.worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
-    const failed = spare;
-    spare.worker.onerror = (e) => {
-      e.preventDefault?.();
-      failed.failed = true;
-    };
+    sparesAsked = false;
+    if (running) return; // a job's end asks again
+    if (!spare) {
+      const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+      const made = { worker, failed: false };
+      worker.onerror = (e) => {
+        e.preventDefault?.();
+        made.failed = true;
+      };
+      spare = made;
+    }
+    spareInstance ??= freshInstance({ stage: false });
   };
   (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(start, { timeout: 5000 });
 }
+/** A fresh instance for a worker's editor: the spare one when there is one (made ahead), else made now. */
+export function takeFreshInstance() {
+  const instance = spareInstance ?? freshInstance();
+  spareInstance = null;
+  return instance;
+}
 function takeFileWorker() {
-  const ready = spare?.worker && !spare.failed ? spare.worker : null;
-  if (spare?.worker && !ready) spare.worker.terminate();
+  const ready = spare && !spare.failed ? spare.worker : null;
+  if (spare && !ready) spare.worker.terminate();
   spare = null;
   return ready ?? new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
 }
@@ -78,6 +93,7 @@ export function endBusyJob(job) {
   if (running === job) running = null;
   job.worker.terminate();
   showFileProgress(null);
+  keepFileWorkerReady(); // the spare instance, when the job took it
 }
 
 /**
@@ -88,7 +104,7 @@ export function endBusyJob(job) {
  * memorySlicesFrom, which the caller feeds with the worker's messages), the page drawing between
  * them; `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
  */
-export async function adopt(transfer, { memory, progress = () => {}, cancelled = () => false, instance = freshInstance() }) {
+export async function adopt(transfer, { memory, progress = () => {}, cancelled = () => false, instance = takeFreshInstance() }) {
   try {
     const fresh = await pageStageAsync('core instance for the editor (waited for)', () => instance);
     const t = performance.now();
@@ -114,12 +130,12 @@ export async function adopt(transfer, { memory, progress = () => {}, cancelled =
  * starts, it is made while the worker works (its instantiation and warm-up are the page's, a few
  * hundred ms, not waited for at the end). Its own stage says how long it took.
  */
-export function freshInstance() {
+export function freshInstance({ stage = true } = {}) {
   const started = performance.now();
   const making = (async () => {
     const instance = await loadMrvol();
     await warmUpInSteps(instance, () => new Promise((resolve) => setTimeout(resolve, 0))); // frames between its calls
-    addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
+    if (stage) addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
     return instance;
   })();
   making.catch(() => {}); // adopt awaits it and says why
@@ -151,7 +167,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   }
   cancelFileRead();
   beginStages(`opening ${name}`);
-  const instance = editor ? freshInstance() : null; // made while the worker works
+  const instance = editor ? takeFreshInstance() : null; // made ahead, or while the worker works
   const worker = takeFileWorker();
   const asked = performance.now();
   let started = false; // the worker's first message: it has the file
