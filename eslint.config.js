@@ -29,7 +29,7 @@ export default [
   { files: ['web/**/*worker*.js'], languageOptions: { globals: { ...globals.browser, ...globals.worker } } },
   // Browser tests and the web benchmark hand functions to page.evaluate(): they run in the page.
   {
-    files: ['tests/browser/**', 'bench/web.mjs', 'bench/web-open-profile.mjs', 'bench/theta-handoff-trace.mjs', 'bench/web-big-trace.mjs', 'tests/package/**'],
+    files: ['tests/browser/**', 'bench/web.mjs', 'bench/web-open-profile.mjs', 'bench/theta-handoff-trace.mjs', 'bench/web-big-trace.mjs', 'bench/memory-copy.mjs', 'tests/package/**'],
     languageOptions: { globals: { ...globals.node, ...globals.browser } },
   },
   // Tests look for control characters (NUL bytes, terminal escapes) on purpose.

@@ -607,15 +607,28 @@ export function wrapModule(module) {
   };
 
   // adoptTransferred: the memory grown to fit what transferable() gave, then (once it is copied in) the objects.
-  const reserveForTransfer = ({ memory, mesh, editor, positions } = {}) => {
-    if (!(memory instanceof Uint8Array) || !(positions instanceof Float64Array) || !Number.isFinite(mesh) || !Number.isFinite(editor))
+  // Returns how many bytes the copy brings and how many of this instance's own are in use before it.
+  // `memory`: a Uint8Array, or (adoptTransferredInSlices) an async iterable of consecutive slices of
+  // `memoryBytes` in all (another instance's copyMemory).
+  const reserveForTransfer = ({ memory, memoryBytes, mesh, editor, positions } = {}, { slices = false } = {}) => {
+    const whole = memory instanceof Uint8Array;
+    const sliced = slices && typeof memory?.[Symbol.asyncIterator] === 'function' && Number.isInteger(memoryBytes) && memoryBytes > 0;
+    if (!(whole || sliced) || !(positions instanceof Float64Array) || !Number.isFinite(mesh) || !Number.isFinite(editor))
       throw new MrvolError('adoptTransferred expects what transferable() gave');
     // A threaded instance's memory also holds its threads' state: a copied image would overwrite it.
     if (module._threadCount() > 1)
       throw new MrvolError('adoptTransferred needs a single-thread instance: createMrvol({ threads: 1 })');
-    if (memory.byteLength > module.HEAPU8.byteLength) call(module._reserveMemory, memory.byteLength);
-    if (memory.byteLength > module.HEAPU8.byteLength)
-      throw new MrvolError(`out of memory: ${Math.round(memory.byteLength / 2 ** 20)} MB do not fit this WebAssembly module`);
+    const bytes = whole ? memory.byteLength : memoryBytes;
+    const ownInUse = call(module._memoryInUse);
+    if (bytes > module.HEAPU8.byteLength) call(module._reserveMemory, bytes);
+    if (bytes > module.HEAPU8.byteLength)
+      throw new MrvolError(`out of memory: ${Math.round(bytes / 2 ** 20)} MB do not fit this WebAssembly module`);
+    return { bytes, ownInUse };
+  };
+  // What this instance had in use above the copy is cleared: the copy's heap ends below it and
+  // takes that memory as never handed out.
+  const clearAbove = ({ bytes, ownInUse }) => {
+    if (ownInUse > bytes) module.HEAPU8.fill(0, bytes, ownInUse);
   };
   const adoptCopied = ({ mesh, editor, positions, info, level, scheme }) => {
     const known = info && typeof info === 'object' && info.vertices * 3 === positions.length ? info : null;
@@ -753,9 +766,13 @@ export function wrapModule(module) {
      * embind keeps per-call-site ids in memory that index tables of the JS side.
      */
     transferable(mr, editor, options = {}) {
+      // only the part in use (up to the heap's top): what lies above it was never handed out
+      const memoryBytes = call(module._memoryInUse);
       return {
-        // memory: false: the calls alone, no copy (an instance warming up for a later take-over)
-        memory: options.memory === false ? null : module.HEAPU8.slice(), mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
+        // memory: false: the calls alone, no copy (an instance warming up for a later take-over, or
+        // one that hands its memory over a slice at a time: copyMemory)
+        memory: options.memory === false ? null : module.HEAPU8.slice(0, memoryBytes), memoryBytes,
+        mesh: call(module._meshAddress, mr._raw()), editor: call(module._editorAddress, editor._raw()),
         positions: mr.positions(), info: mr.info(), level: editor.level, scheme: schemeArgs(options),
       };
     },
@@ -765,23 +782,55 @@ export function wrapModule(module) {
      * level and scheme returns the editor made there.
      */
     adoptTransferred(transfer) {
-      reserveForTransfer(transfer);
+      const room = reserveForTransfer(transfer);
       module.HEAPU8.set(transfer.memory);
+      clearAbove(room);
       return adoptCopied(transfer);
     },
     /**
      * adoptTransferred with the memory copied a slice at a time (`sliceBytes`), awaiting
      * `between(fraction copied)` after each: a page keeps drawing while a big editor's memory (a GB
-     * or more) comes in. Nothing else may use this instance until it resolves (to the MultiresMesh).
+     * or more) comes in. `transfer.memory` may also be an async iterable of the consecutive slices
+     * (Uint8Array; `transfer.memoryBytes` in all: transferable with memory: false, then the other
+     * instance's copyMemory, e.g. from a worker through buffers sent back and forth). Nothing else
+     * may use this instance until it resolves (to the MultiresMesh).
      */
     async adoptTransferredInSlices(transfer, { sliceBytes = 16 * 2 ** 20, between = () => new Promise((r) => setTimeout(r, 0)) } = {}) {
-      reserveForTransfer(transfer);
+      const room = reserveForTransfer(transfer, { slices: true });
       const { memory } = transfer;
-      for (let at = 0; at < memory.byteLength; at += sliceBytes) {
-        module.HEAPU8.set(memory.subarray(at, Math.min(memory.byteLength, at + sliceBytes)), at);
-        await between(Math.min(1, (at + sliceBytes) / memory.byteLength));
+      if (memory instanceof Uint8Array) {
+        for (let at = 0; at < memory.byteLength; at += sliceBytes) {
+          module.HEAPU8.set(memory.subarray(at, Math.min(memory.byteLength, at + sliceBytes)), at);
+          await between(Math.min(1, (at + sliceBytes) / memory.byteLength));
+        }
+      } else {
+        let at = 0;
+        for await (const slice of memory) {
+          if (!(slice instanceof Uint8Array) || at + slice.byteLength > room.bytes)
+            throw new MrvolError(`adoptTransferredInSlices: the slices overrun the ${room.bytes} bytes the transfer gave`);
+          module.HEAPU8.set(slice, at);
+          at += slice.byteLength;
+          await between(at / room.bytes);
+        }
+        if (at !== room.bytes) throw new MrvolError(`adoptTransferredInSlices: the slices ended at ${at} of ${room.bytes} bytes`);
       }
+      clearAbove(room);
       return adoptCopied(transfer);
+    },
+    /**
+     * Copies this instance's memory from byte `offset` into `into` (a Uint8Array; as much as fits,
+     * up to the end of the memory) and returns how many bytes it copied: the memory of a
+     * transferable({ memory: false }) handed over a slice at a time, through buffers used again (a
+     * fresh buffer of hundreds of MB costs a page fault per 4 KB page; bench/NOTES-transfer.md).
+     * Nothing may run in this instance between the transferable() and the last slice.
+     */
+    copyMemory(offset, into) {
+      if (!(into instanceof Uint8Array) || !Number.isInteger(offset) || offset < 0)
+        throw new MrvolError('copyMemory expects a byte offset and a Uint8Array');
+      const end = Math.min(module.HEAPU8.byteLength, offset + into.byteLength);
+      if (end <= offset) return 0;
+      into.set(module.HEAPU8.subarray(offset, end));
+      return end - offset;
     },
     /** n levels of zero-detail synthesis (subdivision) of a base mesh. Returns a MultiresMesh. */
     subdivide(base, options = {}) {

@@ -542,17 +542,25 @@ export interface Mrvol {
   /** Opens a mesh with the hierarchy another instance found (no validation or detection again). */
   openMeshWithHierarchy(mesh: Mesh, arrays: HierarchyArrays): MultiresMesh;
   /**
-   * A mesh and its editor, with a copy of this instance's memory, for adoptTransferred in another
-   * instance that ran the same calls first (web/module-transfer.js warmUp).
+   * A mesh and its editor, with a copy of the part of this instance's memory in use, for
+   * adoptTransferred in another instance that ran the same calls first (web/module-transfer.js warmUp).
    */
-  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions & { /** false: the calls alone, no copy (warming an instance up) */ memory?: boolean }): TransferredEditor;
+  transferable(mesh: MultiresMesh, editor: VolumeEditor, options?: SchemeOptions & { /** false: no copy (warming an instance up, or handing the memory over with copyMemory) */ memory?: boolean }): TransferredEditor;
+  /**
+   * Copies this instance's memory from byte `offset` into `into` (as much as fits) and returns the
+   * bytes copied: a transferable({ memory: false })'s memory handed over a slice at a time.
+   */
+  copyMemory(offset: number, into: Uint8Array): number;
   /** Takes over what transferable gave, in an instance made for it (its memory is replaced); a single-thread one (threads: 1): a threaded instance refuses. */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /**
    * adoptTransferred with the memory copied a slice at a time, awaiting `between(fraction copied)`
    * after each (a page keeps drawing); nothing else may use this instance until it resolves.
+   * `memory` may be an async iterable of the consecutive slices (`memoryBytes` in all: the other
+   * instance's copyMemory).
    */
-  adoptTransferredInSlices(transfer: TransferredEditor, options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void> }): Promise<MultiresMesh>;
+  adoptTransferredInSlices(transfer: TransferredEditor | (Omit<TransferredEditor, 'memory'> & { memory: AsyncIterable<Uint8Array> }),
+                           options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void> }): Promise<MultiresMesh>;
   /** A quad base: n levels of Catmull-Clark subdivision (subdivideQuads). */
   subdivide(base: QuadMesh, options?: { levels?: number; scheme?: 'catmull-clark' }): QuadMultiresMesh;
   /** OBJ text to a quad mesh: every face must have 4 corners (MrvolError naming the line otherwise). */
@@ -762,7 +770,10 @@ export interface HierarchyArrays {
 
 /** Mrvol.transferable(): a module's memory with a mesh and editor in it. */
 export interface TransferredEditor {
-  memory: Uint8Array;
+  /** The memory in use (null with memory: false). */
+  memory: Uint8Array | null;
+  /** How many bytes of the memory are in use (memory's length). */
+  memoryBytes: number;
   mesh: number;
   editor: number;
   positions: Float64Array;

@@ -6,8 +6,9 @@
 // kept, the tensor path's matrix-free editor until theta^e comes: module-transfer.js buildEditor).
 // Smaller models and quads are rebuilt on the page's thread: quick, or not this path's to make.
 // A big cached theta^e (any model) is read from IndexedDB and given to the editor in the worker too.
-import { startBusyJob, endBusyJob, cancelled, adopt, freshInstance, showFileProgress } from './file-open.js';
+import { startBusyJob, endBusyJob, cancelled, adopt, takeFreshInstance, showFileProgress } from './file-open.js';
 import { beginStages, addStage, pageStage } from './open-stages.js';
+import { memorySlicesFrom } from './memory-slices.js';
 
 // From this many fine vertices the editor is made in the worker (at 164k the polynomial takes ~1 s).
 export const WORKER_REBUILD_VERTICES = 100_000;
@@ -50,20 +51,22 @@ export async function rebuildInWorker(session, target, { name, apply, theta = nu
     mesh: { positions: mr.positions(), faces: mr.faces() }, hierarchy: mr.hierarchyArrays(), positions: session.positions(),
   }));
   const worker = new Worker(new URL('./editor-worker.js', import.meta.url), { type: 'module', name: 'mrvol-editor' });
-  const instance = freshInstance(); // made while the worker works
+  const instance = takeFreshInstance(); // made ahead, or while the worker works
   const surface = target.surface && target.surface !== session.surface ? `, ${target.surface === 'limit' ? 'limit' : 'mesh'} surface` : '';
   const label = `Making the level ${target.level} editor of ${name} (${target.scheme}${surface}${theta ? ', θ from the cache' : ''})`;
   showFileProgress(`${label}…`, 0);
-  let job, thetaInfo = null;
+  let job, thetaInfo = null, memory = null; // memory: the worker's, coming in slices after its 'done'
   const transfer = await new Promise((resolve, reject) => {
     job = startBusyJob(worker, () => resolve(null)); // cancelled
     worker.onmessage = ({ data }) => {
       if (cancelled(job)) return;
-      if (data.type === 'progress') showFileProgress(`${label}: ${data.stage}…`, 0.9 * data.fraction);
+      if (data.type === 'memory-slice') memory?.receive(data);
+      else if (memory && data.type === 'error') memory.fail(new Error(data.message));
+      else if (data.type === 'progress') showFileProgress(`${label}: ${data.stage}…`, 0.9 * data.fraction);
       else if (data.type === 'done') {
         for (const s of data.stages) addStage(s.stage, s.thread, s.ms, s.bytes ? { bytes: s.bytes } : {});
-        worker.terminate();
         thetaInfo = data.theta;
+        memory = memorySlicesFrom(worker, data.transfer.memoryBytes);
         resolve(data.transfer);
       } else {
         endBusyJob(job);
@@ -72,6 +75,10 @@ export async function rebuildInWorker(session, target, { name, apply, theta = nu
     };
     worker.onerror = (e) => {
       e.preventDefault?.();
+      if (memory) {
+        memory.fail(new Error(e.message || 'the editor worker stopped'));
+        return;
+      }
       endBusyJob(job);
       reject(new Error(e.message || 'the editor worker could not start'));
     };
@@ -86,6 +93,7 @@ export async function rebuildInWorker(session, target, { name, apply, theta = nu
   let adopted;
   try {
     adopted = await adopt(transfer, {
+      memory,
       progress: (f) => showFileProgress(`${label}: taking the editor over…`, 0.9 + 0.1 * f),
       cancelled: () => cancelled(job),
       instance,

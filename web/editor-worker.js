@@ -2,17 +2,19 @@
 // (issue 13: "no long computation or hand-off on the main thread"). It opens the mesh from the
 // hierarchy the page's mesh has (no detection again: a few linear passes), sets the current shape,
 // makes the editor the page's session would make (module-transfer.js buildEditor: the cage
-// polynomial, the limit surface's form, the kept centre of mass's moments) and hands over a copy of
-// its module's memory, as the file's worker does on opening. With `theta` (a key of the θ cache) it
+// polynomial, the limit surface's form, the kept centre of mass's moments) and hands over its
+// module's memory a slice at a time as the page asks (memory-slices.js), as the file's worker does on opening. With `theta` (a key of the θ cache) it
 // reads theta^e from IndexedDB here and hands it to the editor (the tensor path: the editor keeps
 // the cage polynomial contracted from it, so θ itself is freed before the copy).
 // Message in:   { mesh: { positions, faces }, hierarchy (MultiresMesh.hierarchyArrays()), positions (the shape now),
 //                editor: { level, scheme, surface, keepCentroid, path } (the session's settings), theta?: { key } }
+//               then { type: 'memory-slice', buffer? } (memory-slices.js) after the 'done'
 // Messages out: { type: 'progress', stage, fraction }, { type: 'done', transfer, stages, theta (its info) },
-//               { type: 'error', message }
+//               { type: 'memory-slice', bytes, ms }, { type: 'error', message }
 import { loadMrvol } from './mrvol.js';
 import { warmUp, buildEditor } from './module-transfer.js';
 import { workerStages } from './open-stages.js';
+import { memorySliceServer } from './memory-slices.js';
 import { ThetaCache } from './theta-cache.js';
 
 // the time of each stage here (sent with the result)
@@ -29,7 +31,18 @@ async function cachedTheta(key) {
   return bytes;
 }
 
-self.onmessage = async ({ data: { mesh, hierarchy, positions, editor: settings, theta: wanted } }) => {
+let sendSlice = null; // after the 'done': answers the page's asks for its memory
+
+self.onmessage = async ({ data }) => {
+  if (data.type === 'memory-slice') {
+    try {
+      sendSlice(data);
+    } catch (e) {
+      self.postMessage({ type: 'error', message: e?.message ?? String(e) });
+    }
+    return;
+  }
+  const { mesh, hierarchy, positions, editor: settings, theta: wanted } = data;
   try {
     self.postMessage({ type: 'progress', stage: 'starting', fraction: 0 });
     const reading = wanted ? cachedTheta(wanted.key) : null;
@@ -55,9 +68,10 @@ self.onmessage = async ({ data: { mesh, hierarchy, positions, editor: settings, 
       }
     }
     self.postMessage({ type: 'progress', stage: 'handing the editor over', fraction: 0.9 });
-    const transfer = timed('memory copied for the page', () => mrvol.transferable(mr, editor, { scheme: settings.scheme }));
-    stages.at(-1).bytes = transfer.memory.byteLength;
-    self.postMessage({ type: 'done', transfer, stages, theta: thetaInfo }, [transfer.memory.buffer, transfer.positions.buffer]);
+    // the memory itself goes in slices once the page asks: nothing runs here meanwhile
+    const transfer = mrvol.transferable(mr, editor, { scheme: settings.scheme, memory: false });
+    sendSlice = memorySliceServer(mrvol, transfer.memoryBytes);
+    self.postMessage({ type: 'done', transfer, stages, theta: thetaInfo }, [transfer.positions.buffer]);
   } catch (e) {
     self.postMessage({ type: 'error', message: e?.message ?? String(e) });
   }

@@ -5,12 +5,55 @@ import { MAX_FILE_BYTES, sizeMessage } from './file-limits.js';
 import { loadMrvol } from './mrvol.js';
 import { warmUpInSteps } from './module-transfer.js';
 import { addStage, beginStages } from './open-stages.js';
+import { memorySlicesFrom } from './memory-slices.js';
 
 const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
 const WORKER_BYTES = 1_000_000;
 
 let running = null; // { worker, reject }
+
+// One file worker started ahead, once the page is idle: its script loaded and its core warmed up
+// (open-worker.js), a dropped file goes to it at once, where a worker started then took a second or
+// more before it read anything (bench/NOTES-transfer.md). With it the page's fresh instance for the
+// worker's editor (freshInstance), whose making was a long task at the drop. Each is used once; the
+// next ones start when the page is idle again. They cost an idle worker and an instance of the
+// module, each with a small heap.
+let spare = null; // { worker, failed }
+let spareInstance = null; // a promise of freshInstance()
+let sparesAsked = false;
+/** Starts the spare file worker and instance that are missing when the page is next idle (again after each job). */
+export function keepFileWorkerReady() {
+  if (sparesAsked || (spare && spareInstance)) return;
+  sparesAsked = true;
+  const start = () => {
+    sparesAsked = false;
+    if (running) return; // a job's end asks again
+    if (!spare) {
+      const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+      const made = { worker, failed: false };
+      worker.onerror = (e) => {
+        e.preventDefault?.();
+        made.failed = true;
+      };
+      spare = made;
+    }
+    spareInstance ??= freshInstance({ stage: false });
+  };
+  (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(start, { timeout: 5000 });
+}
+/** A fresh instance for a worker's editor: the spare one when there is one (made ahead), else made now. */
+export function takeFreshInstance() {
+  const instance = spareInstance ?? freshInstance();
+  spareInstance = null;
+  return instance;
+}
+function takeFileWorker() {
+  const ready = spare && !spare.failed ? spare.worker : null;
+  if (spare && !ready) spare.worker.terminate();
+  spare = null;
+  return ready ?? new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+}
 
 /** The progress in the status strip: fraction 0..1 (null: indeterminate) and a label; text null hides it. */
 export function showFileProgress(text, fraction = null) {
@@ -30,6 +73,7 @@ export function cancelFileRead() {
   running = null;
   worker.terminate();
   showFileProgress(null);
+  keepFileWorkerReady(); // for the next file
   reject(Object.assign(new Error('cancelled'), { cancelled: true }));
   return true;
 }
@@ -49,16 +93,18 @@ export function endBusyJob(job) {
   if (running === job) running = null;
   job.worker.terminate();
   showFileProgress(null);
+  keepFileWorkerReady(); // the spare instance, when the job took it
 }
 
 /**
  * The worker's mesh and editor in a fresh instance of the module (module-transfer.js): the
  * MultiresMesh, whose first createEditor at the worker's level and scheme is the editor made
  * there; null when that fails (the page then opens the mesh from the hierarchy arrays). The
- * memory (a GB or more for a big mesh) is copied in slices, the page drawing between them;
- * `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
+ * memory (a GB or more for a big mesh) comes from the worker in slices (`memory`: memory-slices.js
+ * memorySlicesFrom, which the caller feeds with the worker's messages), the page drawing between
+ * them; `progress(fraction)` after each, `cancelled()` checked too (then it rejects with { cancelled }).
  */
-export async function adopt(transfer, { progress = () => {}, cancelled = () => false, instance = freshInstance() } = {}) {
+export async function adopt(transfer, { memory, progress = () => {}, cancelled = () => false, instance = takeFreshInstance() }) {
   try {
     const fresh = await pageStageAsync('core instance for the editor (waited for)', () => instance);
     const t = performance.now();
@@ -67,8 +113,10 @@ export async function adopt(transfer, { progress = () => {}, cancelled = () => f
       progress(fraction);
       return new Promise((resolve) => setTimeout(resolve, 0));
     };
-    const mr = await fresh.adoptTransferredInSlices(transfer, { between });
-    addStage('memory taken over (in slices)', 'page', performance.now() - t, { bytes: transfer.memory.byteLength });
+    const mr = await fresh.adoptTransferredInSlices({ ...transfer, memory: memory.slices }, { between });
+    const bytes = { bytes: transfer.memoryBytes };
+    addStage('memory copied for the page', 'worker', memory.workerMs, bytes); // slice by slice, while the page took them
+    addStage('memory taken over (in slices)', 'page', performance.now() - t, bytes);
     return mr;
   } catch (e) {
     if (e.cancelled) throw e;
@@ -82,12 +130,12 @@ export async function adopt(transfer, { progress = () => {}, cancelled = () => f
  * starts, it is made while the worker works (its instantiation and warm-up are the page's, a few
  * hundred ms, not waited for at the end). Its own stage says how long it took.
  */
-export function freshInstance() {
+export function freshInstance({ stage = true } = {}) {
   const started = performance.now();
   const making = (async () => {
     const instance = await loadMrvol();
     await warmUpInSteps(instance, () => new Promise((resolve) => setTimeout(resolve, 0))); // frames between its calls
-    addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
+    if (stage) addStage('core instance for the editor made (wall time, while the worker works)', 'page', performance.now() - started);
     return instance;
   })();
   making.catch(() => {}); // adopt awaits it and says why
@@ -119,29 +167,40 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   }
   cancelFileRead();
   beginStages(`opening ${name}`);
-  const instance = editor ? freshInstance() : null; // made while the worker works
-  const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+  const instance = editor ? takeFreshInstance() : null; // made ahead, or while the worker works
+  const worker = takeFileWorker();
+  const asked = performance.now();
+  let started = false; // the worker's first message: it has the file
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
   return new Promise((resolve, reject) => {
     const job = { worker, reject };
     running = job;
+    let memory = null; // the worker's memory coming in slices (after its 'done')
     const finish = () => {
       if (running === job) running = null;
       worker.terminate();
       showFileProgress(null);
+      keepFileWorkerReady(); // for the next file
     };
     worker.onmessage = async ({ data }) => {
       if (running !== job) return;
-      if (data.type === 'progress') {
+      if (data.type === 'memory-slice') {
+        memory?.receive(data);
+      } else if (memory && data.type === 'error') {
+        memory.fail(new Error(data.message)); // the take-over fails: the page opens the mesh itself
+      } else if (data.type === 'progress') {
+        if (!started) addStage('file worker started (waited for)', 'page', performance.now() - asked);
+        started = true;
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
       } else if (data.type === 'done') {
-        worker.terminate(); // its work is done; the take-over below can still be cancelled
         for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});
         let opened = null;
         if (data.transfer) {
+          memory = memorySlicesFrom(worker, data.transfer.memoryBytes);
           try {
             opened = await adopt(data.transfer, {
+              memory,
               progress: (f) => showFileProgress(`Reading ${name} (${mb}): taking the editor over…`, 0.95 + 0.05 * f),
               cancelled: () => running !== job,
               instance,
@@ -160,6 +219,10 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
     };
     worker.onerror = (e) => {
       e.preventDefault?.();
+      if (memory) {
+        memory.fail(new Error(e.message || 'the file reader stopped')); // the page opens the mesh itself
+        return;
+      }
       finish();
       reject(new Error(e.message || 'the file reader could not start'));
     };

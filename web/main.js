@@ -17,7 +17,7 @@ import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
-import { readMeshFile, cancelFileRead, showFileProgress } from './file-open.js';
+import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady } from './file-open.js';
 import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
@@ -931,6 +931,7 @@ async function start() {
     if (await openModel({ kind: 'sample', name: DEFAULT_MODEL })) showError(`${why}\nOpened ${DEFAULT_MODEL} instead.`);
   }
   applyViewLayers();
+  keepFileWorkerReady(); // a big file dropped later is read at once
   if (shared) {
     // applied: a reload opens the stored session (which now holds these edits)
     const url = new URL(location.href);

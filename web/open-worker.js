@@ -6,18 +6,20 @@
 // arrays with the hierarchy found here (web/file-open.js; MultiresMesh.hierarchyArrays and
 // openMeshWithHierarchy): a few linear passes on its thread instead of seconds. Asked for an editor
 // ({ level, scheme }: the page's settings), it makes that too, the slowest part (the cage
-// polynomial), and hands over a copy of its module's memory for the page to take
-// (module-transfer.js); the hierarchy stays the fallback.
-// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } }
+// polynomial), and hands over its module's memory for the page to take (module-transfer.js), a
+// slice at a time as the page asks (memory-slices.js); the hierarchy stays the fallback.
+// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } },
+//               then { type: 'memory-slice', buffer? } (memory-slices.js) after a 'done' with a transfer
 // Messages out: { type: 'progress', stage, fraction },
-//               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable) | null,
-//                 openError: { message, offer } | null, stages: [{ stage, thread, ms }] (web/open-stages.js) },
-//               { type: 'error', message, size? (true: a size problem) }
+//               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable, its memory
+//                 sent in slices) | null, openError: { message, offer } | null, stages: [{ stage, thread, ms }] (web/open-stages.js) },
+//               { type: 'memory-slice', bytes, ms }, { type: 'error', message, size? (true: a size problem) }
 import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
 import { openParsed } from './models.js';
 import { warmUp, buildEditor } from './module-transfer.js';
 import { workerStages } from './open-stages.js';
+import { memorySliceServer } from './memory-slices.js';
 
 const outOfMemory = (e) => e instanceof RangeError || /memory|bad_alloc/i.test(e?.message ?? '');
 
@@ -60,18 +62,32 @@ function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions, surfa
   try {
     const editor = timed('editor made', () => buildEditor(mrvol, mr, { level: Math.min(level, info.levels), scheme, surface, keepCentroid, path }));
     post({ type: 'progress', stage: 'handing the editor over', fraction: 0.95 });
-    return timed('memory copied for the page', () => mrvol.transferable(mr, editor, { scheme }));
+    // the memory itself goes in slices once the page asks (memorySliceServer): nothing runs here meanwhile
+    return mrvol.transferable(mr, editor, { scheme, memory: false });
   } catch {
     return null; // the page makes the editor itself, and says what is wrong if anything is
   }
 }
 
+// The core loaded and warmed up as soon as the worker starts, as the page's instance will be before
+// it takes the copy: the page starts one worker ahead of any file (file-open.js), so a dropped
+// file's reading and parsing need not wait for the worker's script and core.
+const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
+mrvolLoading.catch(() => {}); // awaited by the job
+
+let sendSlice = null; // after a 'done' with a transfer: answers the page's asks for its memory
+
 self.onmessage = async ({ data: job }) => {
+  if (job.type === 'memory-slice') {
+    try {
+      sendSlice(job);
+    } catch (e) {
+      post({ type: 'error', message: e?.message ?? String(e) });
+    }
+    return;
+  }
   try {
     post({ type: 'progress', stage: 'reading', fraction: 0 });
-    // warmed up at once, as the page's instance will be before it takes the copy
-    const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
-    mrvolLoading.catch(() => {}); // awaited below
     const reading = performance.now();
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
     addStage('file read', performance.now() - reading, { bytes: bytes.byteLength });
@@ -121,12 +137,12 @@ self.onmessage = async ({ data: job }) => {
     const buffers = [mesh.positions.buffer, mesh.faces.buffer];
     if (hierarchy)
       for (const key of ['vertexCount', 'coarseFaces', 'ends', 'wings', 'boundary', 'inputIndex']) buffers.push(hierarchy[key].buffer);
-    if (transfer) buffers.push(transfer.memory.buffer, transfer.positions.buffer);
+    if (transfer) buffers.push(transfer.positions.buffer);
     for (const key of ['texCoords', 'normals', 'colors', 'cornerTexCoords', 'cornerNormals', 'sourceVertex'])
       if (ArrayBuffer.isView(mesh[key])) buffers.push(mesh[key].buffer);
     if (mesh.lines) buffers.push(mesh.lines.vertex.buffer, mesh.lines.face.buffer);
     const copy = { ...mesh };
-    if (transfer) stages.at(-1).bytes = transfer.memory.byteLength;
+    if (transfer) sendSlice = memorySliceServer(mrvol, transfer.memoryBytes, post);
     post({ type: 'done', mesh: copy, bytes: bytes.buffer, format, hierarchy, transfer, openError, stages }, [...new Set(buffers.filter((b) => b !== bytes.buffer)), bytes.buffer]);
   } catch (e) {
     post({ type: 'error', message: e?.message ?? String(e) });

@@ -222,4 +222,68 @@ describe('a mesh and editor taken over by another instance', () => {
     for (const m of [sliced, whole, mr]) m.delete();
     await assert.rejects(() => b.adoptTransferredInSlices({ memory: new Uint8Array(4) }), /expects what transferable\(\) gave/);
   });
+
+  // What web/memory-slices.js does between a worker and the page: transferable without a copy, then
+  // the memory in use copied out a slice at a time (copyMemory) into one buffer used again.
+  test('taken over from slices copied out of the other instance (copyMemory): the same as a whole copy; what the taker had above is cleared', async () => {
+    const [a, b, c] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
+    for (const m of [a, b, c]) warmUp(m);
+    // b has more in use than a will hand over: a bigger mesh opened and deleted first
+    const big = b.subdivide(loadModel(b, 'spiky-ball'), { levels: 3 });
+    const bigEditor = big.createEditor({ level: 0 });
+    bigEditor.positionsView();
+    const bInUse = b.transferable(big, bigEditor, { memory: false }).memoryBytes;
+    big.delete();
+    const spiky = loadModel(a, 'spiky-ball');
+    const mr = a.openMesh(spiky);
+    const editor = buildEditor(a, mr, { level: 0, scheme: 'loop' });
+    const transfer = a.transferable(mr, editor, { scheme: 'loop', memory: false });
+    assert.equal(transfer.memory, null);
+    const whole = a.transferable(mr, editor, { scheme: 'loop' });
+    assert.equal(whole.memory.byteLength, transfer.memoryBytes, 'the memory in use');
+    assert.ok(bInUse > transfer.memoryBytes + (1 << 20), `the taker had more in use (${bInUse} > ${transfer.memoryBytes})`);
+    const buffer = new Uint8Array(1 << 20);
+    let slices = 0;
+    async function* copied() {
+      for (let at = 0; at < transfer.memoryBytes;) {
+        const n = a.copyMemory(at, buffer.subarray(0, Math.min(buffer.length, transfer.memoryBytes - at)));
+        at += n;
+        slices++;
+        yield buffer.subarray(0, n); // the taker copies it before asking for the next
+      }
+    }
+    const fractions = [];
+    const sliced = await b.adoptTransferredInSlices({ ...transfer, memory: copied() }, { between: async (f) => { fractions.push(f); } });
+    assert.equal(slices, Math.ceil(transfer.memoryBytes / buffer.length));
+    assert.equal(fractions.length, slices);
+    assert.equal(fractions.at(-1), 1);
+    const above = new Uint8Array(bInUse - transfer.memoryBytes);
+    assert.equal(b.copyMemory(transfer.memoryBytes, above), above.length);
+    assert.ok(above.every((x) => x === 0), 'the taker\'s own memory above the copy is cleared');
+    const fromWhole = c.adoptTransferred(whole);
+    const [e1, e2] = [sliced, fromWhole].map((m) => m.createEditor({ level: 0, scheme: 'loop', path: 'matrix-free' }));
+    assert.equal(e1.path(), 'polynomial');
+    assert.equal(e1.madeElsewhere, true);
+    assert.deepEqual(drags(e1), drags(e2));
+    // the taker goes on: a mesh bigger than the copy's heap opens and edits
+    const again = b.subdivide(loadModel(b, 'spiky-ball'), { levels: 2 });
+    assert.ok(drags(again.createEditor({ level: 0 })).every((m) => m.error <= 1e-8));
+    for (const m of [sliced, fromWhole, mr, again]) m.delete();
+  });
+
+  test('slices that do not add up to the memory in use, and bad copyMemory arguments, are refused by name', async () => {
+    const [a, b] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
+    for (const m of [a, b]) warmUp(m);
+    const mr = a.openMesh(loadModel(a, 'spiky-ball'));
+    const transfer = a.transferable(mr, buildEditor(a, mr, { level: 0, scheme: 'loop' }), { scheme: 'loop', memory: false });
+    const from = (...lengths) => (async function* () { for (const n of lengths) yield new Uint8Array(n); })();
+    await assert.rejects(() => b.adoptTransferredInSlices({ ...transfer, memory: from(1024) }), /the slices ended at 1024 of \d+ bytes/);
+    await assert.rejects(() => b.adoptTransferredInSlices({ ...transfer, memory: from(transfer.memoryBytes, 1) }), /the slices overrun the \d+ bytes/);
+    await assert.rejects(() => b.adoptTransferredInSlices({ ...transfer, memory: from(4), memoryBytes: undefined }), /expects what transferable\(\) gave/);
+    throwsMrvol(() => b.adoptTransferred({ ...transfer, memory: from(4) }), /expects what transferable\(\) gave/);
+    throwsMrvol(() => a.copyMemory(-1, new Uint8Array(4)), /copyMemory expects a byte offset and a Uint8Array/);
+    throwsMrvol(() => a.copyMemory(0, [0, 0]), /copyMemory expects a byte offset and a Uint8Array/);
+    assert.equal(a.copyMemory(2 ** 33, new Uint8Array(4)), 0, 'nothing past the end');
+    mr.delete();
+  });
 });

@@ -12,6 +12,7 @@
 #include <new>
 #include <utility>
 #include <string>
+#include <unistd.h>
 
 #include "mrvol/error.h"
 #include "mrvol/hierarchy_transfer.h"
@@ -199,6 +200,9 @@ MultiresMesh* js_adoptMesh(double address) { return reinterpret_cast<MultiresMes
 VolumeEditor* js_adoptEditor(double address) { return reinterpret_cast<VolumeEditor*>(uintptr_t(address)); }
 // Grows the memory (and emscripten's views of it) to at least `bytes`.
 bool js_reserveMemory(double bytes) { return emscripten_resize_heap(size_t(bytes)); }
+// The part of the memory in use: static data, stack and heap up to its top (sbrk); the rest was never
+// handed out, so a transfer copies only this much.
+double js_memoryInUse() { return double(reinterpret_cast<uintptr_t>(sbrk(0))); }
 MultiresMesh* js_subdivideBase(val positions, val faces, int levels) {
   return guarded([&] { return new MultiresMesh(MultiresMesh::subdivide(toMesh(positions, faces), levels)); });
 }
@@ -518,6 +522,7 @@ EMSCRIPTEN_BINDINGS(mrvol) {
   function("_adoptMesh", &js_adoptMesh, allow_raw_pointers());
   function("_adoptEditor", &js_adoptEditor, allow_raw_pointers());
   function("_reserveMemory", &js_reserveMemory);
+  function("_memoryInUse", &js_memoryInUse);
   class_<MultiresMesh>("_MultiresMesh")
       .function("levels", &MultiresMesh::levels)
       .function("info", &js_info)
