@@ -123,9 +123,29 @@ void CageBasisTable::setColumns(std::vector<uint32_t> start, uint32_t cage) {
   for (uint32_t v = 0; v < n; ++v)
     for (uint32_t k = start[v]; k < start[v + 1]; ++k) columnVertex_[next[cage_[k]]++] = v;
   rowStart_ = std::move(start);
+  entries_ = cage_.size();
+  if (cage <= kMaxDenseCage) makeDense(cage);
+}
+
+void CageBasisTable::makeDense(uint32_t cage) {
+  const uint32_t width = (cage + 3) / 4 * 4;
+  const size_t n = rowStart_.size() - 1;
+  std::vector<float> dense(n * width, 0.0f);
+  for (size_t v = 0; v < n; ++v)
+    for (uint32_t k = rowStart_[v]; k < rowStart_[v + 1]; ++k) dense[v * width + cage_[k]] += weight_[k];
+  weight_ = std::move(dense);
+  std::vector<uint16_t>().swap(cage_);
+  denseWidth_ = width;
 }
 
 void CageBasisTable::row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const {
+  if (denseWidth_) {
+    cage.clear(), weights.clear();
+    const float* w = weight_.data() + size_t(denseWidth_) * v;
+    for (uint32_t c = 0; c < cageSize(); ++c)
+      if (w[c] != 0.0f) cage.push_back(c), weights.push_back(w[c]);
+    return;
+  }
   cage.assign(cage_.begin() + rowStart_[v], cage_.begin() + rowStart_[v + 1]);
   weights.assign(weight_.begin() + rowStart_[v], weight_.begin() + rowStart_[v + 1]);
 }
@@ -149,6 +169,53 @@ inline void rowSum(const float* base4, const float* delta4, const uint16_t* c, c
 }
 #endif
 
+// Dense rows of W weights (cage order; zeros past the cage, whose deltas are taken as zero): rows
+// [first, end), or the rows listed at rows[first, end). Each row's sum: base, then the cage vertices in
+// order (a zero weight adds a zero: the value unchanged).
+template <uint32_t W>
+void applyDense(const float* weights, uint32_t cage, const float* base4, const float* delta4, const float origin[3], float* out4,
+                float* out3, const uint32_t* outIndex, const uint32_t* rows, size_t first, size_t end) {
+#ifdef __wasm_simd128__
+  v128_t d[W];
+  for (uint32_t j = 0; j < W; ++j) d[j] = j < cage ? wasm_v128_load(delta4 + 4 * size_t(j)) : wasm_f32x4_splat(0.0f);
+  const v128_t o = wasm_f32x4_make(origin[0], origin[1], origin[2], 0.0f);
+  for (size_t i = first; i < end; ++i) {
+    const size_t v = rows ? rows[i] : i;
+    const float* w = weights + size_t(W) * v;
+    v128_t p = wasm_v128_load(base4 + 4 * v);
+    for (uint32_t j = 0; j < W; ++j) p = wasm_f32x4_add(p, wasm_f32x4_mul(wasm_v128_load32_splat(w + j), d[j]));
+    wasm_v128_store(out4 + 4 * v, p);
+    float q[4];
+    wasm_v128_store(q, wasm_f32x4_add(p, o));
+    std::memcpy(out3 + 3 * size_t(outIndex[v]), q, 3 * sizeof(float));
+  }
+#else
+  float d[W][3];
+  for (uint32_t j = 0; j < W; ++j)
+    for (int k = 0; k < 3; ++k) d[j][k] = j < cage ? delta4[4 * size_t(j) + k] : 0.0f;
+  for (size_t i = first; i < end; ++i) {
+    const size_t v = rows ? rows[i] : i;
+    const float* w = weights + size_t(W) * v;
+    float p[3] = {base4[4 * v], base4[4 * v + 1], base4[4 * v + 2]};
+    for (uint32_t j = 0; j < W; ++j) p[0] += w[j] * d[j][0], p[1] += w[j] * d[j][1], p[2] += w[j] * d[j][2];
+    out4[4 * v] = p[0], out4[4 * v + 1] = p[1], out4[4 * v + 2] = p[2], out4[4 * v + 3] = 0.0f;
+    float* q = out3 + 3 * size_t(outIndex[v]);
+    q[0] = p[0] + origin[0], q[1] = p[1] + origin[1], q[2] = p[2] + origin[2];
+  }
+#endif
+}
+
+using DenseApply = void (*)(const float*, uint32_t, const float*, const float*, const float*, float*, float*, const uint32_t*,
+                            const uint32_t*, size_t, size_t);
+DenseApply denseApply(uint32_t width) {
+  switch (width) {
+    case 4: return applyDense<4>;
+    case 8: return applyDense<8>;
+    case 12: return applyDense<12>;
+    default: return applyDense<16>;
+  }
+}
+
 }  // namespace
 
 void CageBasisTable::apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3,
@@ -157,6 +224,14 @@ void CageBasisTable::apply(const float* base4, const float* delta4, const float 
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
   const float* w = weight_.data();
+  if (denseWidth_) {
+    const DenseApply rows = denseApply(denseWidth_);
+    const uint32_t cage = cageSize();
+    parallelFor(0, n, kRowsPerBlock, [&](size_t first, size_t end) {
+      rows(w, cage, base4, delta4, origin, out4, out3, outIndex, nullptr, first, end);
+    });
+    return;
+  }
   // Rows are independent (each writes its own out4 and out3 entries): blocks of them on the pool's threads.
   parallelFor(0, n, kRowsPerBlock, [&](size_t first, size_t end) {
 #ifdef __wasm_simd128__
@@ -185,6 +260,7 @@ void CageBasisTable::applyRows(const uint32_t* vertices, size_t count, const flo
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
   const float* w = weight_.data();
+  if (denseWidth_) return denseApply(denseWidth_)(w, cageSize(), base4, delta4, origin, out4, out3, outIndex, vertices, 0, count);
   for (size_t i = 0; i < count; ++i) {
     const uint32_t v = vertices[i];
     float p[4];
