@@ -81,11 +81,17 @@ CageBasisTable::CageBasisTable(const WaveletTransform& transform, int level, con
   std::vector<uint32_t> start(n + 1, 0);
   for (size_t h = 0; h < n; ++h) start[caller[h] + 1] = length[h];
   for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  cage_.resize(start[n]);
-  weight_.resize(start[n]);
-  for (size_t h = 0; h < n; ++h) {
-    std::copy(index.begin() + begin[h], index.begin() + begin[h] + length[h], cage_.begin() + start[caller[h]]);
-    std::copy(weight.begin() + begin[h], weight.begin() + begin[h] + length[h], weight_.begin() + start[caller[h]]);
+  if (cage <= kMaxDenseCage) {
+    float* dense = startDense(cage, n);
+    for (size_t h = 0; h < n; ++h)
+      for (uint32_t k = begin[h]; k < begin[h] + length[h]; ++k) dense[size_t(denseWidth_) * caller[h] + index[k]] += weight[k];
+  } else {
+    cage_.resize(start[n]);
+    weight_.resize(start[n]);
+    for (size_t h = 0; h < n; ++h) {
+      std::copy(index.begin() + begin[h], index.begin() + begin[h] + length[h], cage_.begin() + start[caller[h]]);
+      std::copy(weight.begin() + begin[h], weight.begin() + begin[h] + length[h], weight_.begin() + start[caller[h]]);
+    }
   }
   index = {}, weight = {}, begin = {}, length = {};
   setColumns(std::move(start), cage);
@@ -103,39 +109,49 @@ CageBasisTable::CageBasisTable(const CageBasis& basis, uint32_t cage, const uint
     start[caller[h] + 1] = length;
   }
   for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  cage_.resize(start[n]);
-  weight_.resize(start[n]);
-  for (size_t h = 0; h < n; ++h) {
-    uint32_t k = start[caller[h]];
-    for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
-      if (kept(basis.value[p])) cage_[k] = uint16_t(basis.index[p]), weight_[k++] = float(basis.value[p]);
+  if (cage <= kMaxDenseCage) {
+    float* dense = startDense(cage, n);
+    for (size_t h = 0; h < n; ++h)
+      for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
+        if (kept(basis.value[p])) dense[size_t(denseWidth_) * caller[h] + basis.index[p]] += float(basis.value[p]);
+  } else {
+    cage_.resize(start[n]);
+    weight_.resize(start[n]);
+    for (size_t h = 0; h < n; ++h) {
+      uint32_t k = start[caller[h]];
+      for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
+        if (kept(basis.value[p])) cage_[k] = uint16_t(basis.index[p]), weight_[k++] = float(basis.value[p]);
+    }
   }
   setColumns(std::move(start), cage);
 }
 
 void CageBasisTable::setColumns(std::vector<uint32_t> start, uint32_t cage) {
   const size_t n = start.size() - 1;
+  // Each entry of row v in order: f(cage index); a dense row's are its nonzero weights.
+  const auto forEachEntry = [&](uint32_t v, auto&& f) {
+    if (denseWidth_) {
+      const float* w = weight_.data() + size_t(denseWidth_) * v;
+      for (uint32_t c = 0; c < cage; ++c)
+        if (w[c] != 0.0f) f(c);
+    } else {
+      for (uint32_t k = start[v]; k < start[v + 1]; ++k) f(uint32_t(cage_[k]));
+    }
+  };
   columnStart_.assign(size_t(cage) + 1, 0);
-  for (uint16_t c : cage_) ++columnStart_[c + 1];
+  for (uint32_t v = 0; v < n; ++v) forEachEntry(v, [&](uint32_t c) { ++columnStart_[c + 1]; });
   for (uint32_t c = 0; c < cage; ++c) columnStart_[c + 1] += columnStart_[c];
-  columnVertex_.resize(cage_.size());
+  entries_ = columnStart_[cage];
+  columnVertex_.resize(entries_);
   std::vector<uint32_t> next(columnStart_.begin(), columnStart_.end() - 1);
-  for (uint32_t v = 0; v < n; ++v)
-    for (uint32_t k = start[v]; k < start[v + 1]; ++k) columnVertex_[next[cage_[k]]++] = v;
+  for (uint32_t v = 0; v < n; ++v) forEachEntry(v, [&](uint32_t c) { columnVertex_[next[c]++] = v; });
   rowStart_ = std::move(start);
-  entries_ = cage_.size();
-  if (cage <= kMaxDenseCage) makeDense(cage);
 }
 
-void CageBasisTable::makeDense(uint32_t cage) {
-  const uint32_t width = (cage + 3) / 4 * 4;
-  const size_t n = rowStart_.size() - 1;
-  std::vector<float> dense(n * width, 0.0f);
-  for (size_t v = 0; v < n; ++v)
-    for (uint32_t k = rowStart_[v]; k < rowStart_[v + 1]; ++k) dense[v * width + cage_[k]] += weight_[k];
-  weight_ = std::move(dense);
-  std::vector<uint16_t>().swap(cage_);
-  denseWidth_ = width;
+float* CageBasisTable::startDense(uint32_t cage, size_t rows) {
+  denseWidth_ = (cage + 3) / 4 * 4;
+  weight_.assign(rows * denseWidth_, 0.0f);
+  return weight_.data();
 }
 
 void CageBasisTable::row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const {

@@ -55,9 +55,9 @@ class CageBasisTable {
 
  private:
   void setColumns(std::vector<uint32_t> rowStart, uint32_t cage);  // the columns' pattern of the rows in cage_
-  void makeDense(uint32_t cage);  // the rows as dense rows (a small cage), the sparse ones dropped
+  float* startDense(uint32_t cage, size_t rows);  // zero dense rows for a small cage, to be filled
 
-  std::vector<uint32_t> rowStart_;  // N + 1 (sparse rows; dense: kept for the row count)
+  std::vector<uint32_t> rowStart_;  // N + 1 (the sparse rows' starts; dense rows: the lengths they would have)
   std::vector<uint16_t> cage_;      // cage index of each entry
   std::vector<float> weight_;
   size_t entries_ = 0;
