@@ -7,9 +7,9 @@
 // steps (O(N) work and memory, whatever the cage).
 // A cage of at most kMaxDenseCage vertices (editing at the base level) is stored as dense rows, 4, 8,
 // 12 or 16 weights a row (zeros where the sparse row has no entry): no cage indices to load, the
-// cage's deltas held in registers, about a third of the instructions of a sparse row of the same
-// length. Their sums run in cage order (a sparse row's in the order of its entries): the two differ in
-// the last bits of float; each is the same at any thread count.
+// cage's deltas held in registers, fewer bytes a row (bench/NOTES-surface-pass.md). Their sums run in
+// cage order, a sparse row's in the order of its entries: they may differ in the last bits of float
+// (the rows carried here come in cage order: the same bits); each is the same at any thread count.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -54,7 +54,7 @@ class CageBasisTable {
   void row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const;
 
  private:
-  void setColumns(std::vector<uint32_t> rowStart, uint32_t cage);  // the columns' pattern of the rows in cage_
+  void setColumns(std::vector<uint32_t> rowStart, uint32_t cage);  // the columns' pattern of the rows (sparse or dense)
   float* startDense(uint32_t cage, size_t rows);  // zero dense rows for a small cage, to be filled
 
   std::vector<uint32_t> rowStart_;  // N + 1 (the sparse rows' starts; dense rows: the lengths they would have)
