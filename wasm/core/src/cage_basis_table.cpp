@@ -149,7 +149,7 @@ void CageBasisTable::setColumns(std::vector<uint32_t> start, uint32_t cage) {
 }
 
 float* CageBasisTable::startDense(uint32_t cage, size_t rows) {
-  denseWidth_ = (cage + 3) / 4 * 4;
+  denseWidth_ = std::max<uint32_t>(4, (cage + 3) / 4 * 4);  // a width applyDense is made for
   weight_.assign(rows * denseWidth_, 0.0f);
   return weight_.data();
 }
