@@ -141,3 +141,47 @@ TEST(CageBasisTable, NoTableAtTheFinestLevel) {
   const WaveletTransform wt(h, SchemeOptions{});
   EXPECT_TRUE(CageBasisTable(wt, h.levels, h.inputIndex.data()).empty());
 }
+
+// apply is base + the row's terms added one by one in float: a small cage's dense rows in cage order,
+// a larger cage's sparse rows in the order row() lists them; bit for bit (a dense row's zero weights
+// add nothing), from the table's own rows and from the polynomial builder's.
+TEST(CageBasisTable, ApplyAddsTheRowsTermsInOrder) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    const Hierarchy h = Hierarchy::subdivide(fx.base, fx.levels);
+    const WaveletTransform wt(h, SchemeOptions{});
+    const size_t n = h.fineVertexCount();
+    for (int level = 0; level < h.levels; ++level) {
+      const uint32_t cage = h.vertexCount[level];
+      CageBasis basis;
+      const CagePolynomialBuilder builder(wt, level, 8'000'000, &basis);
+      const CageBasisTable own(wt, level, h.inputIndex.data()), handed(basis, cage, h.inputIndex.data());
+      for (const CageBasisTable* table : {&own, &handed}) {
+        const std::string where = fx.name + " level " + std::to_string(level) + (table == &own ? " own" : " handed");
+        EXPECT_EQ(table->dense(), cage <= CageBasisTable::kMaxDenseCage) << where;
+        std::vector<float> base4(4 * n, 0.0f), delta4(4 * size_t(cage), 0.0f), out4(4 * n), out3(3 * n);
+        std::vector<uint32_t> outIndex(n);
+        for (uint32_t v = 0; v < n; ++v) outIndex[v] = v;
+        const std::vector<double> b = fixtures::randomVector(3 * n, 7), d = fixtures::randomVector(3 * size_t(cage), 11);
+        for (size_t v = 0; v < n; ++v)
+          for (int k = 0; k < 3; ++k) base4[4 * v + k] = float(b[3 * v + k]);
+        for (size_t c = 0; c < cage; ++c)
+          for (int k = 0; k < 3; ++k) delta4[4 * c + k] = float(d[3 * c + k]);
+        const float origin[3] = {0.25f, 3.0f, -1.5f};
+        table->apply(base4.data(), delta4.data(), origin, out4.data(), out3.data(), outIndex.data());
+        std::vector<uint32_t> cols;
+        std::vector<float> weights;
+        size_t mismatches = 0;
+        for (uint32_t v = 0; v < n; ++v) {
+          table->row(v, cols, weights);
+          for (int k = 0; k < 3; ++k) {
+            float p = base4[4 * size_t(v) + k];
+            for (size_t e = 0; e < cols.size(); ++e) p += weights[e] * delta4[4 * size_t(cols[e]) + k];
+            mismatches += out4[4 * size_t(v) + k] != p || out3[3 * size_t(v) + k] != p + origin[k];
+          }
+          mismatches += out4[4 * size_t(v) + 3] != 0.0f;
+        }
+        EXPECT_EQ(mismatches, 0u) << where;
+      }
+    }
+  }
+}

@@ -81,11 +81,17 @@ CageBasisTable::CageBasisTable(const WaveletTransform& transform, int level, con
   std::vector<uint32_t> start(n + 1, 0);
   for (size_t h = 0; h < n; ++h) start[caller[h] + 1] = length[h];
   for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  cage_.resize(start[n]);
-  weight_.resize(start[n]);
-  for (size_t h = 0; h < n; ++h) {
-    std::copy(index.begin() + begin[h], index.begin() + begin[h] + length[h], cage_.begin() + start[caller[h]]);
-    std::copy(weight.begin() + begin[h], weight.begin() + begin[h] + length[h], weight_.begin() + start[caller[h]]);
+  if (cage <= kMaxDenseCage) {
+    float* dense = startDense(cage, n);
+    for (size_t h = 0; h < n; ++h)
+      for (uint32_t k = begin[h]; k < begin[h] + length[h]; ++k) dense[size_t(denseWidth_) * caller[h] + index[k]] += weight[k];
+  } else {
+    cage_.resize(start[n]);
+    weight_.resize(start[n]);
+    for (size_t h = 0; h < n; ++h) {
+      std::copy(index.begin() + begin[h], index.begin() + begin[h] + length[h], cage_.begin() + start[caller[h]]);
+      std::copy(weight.begin() + begin[h], weight.begin() + begin[h] + length[h], weight_.begin() + start[caller[h]]);
+    }
   }
   index = {}, weight = {}, begin = {}, length = {};
   setColumns(std::move(start), cage);
@@ -103,29 +109,59 @@ CageBasisTable::CageBasisTable(const CageBasis& basis, uint32_t cage, const uint
     start[caller[h] + 1] = length;
   }
   for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  cage_.resize(start[n]);
-  weight_.resize(start[n]);
-  for (size_t h = 0; h < n; ++h) {
-    uint32_t k = start[caller[h]];
-    for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
-      if (kept(basis.value[p])) cage_[k] = uint16_t(basis.index[p]), weight_[k++] = float(basis.value[p]);
+  if (cage <= kMaxDenseCage) {
+    float* dense = startDense(cage, n);
+    for (size_t h = 0; h < n; ++h)
+      for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
+        if (kept(basis.value[p])) dense[size_t(denseWidth_) * caller[h] + basis.index[p]] += float(basis.value[p]);
+  } else {
+    cage_.resize(start[n]);
+    weight_.resize(start[n]);
+    for (size_t h = 0; h < n; ++h) {
+      uint32_t k = start[caller[h]];
+      for (uint64_t p = basis.offset[h]; p < basis.offset[h + 1]; ++p)
+        if (kept(basis.value[p])) cage_[k] = uint16_t(basis.index[p]), weight_[k++] = float(basis.value[p]);
+    }
   }
   setColumns(std::move(start), cage);
 }
 
 void CageBasisTable::setColumns(std::vector<uint32_t> start, uint32_t cage) {
   const size_t n = start.size() - 1;
+  // Each entry of row v in order: f(cage index); a dense row's are its nonzero weights.
+  const auto forEachEntry = [&](uint32_t v, auto&& f) {
+    if (denseWidth_) {
+      const float* w = weight_.data() + size_t(denseWidth_) * v;
+      for (uint32_t c = 0; c < cage; ++c)
+        if (w[c] != 0.0f) f(c);
+    } else {
+      for (uint32_t k = start[v]; k < start[v + 1]; ++k) f(uint32_t(cage_[k]));
+    }
+  };
   columnStart_.assign(size_t(cage) + 1, 0);
-  for (uint16_t c : cage_) ++columnStart_[c + 1];
+  for (uint32_t v = 0; v < n; ++v) forEachEntry(v, [&](uint32_t c) { ++columnStart_[c + 1]; });
   for (uint32_t c = 0; c < cage; ++c) columnStart_[c + 1] += columnStart_[c];
-  columnVertex_.resize(cage_.size());
+  entries_ = columnStart_[cage];
+  columnVertex_.resize(entries_);
   std::vector<uint32_t> next(columnStart_.begin(), columnStart_.end() - 1);
-  for (uint32_t v = 0; v < n; ++v)
-    for (uint32_t k = start[v]; k < start[v + 1]; ++k) columnVertex_[next[cage_[k]]++] = v;
+  for (uint32_t v = 0; v < n; ++v) forEachEntry(v, [&](uint32_t c) { columnVertex_[next[c]++] = v; });
   rowStart_ = std::move(start);
 }
 
+float* CageBasisTable::startDense(uint32_t cage, size_t rows) {
+  denseWidth_ = std::max<uint32_t>(4, (cage + 3) / 4 * 4);  // a width applyDense is made for
+  weight_.assign(rows * denseWidth_, 0.0f);
+  return weight_.data();
+}
+
 void CageBasisTable::row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const {
+  if (denseWidth_) {
+    cage.clear(), weights.clear();
+    const float* w = weight_.data() + size_t(denseWidth_) * v;
+    for (uint32_t c = 0; c < cageSize(); ++c)
+      if (w[c] != 0.0f) cage.push_back(c), weights.push_back(w[c]);
+    return;
+  }
   cage.assign(cage_.begin() + rowStart_[v], cage_.begin() + rowStart_[v + 1]);
   weights.assign(weight_.begin() + rowStart_[v], weight_.begin() + rowStart_[v + 1]);
 }
@@ -149,6 +185,53 @@ inline void rowSum(const float* base4, const float* delta4, const uint16_t* c, c
 }
 #endif
 
+// Dense rows of W weights (cage order; zeros past the cage, whose deltas are taken as zero): rows
+// [first, end), or the rows listed at rows[first, end). Each row's sum: base, then the cage vertices in
+// order (a zero weight adds a zero: the value unchanged).
+template <uint32_t W>
+void applyDense(const float* weights, uint32_t cage, const float* base4, const float* delta4, const float origin[3], float* out4,
+                float* out3, const uint32_t* outIndex, const uint32_t* rows, size_t first, size_t end) {
+#ifdef __wasm_simd128__
+  v128_t d[W];
+  for (uint32_t j = 0; j < W; ++j) d[j] = j < cage ? wasm_v128_load(delta4 + 4 * size_t(j)) : wasm_f32x4_splat(0.0f);
+  const v128_t o = wasm_f32x4_make(origin[0], origin[1], origin[2], 0.0f);
+  for (size_t i = first; i < end; ++i) {
+    const size_t v = rows ? rows[i] : i;
+    const float* w = weights + size_t(W) * v;
+    v128_t p = wasm_v128_load(base4 + 4 * v);
+    for (uint32_t j = 0; j < W; ++j) p = wasm_f32x4_add(p, wasm_f32x4_mul(wasm_v128_load32_splat(w + j), d[j]));
+    wasm_v128_store(out4 + 4 * v, p);
+    float q[4];
+    wasm_v128_store(q, wasm_f32x4_add(p, o));
+    std::memcpy(out3 + 3 * size_t(outIndex[v]), q, 3 * sizeof(float));
+  }
+#else
+  float d[W][3];
+  for (uint32_t j = 0; j < W; ++j)
+    for (int k = 0; k < 3; ++k) d[j][k] = j < cage ? delta4[4 * size_t(j) + k] : 0.0f;
+  for (size_t i = first; i < end; ++i) {
+    const size_t v = rows ? rows[i] : i;
+    const float* w = weights + size_t(W) * v;
+    float p[3] = {base4[4 * v], base4[4 * v + 1], base4[4 * v + 2]};
+    for (uint32_t j = 0; j < W; ++j) p[0] += w[j] * d[j][0], p[1] += w[j] * d[j][1], p[2] += w[j] * d[j][2];
+    out4[4 * v] = p[0], out4[4 * v + 1] = p[1], out4[4 * v + 2] = p[2], out4[4 * v + 3] = 0.0f;
+    float* q = out3 + 3 * size_t(outIndex[v]);
+    q[0] = p[0] + origin[0], q[1] = p[1] + origin[1], q[2] = p[2] + origin[2];
+  }
+#endif
+}
+
+using DenseApply = void (*)(const float*, uint32_t, const float*, const float*, const float*, float*, float*, const uint32_t*,
+                            const uint32_t*, size_t, size_t);
+DenseApply denseApply(uint32_t width) {
+  switch (width) {
+    case 4: return applyDense<4>;
+    case 8: return applyDense<8>;
+    case 12: return applyDense<12>;
+    default: return applyDense<16>;
+  }
+}
+
 }  // namespace
 
 void CageBasisTable::apply(const float* base4, const float* delta4, const float origin[3], float* out4, float* out3,
@@ -157,6 +240,14 @@ void CageBasisTable::apply(const float* base4, const float* delta4, const float 
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
   const float* w = weight_.data();
+  if (denseWidth_) {
+    const DenseApply rows = denseApply(denseWidth_);
+    const uint32_t cage = cageSize();
+    parallelFor(0, n, kRowsPerBlock, [&](size_t first, size_t end) {
+      rows(w, cage, base4, delta4, origin, out4, out3, outIndex, nullptr, first, end);
+    });
+    return;
+  }
   // Rows are independent (each writes its own out4 and out3 entries): blocks of them on the pool's threads.
   parallelFor(0, n, kRowsPerBlock, [&](size_t first, size_t end) {
 #ifdef __wasm_simd128__
@@ -185,6 +276,7 @@ void CageBasisTable::applyRows(const uint32_t* vertices, size_t count, const flo
   const uint32_t* start = rowStart_.data();
   const uint16_t* c = cage_.data();
   const float* w = weight_.data();
+  if (denseWidth_) return denseApply(denseWidth_)(w, cageSize(), base4, delta4, origin, out4, out3, outIndex, vertices, 0, count);
   for (size_t i = 0; i < count; ++i) {
     const uint32_t v = vertices[i];
     float p[4];

@@ -5,6 +5,11 @@
 // one sequential pass, no synthesis through the levels; a move of a few cage vertices rewrites only
 // the rows of their columns. Built once per editor by carrying sparse rows through the synthesis
 // steps (O(N) work and memory, whatever the cage).
+// A cage of at most kMaxDenseCage vertices (editing at the base level) is stored as dense rows, 4, 8,
+// 12 or 16 weights a row (zeros where the sparse row has no entry): no cage indices to load, the
+// cage's deltas held in registers, fewer bytes a row (bench/NOTES-surface-pass.md). Their sums run in
+// cage order, a sparse row's in the order of its entries: they may differ in the last bits of float
+// (the rows carried here come in cage order: the same bits); each is the same at any thread count.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -19,6 +24,7 @@ class CageBasisTable {
   static constexpr uint32_t kMaxCage = 65535;         // cage indices are 16-bit; larger cages: no table (empty())
   static constexpr size_t kMaxEntriesPerVertex = 24;  // longer rows on average: no table
   static constexpr size_t kRowsPerBlock = 16384;      // apply's smallest block for a thread
+  static constexpr uint32_t kMaxDenseCage = 16;       // dense rows up to this cage size
 
   // Row callerIndex[h] is the hierarchy vertex h's (any one-to-one numbering: the caller's vertex
   // order, or the renderer buffers' own).
@@ -28,7 +34,8 @@ class CageBasisTable {
   // last bit); weights below float's resolution of the sum are dropped.
   CageBasisTable(const CageBasis& basis, uint32_t cageSize, const uint32_t* callerIndex);
   bool empty() const { return rowStart_.empty(); }
-  size_t entryCount() const { return weight_.size(); }
+  size_t entryCount() const { return entries_; }
+  bool dense() const { return denseWidth_ > 0; }
   size_t vertexCount() const { return rowStart_.empty() ? 0 : rowStart_.size() - 1; }
   uint32_t cageSize() const { return uint32_t(columnStart_.size() - 1); }
 
@@ -47,11 +54,14 @@ class CageBasisTable {
   void row(uint32_t v, std::vector<uint32_t>& cage, std::vector<float>& weights) const;
 
  private:
-  void setColumns(std::vector<uint32_t> rowStart, uint32_t cage);  // the columns' pattern of the rows in cage_
+  void setColumns(std::vector<uint32_t> rowStart, uint32_t cage);  // the columns' pattern of the rows (sparse or dense)
+  float* startDense(uint32_t cage, size_t rows);  // zero dense rows for a small cage, to be filled
 
-  std::vector<uint32_t> rowStart_;  // N + 1
+  std::vector<uint32_t> rowStart_;  // N + 1 (the sparse rows' starts; dense rows: the lengths they would have)
   std::vector<uint16_t> cage_;      // cage index of each entry
   std::vector<float> weight_;
+  size_t entries_ = 0;
+  uint32_t denseWidth_ = 0;  // dense rows: weight_ holds denseWidth_ weights a row, in cage order (0: sparse)
   std::vector<uint32_t> columnStart_{0}, columnVertex_;  // the transpose's pattern (cage + 1, entries)
 };
 
