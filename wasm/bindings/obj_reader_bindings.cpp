@@ -94,9 +94,8 @@ EMSCRIPTEN_BINDINGS(mrvol_obj_reader) {
   function("_takeObjReaderError", &takeReaderError);
   function("_createObjReader", &createReader, allow_raw_pointers());
   class_<JsObjReader>("_ObjReader")
-      // bytesRead reads a count: it neither allocates nor throws.
       .function("buffer", &JsObjReader::buffer)
       .function("feed", &JsObjReader::feed)
       .function("finish", &JsObjReader::finish)
-      .function("bytesRead", &JsObjReader::bytesRead);
+      .function("bytesRead", &JsObjReader::bytesRead);  // reads a count: unguarded, it cannot throw
 }
