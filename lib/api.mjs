@@ -127,14 +127,15 @@ export function wrapModule(module) {
    * .arrayBuffer() and pushes each piece, so that neither it nor the heap holds the whole text.
    */
   function createObjReader({ size = 0 } = {}) {
-    let raw = new module._ObjReader(Number(size) > 0 ? Number(size) : 0);
+    let raw = module._createObjReader(Number(size) > 0 ? Number(size) : 0);
     const check = () => {
       const error = module._takeObjReaderError();
       if (!error) return;
-      raw.delete();
+      raw?.delete();
       raw = null;
       throw new MrvolError(error);
     };
+    check();
     const live = () => {
       if (!raw) throw new MrvolError('this OBJ reader has finished (or failed); make a new one');
       return raw;

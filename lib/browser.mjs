@@ -123,6 +123,7 @@ export async function createMrvol(options = {}) {
     locateFile: (path, prefix) => (path.endsWith('.worker.js') ? urls.worker : prefix + path),
     mainScriptUrlOrBlob: urls.factory,
   });
-  raw._setThreadCount(threads);
+  if (raw._setThreadCount(threads) !== threads)
+    throw new MrvolError(`could not start ${threads} threads: ${raw._takeThreadError()}`);
   return wrapModule(raw);
 }

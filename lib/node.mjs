@@ -75,7 +75,8 @@ export async function createMrvol(options = {}) {
     mrvolThreadPool: threads - 1,
     ...(options.locateFile ? { locateFile: (path, prefix) => options.locateFile(path, prefix) } : {}),
   });
-  module._setThreadCount(threads);
+  if (module._setThreadCount(threads) !== threads)
+    throw new MrvolError(`could not start ${threads} threads: ${module._takeThreadError()}`);
   // The pool's workers must not keep Node running once the caller is done.
   for (const worker of module.PThread?.unusedWorkers ?? []) worker.unref?.();
   for (const worker of module.PThread?.runningWorkers ?? []) worker.unref?.();

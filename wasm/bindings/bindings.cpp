@@ -36,7 +36,7 @@ ErrorSlot errors("the input");
 template <class F>
 auto guarded(F&& f) -> decltype(f()) { return errors.guarded(std::forward<F>(f)); }
 
-std::string takeError() { return errors.take(); }
+val takeError() { return errors.take(); }
 
 TriangleMesh toMesh(const val& positions, const val& faces) {
   TriangleMesh m;
@@ -491,16 +491,23 @@ val js_surfaceUpdate(SurfaceBuffers& s, const VolumeEditor& e, bool normals) {
 }
 // { positions: [first, end), normals: [first, end) }: the caller's vertices the last writes rewrote.
 val js_surfaceRanges(const SurfaceBuffers& s) {
-  val out = val::object();
-  out.set("positions", val::array(std::vector<double>{double(s.positionsFirst()), double(s.positionsEnd())}));
-  out.set("normals", val::array(std::vector<double>{double(s.normalsFirst()), double(s.normalsEnd())}));
-  return out;
+  return guarded([&] {
+    val out = val::object();
+    out.set("positions", val::array(std::vector<double>{double(s.positionsFirst()), double(s.positionsEnd())}));
+    out.set("normals", val::array(std::vector<double>{double(s.normalsFirst()), double(s.normalsEnd())}));
+    return out;
+  });
 }
+// Views of the buffers: no allocation in WASM, nothing that throws (unguarded, as the getters below).
 val js_surfacePositions(const SurfaceBuffers& s) { return val(emscripten::typed_memory_view(3 * s.vertexCount(), s.positions())); }
 val js_surfaceNormals(const SurfaceBuffers& s) { return val(emscripten::typed_memory_view(3 * s.vertexCount(), s.normals())); }
 
 }  // namespace
 
+// Every registration below runs guarded except the ones that only read a field or an address
+// (levels, level, cageSize, limitSurface, keepsCentroid, the addresses, _reserveMemory's C call,
+// _takeError): they neither allocate nor throw. An exception out of a call would reach JS
+// opaque and, in the threaded module, keep the exception dispatch lock (landing_pad_context.cpp).
 EMSCRIPTEN_BINDINGS(mrvol) {
   using namespace emscripten;
   value_object<JsScheme>("_Scheme")

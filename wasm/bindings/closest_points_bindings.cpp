@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,7 @@ class JsClosestPoints {
   // Room for n queries: in: 3n coordinates then n bounds; out: 3n coordinates then n squared
   // distances, and n triangles. The addresses change: take them after each reserve.
   void reserve(size_t n) {
+    if (n > in_.max_size() / 4) throw std::length_error("closest points: too many queries");  // 4n would wrap
     if (4 * n > in_.size()) in_.resize(4 * n), out_.resize(4 * n), triangles_.resize(n);
     capacity_ = in_.size() / 4;
   }
@@ -89,10 +91,12 @@ bool manyGuarded(JsClosestPoints& c, size_t n, bool withBounds) {
 double sampledGuarded(JsClosestPoints& c, val positions, val triangles, double maxSamples) {
   return closestPointsErrors.guarded([&] { return c.sampledDistanceFrom(positions, triangles, maxSamples); });
 }
-std::string takeClosestPointsError() { return closestPointsErrors.take(); }
+val takeClosestPointsError() { return closestPointsErrors.take(); }
 
 }  // namespace
 
+// Guarded: the factories, reserve, many, sampledDistanceFrom. Unguarded: the getters and one()
+// (a walk of the tree on the stack, into the buffers reserve made): they neither allocate nor throw.
 EMSCRIPTEN_BINDINGS(mrvol_closest_points) {
   emscripten::class_<JsClosestPoints>("_ClosestPoints")
       .function("triangleCount", &JsClosestPoints::triangleCount)

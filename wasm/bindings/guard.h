@@ -1,8 +1,9 @@
-// The error slot every embind file keeps: a core error never crosses into JS as an exception (an
-// exception across embind would abort the module with -fwasm-exceptions' default handling). A
+// The error slot every embind file keeps: a core error never crosses into JS as an exception. A
 // call runs guarded: what it throws becomes a message in the file's slot and the call returns
 // an empty value; the JS side takes the message after each call (_takeError, _takeIoError,
-// _takeQuadError) and throws MrvolError.
+// _takeQuadError) and throws MrvolError. Nothing may leave a call uncaught: JS would get an opaque
+// WebAssembly.Exception and, in the threaded module, the thread would keep the exception dispatch
+// lock (wasm/toolchain/landing_pad_context.cpp), so that the next throw on a pool thread would hang.
 #pragma once
 #include <emscripten/val.h>
 
@@ -10,7 +11,6 @@
 #include <new>
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 namespace mrvol::bindings {
 
@@ -29,22 +29,41 @@ class ErrorSlot {
     try {
       return f();
     } catch (const std::bad_alloc&) {
-      message_ = outOfMemory_;
+      keep(nullptr);
     } catch (const std::length_error&) {
-      message_ = outOfMemory_;
+      keep(nullptr);
     } catch (const std::exception& e) {
-      message_ = e.what();
+      keep(e.what());
     } catch (...) {
-      message_ = "unknown error";
+      keep("unknown error");
     }
     return emptyResult<decltype(f())>();
   }
 
-  std::string take() { return std::exchange(message_, std::string()); }
+  // The message as a JS string ("" for none), made without allocating in WASM; the slot empties.
+  emscripten::val take() {
+    emscripten::val out(outOfMemoryKept_ ? outOfMemory_.c_str() : message_.c_str());
+    outOfMemoryKept_ = false;
+    message_.clear();
+    return out;
+  }
 
  private:
+  // text: null for out of memory. Copying a message may itself fail on a full heap: then the
+  // out-of-memory message (made up front) stands for it, and nothing leaves the guard.
+  void keep(const char* text) noexcept {
+    outOfMemoryKept_ = text == nullptr;
+    message_.clear();
+    if (text) try {
+        message_ = text;
+      } catch (...) {
+        outOfMemoryKept_ = true;
+      }
+  }
+
   std::string message_;
   std::string outOfMemory_;
+  bool outOfMemoryKept_ = false;
 };
 
 }  // namespace mrvol::bindings

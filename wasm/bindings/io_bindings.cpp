@@ -25,7 +25,7 @@ ErrorSlot ioErrors("the file");
 template <class F>
 val guardedIo(F&& f) { return ioErrors.guarded(std::forward<F>(f)); }
 
-std::string takeIoError() { return ioErrors.take(); }
+val takeIoError() { return ioErrors.take(); }
 
 // One copy from the JS Uint8Array into the heap: TypedArray.prototype.set onto a view of the string.
 std::string bytesOf(const val& array, const char* what) {

@@ -21,7 +21,7 @@ namespace {
 
 ErrorSlot readerErrors("the OBJ file");
 
-std::string takeReaderError() { return readerErrors.take(); }
+val takeReaderError() { return readerErrors.take(); }
 
 // Each array goes to JS and is freed at once, so that the heap holds one copy at a time.
 template <class T>
@@ -81,15 +81,21 @@ class JsObjReader {
   std::vector<char> chunk_;
 };
 
+// Made by a guarded function, not an embind constructor: the reader allocates its parser, and a
+// constructor's exception would leave WASM (null and an error to take instead).
+JsObjReader* createReader(double expectedBytes) {
+  return readerErrors.guarded([&] { return new JsObjReader(expectedBytes); });
+}
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(mrvol_obj_reader) {
   using namespace emscripten;
   function("_takeObjReaderError", &takeReaderError);
+  function("_createObjReader", &createReader, allow_raw_pointers());
   class_<JsObjReader>("_ObjReader")
-      .constructor<double>()
       .function("buffer", &JsObjReader::buffer)
       .function("feed", &JsObjReader::feed)
       .function("finish", &JsObjReader::finish)
-      .function("bytesRead", &JsObjReader::bytesRead);
+      .function("bytesRead", &JsObjReader::bytesRead);  // reads a count: unguarded, it cannot throw
 }

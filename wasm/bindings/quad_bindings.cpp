@@ -33,7 +33,7 @@ ErrorSlot quadErrors("the input");
 template <class F>
 auto guarded(F&& f) -> decltype(f()) { return quadErrors.guarded(std::forward<F>(f)); }
 
-std::string takeQuadError() { return quadErrors.take(); }
+val takeQuadError() { return quadErrors.take(); }
 
 QuadMesh quadMesh(const val& positions, const val& quads) {
   return QuadMesh{toVector<double>(positions, "positions"), toVector<uint32_t>(quads, "quads")};
@@ -203,6 +203,8 @@ val q_editorCorrect(QuadVolumeEditor& e, val held, val options) {
 
 }  // namespace
 
+// All guarded but the getters of a field (levels, lowestLevel, level, cageSize, keepsCentroid) and
+// _takeQuadError: they neither allocate nor throw.
 EMSCRIPTEN_BINDINGS(mrvol_quad) {
   using namespace emscripten;
   function("_takeQuadError", &takeQuadError);
