@@ -35,17 +35,17 @@ function weightsOn(p, a, b, c, qx, qy, qz) {
 
 /**
  * Moves vertices of the result (`positions`, changed in place; `faces`) so that the two-sided
- * sampled distance to `surface` (the input) falls to `aim` of the diagonal where it is above it:
- * for each far sample (an input point far from the result, or a result point far from the
- * input; the farthest first), the corners of its result triangle move along the gap by the least
- * squares share that brings the sample to `aim` (all of it, then half, then a quarter). A move is
+ * sampled distance to `surface` (the input) falls within `goal` of the diagonal: for each sample
+ * beyond `aim` (an input point far from the result, or a result point far from the input; the
+ * farthest first; those between aim and goal too, for a margin), the corners of its result triangle move along the gap by the least squares
+ * share that brings the sample to `aim` (all of it, half of it, or just within the goal). A move is
  * kept if it turns no triangle around it over, leaves every sample of those triangles within
  * max(its distance before, `tolerance`) of the input, and every input sample near it within
  * max(its distance before, `tolerance`) of the result. Vertices with `fixed` set stay. Moves of
  * one round do not share a triangle; `rounds` rounds. Returns how many moves were kept.
  */
-export function nudgeToGoal(surface, positions, faces, fixed, { aim, tolerance, rounds = 3 }) {
-  const diagonal = surface.diagonal, goal = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
+export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 3 }) {
+  const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const inputSamples = samplePoints(surface.mesh);
@@ -60,8 +60,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { aim, tolerance, 
     // Far samples: [distance, side (0 input, 1 result), sample]. Input side: the result triangle
     // is the closest one; result side: the sample's own face (or, for a vertex, the vertex alone).
     const far = [];
-    for (let i = 0; i < fromInput.distances.length; i++) if (fromInput.distances[i] > goal) far.push([fromInput.distances[i], 0, i]);
-    for (let i = 0; i < toInput.distances.length; i++) if (toInput.distances[i] > goal) far.push([toInput.distances[i], 1, i]);
+    for (let i = 0; i < fromInput.distances.length; i++) if (fromInput.distances[i] > target) far.push([fromInput.distances[i], 0, i]);
+    for (let i = 0; i < toInput.distances.length; i++) if (toInput.distances[i] > target) far.push([toInput.distances[i], 1, i]);
     if (far.length === 0) break;
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1] || x[2] - y[2]);
     const used = new Uint8Array(vertexCount);
@@ -91,6 +91,10 @@ export function nudgeToGoal(surface, positions, faces, fixed, { aim, tolerance, 
       const patch = [...faceSet].sort((a, b) => a - b);
       const patchCorners = new Set();
       for (const f of patch) for (let j = 0; j < 3; j++) patchCorners.add(faces[3 * f + j]);
+      // A sample the patch leaves may be closest to a triangle next to it: those are asked too.
+      const aroundSet = new Set(patch);
+      for (const v of patchCorners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) aroundSet.add(around.list[e]);
+      const checked = [...aroundSet].sort((a, b) => a - b);
       const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, 0, twins));
       const ownBefore = patch.map((f) => patchDistance(surface, positions, faces, f));
       // Input samples the move could uncover: those near the patch (their distance before, this round's).
@@ -99,9 +103,10 @@ export function nudgeToGoal(surface, positions, faces, fixed, { aim, tolerance, 
       for (const v of patchCorners) for (let k = 0; k < 3; k++) centre[k] += positions[3 * v + k] / patchCorners.size;
       for (const v of patchCorners) radius = Math.max(radius, Math.hypot(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
       const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
-      const share = (d - goal) / d / norm;
+      // The whole way to `aim`, half of it, or (from beyond the goal) just within it.
+      const share = (d - target) / d / norm;
       let done = false;
-      for (const part of [1, 0.5, 0.25]) {
+      for (const part of d > limit ? [1, 0.5, Math.min(0.5, (d - 0.98 * limit) / (d - target))] : [1, 0.5]) {
         corners.forEach((v, j) => {
           if (!movable[j]) return;
           for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + part * share * weights[j] * gap[k];
@@ -109,7 +114,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { aim, tolerance, 
         const reach = radius + part * share * Math.hypot(...gap);
         const good = flippedFaces({ positions, faces }, surface, patch, 0, twins).every((f) => flippedBefore.has(f)) &&
           patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
-          nearSamplesKept(inputSamples, fromInput, index, patch, new Set(corners), positions, faces, centre, reach, allowed + slack);
+          nearSamplesKept(inputSamples, fromInput, index, checked, new Set(corners), positions, faces, centre, reach, allowed + slack);
         if (good) {
           done = true;
           break;
@@ -138,16 +143,17 @@ function patchDistance(surface, p, faces, f) {
 /**
  * Whether every input sample within `reach` of `centre` is, after a move of the patch, within
  * max(its distance before, `allowed`) of the result: its closest triangle before has no `moved`
- * corner (unchanged, so no farther), or a patch triangle is that close.
+ * corner (unchanged, so no farther), or one of the triangles `near` (the moved ones and a ring
+ * around them) is that close.
  */
-function nearSamplesKept(samples, before, index, patch, moved, p, faces, centre, reach, allowed) {
+function nearSamplesKept(samples, before, index, near, moved, p, faces, centre, reach, allowed) {
   const inPatch = (t) => moved.has(index[3 * t]) || moved.has(index[3 * t + 1]) || moved.has(index[3 * t + 2]);
   for (let i = 0; i < samples.length / 3; i++) {
     const x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
     if (Math.abs(x - centre[0]) > reach || Math.abs(y - centre[1]) > reach || Math.abs(z - centre[2]) > reach) continue;
     if (!inPatch(before.triangles[i])) continue;
     const limit = Math.max(before.distances[i], allowed);
-    if (!patch.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
+    if (!near.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
   }
   return true;
 }

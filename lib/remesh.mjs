@@ -1452,7 +1452,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     for (const part of result.parts) fixed.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
     const nudged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
     const held = { kind: fixed };
-    if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal }) > 0 &&
+    if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal }) > 0 &&
         resultFlipped(nudged, surface, held).length <= resultFlipped(result.mesh, surface, held).length) {
       const m = measure(nudged, mesh, surface, maxSamples);
       if (distance(m) < distance(measured)) result = { ...result, mesh: nudged }, measured = m;
