@@ -1133,6 +1133,9 @@ export function defaultBaseFaces(inputFaces) {
 // diagonal), and the largest weight.
 const EMPHASIS_ROUNDS = 3, EMPHASIS_RADIUS = 0.03, EMPHASIS_CAP = 8;
 
+// The most faces asked for in the larger bases (remesh), over all pieces: a cage within 500 handles.
+const LARGER_BASE_FACES = 880;
+
 // The nudge (remesh): the distance (of the goal) it brings far samples to, and the farthest a
 // nudged vertex or its triangles' samples may then be from the input.
 const NUDGE_AIM = 0.9, NUDGE_TOLERANCE = 0.95;
@@ -1401,7 +1404,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   } else {
     // From 2 levels (fewer if even 2 exceed the budget), one more while the distance is above the
     // goal and the vertices fit the budget; then, if still above it, tips kept in the base, then a
-    // base twice and four times as large (up to about 600 handles) at the most levels that fit.
+    // base twice and four times as large (within about 500 handles) at the most levels that fit.
     const fits = (levels, scale) => (requested * scale * 4 ** levels) / 2 <= budget;
     let levels = 2;
     while (levels > 0 && !fits(levels, 1)) levels--;
@@ -1415,9 +1418,14 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       // centroids of the result bulge off a spike: then every piece is enlarged.)
       let far = farPieces(pieces, measured.surface, goal * diagonal);
       if (!far.some((f) => f)) far = far.map(() => true);
-      const scales = far.map((f) => (f ? scale : 1));
+      // The far pieces' scale lowered so that the bases stay within the cage goal (500 handles:
+      // 880 faces asked for leaves room for the small pieces' own bases and the simplifier's count);
+      // not below halfway from the last scale (the teapot's cage 598 -> 479 handles).
+      const farShare = pieces.reduce((t, p, i) => t + (far[i] ? p.mesh.faces.length / 3 : 0), 0) / inputFaces;
+      const enlarged = Math.min(scale, (LARGER_BASE_FACES / requested - (1 - farShare)) / farShare);
+      if (enlarged <= Math.max(1, scale / 2)) break;
+      const scales = far.map((f) => (f ? enlarged : 1));
       const overall = pieces.reduce((t, p, i) => t + scales[i] * p.mesh.faces.length / 3, 0) / inputFaces;
-      if (requested * overall > 1250) break;
       let l = result.levels;
       while (l > 0 && !fits(l, overall)) l--;
       // The near pieces as in the best fit (at its levels).
