@@ -7,6 +7,9 @@ import { Triangle, Vector3 } from 'three';
 import { connectivity } from './connectivity.mjs';
 import { flippedFaces, Surface } from './remesh.mjs';
 
+// Far samples tried per round, the farthest first.
+const MAX_TRIES = 2000;
+
 // The measure's points inside a face (remesh's oneSidedHausdorff): centroid and three interior points.
 const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]];
 
@@ -49,6 +52,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const inputSamples = samplePoints(surface.mesh);
+  const grid = sampleGrid(inputSamples, 0.005 * diagonal);
   let kept = 0;
   for (let round = 0; round < rounds; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
@@ -64,6 +68,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     for (let i = 0; i < toInput.distances.length; i++) if (toInput.distances[i] > target) far.push([toInput.distances[i], 1, i]);
     if (far.length === 0) break;
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1] || x[2] - y[2]);
+    // The farthest first; on a fit far beyond the goal (many far samples) no more than these a round.
+    far.length = Math.min(far.length, MAX_TRIES);
     const used = new Uint8Array(vertexCount);
     let movedThisRound = 0;
     for (const [d, side, i] of far) {
@@ -114,7 +120,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
         const reach = radius + part * share * Math.hypot(...gap);
         const good = flippedFaces({ positions, faces }, surface, patch, 0, twins).every((f) => flippedBefore.has(f)) &&
           patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
-          nearSamplesKept(inputSamples, fromInput, index, checked, new Set(corners), positions, faces, centre, reach, allowed + slack);
+          nearSamplesKept(inputSamples, grid, fromInput, index, checked, new Set(corners), positions, faces, centre, reach, allowed + slack);
         if (good) {
           done = true;
           break;
@@ -146,16 +152,37 @@ function patchDistance(surface, p, faces, f) {
  * corner (unchanged, so no farther), or one of the triangles `near` (the moved ones and a ring
  * around them) is that close.
  */
-function nearSamplesKept(samples, before, index, near, moved, p, faces, centre, reach, allowed) {
+function nearSamplesKept(samples, grid, before, index, near, moved, p, faces, centre, reach, allowed) {
   const inPatch = (t) => moved.has(index[3 * t]) || moved.has(index[3 * t + 1]) || moved.has(index[3 * t + 2]);
-  for (let i = 0; i < samples.length / 3; i++) {
+  for (const i of grid.within(centre, reach)) {
     const x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
-    if (Math.abs(x - centre[0]) > reach || Math.abs(y - centre[1]) > reach || Math.abs(z - centre[2]) > reach) continue;
     if (!inPatch(before.triangles[i])) continue;
     const limit = Math.max(before.distances[i], allowed);
     if (!near.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
   }
   return true;
+}
+
+/** Points (flat xyz) in cubic cells of side `cell`: `within(centre, reach)` lists those in the box of half-side `reach`. */
+function sampleGrid(points, cell) {
+  const cells = new Map(), key = (a, b, c) => `${a},${b},${c}`;
+  for (let i = 0; i < points.length / 3; i++) {
+    const k = key(Math.floor(points[3 * i] / cell), Math.floor(points[3 * i + 1] / cell), Math.floor(points[3 * i + 2] / cell));
+    let list = cells.get(k);
+    if (!list) cells.set(k, (list = []));
+    list.push(i);
+  }
+  return {
+    within([x, y, z], reach) {
+      const out = [];
+      for (let a = Math.floor((x - reach) / cell); a <= Math.floor((x + reach) / cell); a++)
+        for (let b = Math.floor((y - reach) / cell); b <= Math.floor((y + reach) / cell); b++)
+          for (let c = Math.floor((z - reach) / cell); c <= Math.floor((z + reach) / cell); c++)
+            for (const i of cells.get(key(a, b, c)) ?? [])
+              if (Math.abs(points[3 * i] - x) <= reach && Math.abs(points[3 * i + 1] - y) <= reach && Math.abs(points[3 * i + 2] - z) <= reach) out.push(i);
+      return out;
+    },
+  };
 }
 
 /** Distance from (x, y, z) to triangle (a, b, c) of p (three's closest point on a triangle). */
