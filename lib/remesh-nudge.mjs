@@ -59,6 +59,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     const index = result.index;
     const fromInput = result.closestMany(inputSamples);
     result.dispose();
+    // A sample whose closest triangle moves lies within its distance of that triangle.
+    const farthestFrom = fromInput.distances.reduce((m, x) => Math.max(m, x), 0);
     const resultSamples = samplePoints({ positions, faces });
     const toInput = surface.closestMany(resultSamples);
     // Far samples: [distance, side (0 input, 1 result), sample]. Input side: the result triangle
@@ -117,7 +119,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
           if (!movable[j]) return;
           for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + part * share * weights[j] * gap[k];
         });
-        const reach = radius + part * share * Math.hypot(...gap);
+        const reach = radius + part * share * Math.hypot(...gap) + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, 0, twins).every((f) => flippedBefore.has(f)) &&
           patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
           nearSamplesKept(inputSamples, grid, fromInput, index, checked, new Set(corners), positions, faces, centre, reach, allowed + slack);
