@@ -61,6 +61,13 @@ export interface RemeshOptions {
    */
   emphasis?: boolean;
   /**
+   * A result still above `hausdorffGoal` after the drag gets its farthest sample points (input points
+   * far from it, its points far from the input) brought to 90% of the goal by moving the corners of
+   * their triangle, off the input if need be (no farther from it than 95% of the goal); each move kept
+   * only if nothing flips and no nearby sample gets farther; the result kept if closer (default true).
+   */
+  nudge?: boolean;
+  /**
    * Diagnostics (bench/remesh-diagnose.mjs): called with 'fitted' (a piece's fit before untangling:
    * { piece, levels, base, mesh, flipped }), 'untangled' ({ piece, levels, mesh, flippedTriangles }) and
    * 'chosen' (the result before the drag: { mesh, measured }). The meshes may be changed later: copy them.

@@ -15,6 +15,7 @@ import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } f
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
+import { nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
 import { boundingDiagonal, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
@@ -1132,6 +1133,13 @@ export function defaultBaseFaces(inputFaces) {
 // diagonal), and the largest weight.
 const EMPHASIS_ROUNDS = 3, EMPHASIS_RADIUS = 0.03, EMPHASIS_CAP = 8;
 
+// The most faces asked for in the larger bases (remesh), over all pieces: a cage within 500 handles.
+const LARGER_BASE_FACES = 880;
+
+// The nudge (remesh): the distance (of the goal) it brings far samples to, and the farthest a
+// nudged vertex or its triangles' samples may then be from the input.
+const NUDGE_AIM = 0.9, NUDGE_TOLERANCE = 0.95;
+
 /** Two-sided Hausdorff distance (over the diagonal) a remeshing should keep by default. */
 export const DEFAULT_HAUSDORFF = 0.005;
 
@@ -1396,7 +1404,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   } else {
     // From 2 levels (fewer if even 2 exceed the budget), one more while the distance is above the
     // goal and the vertices fit the budget; then, if still above it, tips kept in the base, then a
-    // base twice and four times as large (up to about 600 handles) at the most levels that fit.
+    // base twice and four times as large (within about 500 handles) at the most levels that fit.
     const fits = (levels, scale) => (requested * scale * 4 ** levels) / 2 <= budget;
     let levels = 2;
     while (levels > 0 && !fits(levels, 1)) levels--;
@@ -1410,9 +1418,14 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       // centroids of the result bulge off a spike: then every piece is enlarged.)
       let far = farPieces(pieces, measured.surface, goal * diagonal);
       if (!far.some((f) => f)) far = far.map(() => true);
-      const scales = far.map((f) => (f ? scale : 1));
+      // The far pieces' scale lowered so that the bases stay within the cage goal (500 handles:
+      // 880 faces asked for leaves room for the small pieces' own bases and the simplifier's count);
+      // none less than 3/4 of the scale (a base a few percent larger fits no closer; the teapot's cage 598 -> 479 handles).
+      const farShare = pieces.reduce((t, p, i) => t + (far[i] ? p.mesh.faces.length / 3 : 0), 0) / inputFaces;
+      const enlarged = Math.min(scale, (LARGER_BASE_FACES / requested - (1 - farShare)) / farShare);
+      if (enlarged < 0.75 * scale) break;
+      const scales = far.map((f) => (f ? enlarged : 1));
       const overall = pieces.reduce((t, p, i) => t + scales[i] * p.mesh.faces.length / 3, 0) / inputFaces;
-      if (requested * overall > 1250) break;
       let l = result.levels;
       while (l > 0 && !fits(l, overall)) l--;
       // The near pieces as in the best fit (at its levels).
@@ -1436,6 +1449,21 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     if (resultFlipped(dragged, surface, held).length <= resultFlipped(result.mesh, surface, held).length) {
       const m = measure(dragged, mesh, surface, maxSamples);
       if (distance(m) < distance(measured)) result = { ...result, mesh: dragged }, measured = m;
+    }
+  }
+  // Still a little above the goal: the samples that make the distance brought within it by moving
+  // their triangle's corners off the input where need be (lib/remesh-nudge.mjs); kept if closer and not more folded.
+  if (distance(measured) > goal && options.nudge !== false) {
+    progress(0.94, 'nudging the farthest samples');
+    const fixed = new Uint8Array(result.mesh.positions.length / 3);
+    let offset = 0;
+    for (const part of result.parts) fixed.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
+    const nudged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
+    const held = { kind: fixed };
+    if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal }) > 0 &&
+        resultFlipped(nudged, surface, held).length <= resultFlipped(result.mesh, surface, held).length) {
+      const m = measure(nudged, mesh, surface, maxSamples);
+      if (distance(m) < distance(measured)) result = { ...result, mesh: nudged }, measured = m;
     }
   }
   const volume = mrvol.volume(result.mesh);

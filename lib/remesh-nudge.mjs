@@ -1,0 +1,195 @@
+// The last step of remesh() for a fit still a little above its Hausdorff goal: the few sample
+// points that make the distance (a tip the fit grazes, a face bridging a fold) are brought within
+// it by moving the corners of the result triangle they are measured against, off the input
+// surface if need be (a vertex within `tolerance` of the input is as good as one on it for the
+// two-sided measure), each move kept only where it flips nothing and makes no nearby sample farther.
+import { Triangle, Vector3 } from 'three';
+import { connectivity } from './connectivity.mjs';
+import { flippedFaces, Surface } from './remesh.mjs';
+
+// Far samples tried per round, the farthest first.
+const MAX_TRIES = 2000;
+
+// The measure's points inside a face (remesh's oneSidedHausdorff): centroid and three interior points.
+const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]];
+
+/** The measure's sample points of a mesh: its vertices, then four points per face (flat xyz). */
+function samplePoints({ positions: p, faces }) {
+  const n = p.length / 3, out = new Float64Array(p.length + 12 * faces.length / 3);
+  out.set(p);
+  for (let f = 0; f < faces.length / 3; f++)
+    for (let s = 0; s < 4; s++)
+      for (let k = 0; k < 3; k++)
+        out[3 * (n + 4 * f + s) + k] = BARY[s][0] * p[3 * faces[3 * f] + k] + BARY[s][1] * p[3 * faces[3 * f + 1] + k] + BARY[s][2] * p[3 * faces[3 * f + 2] + k];
+  return out;
+}
+
+/** Barycentric weights of q on triangle (a, b, c) of p, clamped to the triangle (q is its closest point). */
+function weightsOn(p, a, b, c, qx, qy, qz) {
+  const u = [p[3 * b] - p[3 * a], p[3 * b + 1] - p[3 * a + 1], p[3 * b + 2] - p[3 * a + 2]];
+  const v = [p[3 * c] - p[3 * a], p[3 * c + 1] - p[3 * a + 1], p[3 * c + 2] - p[3 * a + 2]];
+  const w = [qx - p[3 * a], qy - p[3 * a + 1], qz - p[3 * a + 2]];
+  const dot = (x, y) => x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+  const d00 = dot(u, u), d01 = dot(u, v), d11 = dot(v, v), d20 = dot(w, u), d21 = dot(w, v), den = d00 * d11 - d01 * d01;
+  if (!(den > 0)) return [1 / 3, 1 / 3, 1 / 3];
+  const s = Math.max(0, (d11 * d20 - d01 * d21) / den), t = Math.max(0, (d00 * d21 - d01 * d20) / den), sum = Math.max(1, s + t);
+  return [1 - (s + t) / sum, s / sum, t / sum];
+}
+
+/**
+ * Moves vertices of the result (`positions`, changed in place; `faces`) so that the two-sided
+ * sampled distance to `surface` (the input) falls within `goal` of the diagonal: for each sample
+ * beyond `aim` (an input point far from the result, or a result point far from the input; the
+ * farthest first; those between aim and goal too, for a margin), the corners of its result triangle move along the gap by the least squares
+ * share that brings the sample to `aim` (all of it, half of it, or just within the goal). A move is
+ * kept if it turns no triangle around it over, leaves every sample of those triangles within
+ * max(its distance before, `tolerance`) of the input, and every input sample near it within
+ * max(its distance before, `tolerance`) of the result. Vertices with `fixed` set stay. Moves of
+ * one round do not share a triangle; `rounds` rounds. Returns how many moves were kept.
+ */
+export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 3 }) {
+  const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
+  const vertexCount = positions.length / 3;
+  const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
+  const inputSamples = samplePoints(surface.mesh);
+  const grid = sampleGrid(inputSamples, 0.005 * diagonal);
+  let kept = 0;
+  for (let round = 0; round < rounds; round++) {
+    const result = new Surface({ positions, faces }, { normals: false });
+    const index = result.index;
+    const fromInput = result.closestMany(inputSamples);
+    result.dispose();
+    // A sample whose closest triangle moves lies within its distance of that triangle.
+    const farthestFrom = fromInput.distances.reduce((m, x) => Math.max(m, x), 0);
+    const resultSamples = samplePoints({ positions, faces });
+    const toInput = surface.closestMany(resultSamples);
+    // Far samples: [distance, side (0 input, 1 result), sample]. Input side: the result triangle
+    // is the closest one; result side: the sample's own face (or, for a vertex, the vertex alone).
+    const far = [];
+    for (let i = 0; i < fromInput.distances.length; i++) if (fromInput.distances[i] > target) far.push([fromInput.distances[i], 0, i]);
+    for (let i = 0; i < toInput.distances.length; i++) if (toInput.distances[i] > target) far.push([toInput.distances[i], 1, i]);
+    if (far.length === 0) break;
+    far.sort((x, y) => y[0] - x[0] || x[1] - y[1] || x[2] - y[2]);
+    // The farthest first; on a fit far beyond the goal (many far samples) no more than these a round.
+    far.length = Math.min(far.length, MAX_TRIES);
+    const used = new Uint8Array(vertexCount);
+    let movedThisRound = 0;
+    for (const [d, side, i] of far) {
+      let corners, weights, gap;
+      if (side === 0) {
+        const t = fromInput.triangles[i], q = fromInput.points.subarray(3 * i, 3 * i + 3);
+        corners = [index[3 * t], index[3 * t + 1], index[3 * t + 2]];
+        weights = weightsOn(positions, corners[0], corners[1], corners[2], q[0], q[1], q[2]);
+        gap = [0, 1, 2].map((k) => inputSamples[3 * i + k] - q[k]);
+      } else {
+        const n = vertexCount;
+        if (i < n) corners = [i], weights = [1];
+        else {
+          const f = Math.floor((i - n) / 4);
+          corners = [faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]], weights = BARY[(i - n) % 4];
+        }
+        gap = [0, 1, 2].map((k) => toInput.points[3 * i + k] - resultSamples[3 * i + k]);
+      }
+      const movable = corners.map((v) => !fixed[v]);
+      const norm = weights.reduce((s, w, j) => s + (movable[j] ? w * w : 0), 0);
+      if (!(norm > 0) || corners.some((v) => used[v])) continue;
+      // The triangles around the moved corners, and their corners (used by this move).
+      const faceSet = new Set();
+      for (const v of corners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) faceSet.add(around.list[e]);
+      const patch = [...faceSet].sort((a, b) => a - b);
+      const patchCorners = new Set();
+      for (const f of patch) for (let j = 0; j < 3; j++) patchCorners.add(faces[3 * f + j]);
+      // A sample the patch leaves may be closest to a triangle next to it: those are asked too.
+      const aroundSet = new Set(patch);
+      for (const v of patchCorners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) aroundSet.add(around.list[e]);
+      const checked = [...aroundSet].sort((a, b) => a - b);
+      const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, 0, twins));
+      const ownBefore = patch.map((f) => patchDistance(surface, positions, faces, f));
+      // Input samples the move could uncover: those near the patch (their distance before, this round's).
+      const centre = [0, 0, 0];
+      let radius = 0;
+      for (const v of patchCorners) for (let k = 0; k < 3; k++) centre[k] += positions[3 * v + k] / patchCorners.size;
+      for (const v of patchCorners) radius = Math.max(radius, Math.hypot(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
+      const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
+      // The whole way to `aim`, half of it, or (from beyond the goal) just within it.
+      const share = (d - target) / d / norm;
+      let done = false;
+      for (const part of d > limit ? [1, 0.5, Math.min(0.5, (d - 0.98 * limit) / (d - target))] : [1, 0.5]) {
+        corners.forEach((v, j) => {
+          if (!movable[j]) return;
+          for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + part * share * weights[j] * gap[k];
+        });
+        const reach = radius + part * share * Math.hypot(...gap) + farthestFrom;
+        const good = flippedFaces({ positions, faces }, surface, patch, 0, twins).every((f) => flippedBefore.has(f)) &&
+          patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
+          nearSamplesKept(inputSamples, grid, fromInput, index, checked, new Set(corners), positions, faces, centre, reach, allowed + slack);
+        if (good) {
+          done = true;
+          break;
+        }
+        corners.forEach((v, j) => positions.set(saved[j], 3 * v));
+      }
+      if (!done) continue;
+      for (const v of patchCorners) used[v] = 1;
+      movedThisRound++;
+    }
+    kept += movedThisRound;
+    if (movedThisRound === 0) break;
+  }
+  return kept;
+}
+
+/** Largest distance from the measure's samples of face f (corners and four inner points) to the surface. */
+function patchDistance(surface, p, faces, f) {
+  const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2];
+  const points = new Float64Array(21);
+  for (let k = 0; k < 3; k++) points[k] = p[a + k], points[3 + k] = p[b + k], points[6 + k] = p[c + k];
+  for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
+  return surface.closestMany(points).distances.reduce((m, x) => Math.max(m, x), 0);
+}
+
+/**
+ * Whether every input sample within `reach` of `centre` is, after a move of the patch, within
+ * max(its distance before, `allowed`) of the result: its closest triangle before has no `moved`
+ * corner (unchanged, so no farther), or one of the triangles `near` (the moved ones and a ring
+ * around them) is that close.
+ */
+function nearSamplesKept(samples, grid, before, index, near, moved, p, faces, centre, reach, allowed) {
+  const inPatch = (t) => moved.has(index[3 * t]) || moved.has(index[3 * t + 1]) || moved.has(index[3 * t + 2]);
+  for (const i of grid.within(centre, reach)) {
+    const x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
+    if (!inPatch(before.triangles[i])) continue;
+    const limit = Math.max(before.distances[i], allowed);
+    if (!near.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
+  }
+  return true;
+}
+
+/** Points (flat xyz) in cubic cells of side `cell`: `within(centre, reach)` lists those in the box of half-side `reach`. */
+function sampleGrid(points, cell) {
+  const cells = new Map(), key = (a, b, c) => `${a},${b},${c}`;
+  for (let i = 0; i < points.length / 3; i++) {
+    const k = key(Math.floor(points[3 * i] / cell), Math.floor(points[3 * i + 1] / cell), Math.floor(points[3 * i + 2] / cell));
+    let list = cells.get(k);
+    if (!list) cells.set(k, (list = []));
+    list.push(i);
+  }
+  return {
+    within([x, y, z], reach) {
+      const out = [];
+      for (let a = Math.floor((x - reach) / cell); a <= Math.floor((x + reach) / cell); a++)
+        for (let b = Math.floor((y - reach) / cell); b <= Math.floor((y + reach) / cell); b++)
+          for (let c = Math.floor((z - reach) / cell); c <= Math.floor((z + reach) / cell); c++)
+            for (const i of cells.get(key(a, b, c)) ?? [])
+              if (Math.abs(points[3 * i] - x) <= reach && Math.abs(points[3 * i + 1] - y) <= reach && Math.abs(points[3 * i + 2] - z) <= reach) out.push(i);
+      return out;
+    },
+  };
+}
+
+/** Distance from (x, y, z) to triangle (a, b, c) of p (three's closest point on a triangle). */
+const triangle = new Triangle(), point = new Vector3(), closest = new Vector3();
+function pointTriangleDistance(x, y, z, p, a, b, c) {
+  triangle.a.fromArray(p, 3 * a), triangle.b.fromArray(p, 3 * b), triangle.c.fromArray(p, 3 * c);
+  return triangle.closestPointToPoint(point.set(x, y, z), closest).distanceTo(point);
+}
