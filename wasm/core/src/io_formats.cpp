@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstring>
 #include <numeric>
+#include <utility>
 
 #include "io_common.h"
 #include "mrvol/error.h"
@@ -212,21 +213,32 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
     std::memcpy(&u, &x, 8);
     return (u >> 63) ? ~u : u | (uint64_t(1) << 63);
   };
-  std::vector<uint64_t> key(n);
+  // The keys travel with the indices (sequential reads, no gather per pass); a 16-bit digit that
+  // is the same for every key (common in the high bits) costs no pass.
+  std::vector<uint64_t> key(n), keyScratch(n);
   for (size_t v = 0; v < n; ++v) key[v] = keyOf(p[3 * v]);
   std::vector<uint32_t> order(n), scratch(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::vector<uint32_t> counts(65537);
-  for (int shift = 0; shift < 64; shift += 16) {
-    std::fill(counts.begin(), counts.end(), 0u);
-    for (size_t v = 0; v < n; ++v) ++counts[((key[v] >> shift) & 0xffff) + 1];
-    for (size_t d = 1; d < counts.size(); ++d) counts[d] += counts[d - 1];
-    for (uint32_t v : order) scratch[counts[(key[v] >> shift) & 0xffff]++] = v;
+  std::vector<uint32_t> counts(4 * 65536, 0u);
+  for (size_t v = 0; v < n; ++v)
+    for (int d = 0; d < 4; ++d) ++counts[d * 65536 + ((key[v] >> (16 * d)) & 0xffff)];
+  for (int d = 0; d < 4; ++d) {
+    uint32_t* c = counts.data() + d * 65536;
+    const int shift = 16 * d;
+    if (n == 0 || c[(key[0] >> shift) & 0xffff] == n) continue;
+    uint32_t sum = 0;
+    for (size_t i = 0; i < 65536; ++i) sum += std::exchange(c[i], sum);
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t at = c[(key[i] >> shift) & 0xffff]++;
+      keyScratch[at] = key[i];
+      scratch[at] = order[i];
+    }
     order.swap(scratch);
+    key.swap(keyScratch);
   }
   for (size_t i = 0; i < n;) {
     size_t j = i + 1;
-    while (j < n && key[order[j]] == key[order[i]]) ++j;
+    while (j < n && key[j] == key[i]) ++j;
     if (j - i > 1)
       std::sort(order.begin() + i, order.begin() + j, [&](uint32_t a, uint32_t b) {
         if (p[3 * a + 1] != p[3 * b + 1]) return p[3 * a + 1] < p[3 * b + 1];
@@ -235,14 +247,16 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
       });
     i = j;
   }
-  key = {};
   scratch = {};
+  keyScratch = {};
+  // Equal keys mean equal x (-0 and +0 share a key and compare equal).
   std::vector<uint32_t> representative(n);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t v = order[i], u = i > 0 ? order[i - 1] : 0;
-    const bool same = i > 0 && p[3 * v] == p[3 * u] && p[3 * v + 1] == p[3 * u + 1] && p[3 * v + 2] == p[3 * u + 2];
+    const bool same = i > 0 && key[i] == key[i - 1] && p[3 * v + 1] == p[3 * u + 1] && p[3 * v + 2] == p[3 * u + 2];
     representative[v] = same ? representative[u] : v;
   }
+  key = {};
   order = {};
   // Output numbering in the order of first occurrence.
   std::vector<uint32_t> output(n);

@@ -200,13 +200,78 @@ struct Builder {
   }
 };
 
+// Fast path for a vertex element of scalars only with float or double x, y, z: fixed stride,
+// coordinates at fixed offsets. Returns the items read (all, or none when the element does not fit
+// this shape or the file is too short, then the general loop reads it and names the problem).
+template <class T>
+uint64_t readFixedVertices(std::string_view b, const Element& e, size_t pos, bool big, TriangleMesh& m) {
+  size_t stride = 0, offset[3] = {0, 0, 0};
+  for (size_t pi = 0; pi < e.properties.size(); ++pi) {
+    const Property& p = e.properties[pi];
+    if (p.list) return 0;
+    for (int k = 0; k < 3; ++k)
+      if (int(pi) == (k == 0 ? e.x : k == 1 ? e.y : e.z)) {
+        if (sizeOf(p.type) != sizeof(T) || isInteger(p.type)) return 0;
+        offset[k] = stride;
+      }
+    stride += sizeOf(p.type);
+  }
+  if (stride == 0 || e.count > (b.size() - pos) / stride) return 0;
+  const size_t first = m.positions.size();
+  m.positions.resize(first + 3 * e.count);
+  double* out = m.positions.data() + first;
+  const char* item = b.data() + pos;
+  for (uint64_t v = 0; v < e.count; ++v, item += stride)
+    for (int k = 0; k < 3; ++k) {
+      const double x = io::load<T>(item + offset[k], big);
+      if (!io::coordinateOk(x))
+        throw Error("binary PLY: vertex " + count(v) + ": coordinate " + "xyz"[k] + " " + io::coordinateProblem(x));
+      out[3 * v + k] = x;
+    }
+  return e.count;
+}
+
+// Fast path for a face element whose only property is a 1-byte-counted list of 4-byte integer
+// indices: triangles are read straight from the bytes. Stops at the first item that is not a
+// triangle or not plainly valid (the general loop takes over there); returns the items read.
+uint64_t readTriangleFaces(std::string_view b, const Element& e, size_t& pos, bool big, Builder& build) {
+  if (e.properties.size() != 1) return 0;
+  const Property& p = e.properties[0];
+  if (!p.list || sizeOf(p.countType) != 1 || (p.type != Type::Int32 && p.type != Type::UInt32)) return 0;
+  const bool isSigned = p.type == Type::Int32;
+  std::vector<uint32_t>& faces = build.out.mesh.faces;
+  faces.reserve(faces.size() + 3 * e.count);
+  build.faceOf.reserve(build.faceOf.size() + e.count);
+  uint64_t item = 0;
+  for (; item < e.count && b.size() - pos >= 13 && uint8_t(b[pos]) == 3; ++item, pos += 13) {
+    uint32_t index[3];
+    for (int k = 0; k < 3; ++k) index[k] = io::load<uint32_t>(b.data() + pos + 1 + 4 * k, big);
+    bool valid = true;
+    for (int k = 0; k < 3; ++k) valid &= (isSigned ? int32_t(index[k]) >= 0 : true) && index[k] <= 0xfffffff0u;
+    if (!valid) break;
+    faces.insert(faces.end(), index, index + 3);
+    build.faceOf.push_back(uint32_t(build.out.sourceFaces));
+    ++build.out.sourceFaces;
+  }
+  return item;
+}
+
 void readBinaryData(std::string_view b, const Header& h, Builder& build) {
   const bool big = h.encoding == Encoding::Big;
   size_t pos = h.dataStart;
   TriangleMesh& m = build.out.mesh;
   for (const Element& e : h.elements) {
     const bool vertex = e.isVertex(), face = e.isFace() && e.indices >= 0;
-    for (uint64_t item = 0; item < e.count; ++item) {
+    uint64_t item = 0;
+    if (vertex && e.x >= 0 && e.y >= 0 && e.z >= 0) {
+      const Type t = e.properties[e.x].type;
+      item = t == Type::Float32 ? readFixedVertices<float>(b, e, pos, big, m)
+           : t == Type::Float64 ? readFixedVertices<double>(b, e, pos, big, m) : 0;
+      if (item > 0) pos += size_t(item) * e.minBinaryBytes();
+    } else if (face) {
+      item = readTriangleFaces(b, e, pos, big, build);
+    }
+    for (; item < e.count; ++item) {
       auto where = [&] { return "binary PLY: " + e.name + " " + count(item) + " (byte " + count(pos) + "): "; };
       if (face) build.polygon.clear();
       double xyz[3] = {0, 0, 0};
