@@ -4,8 +4,10 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <memory>
 #include <new>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -27,16 +29,26 @@ val guardedIo(F&& f) { return ioErrors.guarded(std::forward<F>(f)); }
 
 val takeIoError() { return ioErrors.take(); }
 
-// One copy from the JS Uint8Array into the heap: TypedArray.prototype.set onto a view of the string.
-std::string bytesOf(const val& array, const char* what) {
+// File bytes in the heap, left uninitialised until the one copy from JS fills them (a std::string
+// would first zero them: a pass over the whole file for nothing).
+struct HeapBytes {
+  std::unique_ptr<char[]> data;
+  size_t size = 0;
+  operator std::string_view() const { return {data.get(), size}; }
+};
+
+// One copy from the JS Uint8Array into the heap: TypedArray.prototype.set onto a view of it.
+HeapBytes bytesOf(const val& array, const char* what) {
   if (array.isUndefined() || array.isNull()) throw Error(std::string(what) + " is missing");
-  std::string out(array["length"].as<size_t>(), '\0');
-  val(emscripten::typed_memory_view(out.size(), reinterpret_cast<uint8_t*>(out.data()))).call<void>("set", array);
+  HeapBytes out;
+  out.size = array["length"].as<size_t>();
+  out.data.reset(new char[out.size]);
+  val(emscripten::typed_memory_view(out.size, reinterpret_cast<uint8_t*>(out.data.get()))).call<void>("set", array);
   return out;
 }
 
 // [[uri, Uint8Array], ...] (or undefined): the bytes copied into `storage`, viewed by the result.
-GltfResources resourcesOf(const val& resources, std::vector<std::string>& storage) {
+GltfResources resourcesOf(const val& resources, std::vector<HeapBytes>& storage) {
   GltfResources out;
   if (resources.isUndefined() || resources.isNull()) return out;
   const size_t n = resources["length"].as<size_t>();
@@ -50,8 +62,8 @@ GltfResources resourcesOf(const val& resources, std::vector<std::string>& storag
 // [[uri, Uint8Array], ...] for a .gltf's sidecar files.
 val js_readMesh(val bytes, std::string name, std::string format, val resources) {
   return guardedIo([&] {
-    const std::string data = bytesOf(bytes, "file bytes");
-    std::vector<std::string> storage;
+    const HeapBytes data = bytesOf(bytes, "file bytes");
+    std::vector<HeapBytes> storage;
     const GltfResources extra = resourcesOf(resources, storage);
     ImportedMesh m = format.empty() ? readMeshFile(data, name, extra) : readMeshFile(data, parseFormatName(format), extra);
     val out = val::object();
@@ -91,8 +103,8 @@ val js_writeGlb(val positions, val faces) {
 // The GLB of a glTF / GLB source with the edited mesh's positions (same triangles as read).
 val js_writeGlbKeeping(val source, std::string name, std::string format, val resources, val positions, val faces) {
   return guardedIo([&] {
-    const std::string data = bytesOf(source, "source bytes");
-    std::vector<std::string> storage;
+    const HeapBytes data = bytesOf(source, "source bytes");
+    std::vector<HeapBytes> storage;
     const GltfResources extra = resourcesOf(resources, storage);
     TriangleMesh m;
     m.positions = emscripten::convertJSArrayToNumberVector<double>(positions);
