@@ -134,6 +134,60 @@ TEST(ReadFormats, WeldIsExactAndSortBased) {
   EXPECT_EQ(weldExactPositions(z), 1u);
 }
 
+// Expected weld by brute force: the first vertex at each exact position (-0 as +0).
+std::vector<uint32_t> firstAtEachPosition(const std::vector<double>& p) {
+  std::map<std::array<double, 3>, uint32_t> first;
+  std::vector<uint32_t> out;
+  for (size_t v = 0; v < p.size() / 3; ++v)
+    out.push_back(first.emplace(std::array<double, 3>{p[3 * v] + 0.0, p[3 * v + 1] + 0.0, p[3 * v + 2] + 0.0}, uint32_t(v)).first->second);
+  return out;
+}
+
+void expectWeldLikeBruteForce(const std::vector<double>& positions) {
+  TriangleMesh m;
+  m.positions = positions;
+  for (uint32_t v = 0; v + 2 < positions.size() / 3; v += 3) m.faces.insert(m.faces.end(), {v, v + 1, v + 2});
+  const std::vector<uint32_t> expected = firstAtEachPosition(positions);
+  std::vector<uint32_t> first, outputOf;
+  const size_t merged = weldExactPositions(m, &first, &outputOf);
+  std::vector<uint32_t> expectedFirst;
+  for (uint32_t v = 0; v < expected.size(); ++v)
+    if (expected[v] == v) expectedFirst.push_back(v);
+  EXPECT_EQ(first, expectedFirst);
+  EXPECT_EQ(merged, expected.size() - expectedFirst.size());
+  for (size_t v = 0; v < expected.size(); ++v) ASSERT_EQ(first[outputOf[v]], expected[v]) << "vertex " << v;
+}
+
+TEST(ReadFormats, WeldMatchesBruteForceOnDuplicatesInAnyOrder) {
+  std::vector<double> p;
+  uint32_t seed = 7;
+  auto next = [&] { return seed = seed * 1103515245u + 12345u; };
+  for (int i = 0; i < 3000; ++i) p.insert(p.end(), {double(next() % 50), double(next() % 50) * 0.25, double(next() % 3) - 1.0});
+  for (int i = 0; i < 600; ++i) p.insert(p.end(), {-0.0, 0.0, -0.0});
+  expectWeldLikeBruteForce(p);
+}
+
+// Positions made to share one hash (the welder's own mix, inverted): the hashed weld gives up and
+// the sort must give the same answer.
+TEST(ReadFormats, WeldOfPositionsCollidingInTheHashFallsBackToTheSort) {
+  const uint64_t k1 = 0x9E3779B97F4A7C15ull, k3 = 0x165667B19E3779F9ull;
+  uint64_t inverse = k3;
+  for (int i = 0; i < 6; ++i) inverse *= 2 - k3 * inverse;
+  const uint64_t target = 0x3ff0000000000000ull * k3;
+  std::vector<double> p;
+  for (int i = 1; p.size() < 3 * 4000; ++i) {
+    double x = i, z;
+    uint64_t xb, zb;
+    std::memcpy(&xb, &x, 8);
+    zb = (target ^ xb * k1) * inverse;
+    std::memcpy(&z, &zb, 8);
+    if (std::isnan(z) || z == 0) continue;
+    p.insert(p.end(), {x, 0.0, z});
+  }
+  for (size_t v = 0; v < 1000; ++v) p.insert(p.end(), {p[3 * (999 - v)], p[3 * (999 - v) + 1], p[3 * (999 - v) + 2]});
+  expectWeldLikeBruteForce(p);
+}
+
 TEST(ReadFormats, PolygonsAreSplitIntoFans) {
   for (const char* name : {"cube-quads.ply", "cube-quads.off"}) {
     ImportedMesh m = readGood(name);

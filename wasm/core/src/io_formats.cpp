@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #include <utility>
@@ -201,12 +202,13 @@ ImportedMesh readMeshFile(std::string_view bytes, std::string_view name, const G
   return readMeshFile(bytes, detectFormat(bytes, name), resources);
 }
 
-size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource) {
-  const size_t n = mesh.vertexCount();
-  const double* p = mesh.positions.data();
-  // Order the vertices by (x, y, z, index): a stable radix sort on x (its bits made to sort like
-  // the doubles, -0 as +0), then each run of equal x sorted by (y, z, index). Equal positions end
-  // up adjacent, their first source vertex first.
+namespace {
+
+// The first (smallest) vertex at each vertex's exact position, by sorting: the vertices ordered by
+// (x, y, z, index) with a stable radix sort on x (its bits made to sort like the doubles, -0 as
+// +0), then each run of equal x sorted by (y, z, index). Equal positions end up adjacent, their
+// first source vertex first. O(n log n) whatever the positions.
+std::vector<uint32_t> firstAtPositionSorted(const double* p, size_t n) {
   auto keyOf = [](double x) {
     uint64_t u;
     x = x == 0 ? 0.0 : x;
@@ -249,15 +251,70 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
   }
   scratch = {};
   keyScratch = {};
-  // Equal keys mean equal x (-0 and +0 share a key and compare equal).
   std::vector<uint32_t> representative(n);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t v = order[i], u = i > 0 ? order[i - 1] : 0;
-    const bool same = i > 0 && key[i] == key[i - 1] && p[3 * v + 1] == p[3 * u + 1] && p[3 * v + 2] == p[3 * u + 2];
+    const bool same = i > 0 && p[3 * v] == p[3 * u] && p[3 * v + 1] == p[3 * u + 1] && p[3 * v + 2] == p[3 * u + 2];
     representative[v] = same ? representative[u] : v;
   }
   key = {};
   order = {};
+  return representative;
+}
+
+// The same by hashing the positions (linear probing; visiting the vertices in order makes the
+// first one met the smallest). Gives up (returns false) when the probes exceed a few per vertex,
+// as positions made to collide would make it quadratic: the sort then does the work.
+bool firstAtPositionHashed(const double* p, size_t n, std::vector<uint32_t>& representative) {
+  auto bitsOf = [](double x) {
+    uint64_t u;
+    x = x == 0 ? 0.0 : x;  // -0 == +0
+    std::memcpy(&u, &x, 8);
+    return u;
+  };
+  size_t capacity = 16;
+  while (capacity < 2 * n) capacity *= 2;
+  const size_t mask = capacity - 1;
+  constexpr uint32_t kEmpty = 0xffffffffu;
+  std::vector<uint32_t> table(capacity, kEmpty);
+  representative.resize(n);
+  uint64_t probes = 0;
+  const uint64_t maxProbes = 8 * uint64_t(n) + 1024;
+  for (size_t v = 0; v < n; ++v) {
+    const double* q = p + 3 * v;
+    if (std::isnan(q[0]) || std::isnan(q[1]) || std::isnan(q[2])) {
+      representative[v] = uint32_t(v);  // NaN equals nothing
+      continue;
+    }
+    uint64_t h = bitsOf(q[0]) * 0x9E3779B97F4A7C15ull ^ bitsOf(q[1]) * 0xC2B2AE3D27D4EB4Full ^ bitsOf(q[2]) * 0x165667B19E3779F9ull;
+    h ^= h >> 29;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 32;
+    for (size_t slot = h & mask;; slot = (slot + 1) & mask) {
+      if (++probes > maxProbes) return false;
+      const uint32_t u = table[slot];
+      if (u == kEmpty) {
+        table[slot] = uint32_t(v);
+        representative[v] = uint32_t(v);
+        break;
+      }
+      const double* r = p + 3 * u;
+      if (r[0] == q[0] && r[1] == q[1] && r[2] == q[2]) {
+        representative[v] = u;
+        break;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource) {
+  const size_t n = mesh.vertexCount();
+  const double* p = mesh.positions.data();
+  std::vector<uint32_t> representative;
+  if (!firstAtPositionHashed(p, n, representative)) representative = firstAtPositionSorted(p, n);
   // Output numbering in the order of first occurrence.
   std::vector<uint32_t> output(n);
   std::vector<uint32_t> first;

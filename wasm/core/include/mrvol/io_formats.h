@@ -60,7 +60,8 @@ ImportedMesh readGlb(std::string_view bytes, const GltfResources& resources = {}
 ImportedMesh readMeshFile(std::string_view bytes, std::string_view name, const GltfResources& resources = {});
 ImportedMesh readMeshFile(std::string_view bytes, MeshFormat format, const GltfResources& resources = {});
 
-// Merges vertices at exactly the same position (sort-based) and renumbers the faces. Output
+// Merges vertices at exactly the same position (hashed; sorted when positions collide in the
+// hash) and renumbers the faces. Output
 // vertices keep the order of their first source vertex; `firstSource` (optional) receives it,
 // `outputOfSource` (optional) the output vertex of every source vertex.
 // Returns the number of vertices merged away.
