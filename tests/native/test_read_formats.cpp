@@ -117,7 +117,7 @@ TEST(ReadFormats, StlTrianglesAreWeldedAndRecordTheirFirstCorner) {
   EXPECT_EQ(m.sourceVertex[0], 0u);
 }
 
-TEST(ReadFormats, WeldIsExactAndSortBased) {
+TEST(ReadFormats, WeldIsExactWithMinusZeroAsZero) {
   TriangleMesh m;
   // Two triangles sharing an edge, with the shared vertices repeated; one near-duplicate stays apart.
   m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, /**/ 1, 0, 0, 1, 1, 0, 0, 1, 0, /**/ 1e-300, 0, 0};
