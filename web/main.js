@@ -585,8 +585,8 @@ async function shareLink() {
   const { session } = app;
   if (!session.editor) return;
   const field = document.getElementById('share-url');
+  field.value = ''; // never show (or copy) the last link while this one is made
   if (app.model.kind !== 'sample') {
-    field.value = '';
     notice('A share link can carry a sample model\'s edits only; save a project file to pass on an opened file.');
     return;
   }
