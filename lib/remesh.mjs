@@ -1435,13 +1435,19 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     emphasisRounds(first);
   }
 
+  // Each result vertex's constraint kind (0 free, 1 on a crease line, 2 held), the pieces' end to end.
+  function heldVertices(chosen) {
+    const kinds = new Uint8Array(chosen.mesh.positions.length / 3);
+    let offset = 0;
+    for (const part of chosen.parts) kinds.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
+    return kinds;
+  }
+
   // Tips still missed: the chosen result dragged onto them (dragToTips), kept if closer and not
   // more folded (checked against the whole input: pieces apart are never closer than that).
   if (distance(measured) > goal && options.dragTips !== false) {
     progress(0.92, 'reaching tips');
-    const fixed = new Uint8Array(result.mesh.positions.length / 3);
-    let offset = 0;
-    for (const part of result.parts) fixed.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
+    const fixed = heldVertices(result);
     const dragged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
     options.debug?.('chosen', { mesh: result.mesh, measured });
     dragToTips(surface, dragged.positions, dragged.faces, fixed, { threshold: goal / 2, tolerance: 0.9 * goal });
@@ -1455,9 +1461,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   // their triangle's corners off the input where need be (lib/remesh-nudge.mjs); kept if closer and not more folded.
   if (distance(measured) > goal && options.nudge !== false) {
     progress(0.94, 'nudging the farthest samples');
-    const fixed = new Uint8Array(result.mesh.positions.length / 3);
-    let offset = 0;
-    for (const part of result.parts) fixed.set(part.constraints.kind, offset), offset += part.mesh.positions.length / 3;
+    const fixed = heldVertices(result);
     const nudged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
     const held = { kind: fixed };
     if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal }) > 0 &&
