@@ -72,27 +72,28 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1] || x[2] - y[2]);
     // The farthest first; on a fit far beyond the goal (many far samples) no more than these a round.
     far.length = Math.min(far.length, MAX_TRIES);
-    const used = new Uint8Array(vertexCount);
-    let movedThisRound = 0;
-    for (const [d, side, i] of far) {
-      let corners, weights, gap;
+    // Each far sample's move: the corners of its triangle, their weights at the sample, the gap.
+    const moves = far.map(([, side, i]) => {
       if (side === 0) {
         const t = fromInput.triangles[i], q = fromInput.points.subarray(3 * i, 3 * i + 3);
-        corners = [index[3 * t], index[3 * t + 1], index[3 * t + 2]];
-        weights = weightsOn(positions, corners[0], corners[1], corners[2], q[0], q[1], q[2]);
-        gap = [0, 1, 2].map((k) => inputSamples[3 * i + k] - q[k]);
-      } else {
-        const n = vertexCount;
-        if (i < n) corners = [i], weights = [1];
-        else {
-          const f = Math.floor((i - n) / 4);
-          corners = [faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]], weights = BARY[(i - n) % 4];
-        }
-        gap = [0, 1, 2].map((k) => toInput.points[3 * i + k] - resultSamples[3 * i + k]);
+        const corners = [index[3 * t], index[3 * t + 1], index[3 * t + 2]];
+        return { corners, weights: weightsOn(positions, corners[0], corners[1], corners[2], q[0], q[1], q[2]),
+                 gap: [0, 1, 2].map((k) => inputSamples[3 * i + k] - q[k]) };
       }
-      const movable = corners.map((v) => !fixed[v]);
-      const norm = weights.reduce((s, w, j) => s + (movable[j] ? w * w : 0), 0);
-      if (!(norm > 0) || corners.some((v) => used[v])) continue;
+      const n = vertexCount, gap = [0, 1, 2].map((k) => toInput.points[3 * i + k] - resultSamples[3 * i + k]);
+      if (i < n) return { corners: [i], weights: [1], gap };
+      const f = Math.floor((i - n) / 4);
+      return { corners: [faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]], weights: BARY[(i - n) % 4], gap };
+    });
+    // The far samples whose move moves a vertex (for the joint moves below).
+    const farAt = new Map();
+    moves.forEach(({ corners }, e) => {
+      for (const v of corners) farAt.has(v) ? farAt.get(v).push(e) : farAt.set(v, [e]);
+    });
+    const used = new Uint8Array(vertexCount);
+    // Tries the corners' moves (`step(part)`: per corner its displacement) at each part; keeps the
+    // first that passes the checks. Returns the corners of the triangles moved, or null.
+    const tryMove = (corners, step, parts) => {
       // The triangles around the moved corners, and their corners (used by this move).
       const faceSet = new Set();
       for (const v of corners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) faceSet.add(around.list[e]);
@@ -111,32 +112,103 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       for (const v of patchCorners) for (let k = 0; k < 3; k++) centre[k] += positions[3 * v + k] / patchCorners.size;
       for (const v of patchCorners) radius = Math.max(radius, Math.hypot(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
       const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
-      // The whole way to `aim`, half of it, or (from beyond the goal) just within it.
-      const share = (d - target) / d / norm;
-      let done = false;
-      for (const part of d > limit ? [1, 0.5, Math.min(0.5, (d - 0.98 * limit) / (d - target))] : [1, 0.5]) {
+      const movedSet = new Set(corners);
+      for (const part of parts) {
+        const displacements = step(part);
+        let farthestStep = 0;
         corners.forEach((v, j) => {
-          if (!movable[j]) return;
-          for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + part * share * weights[j] * gap[k];
+          const dv = displacements[j];
+          for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + dv[k];
+          farthestStep = Math.max(farthestStep, Math.hypot(dv[0], dv[1], dv[2]));
         });
-        const reach = radius + part * share * Math.hypot(...gap) + farthestFrom;
+        const reach = radius + farthestStep + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, 0, twins).every((f) => flippedBefore.has(f)) &&
           patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
-          nearSamplesKept(inputSamples, grid, fromInput, index, checked, new Set(corners), positions, faces, centre, reach, allowed + slack);
-        if (good) {
-          done = true;
-          break;
-        }
+          nearSamplesKept(inputSamples, grid, fromInput, index, checked, movedSet, positions, faces, centre, reach, allowed + slack);
+        if (good) return patchCorners;
         corners.forEach((v, j) => positions.set(saved[j], 3 * v));
       }
-      if (!done) continue;
-      for (const v of patchCorners) used[v] = 1;
+      return null;
+    };
+    let movedThisRound = 0;
+    for (const [e, [d]] of far.entries()) {
+      const { corners, weights, gap } = moves[e];
+      const movable = corners.map((v) => !fixed[v]);
+      const norm = weights.reduce((s, w, j) => s + (movable[j] ? w * w : 0), 0);
+      if (!(norm > 0) || corners.some((v) => used[v])) continue;
+      // The whole way to `aim`, half of it, or (from beyond the goal) just within it.
+      const share = (d - target) / d / norm;
+      const parts = d > limit ? [1, 0.5, Math.min(0.5, (d - 0.98 * limit) / (d - target))] : [1, 0.5];
+      let moved = tryMove(corners, (part) => corners.map((v, j) => gap.map((g) => (movable[j] ? part * share * weights[j] * g : 0))), parts);
+      // Refused (a far sample next to it got farther: two sides of a rim the result cuts): the
+      // samples whose moves share a corner with it, moved together (the least moves that bring each to `aim`).
+      if (!moved) {
+        const joint = jointMove(e, far, moves, farAt, fixed, used, target);
+        if (joint) moved = tryMove(joint.corners, (part) => joint.displacements.map((dv) => dv.map((x) => part * x)), [1, 0.5]);
+      }
+      if (!moved) continue;
+      for (const v of moved) used[v] = 1;
       movedThisRound++;
     }
     kept += movedThisRound;
     if (movedThisRound === 0) break;
   }
   return kept;
+}
+
+// Far samples moved together with one whose own move was refused, at most.
+const JOINT_SAMPLES = 4;
+
+/**
+ * The joint move of far sample `e` and the farthest others (up to JOINT_SAMPLES in all) whose moves
+ * share a corner with it: the least displacement of their corners (not `fixed`, not `used`) that
+ * brings each sample to `target` along its gap, to first order (minimum norm solution of one
+ * equation per sample). null if no other sample shares a corner or the equations are degenerate.
+ */
+function jointMove(e, far, moves, farAt, fixed, used, target) {
+  const chosen = [e];
+  const candidates = new Set();
+  for (const v of moves[e].corners) for (const o of farAt.get(v) ?? []) if (o !== e) candidates.add(o);
+  for (const o of [...candidates].sort((a, b) => a - b)) {
+    if (chosen.length >= JOINT_SAMPLES) break;
+    if (!moves[o].corners.some((v) => used[v])) chosen.push(o);
+  }
+  if (chosen.length < 2) return null;
+  const corners = [...new Set(chosen.flatMap((o) => moves[o].corners))].filter((v) => !fixed[v]);
+  const column = new Map(corners.map((v, j) => [v, j]));
+  // One row per sample: the first-order change of its distance per corner displacement.
+  const rows = chosen.map((o) => {
+    const { corners: cs, weights, gap } = moves[o], d = far[o][0], row = new Float64Array(3 * corners.length);
+    for (const [j, v] of cs.entries()) {
+      if (!column.has(v)) continue;
+      for (let k = 0; k < 3; k++) row[3 * column.get(v) + k] = (weights[j] * gap[k]) / d;
+    }
+    return { row, need: d - target };
+  });
+  // (A A^T) lambda = need, displacement = A^T lambda; Gaussian elimination with partial pivoting.
+  const n = rows.length, g = rows.map((a) => rows.map((b) => a.row.reduce((s, x, i) => s + x * b.row[i], 0)));
+  const rhs = rows.map((r) => r.need), scale = Math.max(...g.map((r, i) => r[i]));
+  if (!(scale > 0)) return null;
+  for (let c = 0; c < n; c++) {
+    let pivot = c;
+    for (let r = c + 1; r < n; r++) if (Math.abs(g[r][c]) > Math.abs(g[pivot][c])) pivot = r;
+    if (Math.abs(g[pivot][c]) < 1e-9 * scale) return null;
+    [g[c], g[pivot]] = [g[pivot], g[c]];
+    [rhs[c], rhs[pivot]] = [rhs[pivot], rhs[c]];
+    for (let r = c + 1; r < n; r++) {
+      const f = g[r][c] / g[c][c];
+      for (let k = c; k < n; k++) g[r][k] -= f * g[c][k];
+      rhs[r] -= f * rhs[c];
+    }
+  }
+  const lambda = new Float64Array(n);
+  for (let c = n - 1; c >= 0; c--) {
+    let s = rhs[c];
+    for (let k = c + 1; k < n; k++) s -= g[c][k] * lambda[k];
+    lambda[c] = s / g[c][c];
+  }
+  const displacements = corners.map((v, j) => [0, 1, 2].map((k) => rows.reduce((s, r, q) => s + r.row[3 * j + k] * lambda[q], 0)));
+  return { corners, displacements };
 }
 
 /** Largest distance from the measure's samples of face f (corners and four inner points) to the surface. */

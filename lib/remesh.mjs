@@ -1462,6 +1462,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   if (distance(measured) > goal && options.nudge !== false) {
     progress(0.94, 'nudging the farthest samples');
     const fixed = heldVertices(result);
+    options.debug?.('nudging', { mesh: result.mesh, fixed, measured });
     const nudged = { positions: result.mesh.positions.slice(), faces: result.mesh.faces };
     const held = { kind: fixed };
     if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal }) > 0 &&
