@@ -44,10 +44,13 @@ function weightsOn(p, a, b, c, qx, qy, qz) {
  * share that brings the sample to `aim` (all of it, half of it, or just within the goal). A move is
  * kept if it turns no triangle around it over, leaves every sample of those triangles within
  * max(its distance before, `tolerance`) of the input, and every input sample near it within
- * max(its distance before, `tolerance`) of the result. Vertices with `fixed` set stay. Moves of
- * one round do not share a triangle; `rounds` rounds. Returns how many moves were kept.
+ * max(its distance before, `tolerance`) of the result ("turned over": flippedFaces with `against`,
+ * the cosine to the input's normal below which a triangle counts as flipped). A move refused is
+ * tried again together with the far samples that share a corner with it (jointMove). Vertices with
+ * `fixed` set stay. Moves of one round do not share a triangle; `rounds` rounds. Returns how many
+ * moves were kept.
  */
-export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 3 }) {
+export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 3, against = 0 }) {
   const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
@@ -104,7 +107,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       const aroundSet = new Set(patch);
       for (const v of patchCorners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) aroundSet.add(around.list[e]);
       const checked = [...aroundSet].sort((a, b) => a - b);
-      const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, 0, twins));
+      const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, against, twins));
       const ownBefore = patch.map((f) => patchDistance(surface, positions, faces, f));
       // Input samples the move could uncover: those near the patch (their distance before, this round's).
       const centre = [0, 0, 0];
@@ -122,7 +125,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
           farthestStep = Math.max(farthestStep, Math.hypot(dv[0], dv[1], dv[2]));
         });
         const reach = radius + farthestStep + farthestFrom;
-        const good = flippedFaces({ positions, faces }, surface, patch, 0, twins).every((f) => flippedBefore.has(f)) &&
+        const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&
           patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
           nearSamplesKept(inputSamples, grid, fromInput, index, checked, movedSet, positions, faces, centre, reach, allowed + slack);
         if (good) return patchCorners;
