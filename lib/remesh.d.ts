@@ -57,22 +57,26 @@ export interface RemeshOptions {
   /**
    * A fit still above `hausdorffGoal` after the other rounds is tried again on bases of the same size
    * simplified with their faces weighted toward the regions the first fit left far; the closest fit is
-   * kept (default true).
+   * kept (default true). A fit within 1.25 times the goal is first dragged and nudged (dragTips,
+   * nudge): the rounds run only if that leaves it above the goal.
    */
   emphasis?: boolean;
   /**
    * A result still above `hausdorffGoal` after the drag gets its farthest sample points (input points
    * far from it, its points far from the input) brought to 90% of the goal by moving the corners of
    * their triangle, off the input if need be (no farther from it than 95% of the goal); each move kept
-   * only if nothing flips and no nearby sample gets farther; the result kept if closer (default true).
+   * only if nothing flips (no triangle turned past a cosine of -0.1 to the input's normal) and no nearby
+   * sample gets farther; a move refused is tried again together with the far samples sharing its
+   * corners (the least joint move); the result kept if closer (default true).
    */
   nudge?: boolean;
   /**
    * Diagnostics (bench/remesh-diagnose.mjs): called with 'fitted' (a piece's fit before untangling:
    * { piece, levels, base, mesh, flipped }), 'untangled' ({ piece, levels, mesh, flippedTriangles }) and
-   * 'chosen' (the result before the drag: { mesh, measured }). The meshes may be changed later: copy them.
+   * 'chosen' (the result before the drag: { mesh, measured }), 'nudging' (the result before the nudge:
+   * { mesh, fixed, measured }). The meshes may be changed later: copy them.
    */
-  debug?: (event: 'fitted' | 'untangled' | 'chosen', data: object) => void;
+  debug?: (event: 'fitted' | 'untangled' | 'chosen' | 'nudging', data: object) => void;
   /** Called between stages with the rough fraction done (0..1) and the stage's name. */
   onProgress?: (fraction: number, stage: string) => void;
 }

@@ -43,6 +43,22 @@ describe('corpus: read, repair, remesh, edit', () => {
     for (const ext of ['obj', 'stl', 'ply', 'off', 'glb']) assert.ok(CORPUS.some((c) => c.file.endsWith(`.${ext}`)), ext);
   });
 
+  test('teapot: a fit near the goal is dragged and nudged within it before any emphasis round, no fallback', async () => {
+    const model = CORPUS.find((c) => c.name === 'teapot');
+    const read = mrvol.readMesh(readFileSync(model.file), { name: model.file });
+    const input = { positions: read.positions, faces: read.faces };
+    const plain = await remesh(mrvol, input, { repair: true, emphasis: false, parametrise: false });
+    const r = await remesh(mrvol, input, { repair: true });
+    assert.ok(r.hausdorff <= 0.005, `hausdorff ${r.hausdorff}`);
+    assert.equal(r.flippedTriangles, 0);
+    assert.equal(r.parametrisedFallback, null);
+    // The closest fit was above the goal, within 1.25x of it: no emphasis round ran (the same fits as without them).
+    const closest = Math.min(...r.fits.map((f) => f.hausdorff));
+    assert.ok(closest > 0.005 && closest <= 0.00625, `closest fit ${closest}`);
+    assert.deepEqual(r.fits, plain.fits);
+    assert.ok(r.baseVertices <= 500, `a cage of ${r.baseVertices} handles`);
+  });
+
   for (const model of MODELS) {
     test(`${model.name} (${model.kind}, ${model.format})`, async () => {
       const read = mrvol.readMesh(readFileSync(model.file), { name: model.file });

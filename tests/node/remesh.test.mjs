@@ -162,6 +162,18 @@ describe('remesh (API)', () => {
     assert.ok(r.baseVertices <= 1.02 * plain.baseVertices, `cage ${r.baseVertices} / ${plain.baseVertices}`);
   });
 
+  test('the decimated dragon with the defaults: the nudge (joint moves, the side of a fold let through) brings it within 0.5%, no fallback', async () => {
+    const without = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, nudge: false });
+    assert.ok(without.hausdorff > 0.005, `without the nudge ${without.hausdorff}`);
+    const r = await remesh(mrvol, dragonMesh(), { repair: true });
+    assert.ok(r.hausdorff <= 0.005, `with the nudge ${r.hausdorff}`);
+    assert.equal(r.flippedTriangles, 0);
+    // Within the goal: the parametrised fit is not tried; the nudge moved vertices only.
+    assert.equal(r.parametrisedFallback, null);
+    assert.equal(r.fit, 'simplified');
+    assert.deepEqual(r.mesh.faces, without.mesh.faces);
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
