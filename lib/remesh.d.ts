@@ -57,8 +57,9 @@ export interface RemeshOptions {
   /**
    * A fit still above `hausdorffGoal` after the other rounds is tried again on bases of the same size
    * simplified with their faces weighted toward the regions the first fit left far; the closest fit is
-   * kept (default true). A fit within 1.25 times the goal is first dragged and nudged (dragTips,
-   * nudge): the rounds run only if that leaves it above the goal.
+   * kept (default true). A closest fit within 1.5 times the goal is first dragged and nudged
+   * (dragTips, nudge), before the rounds and before each further round: they run only if that leaves
+   * it above the goal.
    */
   emphasis?: boolean;
   /**

@@ -52,9 +52,9 @@ describe('corpus: read, repair, remesh, edit', () => {
     assert.ok(r.hausdorff <= 0.005, `hausdorff ${r.hausdorff}`);
     assert.equal(r.flippedTriangles, 0);
     assert.equal(r.parametrisedFallback, null);
-    // The closest fit was above the goal, within 1.25x of it: no emphasis round ran (the same fits as without them).
+    // The closest fit was above the goal, within 1.5x of it: no emphasis round ran (the same fits as without them).
     const closest = Math.min(...r.fits.map((f) => f.hausdorff));
-    assert.ok(closest > 0.005 && closest <= 0.00625, `closest fit ${closest}`);
+    assert.ok(closest > 0.005 && closest <= 0.0075, `closest fit ${closest}`);
     assert.deepEqual(r.fits, plain.fits);
     assert.ok(r.baseVertices <= 500, `a cage of ${r.baseVertices} handles`);
   });
