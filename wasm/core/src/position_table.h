@@ -11,7 +11,7 @@ namespace mrvol::io {
 // few triangles earlier: a small direct-mapped cache of recent keys (64 KB) answers those without
 // visiting the large table. The large table (open addressing, linear probing) holds 8-byte slots,
 // the key's number beside 32 bits of its hash, so that a probe reads the key itself only when the
-// hash bits agree; it doubles when half full.
+// hash bits agree; it doubles when three quarters full.
 class FloatPositionTable {
  public:
   // Sized for `expected` positions (more are fine: it grows).
@@ -48,6 +48,11 @@ class FloatPositionTable {
   }
 
   size_t size() const { return keys_.size(); }
+  // The key's 64-bit mix: its high bits choose the home slot, its low bits the cache entry.
+  static uint64_t hash(const uint32_t (&key)[3]) {
+    uint64_t h = ((uint64_t(key[0]) << 32) | key[1]) * 0x9E3779B97F4A7C15ull;
+    return (h ^ (h >> 29) ^ uint64_t(key[2]) * 0xC2B2AE3D27D4EB4Full) * 0xBF58476D1CE4E5B9ull;
+  }
   // Slots of the large table visited so far: about one per lookup that the cache did not answer,
   // unless keys were made to collide.
   uint64_t probes() const { return probes_; }
@@ -66,10 +71,6 @@ class FloatPositionTable {
 
   static bool same(const uint32_t (&a)[3], const uint32_t (&b)[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-  static uint64_t hash(const uint32_t (&key)[3]) {
-    uint64_t h = ((uint64_t(key[0]) << 32) | key[1]) * 0x9E3779B97F4A7C15ull;
-    return (h ^ (h >> 29) ^ uint64_t(key[2]) * 0xC2B2AE3D27D4EB4Full) * 0xBF58476D1CE4E5B9ull;
-  }
 
   void resize(size_t capacity) {
     slots_.assign(capacity, kEmpty);
