@@ -234,8 +234,14 @@ std::vector<double> readAccessor(const Document& d, size_t index, size_t compone
     const size_t view = indexInto(d, a, "bufferView", "bufferViews", where);
     Strided s = viewFor(d, view, integer(d, a, "byteOffset", where, 0), n, elementSize, where);
     out.resize(size_t(n) * components);
-    for (size_t i = 0; i < n; ++i)
-      for (size_t c = 0; c < components; ++c) out[i * components + c] = component(s.data + i * s.stride + c * size, type, normalized);
+    // The component type chosen once, not per value (float32 and uint32 are the common cases).
+    auto each = [&](auto load) {
+      for (size_t i = 0; i < n; ++i)
+        for (size_t c = 0; c < components; ++c) out[i * components + c] = load(s.data + i * s.stride + c * size);
+    };
+    if (type == 5126) each([](const char* p) { return double(io::load<float>(p)); });
+    else if (type == 5125) each([](const char* p) { return double(io::load<uint32_t>(p)); });
+    else each([&](const char* p) { return component(p, type, normalized); });
   } else {
     // All zeros (then sparse values): bounded by the bytes there are, so a count alone allocates nothing absurd.
     if (n > d.totalBytes + 1024)
