@@ -441,6 +441,10 @@ SceneGeometry collectScene(const Document& d) {
       // The vertices the triangles use, in accessor order, transformed.
       std::vector<uint32_t> outputOf(vertexCount, UINT32_MAX);
       for (uint32_t v : triangles) outputOf[v] = 0;
+      // Room for this primitive at once (growing by doubling would copy the arrays again and again).
+      m.positions.reserve(m.positions.size() + 3 * vertexCount);
+      sourceOfOutput.reserve(sourceOfOutput.size() + vertexCount);
+      m.faces.reserve(m.faces.size() + triangles.size());
       const Matrix& w = instance.world;
       for (size_t v = 0; v < vertexCount; ++v) {
         if (outputOf[v] == UINT32_MAX) continue;
