@@ -331,6 +331,38 @@ TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
   EXPECT_EQ(m.sourceFaces, 2u);
 }
 
+TEST(ReadFormats, GltfIndicesOfASignedTypeAreRefused) {
+  // Index -1 as a signed short (componentType 5122): glTF indices are unsigned (found by fuzz_gltf).
+  nlohmann::json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+                     {{"bufferView", 1}, {"componentType", 5122}, {"count", 3}, {"type", "SCALAR"}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}, {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+      {"buffers", {{{"byteLength", 44}}}},
+  };
+  const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const int16_t index[3] = {0, 1, -1};
+  std::string bin(reinterpret_cast<const char*>(p), 36);
+  bin.append(reinterpret_cast<const char*>(index), 6);
+  bin.append(2, '\0');
+  std::string json = doc.dump();
+  while (json.size() % 4) json += ' ';
+  std::string glb = "glTF";
+  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size())), u32(uint32_t(json.size())), u32(0x4E4F534A);
+  glb += json;
+  u32(uint32_t(bin.size())), u32(0x004E4942);
+  glb += bin;
+  try {
+    readGlb(glb);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "GLB accessor 1 (indices of mesh 0 primitive 0): componentType 5122, indices must be unsigned "
+                           "integers (5121, 5123 or 5125)");
+  }
+}
+
 TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {
   // A subdivided mesh: 642 vertices; coordinates rounded to float32 by the format.
   const MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 3);

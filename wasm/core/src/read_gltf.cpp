@@ -407,6 +407,11 @@ SceneGeometry collectScene(const Document& d) {
       if (member(primitive, "indices")) {
         const size_t ia = indexInto(d, primitive, "indices", "accessors", where);
         const std::vector<double> raw = readAccessor(d, ia, 1, "indices of " + where);
+        // glTF indices are unsigned integers; a signed or float accessor could hold -3 or 1.5.
+        const uint64_t indexType = integer(d, entry(d, "accessors", ia), "componentType", where, 0);
+        if (indexType != 5121 && indexType != 5123 && indexType != 5125)
+          fail(d, "accessor " + count(ia) + " (indices of " + where + "): componentType " + std::to_string(indexType) +
+                      ", indices must be unsigned integers (5121, 5123 or 5125)");
         indices.resize(raw.size());
         for (size_t i = 0; i < raw.size(); ++i) {
           if (raw[i] >= double(vertexCount))
