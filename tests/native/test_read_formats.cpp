@@ -21,6 +21,7 @@
 #include "mrvol/io_formats.h"
 #include "mrvol/mesh.h"
 #include "mrvol/multires_mesh.h"
+#include "../../wasm/core/src/position_table.h"
 
 using namespace mrvol;
 namespace fs = std::filesystem;
@@ -188,6 +189,70 @@ TEST(ReadFormats, WeldOfPositionsCollidingInTheHashFallsBackToTheSort) {
   expectWeldLikeBruteForce(p);
 }
 
+// A binary STL of the given corners (3 per triangle, normals zero).
+std::string binaryStl(const std::vector<float>& corners) {
+  const uint32_t n = uint32_t(corners.size() / 9);
+  std::string b(84 + 50 * size_t(n), '\0');
+  std::memcpy(&b[80], &n, 4);
+  for (uint32_t t = 0; t < n; ++t) std::memcpy(&b[84 + 50 * size_t(t) + 12], &corners[9 * size_t(t)], 36);
+  return b;
+}
+
+// readStl welds while it reads: the same result as every corner read as its own vertex, then
+// weldExactPositions (positions bit for bit, the first corner's -0 kept).
+void expectStlLikeReadThenWeld(const std::vector<float>& corners) {
+  const ImportedMesh m = readStl(binaryStl(corners));
+  TriangleMesh reference;
+  for (float x : corners) reference.positions.push_back(x);
+  for (uint32_t i = 0; i < corners.size() / 3; ++i) reference.faces.push_back(i);
+  std::vector<uint32_t> first;
+  const size_t merged = weldExactPositions(reference, &first);
+  EXPECT_EQ(m.variant, "binary STL");
+  EXPECT_EQ(m.welded, merged);
+  EXPECT_EQ(m.sourceVertices, corners.size() / 3);
+  EXPECT_EQ(m.sourceFaces, corners.size() / 9);
+  EXPECT_EQ(m.sourceVertex, first);
+  EXPECT_EQ(m.mesh.faces, reference.faces);
+  ASSERT_EQ(m.mesh.positions.size(), reference.positions.size());
+  EXPECT_EQ(std::memcmp(m.mesh.positions.data(), reference.positions.data(), 8 * reference.positions.size()), 0);
+}
+
+TEST(ReadFormats, StlWeldedWhileReadMatchesReadThenWeld) {
+  // Many more distinct positions than a closed mesh's corners / 6 (the table grows), repeats in
+  // any order, -0 and +0 mixed.
+  std::vector<float> corners;
+  uint32_t seed = 11;
+  auto next = [&] { return seed = seed * 1103515245u + 12345u; };
+  auto coordinate = [&] { const uint32_t r = (next() >> 8) % 40; return r < 4 ? (r % 2 ? -0.0f : 0.0f) : float(r) * 0.5f; };
+  for (int i = 0; i < 9 * 4000; ++i) corners.push_back(coordinate());
+  expectStlLikeReadThenWeld(corners);
+}
+
+// Positions made to share their home slot in the reader's table (the table's own hash, searched):
+// the lookups exceed their budget and the reader falls back to read-then-weld, same result.
+TEST(ReadFormats, StlOfPositionsCollidingInTheHashIsWeldedAllTheSame) {
+  auto bits = [](float x) { uint32_t u; std::memcpy(&u, &x, 4); return u; };
+  std::vector<float> keys;
+  uint64_t home = 0;
+  for (uint32_t i = 1; keys.size() < 3 * 400; ++i) {
+    const uint32_t key[3] = {bits(float(i)), bits(1.0f), bits(2.0f)};
+    const uint64_t h = io::FloatPositionTable::hash(key) >> 52;  // the same slot in any table up to 4,096 slots
+    if (keys.empty()) home = h;
+    if (h == home) keys.insert(keys.end(), {float(i), 1.0f, 2.0f});
+  }
+  std::vector<float> corners = keys;  // 400 corners: 133 triangles and one corner
+  for (size_t i = 0; corners.size() < 9 * 1000; i = (i + 7) % 400) corners.insert(corners.end(), &keys[3 * i], &keys[3 * i + 3]);
+  corners.resize(9 * 1000);
+  // The table sized for this file (1,000 triangles) probes beyond the reader's budget.
+  io::FloatPositionTable table(3000 / 6);
+  for (size_t c = 0; c < 400; ++c) {
+    const uint32_t key[3] = {bits(keys[3 * c]), bits(keys[3 * c + 1]), bits(keys[3 * c + 2])};
+    table.findOrAdd(key);
+  }
+  EXPECT_GT(table.probes(), 8u * 3000 + 1024);
+  expectStlLikeReadThenWeld(corners);
+}
+
 TEST(ReadFormats, PolygonsAreSplitIntoFans) {
   for (const char* name : {"cube-quads.ply", "cube-quads.off"}) {
     ImportedMesh m = readGood(name);
@@ -264,6 +329,38 @@ TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
   ImportedMesh m = readGlb(glb);
   EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));  // glTF: odd i gives (i, i + 2, i + 1)
   EXPECT_EQ(m.sourceFaces, 2u);
+}
+
+TEST(ReadFormats, GltfIndicesOfASignedTypeAreRefused) {
+  // Index -1 as a signed short (componentType 5122): glTF indices are unsigned (found by fuzz_gltf).
+  nlohmann::json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+                     {{"bufferView", 1}, {"componentType", 5122}, {"count", 3}, {"type", "SCALAR"}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}, {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+      {"buffers", {{{"byteLength", 44}}}},
+  };
+  const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const int16_t index[3] = {0, 1, -1};
+  std::string bin(reinterpret_cast<const char*>(p), 36);
+  bin.append(reinterpret_cast<const char*>(index), 6);
+  bin.append(2, '\0');
+  std::string json = doc.dump();
+  while (json.size() % 4) json += ' ';
+  std::string glb = "glTF";
+  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size())), u32(uint32_t(json.size())), u32(0x4E4F534A);
+  glb += json;
+  u32(uint32_t(bin.size())), u32(0x004E4942);
+  glb += bin;
+  try {
+    readGlb(glb);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "GLB accessor 1 (indices of mesh 0 primitive 0): componentType 5122, indices must be unsigned "
+                           "integers (5121, 5123 or 5125)");
+  }
 }
 
 TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {

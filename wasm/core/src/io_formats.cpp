@@ -331,8 +331,10 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
       output[v] = output[representative[v]];
     }
   }
-  mesh.positions.resize(3 * kept);
-  for (uint32_t& i : mesh.faces) i = output[i];
+  if (kept < n) {  // else every vertex is its own output vertex: nothing to renumber
+    mesh.positions.resize(3 * kept);
+    for (uint32_t& i : mesh.faces) i = output[i];
+  }
   if (firstSource) *firstSource = std::move(first);
   if (outputOfSource) *outputOfSource = std::move(output);
   return n - kept;

@@ -234,8 +234,14 @@ std::vector<double> readAccessor(const Document& d, size_t index, size_t compone
     const size_t view = indexInto(d, a, "bufferView", "bufferViews", where);
     Strided s = viewFor(d, view, integer(d, a, "byteOffset", where, 0), n, elementSize, where);
     out.resize(size_t(n) * components);
-    for (size_t i = 0; i < n; ++i)
-      for (size_t c = 0; c < components; ++c) out[i * components + c] = component(s.data + i * s.stride + c * size, type, normalized);
+    // The component type chosen once, not per value (float32 and uint32 are the common cases).
+    auto each = [&](auto load) {
+      for (size_t i = 0; i < n; ++i)
+        for (size_t c = 0; c < components; ++c) out[i * components + c] = load(s.data + i * s.stride + c * size);
+    };
+    if (type == 5126) each([](const char* p) { return double(io::load<float>(p)); });
+    else if (type == 5125) each([](const char* p) { return double(io::load<uint32_t>(p)); });
+    else each([&](const char* p) { return component(p, type, normalized); });
   } else {
     // All zeros (then sparse values): bounded by the bytes there are, so a count alone allocates nothing absurd.
     if (n > d.totalBytes + 1024)
@@ -401,6 +407,11 @@ SceneGeometry collectScene(const Document& d) {
       if (member(primitive, "indices")) {
         const size_t ia = indexInto(d, primitive, "indices", "accessors", where);
         const std::vector<double> raw = readAccessor(d, ia, 1, "indices of " + where);
+        // glTF indices are unsigned integers; a signed or float accessor could hold -3 or 1.5.
+        const uint64_t indexType = integer(d, entry(d, "accessors", ia), "componentType", where, 0);
+        if (indexType != 5121 && indexType != 5123 && indexType != 5125)
+          fail(d, "accessor " + count(ia) + " (indices of " + where + "): componentType " + std::to_string(indexType) +
+                      ", indices must be unsigned integers (5121, 5123 or 5125)");
         indices.resize(raw.size());
         for (size_t i = 0; i < raw.size(); ++i) {
           if (raw[i] >= double(vertexCount))
@@ -435,6 +446,10 @@ SceneGeometry collectScene(const Document& d) {
       // The vertices the triangles use, in accessor order, transformed.
       std::vector<uint32_t> outputOf(vertexCount, UINT32_MAX);
       for (uint32_t v : triangles) outputOf[v] = 0;
+      // Room for this primitive at once (growing by doubling would copy the arrays again and again).
+      m.positions.reserve(m.positions.size() + 3 * vertexCount);
+      sourceOfOutput.reserve(sourceOfOutput.size() + vertexCount);
+      m.faces.reserve(m.faces.size() + triangles.size());
       const Matrix& w = instance.world;
       for (size_t v = 0; v < vertexCount; ++v) {
         if (outputOf[v] == UINT32_MAX) continue;

@@ -240,8 +240,12 @@ uint64_t readTriangleFaces(std::string_view b, const Element& e, size_t& pos, bo
   if (!p.list || sizeOf(p.countType) != 1 || (p.type != Type::Int32 && p.type != Type::UInt32)) return 0;
   const bool isSigned = p.type == Type::Int32;
   std::vector<uint32_t>& faces = build.out.mesh.faces;
-  faces.reserve(faces.size() + 3 * e.count);
-  build.faceOf.reserve(build.faceOf.size() + e.count);
+  // Written in place (the arrays sized for every item, cut back to those read).
+  const size_t firstIndex = faces.size(), firstTriangle = build.faceOf.size();
+  faces.resize(firstIndex + 3 * e.count);
+  build.faceOf.resize(firstTriangle + e.count);
+  uint32_t* out = faces.data() + firstIndex;
+  uint32_t* faceOf = build.faceOf.data() + firstTriangle;
   uint64_t item = 0;
   for (; item < e.count && b.size() - pos >= 13 && uint8_t(b[pos]) == 3; ++item, pos += 13) {
     uint32_t index[3];
@@ -249,10 +253,12 @@ uint64_t readTriangleFaces(std::string_view b, const Element& e, size_t& pos, bo
     bool valid = true;
     for (int k = 0; k < 3; ++k) valid &= (isSigned ? int32_t(index[k]) >= 0 : true) && index[k] <= 0xfffffff0u;
     if (!valid) break;
-    faces.insert(faces.end(), index, index + 3);
-    build.faceOf.push_back(uint32_t(build.out.sourceFaces));
+    for (int k = 0; k < 3; ++k) out[3 * item + k] = index[k];
+    faceOf[item] = uint32_t(build.out.sourceFaces);
     ++build.out.sourceFaces;
   }
+  faces.resize(firstIndex + 3 * item);
+  build.faceOf.resize(firstTriangle + item);
   return item;
 }
 
