@@ -64,8 +64,8 @@ export interface RemeshOptions {
    * A fit still above `hausdorffGoal` after the emphasis rounds is tried again (up to two rounds) on a
    * base of the same size refined where the closest fit is far: the emphasised base of twice the size,
    * collapsed back with its vertices near the far input points kept, so the faces go there and the cage
-   * does not grow; the closest fit is kept (default true). (A fit that folds is likewise tried on a base
-   * of the same size refined around the fold before the bases twice and four times as large.)
+   * does not grow unless that fit folds (then its base twice as large, refined the same way); the closest
+   * fit is kept (default true).
    */
   refine?: boolean;
   /**

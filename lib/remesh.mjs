@@ -425,11 +425,11 @@ function parametrisedBase(mrvol, piece, target, lock) {
   return { base: { positions: base.positions, faces: base.faces }, target, problems: [], simplified: true, parametrisation };
 }
 /**
- * A base of `target` faces refined around some points (where a fit on the plain base folded or
- * stayed far): the vertices of the simplifier's base of twice the size within `radius` of them
- * (`at`, x y z each) are locked in the simplification to `target` (they are input vertices), so
- * the faces are spent there and saved elsewhere at the same cage size (the 203k dragon's fold
- * took a base, and a cage, twice as large). Null if that base is not simplified.
+ * A base of `target` faces refined around some points (where the closest fit stayed far): the
+ * vertices of the simplifier's base of twice the size within `radius` of them (`at`, x y z each)
+ * are locked in the simplification to `target` (they are input vertices), so that the faces are
+ * spent there and saved elsewhere. Null if that base is not simplified. (When its fit folds, the
+ * fit's base twice as large is made the same way, around the same points.)
  */
 function refinedBase(mrvol, piece, target, repairBase, lock, emphasis, at, radius) {
   const mesh = piece.mesh;
@@ -448,8 +448,8 @@ function refinedBase(mrvol, piece, target, repairBase, lock, emphasis, at, radiu
   const b = simplifyToBase(mrvol, mesh, piece.genus, target, 8, repairBase, refined, emphasis);
   return b.simplified ? { ...b, refined: keys.size } : null;
 }
-// Around a fold, the larger base's vertices kept in a refined base: within this (of the diagonal).
-const FOLD_RADIUS = 0.03;
+// Around a far point, the larger base's vertices locked in a refined base: within this (of the diagonal).
+const REFINED_RADIUS = 0.03;
 
 // Above this the Maps and Sets of the JS collapse take too long: the simplifier's base instead.
 const PARAMETRISE_MAX_FACES = 60000;
@@ -1272,20 +1272,9 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // Folds left after untangling: once more without the feature constraints (if any), then
     // (unless the base size is given) with a base twice and four times as large.
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
-    // Before the larger bases: the base of the size asked for, refined where the fit folded (see refinedBase).
-    const larger = options.baseFaces !== undefined ? [] : [...(options.parametrise ? [] : [[1, null, true]]), [2, null], [4, null]];
-    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...larger];
+    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]])];
     let result = null;
-    for (const [attempt, [scale, withFeatures, refine]] of attempts.entries()) {
-      // Where the last attempt's pieces folded (centroids of the triangles left flipped), for a refined base.
-      const folds = refine ? pieces.map((piece, i) => {
-        const part = result.parts[i];
-        if (!part || keep?.[i] || part.flippedTriangles === 0) return null;
-        const flipped = resultFlipped(part.mesh, surfaceOf(i), part.constraints);
-        return flipped.length ? Float64Array.from(flipped.flatMap((f) => [0, 1, 2].map((k) =>
-          (part.mesh.positions[3 * part.mesh.faces[3 * f] + k] + part.mesh.positions[3 * part.mesh.faces[3 * f + 1] + k] +
-           part.mesh.positions[3 * part.mesh.faces[3 * f + 2] + k]) / 3))) : null;
-      }) : null;
+    for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
       // Each piece on its own (its own surface: parts that touch or cross do not pull each other).
       const bases = pieces.map((piece, i) => {
@@ -1296,9 +1285,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
-        const at = refineAt?.[i] && folds?.[i] ? Float64Array.from([...refineAt[i], ...folds[i]]) : refineAt?.[i] ?? folds?.[i];
         const b = (options.parametrise && parametrisedBase(mrvol, piece, target, lock)) ||
-          (at && refinedBase(mrvol, piece, target, !!repaired, lock, emphasis?.[i] ?? null, at, FOLD_RADIUS * diagonal)) ||
+          (refineAt?.[i] && refinedBase(mrvol, piece, target, !!repaired, lock, emphasis?.[i] ?? null, refineAt[i], REFINED_RADIUS * diagonal)) ||
           simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock, emphasis?.[i] ?? null);
         simplifierProblems.push(...b.problems);
         if (b.genusChanged) genusChanges.add(i);
