@@ -162,6 +162,20 @@ describe('remesh (API)', () => {
     assert.ok(r.baseVertices <= 1.02 * plain.baseVertices, `cage ${r.baseVertices} / ${plain.baseVertices}`);
   });
 
+  test('the decimated dragon: a refined round (a base of the same size with more faces where the closest fit is far) comes after the emphasis rounds', async () => {
+    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, refine: false, nudge: false, dragTips: false });
+    assert.ok(plain.hausdorff > 0.005, `without the refined rounds ${plain.hausdorff}`);
+    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, nudge: false, dragTips: false });
+    assert.equal(r.flippedTriangles, 0);
+    // The other rounds go as before; the refined round's fit comes after them, on a base of the first fit's size.
+    assert.deepEqual(r.fits.slice(0, plain.fits.length), plain.fits);
+    const added = r.fits.slice(plain.fits.length);
+    assert.ok(added.length >= 1, 'a refined round ran');
+    for (const f of added) assert.ok(Math.abs(f.baseFaces - r.fits[0].baseFaces) <= 0.02 * r.fits[0].baseFaces, `${f.baseFaces} faces`);
+    // The closest fit is kept (here the emphasis round's: the refined fit is farther).
+    assert.ok(r.hausdorff <= plain.hausdorff, `${r.hausdorff} with the refined rounds, ${plain.hausdorff} without`);
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
