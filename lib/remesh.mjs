@@ -1438,9 +1438,11 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     for (const k of locked) tipKeys.add(k);
   };
   // Still far after those: a base of the same size refined where the closest fit is far (the
-  // emphasised base of twice the size, collapsed back with its vertices near the far input points
-  // kept: refinedBase), so the faces go where the input has detail the base bridged (the 48k
-  // dragon's toes) and the cage does not grow; kept if closer, up to REFINED_ROUNDS rounds.
+  // vertices of the emphasised base twice as large near the far input points locked in the
+  // simplification: refinedBase), so the faces go where the input has detail the base bridged (the
+  // 48k dragon's toes); kept if closer, up to REFINED_ROUNDS rounds. If its fit folds, the retry's
+  // base twice as large is refined the same way (the 48k dragon: 1.19% -> 0.41%, cage 535 -> 1034).
+  // refine: false keeps the cage instead.
   const refinedRounds = () => {
     if (options.refine === false || options.parametrise) return;
     for (let round = 0; round < REFINED_ROUNDS && distance(measured) > goal; round++) {
