@@ -63,6 +63,14 @@ export interface RemeshOptions {
    */
   emphasis?: boolean;
   /**
+   * A fit still above `hausdorffGoal` after the emphasis rounds is tried again (up to two rounds) on a
+   * base of the same size refined where the closest fit is far: the emphasised base of twice the size,
+   * collapsed back with its vertices near the far input points kept, so the faces go there and the cage
+   * does not grow unless that fit folds (then its base twice as large, refined the same way); the closest
+   * fit is kept (default true).
+   */
+  refine?: boolean;
+  /**
    * A result still above `hausdorffGoal` after the drag gets its farthest sample points (input points
    * far from it, its points far from the input) brought to 90% of the goal by moving the corners of
    * their triangle, off the input if need be (no farther from it than 95% of the goal); each move kept

@@ -147,9 +147,9 @@ describe('remesh (API)', () => {
   });
 
   test('the decimated dragon: the emphasis rounds (bases weighted toward the far tips) fit closer at the same base size', async () => {
-    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, emphasis: false, nudge: false });
+    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, emphasis: false, refine: false, nudge: false });
     assert.ok(plain.hausdorff > 0.005, `without the emphasis rounds ${plain.hausdorff}`);
-    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, nudge: false });
+    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, refine: false, nudge: false });
     assert.equal(r.flippedTriangles, 0);
     // The other rounds go as before; the emphasis rounds' fits come after them.
     assert.deepEqual(r.fits.slice(0, plain.fits.length), plain.fits);
@@ -175,6 +175,20 @@ describe('remesh (API)', () => {
     // The emphasis fit near the goal is finished by the drag and the nudge: the rounds after it are not run.
     assert.ok(r.fits.length < without.fits.length, `${r.fits.length} fits, ${without.fits.length} without the nudge`);
     assert.deepEqual(r.fits, without.fits.slice(0, r.fits.length));
+  });
+
+  test('the decimated dragon: a refined round (a base of the same size with more faces where the closest fit is far) comes after the emphasis rounds', async () => {
+    const plain = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, refine: false, nudge: false, dragTips: false });
+    assert.ok(plain.hausdorff > 0.005, `without the refined rounds ${plain.hausdorff}`);
+    const r = await remesh(mrvol, dragonMesh(), { repair: true, parametrise: false, nudge: false, dragTips: false });
+    assert.equal(r.flippedTriangles, 0);
+    // The other rounds go as before; the refined round's fit comes after them, on a base of the first fit's size.
+    assert.deepEqual(r.fits.slice(0, plain.fits.length), plain.fits);
+    const added = r.fits.slice(plain.fits.length);
+    assert.ok(added.length >= 1, 'a refined round ran');
+    for (const f of added) assert.ok(Math.abs(f.baseFaces - r.fits[0].baseFaces) <= 0.02 * r.fits[0].baseFaces, `${f.baseFaces} faces`);
+    // The closest fit is kept (here the emphasis round's: the refined fit is farther).
+    assert.ok(r.hausdorff <= plain.hausdorff, `${r.hausdorff} with the refined rounds, ${plain.hausdorff} without`);
   });
 
   test('three.js torus (seams welded): genus 1 kept', async () => {
