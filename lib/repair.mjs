@@ -212,7 +212,9 @@ function fillHoles(mesh, maxHoleEdges) {
       const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
       if (twins[3 * f + j] < 0) next.set(b, a);
     }
-  const outPositions = Array.from(positions), outFaces = Array.from(faces);
+  // What the fills add (the mesh's own arrays are copied once at the end: copied into plain arrays
+  // up front, a large scan's millions of numbers took seconds per pass).
+  const addedPositions = [], addedFaces = [], vertexCount = positions.length / 3;
   let holesFilled = 0, holeEdges = 0, holesLeft = 0, largestLeft = 0;
   const seen = new Set();
   for (const start of next.keys()) {
@@ -227,15 +229,17 @@ function fillHoles(mesh, maxHoleEdges) {
     holesFilled++;
     holeEdges += loop.length;
     if (loop.length === 3) {
-      outFaces.push(loop[0], loop[1], loop[2]);
+      addedFaces.push(loop[0], loop[1], loop[2]);
       continue;
     }
-    const c = outPositions.length / 3;
-    for (let k = 0; k < 3; k++) outPositions.push(loop.reduce((s, v) => s + positions[3 * v + k], 0) / loop.length);
-    for (let i = 0; i < loop.length; i++) outFaces.push(loop[i], loop[(i + 1) % loop.length], c);
+    const c = vertexCount + addedPositions.length / 3;
+    for (let k = 0; k < 3; k++) addedPositions.push(loop.reduce((s, v) => s + positions[3 * v + k], 0) / loop.length);
+    for (let i = 0; i < loop.length; i++) addedFaces.push(loop[i], loop[(i + 1) % loop.length], c);
   }
-  return { mesh: { positions: Float64Array.from(outPositions), faces: Uint32Array.from(outFaces) },
-           holesFilled, holeEdges, holesLeft, largestLeft };
+  const outPositions = new Float64Array(positions.length + addedPositions.length), outFaces = new Uint32Array(faces.length + addedFaces.length);
+  outPositions.set(positions), outPositions.set(addedPositions, positions.length);
+  outFaces.set(faces), outFaces.set(addedFaces, faces.length);
+  return { mesh: { positions: outPositions, faces: outFaces }, holesFilled, holeEdges, holesLeft, largestLeft };
 }
 
 /**
