@@ -263,18 +263,16 @@ function foldedFaces(mesh) {
   const drop = new Uint8Array(faceCount);
   let count = 0;
   for (let f = 0; f < faceCount; f++) {
-    const neighbours = [];
+    // (No array per face: on a large scan those were most of this step.)
     let against = 0;
     for (let j = 0; j < 3; j++) {
       const g = twins[3 * f + j];
-      if (g < 0) continue;
-      neighbours.push(g);
-      if (normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
+      if (g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
     }
     if (against < 2) continue;
     count++;
     drop[f] = 1;
-    for (const g of neighbours) drop[g] = 1;
+    for (let j = 0; j < 3; j++) if (twins[3 * f + j] >= 0) drop[twins[3 * f + j]] = 1;
   }
   return { drop, count };
 }
