@@ -242,8 +242,17 @@ function nearSamplesKept(samples, grid, before, index, near, moved, p, faces, ce
 
 /** Points (flat xyz) in cubic cells of side `cell`: `within(centre, reach)` lists those in the box of half-side `reach`. */
 function sampleGrid(points, cell) {
-  const cells = new Map(), key = (a, b, c) => `${a},${b},${c}`;
-  for (let i = 0; i < points.length / 3; i++) {
+  // Cells numbered from the points' lowest cell (an exact number per cell: strings as keys took seconds on a large input).
+  const n = points.length / 3, lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < n; i++)
+    for (let k = 0; k < 3; k++) {
+      const c = Math.floor(points[3 * i + k] / cell);
+      if (c < lo[k]) lo[k] = c;
+      if (c > hi[k]) hi[k] = c;
+    }
+  const nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
+  const cells = new Map(), key = (a, b, c) => (a - lo[0]) + nx * ((b - lo[1]) + ny * (c - lo[2]));
+  for (let i = 0; i < n; i++) {
     const k = key(Math.floor(points[3 * i] / cell), Math.floor(points[3 * i + 1] / cell), Math.floor(points[3 * i + 2] / cell));
     let list = cells.get(k);
     if (!list) cells.set(k, (list = []));
@@ -252,9 +261,10 @@ function sampleGrid(points, cell) {
   return {
     within([x, y, z], reach) {
       const out = [];
-      for (let a = Math.floor((x - reach) / cell); a <= Math.floor((x + reach) / cell); a++)
-        for (let b = Math.floor((y - reach) / cell); b <= Math.floor((y + reach) / cell); b++)
-          for (let c = Math.floor((z - reach) / cell); c <= Math.floor((z + reach) / cell); c++)
+      // Only the cells that hold points (outside the points' cells a number could name another cell).
+      for (let a = Math.max(lo[0], Math.floor((x - reach) / cell)); a <= Math.min(hi[0], Math.floor((x + reach) / cell)); a++)
+        for (let b = Math.max(lo[1], Math.floor((y - reach) / cell)); b <= Math.min(hi[1], Math.floor((y + reach) / cell)); b++)
+          for (let c = Math.max(lo[2], Math.floor((z - reach) / cell)); c <= Math.min(hi[2], Math.floor((z + reach) / cell)); c++)
             for (const i of cells.get(key(a, b, c)) ?? [])
               if (Math.abs(points[3 * i] - x) <= reach && Math.abs(points[3 * i + 1] - y) <= reach && Math.abs(points[3 * i + 2] - z) <= reach) out.push(i);
       return out;

@@ -69,7 +69,7 @@ function withoutUnusedVertices(positions, faces) {
   }
   const kept = new Float64Array(3 * used);
   for (let v = 0; v < order.length; v++) if (order[v] >= 0) for (let k = 0; k < 3; k++) kept[3 * order[v] + k] = positions[3 * v + k];
-  return { positions: kept, faces: out };
+  return { positions: kept, faces: out, order };
 }
 
 function keepLargestComponent(mesh) {
@@ -142,15 +142,17 @@ function cancelDuplicates(faces) {
 /**
  * Faces that make the mesh non-manifold: all faces of an edge shared by more than two faces or
  * walked twice in the same direction, and at a vertex whose faces form several fans, the faces of
- * all fans but the largest. Returns a mask of the faces to drop and their count.
+ * all fans but the largest. Returns a mask of the faces to drop and their count. `only` (a vertex
+ * mask, or null): the mesh is what a call's drop left, and only those vertices (the dropped faces'
+ * corners) can have several fans now; dropping faces makes no edge bad, so the edges are not checked.
  */
-function nonManifoldFaces(faces, vertexCount) {
+function nonManifoldFaces(faces, vertexCount, only = null) {
   const drop = new Uint8Array(faces.length / 3);
-  const edges = connectivity(faces, vertexCount).edgeFaces;
-  const { offsets, list } = edges;
+  const edges = only ? null : connectivity(faces, vertexCount).edgeFaces;
+  const { offsets, list } = edges ?? { offsets: null, list: null };
   // The face's vertex after `a` (its direction along the edge a-b).
   const after = (f, a) => { for (let j = 0; j < 3; j++) if (faces[3 * f + j] === a) return faces[3 * f + (j + 1) % 3]; };
-  for (let e = 0; e < edges.count; e++) {
+  for (let e = 0; e < (edges?.count ?? 0); e++) {
     const size = offsets[e + 1] - offsets[e];
     let bad = size > 2;
     // Two faces must walk the edge in opposite directions.
@@ -169,6 +171,7 @@ function nonManifoldFaces(faces, vertexCount) {
   // The first local face at each other vertex (-1: none yet; reset after each vertex).
   const firstAt = new Int32Array(vertexCount).fill(-1);
   for (let v = 0; v < vertexCount; v++) {
+    if (only && !only[v]) continue;
     let size = 0;
     for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) if (!afterEdges[around.list[e]]) local[size++] = around.list[e];
     if (size < 2) continue;
@@ -212,7 +215,9 @@ function fillHoles(mesh, maxHoleEdges) {
       const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
       if (twins[3 * f + j] < 0) next.set(b, a);
     }
-  const outPositions = Array.from(positions), outFaces = Array.from(faces);
+  // What the fills add (the mesh's own arrays are copied once at the end: copied into plain arrays
+  // up front, a large scan's millions of numbers took seconds per pass).
+  const addedPositions = [], addedFaces = [], vertexCount = positions.length / 3;
   let holesFilled = 0, holeEdges = 0, holesLeft = 0, largestLeft = 0;
   const seen = new Set();
   for (const start of next.keys()) {
@@ -227,15 +232,17 @@ function fillHoles(mesh, maxHoleEdges) {
     holesFilled++;
     holeEdges += loop.length;
     if (loop.length === 3) {
-      outFaces.push(loop[0], loop[1], loop[2]);
+      addedFaces.push(loop[0], loop[1], loop[2]);
       continue;
     }
-    const c = outPositions.length / 3;
-    for (let k = 0; k < 3; k++) outPositions.push(loop.reduce((s, v) => s + positions[3 * v + k], 0) / loop.length);
-    for (let i = 0; i < loop.length; i++) outFaces.push(loop[i], loop[(i + 1) % loop.length], c);
+    const c = vertexCount + addedPositions.length / 3;
+    for (let k = 0; k < 3; k++) addedPositions.push(loop.reduce((s, v) => s + positions[3 * v + k], 0) / loop.length);
+    for (let i = 0; i < loop.length; i++) addedFaces.push(loop[i], loop[(i + 1) % loop.length], c);
   }
-  return { mesh: { positions: Float64Array.from(outPositions), faces: Uint32Array.from(outFaces) },
-           holesFilled, holeEdges, holesLeft, largestLeft };
+  const outPositions = new Float64Array(positions.length + addedPositions.length), outFaces = new Uint32Array(faces.length + addedFaces.length);
+  outPositions.set(positions), outPositions.set(addedPositions, positions.length);
+  outFaces.set(faces), outFaces.set(addedFaces, faces.length);
+  return { mesh: { positions: outPositions, faces: outFaces }, holesFilled, holeEdges, holesLeft, largestLeft };
 }
 
 /**
@@ -256,18 +263,16 @@ function foldedFaces(mesh) {
   const drop = new Uint8Array(faceCount);
   let count = 0;
   for (let f = 0; f < faceCount; f++) {
-    const neighbours = [];
+    // (No array per face: on a large scan those were most of this step.)
     let against = 0;
     for (let j = 0; j < 3; j++) {
       const g = twins[3 * f + j];
-      if (g < 0) continue;
-      neighbours.push(g);
-      if (normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
+      if (g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
     }
     if (against < 2) continue;
     count++;
     drop[f] = 1;
-    for (const g of neighbours) drop[g] = 1;
+    for (let j = 0; j < 3; j++) if (twins[3 * f + j] >= 0) drop[twins[3 * f + j]] = 1;
   }
   return { drop, count };
 }
@@ -391,14 +396,30 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   const report = { weldedVertices: welded.merged, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
                    nonManifoldFaces: 0, droppedComponents: 0, holesFilled: 0, holeEdges: 0, holesLeft: 0 };
   let mesh = welded;
-  // The mesh stays welded as faces go: only the vertices no face uses are dropped.
+  // The mesh stays welded as faces go: only the vertices no face uses are dropped. Returns a mask
+  // of the dropped faces' corners still used (new numbering), or null if nothing was dropped.
   const keepFaces = (keep) => {
     let count = 0;
     for (let f = 0; f < keep.length; f++) count += keep[f] ? 1 : 0;
-    if (count === keep.length) return;
+    if (count === keep.length) return null;
     const faces = new Uint32Array(3 * count);
     for (let f = 0, i = 0; f < keep.length; f++) if (keep[f]) for (let j = 0; j < 3; j++) faces[i++] = mesh.faces[3 * f + j];
-    mesh = withoutUnusedVertices(mesh.positions, faces);
+    const old = mesh.faces, kept = withoutUnusedVertices(mesh.positions, faces);
+    mesh = { positions: kept.positions, faces: kept.faces };
+    const touched = new Uint8Array(mesh.positions.length / 3);
+    for (let f = 0; f < keep.length; f++)
+      if (!keep[f]) for (let j = 0; j < 3; j++) if (kept.order[old[3 * f + j]] >= 0) touched[kept.order[old[3 * f + j]]] = 1;
+    return touched;
+  };
+  // Non-manifold faces dropped until none is left (after the first call, only where faces went).
+  const dropNonManifold = () => {
+    let only = null;
+    for (let round = 0; round < 16; round++) {
+      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3, only);
+      if (count === 0) break;
+      report.nonManifoldFaces += count;
+      only = keepFaces(drop.map((d) => 1 - d));
+    }
   };
   const duplicates = cancelDuplicates(mesh.faces);
   report.finFaces = duplicates.finFaces;
@@ -411,12 +432,7 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   report.foldedFaces = 0;
   // Folds left by the input or by a fill are cut out with their neighbours and filled again.
   for (let pass = 0; pass < 6; pass++) {
-    for (let round = 0; round < 16; round++) {
-      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3);
-      if (count === 0) break;
-      report.nonManifoldFaces += count;
-      keepFaces(drop.map((d) => 1 - d));
-    }
+    dropNonManifold();
     if (pass === 0 && keepLargest && mesh.faces.length > 0) {
       const largest = keepLargestComponent(mesh);
       mesh = largest.mesh;
@@ -440,12 +456,7 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     report.finFaces += again.finFaces;
     report.duplicateFaces += again.duplicateFaces;
     keepFaces(again.keep);
-    for (let round = 0; round < 16; round++) {
-      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3);
-      if (count === 0) break;
-      report.nonManifoldFaces += count;
-      keepFaces(drop.map((d) => 1 - d));
-    }
+    dropNonManifold();
     const filled = fillHoles(mesh, maxHoleEdges);
     report.holesFilled += filled.holesFilled;
     report.holeEdges += filled.holeEdges;
