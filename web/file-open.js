@@ -22,6 +22,21 @@ let running = null; // { worker, reject }
 let spare = null; // { worker, failed }
 let spareInstance = null; // a promise of freshInstance()
 let sparesAsked = false;
+/**
+ * Starts the spare file worker now, when there is none (the page's start: a file dropped as soon
+ * as the page is ready found the worker still loading its core, a quarter of a second at 655k
+ * vertices; on its own thread, it costs the page's start little).
+ */
+export function startFileWorker() {
+  if (spare || running) return;
+  const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+  const made = { worker, failed: false };
+  worker.onerror = (e) => {
+    e.preventDefault?.();
+    made.failed = true;
+  };
+  spare = made;
+}
 /** Starts the spare file worker and instance that are missing when the page is next idle (again after each job). */
 export function keepFileWorkerReady() {
   if (sparesAsked || (spare && spareInstance)) return;
@@ -29,15 +44,7 @@ export function keepFileWorkerReady() {
   const start = () => {
     sparesAsked = false;
     if (running) return; // a job's end asks again
-    if (!spare) {
-      const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
-      const made = { worker, failed: false };
-      worker.onerror = (e) => {
-        e.preventDefault?.();
-        made.failed = true;
-      };
-      spare = made;
-    }
+    startFileWorker();
     spareInstance ??= freshInstance({ stage: false });
   };
   (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(start, { timeout: 5000 });
@@ -70,6 +77,7 @@ export function showFileProgress(text, fraction = null) {
 export function cancelFileRead() {
   if (!running) return false;
   const { worker, reject } = running;
+  running.ahead?.stop();
   running = null;
   worker.terminate();
   showFileProgress(null);
@@ -142,6 +150,27 @@ export function freshInstance({ stage = true } = {}) {
   return making;
 }
 
+// Memory the worker's editor takes per vertex (the memory in use it hands over at level 0, the
+// cage polynomial, the biggest: 437 MB at 655k vertices, 111 MB at 164k); the page's instance is
+// grown to a little less, so it never holds much more than it will use.
+const TRANSFER_BYTES_PER_VERTEX = 600;
+
+/**
+ * The instance that will take the worker's editor, grown ahead to about the memory it will take
+ * and its pages written once (lib/api.mjs growMemoryAhead) while the worker still works: the
+ * take-over's copy then writes pages that exist instead of faulting on each (most of its time).
+ * In 16 MB slices with a task between them (the page keeps drawing); stop() ends it early.
+ */
+function growAhead(instance, vertices) {
+  const stopping = new AbortController();
+  const started = performance.now();
+  const done = instance
+    .then((fresh) => fresh.growMemoryAhead(vertices * TRANSFER_BYTES_PER_VERTEX, { signal: stopping.signal }))
+    .then((bytes) => addStage('memory grown ahead for the editor (while the worker works)', 'page', performance.now() - started, { bytes }))
+    .catch(() => {}); // only a head start: the take-over grows what is missing
+  return { stop: () => stopping.abort(), done };
+}
+
 async function pageStageAsync(stage, fn) {
   const t = performance.now();
   try {
@@ -174,10 +203,11 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
   return new Promise((resolve, reject) => {
-    const job = { worker, reject };
+    const job = { worker, reject, ahead: null }; // ahead: growAhead's, once the worker knows the vertices
     running = job;
     let memory = null; // the worker's memory coming in slices (after its 'done')
     const finish = () => {
+      job.ahead?.stop();
       if (running === job) running = null;
       worker.terminate();
       showFileProgress(null);
@@ -193,11 +223,15 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
         if (!started) addStage('file worker started (waited for)', 'page', performance.now() - asked);
         started = true;
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
+        if (instance && data.vertices && !job.ahead) job.ahead = growAhead(instance, data.vertices);
       } else if (data.type === 'done') {
         for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});
         let opened = null;
         if (data.transfer) {
           memory = memorySlicesFrom(worker, data.transfer.memoryBytes);
+          job.ahead?.stop(); // what it did not reach, the take-over grows
+          await job.ahead?.done;
+          if (running !== job) return; // cancelled meanwhile: cancelFileRead rejected already
           try {
             opened = await adopt(data.transfer, {
               memory,

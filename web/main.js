@@ -17,7 +17,7 @@ import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
-import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady } from './file-open.js';
+import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady, startFileWorker } from './file-open.js';
 import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
@@ -877,6 +877,7 @@ async function start() {
     return;
   }
   app.stats.coreAt = performance.now();
+  startFileWorker(); // its core loads beside the first model's opening: a file dropped at once is read at once
   const session = new EditingSession(app.mrvol, {
     level: app.settings.level, scheme: app.settings.scheme, preserve: app.settings.preserve, tolerance: app.settings.tolerance, path: sessionPath(),
   });

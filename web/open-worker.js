@@ -10,14 +10,14 @@
 // slice at a time as the page asks (memory-slices.js); the hierarchy stays the fallback.
 // Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } },
 //               then { type: 'memory-slice', buffer? } (memory-slices.js) after a 'done' with a transfer
-// Messages out: { type: 'progress', stage, fraction },
+// Messages out: { type: 'progress', stage, fraction, vertices? (once parsed) },
 //               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable, its memory
 //                 sent in slices) | null, openError: { message, offer } | null, stages: [{ stage, thread, ms }] (web/open-stages.js) },
 //               { type: 'memory-slice', bytes, ms }, { type: 'error', message, size? (true: a size problem) }
 import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
 import { openParsed } from './models.js';
-import { warmUp, buildEditor } from './module-transfer.js';
+import { warmUpInSteps, buildEditor } from './module-transfer.js';
 import { workerStages } from './open-stages.js';
 import { memorySliceServer } from './memory-slices.js';
 
@@ -71,8 +71,12 @@ function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions, surfa
 
 // The core loaded and warmed up as soon as the worker starts, as the page's instance will be before
 // it takes the copy: the page starts one worker ahead of any file (file-open.js), so a dropped
-// file's reading and parsing need not wait for the worker's script and core.
-const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
+// file's reading and parsing need not wait for the worker's script and core. The warm-up yields
+// between its steps: a file dropped meanwhile is read at once, beside it (its parse awaits it).
+const mrvolLoading = loadMrvol().then(async (mrvol) => {
+  await warmUpInSteps(mrvol, () => new Promise((resolve) => setTimeout(resolve, 0)));
+  return mrvol;
+});
 mrvolLoading.catch(() => {}); // awaited by the job
 
 let sendSlice = null; // after a 'done' with a transfer: answers the page's asks for its memory
@@ -117,7 +121,7 @@ self.onmessage = async ({ data: job }) => {
       post({ type: 'error', message: sizeMessage({ vertices }), size: true });
       return;
     }
-    post({ type: 'progress', stage: 'finding its levels', fraction: 0.7 });
+    post({ type: 'progress', stage: 'finding its levels', fraction: 0.7, vertices }); // the page grows its memory ahead (file-open.js)
     // What the page would find on its thread: the hierarchy, or why the mesh does not open (the
     // page shows it and offers a remesh with the mesh itself).
     let hierarchy = null, openError = null, transfer = null;
