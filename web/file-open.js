@@ -62,10 +62,18 @@ function takeFileWorker() {
   return ready ?? new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
 }
 
+let holdView = () => {};
+/** What shows and hides of the busy strip tells `hold(shown)` (main.js: the view keeps its size meanwhile, Viewer.holdSize). */
+export function onFileProgressShown(hold) {
+  holdView = hold;
+}
+
 /** The progress in the status strip: fraction 0..1 (null: indeterminate) and a label; text null hides it. */
 export function showFileProgress(text, fraction = null) {
   const box = $('busy');
+  const change = box.hidden !== (text === null);
   box.hidden = text === null;
+  if (change) holdView(text !== null); // after the layout changed: released, the view is measured as it is
   $('busy-text').textContent = text ?? '';
   $('busy-text').title = text ?? ''; // the whole text where a phone cuts it
   const bar = $('busy-bar');
@@ -220,7 +228,8 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       } else if (memory && data.type === 'error') {
         memory.fail(new Error(data.message)); // the take-over fails: the page opens the mesh itself
       } else if (data.type === 'progress') {
-        if (!started) addStage('file worker started (waited for)', 'page', performance.now() - asked);
+        // when the page saw it: later than the worker's start when the page's thread was busy
+        if (!started) addStage('file worker\'s first message seen (waited for)', 'page', performance.now() - asked);
         started = true;
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
         if (instance && data.vertices && !job.ahead) job.ahead = growAhead(instance, data.vertices);
@@ -261,6 +270,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       reject(new Error(e.message || 'the file reader could not start'));
     };
     // a stored session's bytes are the app's: the worker gets a copy
-    worker.postMessage(file ? { file, name, editor } : { bytes: bytes.slice().buffer, name, editor });
+    const posted = performance.timeOrigin + performance.now(); // the worker's clock has another origin
+    worker.postMessage(file ? { file, name, editor, posted } : { bytes: bytes.slice().buffer, name, editor, posted });
   });
 }

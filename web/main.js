@@ -17,7 +17,7 @@ import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
-import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady, startFileWorker } from './file-open.js';
+import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady, startFileWorker, onFileProgressShown } from './file-open.js';
 import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
@@ -804,6 +804,8 @@ async function start() {
     }
   };
   app.dragger = new CageDragger(app.viewer, view, dragHandlers);
+  // a file's progress strip shrinks the view for a few seconds: its canvas is cut meanwhile, not drawn again
+  onFileProgressShown((shown) => app.viewer.holdSize(shown));
 
   const params = new URLSearchParams(location.search);
   const urlModel = params.get('model');

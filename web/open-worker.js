@@ -8,7 +8,8 @@
 // ({ level, scheme }: the page's settings), it makes that too, the slowest part (the cage
 // polynomial), and hands over its module's memory for the page to take (module-transfer.js), a
 // slice at a time as the page asks (memory-slices.js); the hierarchy stays the fallback.
-// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } },
+// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) },
+//                 posted? (performance.timeOrigin + now() on the page: how long the job waited for the worker) },
 //               then { type: 'memory-slice', buffer? } (memory-slices.js) after a 'done' with a transfer
 // Messages out: { type: 'progress', stage, fraction, vertices? (once parsed) },
 //               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable, its memory
@@ -91,6 +92,7 @@ self.onmessage = async ({ data: job }) => {
     return;
   }
   try {
+    if (Number.isFinite(job.posted)) addStage('file worker started (after the page posted the file)', performance.timeOrigin + performance.now() - job.posted);
     post({ type: 'progress', stage: 'reading', fraction: 0 });
     const reading = performance.now();
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);

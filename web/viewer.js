@@ -157,6 +157,7 @@ export class Viewer {
     this.frameRequested = false;
     this.beforeFrame = new Set();
     this.sized = false;
+    this.sizeHeld = false; // holdSize
     this.resizeObserver = new ResizeObserver(() => this.resize());
     this.resizeObserver.observe(container);
     this.resize();
@@ -186,6 +187,22 @@ export class Viewer {
     }
   }
 
+  /**
+   * Held (the status strip shown above the view while a file opens or an editor is made): the
+   * canvas keeps its size in pixels when the view shrinks, pushed down and cut at the view's
+   * bottom, instead of a frame drawn again at the new size at once. On software WebGL such a frame
+   * held the page's thread while the GPU process drew and read it back: 0.3-0.5 s at the drop of a
+   * file with a small model shown, seconds with a big one (docs/big-file-frames.md). A view grown
+   * meanwhile is fitted as before. Released, the size follows the view again (a frame only when it changed).
+   */
+  holdSize(held) {
+    if (held === this.sizeHeld) return;
+    this.sizeHeld = held;
+    // the canvas's size in pixels is its style (renderer.setSize): held, it stays, cut by the view
+    this.container.classList.toggle('size-held', held);
+    if (!held) this.resize();
+  }
+
   /** ResizeObserver: the drawing buffer follows the view's size, and is drawn again at once. */
   resize() {
     // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
@@ -205,6 +222,7 @@ export class Viewer {
     if (w === 0 || h === 0) return false;
     const size = this.renderer.getSize(new THREE.Vector2());
     if (size.x === w && size.y === h && this.sized) return false;
+    if (this.sizeHeld && w <= size.x && h <= size.y && this.sized) return false; // cut, not drawn again (holdSize)
     this.sized = true;
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
