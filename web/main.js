@@ -342,7 +342,7 @@ function followSessionInView(session) {
   session.addEventListener('editor', () => {
     app.selection.clear();
     app.viewer.setCage(session.cagePositions(), session.cageEdges());
-    app.viewer.updateMeshFrom(session.editor);
+    app.viewer.updateMeshFrom(session.editor, { opened: frameNext }); // a model just opened: what setMesh drew
     app.freeSet.keepCageMarks();
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
@@ -352,7 +352,7 @@ function followSessionInView(session) {
   });
   session.addEventListener('change', ({ detail }) => {
     if (detail.reason === 'step') return; // the drag handler draws and times its steps
-    app.viewer.updateMeshFrom(session.editor);
+    app.viewer.updateMeshFrom(session.editor, { opened: detail.reason === 'model' });
     app.viewer.updateCage(session.cagePositions());
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();

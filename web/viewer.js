@@ -26,6 +26,7 @@ const FRAME_DIRECTION = new THREE.Vector3(0.45, 0.35, 1).normalize();
 const FRAME_MARGIN = 1.1;
 const FRAME_SAMPLES = 20_000; // points of a big mesh looked at to frame it
 const SHADOW_TRIANGLES = 200_000; // above this, the floor shadow is drawn from a coarser level
+const SURFACE_LATER_VERTICES = 100_000; // above this, an opened model's surface buffers wait for the first frame (updateMeshFrom)
 
 /**
  * Puts the camera on FRAME_DIRECTION from the points' projected centre, at the least distance that
@@ -332,15 +333,35 @@ export class Viewer {
    * The editor's current surface (its float32 positions and, unless flat, normals, computed in
    * WASM): only the vertices the last edit changed are copied and uploaded (surface-upload.js).
    */
-  updateMeshFrom(editor) {
+  updateMeshFrom(editor, { opened = false } = {}) {
     if (!this.mesh || !editor) return;
     // a quad editor has no float32 views over WASM memory yet: its fine positions, copied
     if (typeof editor.positionsView !== 'function') return this.updateMesh(editor.positions());
     this.surfaceUpload ??= new SurfaceUpload();
+    if (opened && this.flat && editor.surface?.() !== 'limit' && this.mesh.geometry.getAttribute('position').count > SURFACE_LATER_VERTICES) {
+      this.#surfaceWhenIdle(editor);
+      return;
+    }
+    this.surfaceLater = null;
     if (this.surfaceUpload.draw(this.mesh.geometry, editor, { normals: !this.flat })) {
       this.shadow.changed();
       this.requestRender();
     }
+  }
+
+  // A model just opened (`opened`): the editor's surface is the positions setMesh drew (its own
+  // mesh, flat shading: no normals needed). A big one's float32 buffers, which the core builds on
+  // their first use (0.3 s at 655k vertices: most of the page's set-up), wait until the page is idle
+  // after the first frame; the attribute is then taken as in step with them (nothing copied,
+  // uploaded or drawn again). An update before that (an edit, smooth shading) draws as usual.
+  #surfaceWhenIdle(editor) {
+    this.surfaceLater = editor;
+    const geometry = this.mesh.geometry;
+    (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(() => {
+      if (this.surfaceLater !== editor || this.mesh?.geometry !== geometry || editor.deleted) return;
+      this.surfaceLater = null;
+      this.surfaceUpload.takeInStep(geometry, editor);
+    }, { timeout: 2000 });
   }
 
   setFlat(flat) {
