@@ -352,7 +352,7 @@ function followSessionInView(session) {
   });
   session.addEventListener('change', ({ detail }) => {
     if (detail.reason === 'step') return; // the drag handler draws and times its steps
-    app.viewer.updateMeshFrom(session.editor, { opened: detail.reason === 'model' });
+    app.viewer.updateMeshFrom(session.editor, { opened: detail.reason === 'model', unmoved: detail.reason === 'free-set' });
     app.viewer.updateCage(session.cagePositions());
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();

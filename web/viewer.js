@@ -332,12 +332,15 @@ export class Viewer {
   /**
    * The editor's current surface (its float32 positions and, unless flat, normals, computed in
    * WASM): only the vertices the last edit changed are copied and uploaded (surface-upload.js).
+   * `opened`: a model just opened (setMesh drew its positions); `unmoved`: nothing moved since the
+   * last call (a free set chosen): see #surfaceWhenIdle.
    */
-  updateMeshFrom(editor, { opened = false } = {}) {
+  updateMeshFrom(editor, { opened = false, unmoved = false } = {}) {
     if (!this.mesh || !editor) return;
     // a quad editor has no float32 views over WASM memory yet: its fine positions, copied
     if (typeof editor.positionsView !== 'function') return this.updateMesh(editor.positions());
     this.surfaceUpload ??= new SurfaceUpload();
+    if (unmoved && this.surfaceLater === editor) return; // still what setMesh drew (#surfaceWhenIdle)
     if (opened && this.flat && editor.surface?.() !== 'limit' && this.mesh.geometry.getAttribute('position').count > SURFACE_LATER_VERTICES) {
       this.#surfaceWhenIdle(editor);
       return;
