@@ -23,9 +23,9 @@ let spare = null; // { worker, failed }
 let spareInstance = null; // a promise of freshInstance()
 let sparesAsked = false;
 /**
- * Starts the spare file worker now, when there is none (the page's start: a file dropped as soon
- * as the page is ready found the worker still loading its core, a quarter of a second at 655k
- * vertices; on its own thread, it costs the page's start little).
+ * Starts the spare file worker now, when there is none (the page's start, once its first model is
+ * open: a file dropped as soon as the page is ready would find a worker started when idle still
+ * loading its script and core).
  */
 export function startFileWorker() {
   if (spare || running) return;

@@ -879,7 +879,6 @@ async function start() {
     return;
   }
   app.stats.coreAt = performance.now();
-  startFileWorker(); // its core loads beside the first model's opening: a file dropped at once is read at once
   const session = new EditingSession(app.mrvol, {
     level: app.settings.level, scheme: app.settings.scheme, preserve: app.settings.preserve, tolerance: app.settings.tolerance, path: sessionPath(),
   });
@@ -934,6 +933,7 @@ async function start() {
     if (await openModel({ kind: 'sample', name: DEFAULT_MODEL })) showError(`${why}\nOpened ${DEFAULT_MODEL} instead.`);
   }
   applyViewLayers();
+  startFileWorker(); // now, not when idle: a file dropped as soon as the model shows is read at once
   keepFileWorkerReady(); // a big file dropped later is read at once
   if (shared) {
     // applied: a reload opens the stored session (which now holds these edits)
