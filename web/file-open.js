@@ -11,7 +11,7 @@ const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
 const WORKER_BYTES = 1_000_000;
 
-let running = null; // { worker, reject }
+let running = null; // { worker, reject, ahead? (readMeshFile: the instance grown ahead, growAhead) }
 
 // One file worker started ahead, once the page is idle: its script loaded and its core warmed up
 // (open-worker.js), a dropped file goes to it at once, where a worker started then took a second or
