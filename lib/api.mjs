@@ -819,6 +819,30 @@ export function wrapModule(module) {
       return adoptCopied(transfer);
     },
     /**
+     * Grows this instance's memory to at least `bytes` ahead of a take-over (adoptTransferredInSlices
+     * of about that much) and writes once to each 4 KB page above what is in use, `sliceBytes` at a
+     * time, awaiting `between(fraction done)` after each: the first write to a page of freshly grown
+     * memory costs a page fault, most of a take-over's time (bench/NOTES-transfer.md), paid here
+     * while the other instance still works. Stops early once `signal` (an AbortSignal) is aborted.
+     * What it writes is zero, as that memory was: this instance keeps working. Resolves to the bytes
+     * of memory it reached.
+     */
+    async growMemoryAhead(bytes, { sliceBytes = 16 * 2 ** 20, between = () => new Promise((r) => setTimeout(r, 0)), signal = null } = {}) {
+      if (!Number.isFinite(bytes) || bytes < 0) throw new MrvolError('growMemoryAhead expects a number of bytes');
+      if (module._threadCount() > 1) return module.HEAPU8.byteLength; // a threaded instance takes no transfer
+      if (bytes > module.HEAPU8.byteLength) call(module._reserveMemory, bytes);
+      const end = Math.min(bytes, module.HEAPU8.byteLength);
+      const PAGE = 4096;
+      const start = Math.ceil(call(module._memoryInUse) / PAGE) * PAGE;
+      for (let at = start; at < end && !signal?.aborted;) {
+        const heap = module.HEAPU8; // taken again after each await: the memory may have grown meanwhile
+        const stop = Math.min(end, at + sliceBytes);
+        for (; at < stop; at += PAGE) heap[at] = 0;
+        await between((at - start) / (end - start));
+      }
+      return module.HEAPU8.byteLength;
+    },
+    /**
      * Copies this instance's memory from byte `offset` into `into` (a Uint8Array; as much as fits,
      * up to the end of the memory) and returns how many bytes it copied: the memory of a
      * transferable({ memory: false }) handed over a slice at a time, through buffers used again (a

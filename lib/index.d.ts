@@ -551,6 +551,13 @@ export interface Mrvol {
    * bytes copied: a transferable({ memory: false })'s memory handed over a slice at a time.
    */
   copyMemory(offset: number, into: Uint8Array): number;
+  /**
+   * Grows this instance's memory to at least `bytes` ahead of a take-over and writes once to each
+   * 4 KB page above what is in use (the page faults paid before the take-over), a slice at a time,
+   * awaiting `between(fraction)` after each; stops early when `signal` is aborted. Resolves to the
+   * memory's size in bytes. The instance keeps working (the pages written hold zeros, as before).
+   */
+  growMemoryAhead(bytes: number, options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void>; signal?: AbortSignal }): Promise<number>;
   /** Takes over what transferable gave, in an instance made for it (its memory is replaced); a single-thread one (threads: 1): a threaded instance refuses. */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /**

@@ -11,7 +11,7 @@ const $ = (id) => document.getElementById(id);
 // Under this size the parse takes well under a frame's worth of waiting; no worker needed.
 const WORKER_BYTES = 1_000_000;
 
-let running = null; // { worker, reject }
+let running = null; // { worker, reject, ahead? (readMeshFile: the instance grown ahead, growAhead) }
 
 // One file worker started ahead, once the page is idle: its script loaded and its core warmed up
 // (open-worker.js), a dropped file goes to it at once, where a worker started then took a second or
@@ -22,6 +22,21 @@ let running = null; // { worker, reject }
 let spare = null; // { worker, failed }
 let spareInstance = null; // a promise of freshInstance()
 let sparesAsked = false;
+/**
+ * Starts the spare file worker now, when there is none (the page's start, once its first model is
+ * open: a file dropped as soon as the page is ready would find a worker started when idle still
+ * loading its script and core).
+ */
+export function startFileWorker() {
+  if (spare || running) return;
+  const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
+  const made = { worker, failed: false };
+  worker.onerror = (e) => {
+    e.preventDefault?.();
+    made.failed = true;
+  };
+  spare = made;
+}
 /** Starts the spare file worker and instance that are missing when the page is next idle (again after each job). */
 export function keepFileWorkerReady() {
   if (sparesAsked || (spare && spareInstance)) return;
@@ -29,15 +44,7 @@ export function keepFileWorkerReady() {
   const start = () => {
     sparesAsked = false;
     if (running) return; // a job's end asks again
-    if (!spare) {
-      const worker = new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
-      const made = { worker, failed: false };
-      worker.onerror = (e) => {
-        e.preventDefault?.();
-        made.failed = true;
-      };
-      spare = made;
-    }
+    startFileWorker();
     spareInstance ??= freshInstance({ stage: false });
   };
   (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(start, { timeout: 5000 });
@@ -55,10 +62,18 @@ function takeFileWorker() {
   return ready ?? new Worker(new URL('./open-worker.js', import.meta.url), { type: 'module', name: 'mrvol-open' });
 }
 
+let holdView = () => {};
+/** What shows and hides of the busy strip tells `hold(shown)` (main.js: the view keeps its size meanwhile, Viewer.holdSize). */
+export function onFileProgressShown(hold) {
+  holdView = hold;
+}
+
 /** The progress in the status strip: fraction 0..1 (null: indeterminate) and a label; text null hides it. */
 export function showFileProgress(text, fraction = null) {
   const box = $('busy');
+  const change = box.hidden !== (text === null);
   box.hidden = text === null;
+  if (change) holdView(text !== null); // after the layout changed: released, the view is measured as it is
   $('busy-text').textContent = text ?? '';
   $('busy-text').title = text ?? ''; // the whole text where a phone cuts it
   const bar = $('busy-bar');
@@ -70,6 +85,7 @@ export function showFileProgress(text, fraction = null) {
 export function cancelFileRead() {
   if (!running) return false;
   const { worker, reject } = running;
+  running.ahead?.stop();
   running = null;
   worker.terminate();
   showFileProgress(null);
@@ -142,6 +158,27 @@ export function freshInstance({ stage = true } = {}) {
   return making;
 }
 
+// Memory the worker's editor takes per vertex (the memory in use it hands over at level 0, the
+// cage polynomial, the biggest: 437 MB at 655k vertices, 111 MB at 164k); the page's instance is
+// grown to a little less, so it never holds much more than it will use.
+const TRANSFER_BYTES_PER_VERTEX = 600;
+
+/**
+ * The instance that will take the worker's editor, grown ahead to about the memory it will take
+ * and its pages written once (lib/api.mjs growMemoryAhead) while the worker still works: the
+ * take-over's copy then writes pages that exist instead of faulting on each (most of its time).
+ * In 16 MB slices with a task between them (the page keeps drawing); stop() ends it early.
+ */
+function growAhead(instance, vertices) {
+  const stopping = new AbortController();
+  const started = performance.now();
+  const done = instance
+    .then((fresh) => fresh.growMemoryAhead(vertices * TRANSFER_BYTES_PER_VERTEX, { signal: stopping.signal }))
+    .then((bytes) => addStage('memory grown ahead for the editor (while the worker works)', 'page', performance.now() - started, { bytes }))
+    .catch(() => {}); // only a head start: the take-over grows what is missing
+  return { stop: () => stopping.abort(), done };
+}
+
 async function pageStageAsync(stage, fn) {
   const t = performance.now();
   try {
@@ -174,10 +211,11 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
   const mb = `${(size / 1e6).toFixed(1)} MB`;
   showFileProgress(`Reading ${name} (${mb})…`, 0);
   return new Promise((resolve, reject) => {
-    const job = { worker, reject };
+    const job = { worker, reject, ahead: null }; // ahead: growAhead's, once the worker knows the vertices
     running = job;
     let memory = null; // the worker's memory coming in slices (after its 'done')
     const finish = () => {
+      job.ahead?.stop();
       if (running === job) running = null;
       worker.terminate();
       showFileProgress(null);
@@ -190,14 +228,19 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       } else if (memory && data.type === 'error') {
         memory.fail(new Error(data.message)); // the take-over fails: the page opens the mesh itself
       } else if (data.type === 'progress') {
-        if (!started) addStage('file worker started (waited for)', 'page', performance.now() - asked);
+        // when the page saw it: later than the worker's start when the page's thread was busy
+        if (!started) addStage('file worker\'s first message seen (waited for)', 'page', performance.now() - asked);
         started = true;
         showFileProgress(`Reading ${name} (${mb})${data.stage === 'reading' ? '' : `: ${data.stage}`}…`, data.fraction);
+        if (instance && data.vertices && !job.ahead) job.ahead = growAhead(instance, data.vertices);
       } else if (data.type === 'done') {
         for (const stage of data.stages ?? []) addStage(stage.stage, stage.thread, stage.ms, stage.bytes ? { bytes: stage.bytes } : {});
         let opened = null;
         if (data.transfer) {
           memory = memorySlicesFrom(worker, data.transfer.memoryBytes);
+          job.ahead?.stop(); // what it did not reach, the take-over grows
+          await job.ahead?.done;
+          if (running !== job) return; // cancelled meanwhile: cancelFileRead rejected already
           try {
             opened = await adopt(data.transfer, {
               memory,
@@ -227,6 +270,7 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       reject(new Error(e.message || 'the file reader could not start'));
     };
     // a stored session's bytes are the app's: the worker gets a copy
-    worker.postMessage(file ? { file, name, editor } : { bytes: bytes.slice().buffer, name, editor });
+    const posted = performance.timeOrigin + performance.now(); // the worker's clock has another origin
+    worker.postMessage(file ? { file, name, editor, posted } : { bytes: bytes.slice().buffer, name, editor, posted });
   });
 }

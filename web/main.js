@@ -17,7 +17,7 @@ import { SessionStore, sessionId } from './session-store.js';
 import { createPanel } from './panel.js';
 import { FreeSetTools } from './free-set-ui.js';
 import { fetchSample, sourceText, openParsed, openQuadObj, firstFaceCorners, baseNameOf } from './models.js';
-import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady } from './file-open.js';
+import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady, startFileWorker, onFileProgressShown } from './file-open.js';
 import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
@@ -342,7 +342,7 @@ function followSessionInView(session) {
   session.addEventListener('editor', () => {
     app.selection.clear();
     app.viewer.setCage(session.cagePositions(), session.cageEdges());
-    app.viewer.updateMeshFrom(session.editor);
+    app.viewer.updateMeshFrom(session.editor, { opened: frameNext }); // a model just opened: what setMesh drew
     app.freeSet.keepCageMarks();
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
@@ -352,7 +352,7 @@ function followSessionInView(session) {
   });
   session.addEventListener('change', ({ detail }) => {
     if (detail.reason === 'step') return; // the drag handler draws and times its steps
-    app.viewer.updateMeshFrom(session.editor);
+    app.viewer.updateMeshFrom(session.editor, { opened: detail.reason === 'model', unmoved: detail.reason === 'free-set' });
     app.viewer.updateCage(session.cagePositions());
     if (detail.reason === 'undo' || detail.reason === 'redo' || detail.reason === 'cancel') app.layers.update();
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
@@ -804,6 +804,8 @@ async function start() {
     }
   };
   app.dragger = new CageDragger(app.viewer, view, dragHandlers);
+  // a file's progress strip shrinks the view for a few seconds: its canvas is cut meanwhile, not drawn again
+  onFileProgressShown((shown) => app.viewer.holdSize(shown));
 
   const params = new URLSearchParams(location.search);
   const urlModel = params.get('model');
@@ -931,6 +933,7 @@ async function start() {
     if (await openModel({ kind: 'sample', name: DEFAULT_MODEL })) showError(`${why}\nOpened ${DEFAULT_MODEL} instead.`);
   }
   applyViewLayers();
+  startFileWorker(); // now, not when idle: a file dropped as soon as the model shows is read at once
   keepFileWorkerReady(); // a big file dropped later is read at once
   if (shared) {
     // applied: a reload opens the stored session (which now holds these edits)

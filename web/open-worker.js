@@ -8,16 +8,17 @@
 // ({ level, scheme }: the page's settings), it makes that too, the slowest part (the cage
 // polynomial), and hands over its module's memory for the page to take (module-transfer.js), a
 // slice at a time as the page asks (memory-slices.js); the hierarchy stays the fallback.
-// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) } },
+// Message in:   { file?: File, bytes?: ArrayBuffer, name, editor?: { level, scheme, positions? (a stored session's) },
+//                 posted? (performance.timeOrigin + now() on the page: how long the job waited for the worker) },
 //               then { type: 'memory-slice', buffer? } (memory-slices.js) after a 'done' with a transfer
-// Messages out: { type: 'progress', stage, fraction },
+// Messages out: { type: 'progress', stage, fraction, vertices? (once parsed) },
 //               { type: 'done', mesh, bytes, format, hierarchy, transfer (lib/api.mjs transferable, its memory
 //                 sent in slices) | null, openError: { message, offer } | null, stages: [{ stage, thread, ms }] (web/open-stages.js) },
 //               { type: 'memory-slice', bytes, ms }, { type: 'error', message, size? (true: a size problem) }
 import { loadMrvol } from './mrvol.js';
 import { claimedVertices, MAX_VERTICES, sizeMessage } from './file-limits.js';
 import { openParsed } from './models.js';
-import { warmUp, buildEditor } from './module-transfer.js';
+import { warmUpInSteps, buildEditor } from './module-transfer.js';
 import { workerStages } from './open-stages.js';
 import { memorySliceServer } from './memory-slices.js';
 
@@ -71,8 +72,12 @@ function editorTransfer(mrvol, mr, info, mesh, { level, scheme, positions, surfa
 
 // The core loaded and warmed up as soon as the worker starts, as the page's instance will be before
 // it takes the copy: the page starts one worker ahead of any file (file-open.js), so a dropped
-// file's reading and parsing need not wait for the worker's script and core.
-const mrvolLoading = loadMrvol().then((mrvol) => (warmUp(mrvol), mrvol));
+// file's reading and parsing need not wait for the worker's script and core. The warm-up yields
+// between its steps: a file dropped meanwhile is read at once, beside it (its parse awaits it).
+const mrvolLoading = loadMrvol().then(async (mrvol) => {
+  await warmUpInSteps(mrvol, () => new Promise((resolve) => setTimeout(resolve, 0)));
+  return mrvol;
+});
 mrvolLoading.catch(() => {}); // awaited by the job
 
 let sendSlice = null; // after a 'done' with a transfer: answers the page's asks for its memory
@@ -87,6 +92,7 @@ self.onmessage = async ({ data: job }) => {
     return;
   }
   try {
+    if (Number.isFinite(job.posted)) addStage('file worker started (after the page posted the file)', performance.timeOrigin + performance.now() - job.posted);
     post({ type: 'progress', stage: 'reading', fraction: 0 });
     const reading = performance.now();
     const bytes = job.file ? await readBytes(job.file) : new Uint8Array(job.bytes);
@@ -117,7 +123,7 @@ self.onmessage = async ({ data: job }) => {
       post({ type: 'error', message: sizeMessage({ vertices }), size: true });
       return;
     }
-    post({ type: 'progress', stage: 'finding its levels', fraction: 0.7 });
+    post({ type: 'progress', stage: 'finding its levels', fraction: 0.7, vertices }); // the page grows its memory ahead (file-open.js)
     // What the page would find on its thread: the hierarchy, or why the mesh does not open (the
     // page shows it and offers a remesh with the mesh itself).
     let hierarchy = null, openError = null, transfer = null;

@@ -52,6 +52,17 @@ export class SurfaceUpload {
     return copied;
   }
 
+  /**
+   * Takes the geometry's position attribute as holding the editor's surface as it is (filled from
+   * the same positions, as float32: a model just opened): the editor's buffers are brought up to
+   * date (built on their first use), nothing is copied or marked for upload; the next draw copies
+   * only what an edit rewrote.
+   */
+  takeInStep(geometry, editor) {
+    editor.positionsView();
+    Object.assign(this.#positions, { editor, attribute: geometry.getAttribute('position'), version: editor.surfaceVersion });
+  }
+
   // One attribute: nothing when it holds this version; the rewritten range when it holds the one
   // before; everything otherwise (another editor or geometry, or versions it missed).
   // Returns how many vertices it copied.

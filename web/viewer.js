@@ -26,6 +26,7 @@ const FRAME_DIRECTION = new THREE.Vector3(0.45, 0.35, 1).normalize();
 const FRAME_MARGIN = 1.1;
 const FRAME_SAMPLES = 20_000; // points of a big mesh looked at to frame it
 const SHADOW_TRIANGLES = 200_000; // above this, the floor shadow is drawn from a coarser level
+const SURFACE_LATER_VERTICES = 100_000; // above this, an opened model's surface buffers wait for the first frame (updateMeshFrom)
 
 /**
  * Puts the camera on FRAME_DIRECTION from the points' projected centre, at the least distance that
@@ -157,6 +158,7 @@ export class Viewer {
     this.frameRequested = false;
     this.beforeFrame = new Set();
     this.sized = false;
+    this.sizeHeld = false; // holdSize
     this.resizeObserver = new ResizeObserver(() => this.resize());
     this.resizeObserver.observe(container);
     this.resize();
@@ -186,6 +188,22 @@ export class Viewer {
     }
   }
 
+  /**
+   * Held (the status strip shown above the view while a file opens or an editor is made): the
+   * canvas keeps its size in pixels when the view shrinks, pushed down and cut at the view's
+   * bottom, instead of a frame drawn again at the new size at once. On software WebGL such a frame
+   * held the page's thread while the GPU process drew and read it back: 0.3-0.5 s at the drop of a
+   * file with a small model shown, seconds with a big one (docs/big-file-frames.md). A view grown
+   * meanwhile is fitted as before. Released, the size follows the view again (a frame only when it changed).
+   */
+  holdSize(held) {
+    if (held === this.sizeHeld) return;
+    this.sizeHeld = held;
+    // the canvas's size in pixels is its style (renderer.setSize): held, it stays, cut by the view
+    this.container.classList.toggle('size-held', held);
+    if (!held) this.resize();
+  }
+
   /** ResizeObserver: the drawing buffer follows the view's size, and is drawn again at once. */
   resize() {
     // setSize cleared the canvas: draw now (ResizeObserver runs before paint), not a blank frame.
@@ -205,6 +223,7 @@ export class Viewer {
     if (w === 0 || h === 0) return false;
     const size = this.renderer.getSize(new THREE.Vector2());
     if (size.x === w && size.y === h && this.sized) return false;
+    if (this.sizeHeld && w <= size.x && h <= size.y && this.sized) return false; // cut, not drawn again (holdSize)
     this.sized = true;
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
@@ -313,16 +332,39 @@ export class Viewer {
   /**
    * The editor's current surface (its float32 positions and, unless flat, normals, computed in
    * WASM): only the vertices the last edit changed are copied and uploaded (surface-upload.js).
+   * `opened`: a model just opened (setMesh drew its positions); `unmoved`: nothing moved since the
+   * last call (a free set chosen): see #surfaceWhenIdle.
    */
-  updateMeshFrom(editor) {
+  updateMeshFrom(editor, { opened = false, unmoved = false } = {}) {
     if (!this.mesh || !editor) return;
     // a quad editor has no float32 views over WASM memory yet: its fine positions, copied
     if (typeof editor.positionsView !== 'function') return this.updateMesh(editor.positions());
     this.surfaceUpload ??= new SurfaceUpload();
+    if (unmoved && this.surfaceLater === editor) return; // still what setMesh drew (#surfaceWhenIdle)
+    if (opened && this.flat && editor.surface?.() !== 'limit' && this.mesh.geometry.getAttribute('position').count > SURFACE_LATER_VERTICES) {
+      this.#surfaceWhenIdle(editor);
+      return;
+    }
+    this.surfaceLater = null;
     if (this.surfaceUpload.draw(this.mesh.geometry, editor, { normals: !this.flat })) {
       this.shadow.changed();
       this.requestRender();
     }
+  }
+
+  // A model just opened (`opened`): the editor's surface is the positions setMesh drew (its own
+  // mesh, flat shading: no normals needed). A big one's float32 buffers, which the core builds on
+  // their first use (0.3 s at 655k vertices: most of the page's set-up), wait until the page is idle
+  // after the first frame; the attribute is then taken as in step with them (nothing copied,
+  // uploaded or drawn again). An update before that (an edit, smooth shading) draws as usual.
+  #surfaceWhenIdle(editor) {
+    this.surfaceLater = editor;
+    const geometry = this.mesh.geometry;
+    (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(() => {
+      if (this.surfaceLater !== editor || this.mesh?.geometry !== geometry || editor.deleted) return;
+      this.surfaceLater = null;
+      this.surfaceUpload.takeInStep(geometry, editor);
+    }, { timeout: 2000 });
   }
 
   setFlat(flat) {

@@ -271,6 +271,42 @@ describe('a mesh and editor taken over by another instance', () => {
     for (const m of [sliced, fromWhole, mr, again]) m.delete();
   });
 
+  // What web/file-open.js does while the worker makes the editor: the taker's memory grown and its
+  // pages written ahead; the taker keeps working meanwhile, and then takes the copy as before.
+  test('memory grown ahead (growMemoryAhead): to the bytes asked, in slices, the instance unchanged; the take-over after it the same', async () => {
+    const [a, b, c] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
+    for (const m of [a, b, c]) warmUp(m);
+    const mr = a.openMesh(loadModel(a, 'spiky-ball'));
+    const transfer = a.transferable(mr, buildEditor(a, mr, { level: 0, scheme: 'loop' }), { scheme: 'loop' });
+    // the taker has a mesh of its own, which works the same after
+    const own = b.openMesh(loadModel(b, 'spiky-ball'));
+    const ownBefore = drags(own.createEditor({ level: 0 }));
+    own.setPositions(loadModel(b, 'spiky-ball').positions);
+    const inUse = b.transferable(own, own.createEditor({ level: 0 }), { memory: false }).memoryBytes;
+    const asked = inUse + 40 * 2 ** 20;
+    const fractions = [];
+    const size = await b.growMemoryAhead(asked, { sliceBytes: 8 * 2 ** 20, between: async (f) => { fractions.push(f); } });
+    assert.ok(size >= asked, `grown to ${size} >= ${asked}`);
+    assert.equal(fractions.length, 5, 'one between() per 8 MB slice of the 40 MB above what is in use');
+    assert.equal(fractions.at(-1), 1);
+    const above = new Uint8Array(size - inUse);
+    b.copyMemory(inUse, above);
+    assert.ok(above.every((x) => x === 0), 'what it wrote is zero');
+    assert.deepEqual(drags(own.createEditor({ level: 0 })), ownBefore, 'the instance works as before');
+    // stopped at once by an aborted signal: no slice written, no between()
+    const stopped = new AbortController();
+    stopped.abort();
+    let calls = 0;
+    await b.growMemoryAhead(size + 32 * 2 ** 20, { signal: stopped.signal, between: async () => { calls++; } });
+    assert.equal(calls, 0);
+    await assert.rejects(() => b.growMemoryAhead(-1), /growMemoryAhead expects a number of bytes/);
+    const taken = b.adoptTransferred(transfer);
+    const fromFresh = c.adoptTransferred(transfer);
+    const [e1, e2] = [taken, fromFresh].map((m) => m.createEditor({ level: 0, scheme: 'loop', path: 'matrix-free' }));
+    assert.deepEqual(drags(e1), drags(e2));
+    for (const m of [taken, fromFresh, mr]) m.delete();
+  });
+
   test('slices that do not add up to the memory in use, and bad copyMemory arguments, are refused by name', async () => {
     const [a, b] = await Promise.all([createMrvol({ threads: 1 }), createMrvol({ threads: 1 })]);
     for (const m of [a, b]) warmUp(m);
