@@ -1,5 +1,6 @@
 // The volume functions over the fine positions: all triangles (by edges) and a part of them.
 #include <algorithm>
+#include <memory>
 #include <string>
 
 #include "mrvol/error.h"
@@ -23,7 +24,8 @@ std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t out
   for (size_t f = 0; f < faces.size(); f += 3)
     for (int k = 0; k < 3; ++k) ++start[size_t(std::min(faces[f + (k + 1) % 3], faces[f + (k + 2) % 3])) + 1];
   for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
-  std::vector<Half> halves(faces.size());
+  // Every half is written below: no zeroing pass first.
+  const std::unique_ptr<Half[]> halves(new Half[faces.size()]);
   for (size_t f = 0; f < faces.size(); f += 3)
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = faces[f + k], b = faces[f + (k + 1) % 3], c = faces[f + (k + 2) % 3];
@@ -34,15 +36,19 @@ std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t out
   const auto before = [](const Half& x, const Half& y) {
     return x.other != y.other ? x.other < y.other : x.reversed < y.reversed;
   };
-  for (size_t v = 0; v + 1 < start.size(); ++v)
+  size_t edgeCount = 0;  // counted while each bucket is in the cache: the table is sized once
+  for (size_t v = 0; v + 1 < start.size(); ++v) {
     for (uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {
       const Half x = halves[i];
       uint32_t j = i;
       for (; j > start[v] && before(x, halves[j - 1]); --j) halves[j] = halves[j - 1];
       halves[j] = x;
     }
-  std::vector<uint32_t> edges;
-  edges.reserve(halves.size() / 2 * 4 + 8);
+    for (uint32_t i = start[v]; i < start[v + 1]; ++edgeCount)
+      i += i + 1 < start[v + 1] && halves[i + 1].other == halves[i].other ? 2 : 1;
+  }
+  std::vector<uint32_t> edges(4 * edgeCount);
+  uint32_t* out = edges.data();
   for (uint32_t v = 0; v + 1 < start.size(); ++v)
     for (uint32_t i = start[v]; i < start[v + 1];) {
       const Half& h = halves[i];
@@ -50,7 +56,8 @@ std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t out
       const bool paired = i + 1 < start[v + 1] && halves[i + 1].other == h.other;
       if (paired && (halves[i + 1].reversed == h.reversed || (i + 2 < start[v + 1] && halves[i + 2].other == h.other)))
         throw Error("edge " + std::to_string(b) + "-" + std::to_string(c) + " is not a manifold edge of a consistently oriented mesh");
-      edges.insert(edges.end(), {b, c, h.a, paired ? halves[i + 1].a : outside});
+      out[0] = b, out[1] = c, out[2] = h.a, out[3] = paired ? halves[i + 1].a : outside;
+      out += 4;
       i += paired ? 2 : 1;
     }
   return edges;
