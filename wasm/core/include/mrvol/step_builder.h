@@ -158,15 +158,19 @@ struct StepBuilder {
   // sum (duplicates summed in the order they came, as compile() does).
   void addToRow(uint32_t s, double w) {
     if (s == kNone) return;  // a touch's weight (compile() zeroes and drops it)
-    const size_t begin = rowStart_.back();
-    size_t j = rowSource_.size();
+    const size_t begin = rowStart_.back(), end = rowSource_.size();
+    size_t j = end;
     while (j > begin && rowSource_[j - 1] > s) --j;
     if (j > begin && rowSource_[j - 1] == s) {
       rowWeight_[j - 1] += w;
       return;
     }
-    rowSource_.insert(rowSource_.begin() + ptrdiff_t(j), s);
-    rowWeight_.insert(rowWeight_.begin() + ptrdiff_t(j), w);
+    // Appended, then moved down to its place (a row holds a few sources).
+    rowSource_.push_back(s), rowWeight_.push_back(w);
+    uint32_t* source = rowSource_.data();
+    double* weight = rowWeight_.data();
+    for (size_t i = end; i > j; --i) source[i] = source[i - 1], weight[i] = weight[i - 1];
+    source[j] = s, weight[j] = w;
   }
   // The rows as compiled triplets (a row without sources as a touch), for the general path.
   void leaveRows() {
