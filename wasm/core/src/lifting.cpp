@@ -223,12 +223,12 @@ std::vector<LiftingStep> loopLevel(const Hierarchy& h, int l, const SchemeOption
   };
   StepBuilder update, oddPredict, evenPredict;
   std::vector<std::pair<uint32_t, double>> normalize;
-  // Room for the rows at once: about 2 + 2 sources per corner of an even vertex (its incident and
-  // link odds, its P_e), 4 per odd vertex (the boundary's few extra grow the vectors).
+  // Room for the triplets at once: about 2 + 2 per corner of an even vertex (its incident and link
+  // odds, its P_e), 4 per odd vertex (the boundary's few extra grow the vectors).
   const size_t fineCorners = h.faces[l].size();
-  update.reserve(evenCount, fineCorners / 2 + evenCount);
-  evenPredict.reserve(evenCount, fineCorners / 3 + evenCount);
-  oddPredict.reserve(fineCount - evenCount, 4 * size_t(fineCount - evenCount));
+  update.triplets.reserve(fineCorners / 2 + evenCount);
+  evenPredict.triplets.reserve(fineCorners / 3 + evenCount);
+  oddPredict.triplets.reserve(4 * size_t(fineCount - evenCount));
   normalize.reserve(evenCount);
   for (uint32_t v = 0; v < evenCount; ++v) {
     const uint32_t *inc = around.inc.data() + around.incStart[v], *incEnd = around.inc.data() + around.incStart[v + 1];

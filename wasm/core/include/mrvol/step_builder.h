@@ -14,32 +14,15 @@
 namespace mrvol {
 
 // Collects (target, source, weight) triplets and compiles them into a lift step (rows sorted by
-// target, duplicate sources merged) or a scaling step. While the targets come in ascending order
-// (the usual case: the schemes walk the targets in order) the rows are built as they come, each
-// kept sorted by source with a duplicate added to its entry (the same sums in the same order as
-// the sort and merge of the triplets, and no triplet array: the step's arrays are the only copy);
-// the first target out of order turns the rows into triplets and the general path takes over.
+// target, duplicate sources merged) or a scaling step.
 struct StepBuilder {
   struct Triplet { uint32_t t, s; double w; };
-  std::vector<Triplet> triplets;  // the general path (targets out of order)
+  std::vector<Triplet> triplets;
   bool compiled = false;
-  // Room for `rows` targets and `entries` sources at once (a hint).
-  void reserve(size_t rows, size_t entries) {
-    rowTarget_.reserve(rows), rowStart_.reserve(rows + 1), rowSource_.reserve(entries), rowWeight_.reserve(entries);
-  }
-  void add(uint32_t t, uint32_t s, double w) {
-    if (inRows_ && rowFor(t)) return addToRow(s, w);
-    triplets.push_back({t, s, w});
-    compiled = false;
-  }
-  void touch(uint32_t t) {
-    if (inRows_ && rowFor(t)) return;
-    triplets.push_back({t, kNone, 0.0});
-    compiled = false;
-  }
+  void add(uint32_t t, uint32_t s, double w) { triplets.push_back({t, s, w}); compiled = false; }
+  void touch(uint32_t t) { triplets.push_back({t, kNone, 0.0}); compiled = false; }
   // Sorted by (target, source), duplicates summed in insertion order (as the std::map did).
   void compile() {
-    leaveRows();
     if (compiled) return;
     sortStably();
     size_t out = 0;
@@ -58,7 +41,8 @@ struct StepBuilder {
   // then each row (a few triplets) by source, stably.
   void sortStably() {
     if (triplets.empty()) return;
-    // Added by ascending target already: only each row by source.
+    // Added by ascending target already (the usual case: the schemes walk the targets in order):
+    // only each row by source.
     bool byTarget = true;
     for (size_t i = 1; i < triplets.size() && byTarget; ++i) byTarget = triplets[i - 1].t <= triplets[i].t;
     if (byTarget) {
@@ -101,27 +85,9 @@ struct StepBuilder {
     for (auto& x : triplets) if (x.s != kNone) f(x.t, x.s, x.w);
   }
   LiftingStep lift(const std::string& name) {
+    compile();
     LiftingStep st;
     st.name = name;
-    if (inRows_) {
-      // The rows as they are, less the sources whose weights summed to zero (and the touches').
-      rowStart_.push_back(uint32_t(rowSource_.size()));
-      size_t out = 0;
-      for (size_t r = 0; r + 1 < rowStart_.size(); ++r) {
-        const uint32_t begin = rowStart_[r], end = rowStart_[r + 1];
-        rowStart_[r] = uint32_t(out);
-        for (uint32_t i = begin; i < end; ++i)
-          if (rowWeight_[i] != 0.0) rowSource_[out] = rowSource_[i], rowWeight_[out++] = rowWeight_[i];
-      }
-      rowStart_.back() = uint32_t(out);
-      rowSource_.resize(out), rowWeight_.resize(out);
-      st.targets = std::move(rowTarget_), st.offsets = std::move(rowStart_);
-      st.sources = std::move(rowSource_), st.weights = std::move(rowWeight_);
-      st.offsets.shrink_to_fit(), st.targets.shrink_to_fit();  // beyond the hint's room: given back
-      *this = StepBuilder();
-      return st;
-    }
-    compile();
     st.offsets.reserve(triplets.size() + 1), st.targets.reserve(triplets.size());
     st.sources.reserve(triplets.size()), st.weights.reserve(triplets.size());
     st.offsets.push_back(0);
@@ -134,60 +100,6 @@ struct StepBuilder {
     }
     st.offsets.shrink_to_fit(), st.targets.shrink_to_fit();  // rows of several triplets: room to give back
     return st;
-  }
-
- private:
-  // The rows while the targets ascend: row r is target rowTarget_[r], its sources (ascending) and
-  // summed weights in [rowStart_[r], rowStart_[r + 1]) (the last row's end is the arrays' end).
-  bool inRows_ = true;
-  std::vector<uint32_t> rowTarget_, rowStart_, rowSource_;
-  std::vector<double> rowWeight_;
-
-  // Makes t the current row (a new one when it is above the last target): false, and the rows
-  // turned into triplets, when t is below it.
-  bool rowFor(uint32_t t) {
-    if (!rowTarget_.empty() && rowTarget_.back() == t) return true;
-    if (!rowTarget_.empty() && t < rowTarget_.back()) {
-      leaveRows();
-      return false;
-    }
-    rowTarget_.push_back(t), rowStart_.push_back(uint32_t(rowSource_.size()));
-    return true;
-  }
-  // Into the current row, sorted by source; a source already there takes the weight added to its
-  // sum (duplicates summed in the order they came, as compile() does).
-  void addToRow(uint32_t s, double w) {
-    if (s == kNone) return;  // a touch's weight (compile() zeroes and drops it)
-    const size_t begin = rowStart_.back(), end = rowSource_.size();
-    size_t j = end;
-    while (j > begin && rowSource_[j - 1] > s) --j;
-    if (j > begin && rowSource_[j - 1] == s) {
-      rowWeight_[j - 1] += w;
-      return;
-    }
-    // Appended, then moved down to its place (a row holds a few sources).
-    rowSource_.push_back(s), rowWeight_.push_back(w);
-    uint32_t* source = rowSource_.data();
-    double* weight = rowWeight_.data();
-    for (size_t i = end; i > j; --i) source[i] = source[i - 1], weight[i] = weight[i - 1];
-    source[j] = s, weight[j] = w;
-  }
-  // The rows as compiled triplets (a row without sources as a touch), for the general path.
-  void leaveRows() {
-    if (!inRows_) return;
-    inRows_ = false;
-    if (rowTarget_.empty()) return;
-    std::vector<Triplet> rows;
-    rows.reserve(rowSource_.size() + rowTarget_.size());
-    rowStart_.push_back(uint32_t(rowSource_.size()));
-    for (size_t r = 0; r < rowTarget_.size(); ++r) {
-      if (rowStart_[r] == rowStart_[r + 1]) rows.push_back({rowTarget_[r], kNone, 0.0});
-      for (uint32_t i = rowStart_[r]; i < rowStart_[r + 1]; ++i) rows.push_back({rowTarget_[r], rowSource_[i], rowWeight_[i]});
-    }
-    rows.insert(rows.end(), triplets.begin(), triplets.end());
-    triplets = std::move(rows);
-    compiled = false;
-    rowTarget_ = {}, rowStart_ = {}, rowSource_ = {}, rowWeight_ = {};
   }
 };
 
