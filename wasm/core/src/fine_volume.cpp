@@ -1,5 +1,6 @@
 // The volume functions over the fine positions: all triangles (by edges) and a part of them.
 #include <algorithm>
+#include <memory>
 #include <string>
 
 #include "mrvol/error.h"
@@ -11,9 +12,10 @@ namespace mrvol {
 namespace {
 // The edge table of FineEdgeVolume for a validated closed or bounded manifold.
 std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t outside) {
-  // Half-edge b -> c (a opposite) in the bucket of its smaller end: the larger end, whether b is
-  // the larger (reversed), and a (12 bytes a half: the pass is memory-bound).
-  struct Half { uint32_t other, reversed, a; };
+  // Half-edge b -> c (a opposite) in the bucket of its smaller end: key = 2 x the larger end + 1
+  // when b is the larger (reversed), and a (8 bytes a half: the pass is memory-bound).
+  struct Half { uint32_t key, a; };
+  if (outside > 0x7fffffffu) throw Error("the edge table holds at most 2^31 vertices, got " + std::to_string(outside));
   // Sorted by (smaller end, larger end, reversed), i.e. by (key, b): a counting sort by the smaller
   // end, then each bucket (a few halves) by insertion (linear time; no key is repeated more than
   // twice on a valid mesh).
@@ -23,34 +25,39 @@ std::vector<uint32_t> edgeTable(const std::vector<uint32_t>& faces, uint32_t out
   for (size_t f = 0; f < faces.size(); f += 3)
     for (int k = 0; k < 3; ++k) ++start[size_t(std::min(faces[f + (k + 1) % 3], faces[f + (k + 2) % 3])) + 1];
   for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
-  std::vector<Half> halves(faces.size());
+  // Every half is written below: no zeroing pass first.
+  const std::unique_ptr<Half[]> halves(new Half[faces.size()]);
   for (size_t f = 0; f < faces.size(); f += 3)
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = faces[f + k], b = faces[f + (k + 1) % 3], c = faces[f + (k + 2) % 3];
-      halves[start[std::min(b, c)]++] = {std::max(b, c), uint32_t(b > c), a};
+      halves[start[std::min(b, c)]++] = {2 * std::max(b, c) + uint32_t(b > c), a};
     }
   for (size_t v = start.size() - 1; v > 0; --v) start[v] = start[v - 1];  // back to the buckets' starts
   start[0] = 0;
-  const auto before = [](const Half& x, const Half& y) {
-    return x.other != y.other ? x.other < y.other : x.reversed < y.reversed;
-  };
-  for (size_t v = 0; v + 1 < start.size(); ++v)
+  size_t edgeCount = 0;  // counted while each bucket is in the cache: the table is sized once
+  for (size_t v = 0; v + 1 < start.size(); ++v) {
     for (uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {
       const Half x = halves[i];
       uint32_t j = i;
-      for (; j > start[v] && before(x, halves[j - 1]); --j) halves[j] = halves[j - 1];
+      for (; j > start[v] && x.key < halves[j - 1].key; --j) halves[j] = halves[j - 1];
       halves[j] = x;
     }
-  std::vector<uint32_t> edges;
-  edges.reserve(halves.size() / 2 * 4 + 8);
+    for (uint32_t i = start[v]; i < start[v + 1]; ++edgeCount)
+      i += i + 1 < start[v + 1] && halves[i + 1].key >> 1 == halves[i].key >> 1 ? 2 : 1;
+  }
+  std::vector<uint32_t> edges(4 * edgeCount);
+  uint32_t* out = edges.data();
   for (uint32_t v = 0; v + 1 < start.size(); ++v)
     for (uint32_t i = start[v]; i < start[v + 1];) {
       const Half& h = halves[i];
-      const uint32_t b = h.reversed ? h.other : v, c = h.reversed ? v : h.other;
-      const bool paired = i + 1 < start[v + 1] && halves[i + 1].other == h.other;
-      if (paired && (halves[i + 1].reversed == h.reversed || (i + 2 < start[v + 1] && halves[i + 2].other == h.other)))
+      const uint32_t other = h.key >> 1;
+      const bool reversed = h.key & 1;
+      const uint32_t b = reversed ? other : v, c = reversed ? v : other;
+      const bool paired = i + 1 < start[v + 1] && halves[i + 1].key >> 1 == other;
+      if (paired && (halves[i + 1].key == h.key || (i + 2 < start[v + 1] && halves[i + 2].key >> 1 == other)))
         throw Error("edge " + std::to_string(b) + "-" + std::to_string(c) + " is not a manifold edge of a consistently oriented mesh");
-      edges.insert(edges.end(), {b, c, h.a, paired ? halves[i + 1].a : outside});
+      out[0] = b, out[1] = c, out[2] = h.a, out[3] = paired ? halves[i + 1].a : outside;
+      out += 4;
       i += paired ? 2 : 1;
     }
   return edges;

@@ -321,13 +321,72 @@ struct ObjReader::Parser {
     grow(faceLines, f);
   }
 
-  // Every whole line of [p, end): `end` is the end of the text or just after a '\n'.
+  // Every whole line of [p, end): `end` is the end of the text or just after a '\n'. The common
+  // lines are read straight from the text (wholeLine), without the scanner's pass over their bytes.
   void scan(const char* p, const char* end) {
     LineScanner scanner{p, end, line};
     const char* begin;
     const char* stop;
-    while (scanner.next(begin, stop)) statement(begin, stop, scanner.line);
+    for (;;) {
+      if (wholeLine(scanner.p, end, scanner.line + 1)) {
+        ++scanner.line;
+        continue;
+      }
+      if (!scanner.next(begin, stop)) break;
+      statement(begin, stop, scanner.line);
+    }
     line = scanner.line;
+  }
+
+  // A "v x y z" or "f a b c" line at p whose bytes are only the statement's (numbers, spaces and
+  // tabs: nothing the scanner would refuse), ended by "\n", "\r\n" or the text's end: read, and p
+  // moved past it. Anything else (and every error) returns false having changed nothing; the
+  // scanner and statement() then read the line as always.
+  bool wholeLine(const char*& p, const char* end, size_t line) {
+    if (end - p < 2 || (p[1] != ' ' && p[1] != '\t') || (p[0] != 'v' && p[0] != 'f')) return false;
+    const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+    const char* q = p + 2;
+    const bool vertex = p[0] == 'v';
+    double x[3];
+    uint32_t v[3];
+    if (vertex) {
+      for (double& value : x) {
+        while (q < end && blank(*q)) ++q;
+        const char* digits = q + (q < end && *q == '-');
+        if (digits >= end || !((*digits >= '0' && *digits <= '9') || *digits == '.')) return false;
+        const auto result = fast_float::from_chars(q, end, value);
+        if (result.ec != std::errc() || result.ptr == digits || result.ptr - q > 63 ||
+            (result.ptr < end && !blank(*result.ptr) && *result.ptr != '\n' && *result.ptr != '\r') ||
+            !(std::fabs(value) <= kMaxCoordinate))
+          return false;
+        q = result.ptr;
+      }
+    } else {
+      for (uint32_t& index : v) {
+        while (q < end && blank(*q)) ++q;
+        const char* first = q;
+        uint32_t value = 0;
+        for (unsigned digit; q < end && q - first < 9 && (digit = unsigned(*q) - '0') <= 9; ++q) value = value * 10 + digit;
+        if (value == 0 || (q < end && !blank(*q) && *q != '\n' && *q != '\r')) return false;  // also no digits
+        index = value - 1;
+      }
+    }
+    while (q < end && blank(*q)) ++q;
+    if (q < end && *q == '\r') ++q;  // CRLF (the scanner allows blanks after the CR too: it reads those)
+    if (q < end && *q != '\n') return false;
+    p = q < end ? q + 1 : q;
+    if (vertex) {
+      mesh.positions.insert(mesh.positions.end(), x, x + 3);
+      if (keepLines) vertexLines.push_back(uint32_t(line));
+      return true;
+    }
+    mesh.faces.insert(mesh.faces.end(), v, v + 3);
+    faceLines.push_back(uint32_t(line));
+    if (keepExtras && !cornerTex.empty()) {  // as the general path: no attributes at these corners
+      cornerTex.insert(cornerTex.end(), 3, kNoIndex);
+      cornerNormal.insert(cornerNormal.end(), 3, kNoIndex);
+    }
+    return true;
   }
 
   // The common lines, "v x y z" and "f a b c" with plain indices, read in one pass over their
