@@ -189,6 +189,19 @@ TEST(ReadFormats, WeldOfPositionsCollidingInTheHashFallsBackToTheSort) {
   expectWeldLikeBruteForce(p);
 }
 
+/** A GLB of the document and the binary chunk `bin` (its length a multiple of 4). */
+std::string glbOf(const nlohmann::json& doc, const std::string& bin) {
+  std::string json = doc.dump();
+  while (json.size() % 4) json += ' ';
+  std::string glb = "glTF";
+  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size())), u32(uint32_t(json.size())), u32(0x4E4F534A);
+  glb += json;
+  u32(uint32_t(bin.size())), u32(0x004E4942);
+  glb += bin;
+  return glb;
+}
+
 // A binary STL of the given corners (3 per triangle, normals zero).
 std::string binaryStl(const std::vector<float>& corners) {
   const uint32_t n = uint32_t(corners.size() / 9);
@@ -318,14 +331,7 @@ TEST(ReadFormats, GltfStripsDropTheirJoiningTriangles) {
   std::string bin(reinterpret_cast<const char*>(p), 48);
   bin.append(reinterpret_cast<const char*>(strip), 6);
   bin.append(2, '\0');
-  std::string json = doc.dump();
-  while (json.size() % 4) json += ' ';
-  std::string glb = "glTF";
-  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
-  u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size())), u32(uint32_t(json.size())), u32(0x4E4F534A);
-  glb += json;
-  u32(uint32_t(bin.size())), u32(0x004E4942);
-  glb += bin;
+  const std::string glb = glbOf(doc, bin);
   ImportedMesh m = readGlb(glb);
   EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));  // glTF: odd i gives (i, i + 2, i + 1)
   EXPECT_EQ(m.sourceFaces, 2u);
@@ -346,14 +352,7 @@ TEST(ReadFormats, GltfIndicesOfASignedTypeAreRefused) {
   std::string bin(reinterpret_cast<const char*>(p), 36);
   bin.append(reinterpret_cast<const char*>(index), 6);
   bin.append(2, '\0');
-  std::string json = doc.dump();
-  while (json.size() % 4) json += ' ';
-  std::string glb = "glTF";
-  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
-  u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size())), u32(uint32_t(json.size())), u32(0x4E4F534A);
-  glb += json;
-  u32(uint32_t(bin.size())), u32(0x004E4942);
-  glb += bin;
+  const std::string glb = glbOf(doc, bin);
   try {
     readGlb(glb);
     FAIL() << "no error";

@@ -375,18 +375,25 @@ struct ObjReader::Parser {
     if (q < end && *q == '\r') ++q;  // CRLF (the scanner allows blanks after the CR too: it reads those)
     if (q < end && *q != '\n') return false;
     p = q < end ? q + 1 : q;
-    if (vertex) {
-      mesh.positions.insert(mesh.positions.end(), x, x + 3);
-      if (keepLines) vertexLines.push_back(uint32_t(line));
-      return true;
-    }
+    if (vertex)
+      addVertex(x, line);
+    else
+      addTriangle(v, line);
+    return true;
+  }
+
+  // A plain line's vertex or triangle (its 3 corners without attributes), as the general path adds them.
+  void addVertex(const double* x, size_t line) {
+    mesh.positions.insert(mesh.positions.end(), x, x + 3);
+    if (keepLines) vertexLines.push_back(uint32_t(line));
+  }
+  void addTriangle(const uint32_t* v, size_t line) {
     mesh.faces.insert(mesh.faces.end(), v, v + 3);
     faceLines.push_back(uint32_t(line));
     if (keepExtras && !cornerTex.empty()) {  // as the general path: no attributes at these corners
       cornerTex.insert(cornerTex.end(), 3, kNoIndex);
       cornerNormal.insert(cornerNormal.end(), 3, kNoIndex);
     }
-    return true;
   }
 
   // The common lines, "v x y z" and "f a b c" with plain indices, read in one pass over their
@@ -406,8 +413,7 @@ struct ObjReader::Parser {
     }
     while (p < stop && classOf(*p) == kBlank) ++p;
     if (p != stop) return false;
-    mesh.positions.insert(mesh.positions.end(), x, x + 3);
-    if (keepLines) vertexLines.push_back(uint32_t(line));
+    addVertex(x, line);
     return true;
   }
 
@@ -424,12 +430,7 @@ struct ObjReader::Parser {
     }
     while (p < stop && classOf(*p) == kBlank) ++p;
     if (p != stop) return false;
-    mesh.faces.insert(mesh.faces.end(), v, v + 3);
-    faceLines.push_back(uint32_t(line));
-    if (keepExtras && !cornerTex.empty()) {  // as the general path: no attributes at these corners
-      cornerTex.insert(cornerTex.end(), 3, kNoIndex);
-      cornerNormal.insert(cornerNormal.end(), 3, kNoIndex);
-    }
+    addTriangle(v, line);
     return true;
   }
 
