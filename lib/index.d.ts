@@ -554,10 +554,11 @@ export interface Mrvol {
   /**
    * Grows this instance's memory to at least `bytes` ahead of a take-over and writes once to each
    * 4 KB page above what is in use (the page faults paid before the take-over), a slice at a time,
-   * awaiting `between(fraction)` after each; stops early when `signal` is aborted. Resolves to the
+   * awaiting `between(fraction)` after each; stops early when `signal` is aborted (an AbortSignal, or
+   * anything with `aborted`: the package's types name no DOM or Node global). Resolves to the
    * memory's size in bytes. The instance keeps working (the pages written hold zeros, as before).
    */
-  growMemoryAhead(bytes: number, options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void>; signal?: AbortSignal }): Promise<number>;
+  growMemoryAhead(bytes: number, options?: { sliceBytes?: number; between?: (fraction: number) => Promise<void>; signal?: { readonly aborted: boolean } | null }): Promise<number>;
   /** Takes over what transferable gave, in an instance made for it (its memory is replaced); a single-thread one (threads: 1): a threaded instance refuses. */
   adoptTransferred(transfer: TransferredEditor): MultiresMesh;
   /**
