@@ -351,6 +351,9 @@ function lockKey(lock) {
   return locked.join(',');
 }
 
+/** Per input piece (its mesh object): the largest base size whose simplification lost its genus. */
+const genusLostAt = new WeakMap();
+
 /** simplifyToBase()'s work. */
 function makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis = null) {
   const problems = [];
@@ -358,6 +361,14 @@ function makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, e
   let target = first;
   for (let attempt = 0; attempt < attempts; attempt++, target = Math.ceil(target * 1.5)) {
     if (target >= mesh.faces.length / 3) return { base: mesh, target, problems, simplified: false };
+    // The piece's tiny tunnels closed in a base at least this large already: a smaller one loses
+    // them too, and only the third try takes a base of another genus (each simplification of the
+    // 871k scan costs about a second, three per base).
+    const lost = genusLostAt.get(mesh) ?? 0;
+    if (attempt < 2 && target <= lost) {
+      problems.push(`${target} faces: not simplified (the genus was lost at ${lost} faces)`);
+      continue;
+    }
     // (Simplified from the whole piece each time: bases of the 871k scan made from one 60k-face
     // intermediate cost 30% less CPU but fitted farther, 0.55% -> 2.24%, with its genus-changed bases
     // collapsed back: tried and dropped.)
@@ -392,6 +403,7 @@ function makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, e
       return { base, target, problems, simplified: true };
     }
     problems.push(`${target} faces: ${problem}`);
+    if (/^genus \d+ instead of/.test(problem)) genusLostAt.set(mesh, Math.max(lost, target));
     // Tiny tunnels of a scan (genus 52 for the full dragon) close at any cage size: after two
     // tries a closed, manifold, one-piece base of another genus is taken (reported).
     // Collapsed back to the size asked for as well (collapseToTarget keeps the genus it has): the
@@ -1275,6 +1287,9 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   let emphasis = null;
   // Per piece (or null): points (x y z each) where a refined base keeps more faces (see refinedRounds below).
   let refineAt = null;
+  // Whether a fit that folds is made again on bases twice and four times as large, or only on those
+  // within the larger bases' limit (LARGER_BASE_FACES; see the levels below).
+  let largerRetries = true;
   // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
   const simplifierProblems = [];
   let featuresFolded = false;
@@ -1285,7 +1300,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // Folds left after untangling: once more without the feature constraints (if any), then
     // (unless the base size is given) with a base twice and four times as large.
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
-    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]])];
+    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]].filter(([scale]) => largerRetries || requested * scale <= LARGER_BASE_FACES))];
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
@@ -1494,9 +1509,13 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     while (levels > 0 && !fits(levels, 1)) levels--;
     // A level that gained less than 5% over the one before leaves little for the next: the base is
     // what is far (dragon-203k: 3.87% at 2 levels, 3.77% at 3, 4.00% at 4, a 4-level fit of 3 s).
+    // A level added that folds on the base is not made again on bases larger than the larger bases'
+    // limit (a cage past it for one level more): dragon-871k's 3-level fit folded on bases of 1064,
+    // 2128 and 4062 faces (about 15 s of CPU).
     let before = Infinity;
     for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels &&
-           distance(lastMeasured) <= 0.95 * before; levels++) before = distance(lastMeasured);
+           distance(lastMeasured) <= 0.95 * before; levels++) before = distance(lastMeasured), largerRetries = false;
+    largerRetries = true;
     const first = measured;
     tipsRounds(false);
     // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
