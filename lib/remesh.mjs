@@ -316,13 +316,21 @@ function farEmphasis(mesh, distances, limit, radius, cap, into = null) {
   if (!into && !distances.some((d) => d > limit)) return null;
   const out = into ?? new Float32Array(n);
   const grid = pointGrid(p, radius);
+  // The grid's cells read in place (not within()'s lists: the 871k scan's tens of thousands of far
+  // vertices have thousands of neighbours each); a vertex already weighted at w or more keeps its weight.
+  const near = 1.000001 * radius * radius;
   for (let u = 0; u < n; u++) {
     if (!(distances[u] > limit)) continue;
-    const w = Math.min(cap, distances[u] / limit);
-    for (const v of grid.within(p[3 * u], p[3 * u + 1], p[3 * u + 2], radius)) {
-      const r = Math.hypot(p[3 * v] - p[3 * u], p[3 * v + 1] - p[3 * u + 1], p[3 * v + 2] - p[3 * u + 2]);
-      out[v] = Math.max(out[v], w * (1 - r / radius));
-    }
+    const w = Math.min(cap, distances[u] / limit), x = p[3 * u], y = p[3 * u + 1], z = p[3 * u + 2];
+    for (const cell of grid.cellsNear(x, y, z, radius))
+      for (let j = 0; j < cell.length; j++) {
+        const v = cell[j];
+        if (out[v] >= w) continue;
+        const dx = p[3 * v] - x, dy = p[3 * v + 1] - y, dz = p[3 * v + 2] - z;
+        if (dx * dx + dy * dy + dz * dz > near) continue;
+        const r = Math.hypot(dx, dy, dz);
+        if (r <= radius) out[v] = Math.max(out[v], w * (1 - r / radius));
+      }
   }
   return out;
 }
@@ -965,6 +973,17 @@ function pointGrid(points, cell) {
     cells.get(k).push(i);
   }
   return {
+    /** The cells (lists of point indices) that may hold points within r of a point. */
+    cellsNear(x, y, z, r) {
+      const out = [];
+      for (let a = Math.floor((x - r) / cell); a <= Math.floor((x + r) / cell); a++)
+        for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
+          for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++) {
+            const list = cells.get(key(a, b, c));
+            if (list && !out.includes(list)) out.push(list);
+          }
+      return out;
+    },
     within(x, y, z, r) {
       const out = [];
       for (let a = Math.floor((x - r) / cell); a <= Math.floor((x + r) / cell); a++)
@@ -1392,6 +1411,15 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   };
 
   let result = null, measured = null, lastMeasured = null;
+  // The distances of input points (positions) from a measured fit's result: the tips, emphasis and
+  // refined rounds ask for the same fit's more than once (the 871k scan's 435k vertices each time).
+  const distancesKnown = new WeakMap();
+  const distancesTo = (m, positions) => {
+    if (!distancesKnown.has(m)) distancesKnown.set(m, new Map());
+    const known = distancesKnown.get(m);
+    if (!known.has(positions)) known.set(positions, m.surface.distances(positions));
+    return known.get(positions);
+  };
   const tried = [], measures = [];
   const distance = (m) => Math.max(m.toInput, m.fromInput) / diagonal;
   // One fit, kept if it is the first or closer to the input; false if it folded.
@@ -1436,7 +1464,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // A closest fit the drag and nudge bring within the goal needs no further round (see nearlyDone):
     // dragon-203k's third round was a 1.58% fit, after a 0.61% one nudged to 0.46%.
     for (let round = 0; round < 3 && distance(measured) > goal && !(round > 0 && nearlyDone()); round++) {
-      const added = addTips(mesh, measured.surface, goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
+      const added = addTips(mesh, distancesTo(measured, mesh.positions), goal * diagonal, 0.02 * diagonal, Math.max(8, Math.round(requested / 16)), tipKeys);
       if (added === 0) break;
       const before = distance(measured);
       holdTips = sameSize;
@@ -1459,7 +1487,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     tipKeys.clear();
     let last = from;
     for (let round = 0; round < EMPHASIS_ROUNDS && distance(measured) > goal && !(round > 0 && nearlyDone()); round++) {
-      emphasis = pieces.map((piece, i) => farEmphasis(piece.mesh, last.surface.distances(piece.mesh.positions), goal * diagonal,
+      emphasis = pieces.map((piece, i) => farEmphasis(piece.mesh, distancesTo(last, piece.mesh.positions), goal * diagonal,
                                                       EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP, emphasis?.[i]));
       if (!tryFit(result.levels, 1, null, size)) break;
       // A round that left its fit no closer than the one it started from: no further round.
@@ -1469,7 +1497,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // The closest fit so far not of these rounds (a tips round's, a larger base's): one round from its far regions
     // too (dragon-48k 1.685% -> 1.628%; from it alone, dragon-11k's round was 5.07% against 0.65% from the first).
     if (distance(measured) > goal && measured !== last && !nearlyDone()) {
-      emphasis = pieces.map((piece) => farEmphasis(piece.mesh, measured.surface.distances(piece.mesh.positions), goal * diagonal,
+      emphasis = pieces.map((piece) => farEmphasis(piece.mesh, distancesTo(measured, piece.mesh.positions), goal * diagonal,
                                                    EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
       tryFit(result.levels, 1, null, size);
     }
@@ -1486,7 +1514,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     if (options.refine === false || options.parametrise) return;
     for (let round = 0; round < REFINED_ROUNDS && distance(measured) > goal; round++) {
       const before = distance(measured);
-      const far = pieces.map((piece) => measured.surface.distances(piece.mesh.positions));
+      const far = pieces.map((piece) => distancesTo(measured, piece.mesh.positions));
       refineAt = pieces.map((piece, i) => farPoints(piece.mesh.positions, far[i], goal * diagonal, 0.005 * diagonal, 400));
       emphasis = pieces.map((piece, i) => farEmphasis(piece.mesh, far[i], goal * diagonal, EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
       tryFit(result.levels, 1);
@@ -1523,7 +1551,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       if (distance(measured) <= goal) break;
       // (Pieces whose input vertices are all near: the far side is the result's, say where
       // centroids of the result bulge off a spike: then every piece is enlarged.)
-      let far = farPieces(pieces, measured.surface, goal * diagonal);
+      let far = farPieces(pieces.map((piece) => distancesTo(measured, piece.mesh.positions)), goal * diagonal);
       if (!far.some((f) => f)) far = far.map(() => true);
       // The far pieces' scale lowered so that the bases stay within the cage goal (500 handles:
       // 880 faces asked for leaves room for the small pieces' own bases and the simplifier's count);
@@ -1722,12 +1750,12 @@ function measure(result, input, surface, maxSamples) {
 }
 
 /**
- * Adds to `keys` the positions of the input vertices farther than `limit` from the result, the
- * farthest first, each at least `spacing` from those already chosen, at most `count`. Returns how
+ * Adds to `keys` the positions of the input vertices farther than `limit` from the result (their
+ * `distances` from it), the farthest first, each at least `spacing` from those already chosen, at most `count`. Returns how
  * many were added.
  */
-function addTips(input, resultSurface, limit, spacing, count, keys) {
-  const p = input.positions, far = [], distances = resultSurface.distances(p);
+function addTips(input, distances, limit, spacing, count, keys) {
+  const p = input.positions, far = [];
   for (let i = 0; i < p.length / 3; i++) if (distances[i] > limit) far.push([distances[i], i]);
   far.sort((a, b) => b[0] - a[0]);
   const chosen = [];
@@ -1741,9 +1769,9 @@ function addTips(input, resultSurface, limit, spacing, count, keys) {
   return added;
 }
 
-/** For each piece: whether one of its vertices is farther than `limit` from the result. */
-function farPieces(pieces, resultSurface, limit) {
-  return pieces.map(({ mesh: { positions: p } }) => resultSurface.distances(p).some((d) => d > limit));
+/** For each piece (its vertices' distances from the result): whether one is farther than `limit`. */
+function farPieces(distances, limit) {
+  return distances.map((d) => d.some((x) => x > limit));
 }
 
 /** `lock` (or none) with the vertices of `mesh` at the positions of `keys` added, if they fit the target. */
