@@ -1306,9 +1306,9 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   let emphasis = null;
   // Per piece (or null): points (x y z each) where a refined base keeps more faces (see refinedRounds below).
   let refineAt = null;
-  // Whether a fit that folds is made again on bases twice and four times as large, or only on those
-  // within the larger bases' limit (LARGER_BASE_FACES; see the levels below).
-  let largerRetries = true;
+  // A fit that folds is made again on bases twice and four times as large: those asked for with
+  // at most this many faces (see the levels below).
+  let retryFaces = Infinity;
   // One fit at `levels` levels: bases of growing size until no triangle is left flipped.
   const simplifierProblems = [];
   let featuresFolded = false;
@@ -1319,7 +1319,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // Folds left after untangling: once more without the feature constraints (if any), then
     // (unless the base size is given) with a base twice and four times as large.
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
-    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]].filter(([scale]) => largerRetries || requested * scale <= LARGER_BASE_FACES))];
+    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [[2, null], [4, null]].filter(([scale]) => requested * scale <= retryFaces))];
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
@@ -1537,13 +1537,14 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     while (levels > 0 && !fits(levels, 1)) levels--;
     // A level that gained less than 5% over the one before leaves little for the next: the base is
     // what is far (dragon-203k: 3.87% at 2 levels, 3.77% at 3, 4.00% at 4, a 4-level fit of 3 s).
-    // A level added that folds on the base is not made again on bases larger than the larger bases'
-    // limit (a cage past it for one level more): dragon-871k's 3-level fit folded on bases of 1064,
-    // 2128 and 4062 faces (about 15 s of CPU).
+    // A level added that folds is made again only on bases within the larger bases' limit or the
+    // closest fit's own size (not a larger cage for one level more): dragon-871k's 3-level fit folded
+    // on bases of 1064, 2128 and 4062 faces (about 15 s of CPU; its 2-level fit is on 1064).
     let before = Infinity;
     for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels &&
-           distance(lastMeasured) <= 0.95 * before; levels++) before = distance(lastMeasured), largerRetries = false;
-    largerRetries = true;
+           distance(lastMeasured) <= 0.95 * before; levels++)
+      before = distance(lastMeasured), retryFaces = Math.max(LARGER_BASE_FACES, 1.1 * result.baseFaces);
+    retryFaces = Infinity;
     const first = measured;
     tipsRounds(false);
     // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
