@@ -137,7 +137,7 @@ export interface RemeshResult {
   genusChangedPieces: number;
   /** What repair() did, when the repair option was given (else null). */
   repair: RepairReport | null;
-  /** Simplifier outputs that failed validation (target faces: problem). */
+  /** Simplifier outputs that failed validation (target faces: problem), and targets not simplified because a base as large already lost the piece's genus. */
   simplifierRetries: string[];
   /** Which fit the result is: the simplifier's bases, cast and relaxed, or the MAPS fit (`parametrise`). */
   fit: 'simplified' | 'parametrised';
