@@ -5,6 +5,7 @@
 // two-sided measure), each move kept only where it flips nothing and makes no nearby sample farther.
 import { Triangle, Vector3 } from 'three';
 import { connectivity } from './connectivity.mjs';
+import { hypot3 } from './geometry.mjs';
 import { flippedFaces, Surface } from './remesh.mjs';
 
 // Far samples tried per round, the farthest first.
@@ -113,7 +114,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       const centre = [0, 0, 0];
       let radius = 0;
       for (const v of patchCorners) for (let k = 0; k < 3; k++) centre[k] += positions[3 * v + k] / patchCorners.size;
-      for (const v of patchCorners) radius = Math.max(radius, Math.hypot(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
+      for (const v of patchCorners) radius = Math.max(radius, hypot3(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
       const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
       const movedSet = new Set(corners);
       for (const part of parts) {
@@ -122,7 +123,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
         corners.forEach((v, j) => {
           const dv = displacements[j];
           for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + dv[k];
-          farthestStep = Math.max(farthestStep, Math.hypot(dv[0], dv[1], dv[2]));
+          farthestStep = Math.max(farthestStep, hypot3(dv[0], dv[1], dv[2]));
         });
         const reach = radius + farthestStep + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&

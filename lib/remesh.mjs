@@ -17,7 +17,7 @@ import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
 import { nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
-import { boundingDiagonal, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
+import { boundingDiagonal, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
 
@@ -320,7 +320,7 @@ function farEmphasis(mesh, distances, limit, radius, cap, into = null) {
     if (!(distances[u] > limit)) continue;
     const w = Math.min(cap, distances[u] / limit);
     for (const v of grid.within(p[3 * u], p[3 * u + 1], p[3 * u + 2], radius)) {
-      const r = Math.hypot(p[3 * v] - p[3 * u], p[3 * v + 1] - p[3 * u + 1], p[3 * v + 2] - p[3 * u + 2]);
+      const r = hypot3(p[3 * v] - p[3 * u], p[3 * v + 1] - p[3 * u + 1], p[3 * v + 2] - p[3 * u + 2]);
       out[v] = Math.max(out[v], w * (1 - r / radius));
     }
   }
@@ -441,7 +441,7 @@ function refinedBase(mrvol, piece, target, repairBase, lock, emphasis, at, radiu
   const p = larger.base.positions, keys = new Set();
   for (let v = 0; v < p.length / 3; v++)
     for (let j = 0; j < at.length; j += 3)
-      if (Math.hypot(p[3 * v] - at[j], p[3 * v + 1] - at[j + 1], p[3 * v + 2] - at[j + 2]) <= radius) {
+      if (hypot3(p[3 * v] - at[j], p[3 * v + 1] - at[j + 1], p[3 * v + 2] - at[j + 2]) <= radius) {
         keys.add(positionKey(p, v));
         break;
       }
@@ -524,7 +524,7 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
           const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
           n0 += t[0], n1 += t[1], n2 += t[2];
         }
-        const l = Math.hypot(n0, n1, n2) || 1;
+        const l = hypot3(n0, n1, n2) || 1;
         normals[3 * c] = n0 / l, normals[3 * c + 1] = n1 / l, normals[3 * c + 2] = n2 / l;
       }
     } else {
@@ -549,7 +549,7 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
       const y = positions[3 * i + 1] + weight * (d1 - dn * nv[m + 1]);
       const z = positions[3 * i + 2] + weight * (d2 - dn * nv[m + 2]);
       // The vertex was on the surface: the step is an upper bound of the distance back to it.
-      const step = weight * Math.hypot(d0, d1, d2);
+      const step = weight * hypot3(d0, d1, d2);
       const t = toProject++;
       targets[3 * t] = x, targets[3 * t + 1] = y, targets[3 * t + 2] = z, bounds[t] = 1.01 * step + 1e-12, projected[t] = c;
     }
@@ -617,7 +617,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       for (let j = 0; j < 3; j++) {
         const v = index[3 * f + j];
         if (held[v]) continue;
-        const d = Math.hypot(positions[3 * v] - input[3 * i], positions[3 * v + 1] - input[3 * i + 1], positions[3 * v + 2] - input[3 * i + 2]);
+        const d = hypot3(positions[3 * v] - input[3 * i], positions[3 * v + 1] - input[3 * i + 1], positions[3 * v + 2] - input[3 * i + 2]);
         if (d < bestDistance) best = v, bestDistance = d;
       }
       if (best < 0) continue;
@@ -625,7 +625,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       let reach = 0;
       for (let e = adjacency.offsets[best]; e < adjacency.offsets[best + 1]; e++) {
         const w = adjacency.list[e];
-        reach = Math.max(reach, Math.hypot(positions[3 * w] - positions[3 * best], positions[3 * w + 1] - positions[3 * best + 1], positions[3 * w + 2] - positions[3 * best + 2]));
+        reach = Math.max(reach, hypot3(positions[3 * w] - positions[3 * best], positions[3 * w + 1] - positions[3 * best + 1], positions[3 * w + 2] - positions[3 * best + 2]));
       }
       if (bestDistance > reach) continue;
       before.set(best, positions.slice(3 * best, 3 * best + 3));
@@ -856,7 +856,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
     const tips = [];
     for (const [, i] of far) {
       if (tips.length >= perRound) break;
-      if (!tips.some((j) => Math.hypot(input[3 * i] - input[3 * j], input[3 * i + 1] - input[3 * j + 1], input[3 * i + 2] - input[3 * j + 2]) < apart)) tips.push(i);
+      if (!tips.some((j) => hypot3(input[3 * i] - input[3 * j], input[3 * i + 1] - input[3 * j + 1], input[3 * i + 2] - input[3 * j + 2]) < apart)) tips.push(i);
     }
     for (const i of tips) {
       const tx = input[3 * i], ty = input[3 * i + 1], tz = input[3 * i + 2];
@@ -866,7 +866,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
       const near = new Set(corners);
       for (const u of corners) for (let e = adjacency.offsets[u]; e < adjacency.offsets[u + 1]; e++) near.add(adjacency.list[e]);
       const order = [...near].filter((u) => !fixed[u] && !used[u])
-        .map((u) => [Math.hypot(positions[3 * u] - tx, positions[3 * u + 1] - ty, positions[3 * u + 2] - tz), u])
+        .map((u) => [hypot3(positions[3 * u] - tx, positions[3 * u + 1] - ty, positions[3 * u + 2] - tz), u])
         .sort((x, y) => x[0] - y[0] || x[1] - y[1]).slice(0, candidates);
       let done = false;
       for (const [, v] of order) {
@@ -881,8 +881,8 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
           patchFaces = faceList;
           const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, faceList, 0, twins));
           let radius = 0;
-          for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, Math.hypot(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
-          const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + Math.hypot(ox, oy, oz));
+          for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, hypot3(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
+          const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + hypot3(ox, oy, oz));
           const before = result.closestMany(Float64Array.from({ length: 3 * nearInput.length }, (_, e) => input[3 * nearInput[Math.floor(e / 3)] + e % 3]));
           const facesBefore = faceList.map((f) => centroidDistance(surface, positions, faces, f));
           const saved = [];
@@ -959,7 +959,7 @@ function pointGrid(points, cell) {
         for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
           for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++)
             for (const i of cells.get(key(a, b, c)) ?? [])
-              if (Math.hypot(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
+              if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
       // (A collision can list a point twice.)
       return [...new Set(out)];
     },
@@ -1005,7 +1005,7 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
       z = w[0] * p[3 * a + 2] + w[1] * p[3 * b + 2] + w[2] * p[3 * c + 2];
     }
     // Distance to a surface is 1-Lipschitz: the previous sample's distance plus the step bounds it.
-    const bound = previous + Math.hypot(x - px, y - py, z - pz);
+    const bound = previous + hypot3(x - px, y - py, z - pz);
     previous = surface.closest(x, y, z, 1.0001 * bound + 1e-12).distance;
     px = x, py = y, pz = z;
     worst = Math.max(worst, previous);
@@ -1053,9 +1053,9 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
           cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
     centroids[3 * q] = cx, centroids[3 * q + 1] = cy, centroids[3 * q + 2] = cz;
     // The corners lie on the surface: the nearest one bounds the centroid's distance.
-    bounds[q] = 1.0001 * Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
-                                  Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
-                                  Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
+    bounds[q] = 1.0001 * Math.min(hypot3(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
+                                  hypot3(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
+                                  hypot3(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
   }
   const near = surface.closestMany(centroids, bounds);
   const flipped = [];
@@ -1677,7 +1677,7 @@ function farPoints(p, distances, limit, spacing, count) {
       for (let dy = -1; dy <= 1 && !near; dy++)
         for (let dz = -1; dz <= 1 && !near; dz++)
           for (const j of grid.get(`${cx + dx} ${cy + dy} ${cz + dz}`) ?? [])
-            if (Math.hypot(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing) near = true;
+            if (hypot3(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing) near = true;
     if (near) continue;
     const key = `${cx} ${cy} ${cz}`;
     if (!grid.has(key)) grid.set(key, []);
@@ -1708,7 +1708,7 @@ function addTips(input, resultSurface, limit, spacing, count, keys) {
   const chosen = [];
   for (const [, i] of far) {
     if (chosen.length >= count) break;
-    if (chosen.some((j) => Math.hypot(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing)) continue;
+    if (chosen.some((j) => hypot3(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing)) continue;
     chosen.push(i);
   }
   let added = 0;
@@ -1866,9 +1866,9 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
         const x = (positions[3 * a] + positions[3 * b]) / 2, y = (positions[3 * a + 1] + positions[3 * b + 1]) / 2,
               z = (positions[3 * a + 2] + positions[3 * b + 2]) / 2;
         for (let k = 0; k < 3; k++) normal[k] = coarseNormals[3 * a + k] + coarseNormals[3 * b + k];
-        const l = Math.hypot(normal[0], normal[1], normal[2]) || 1;
+        const l = hypot3(normal[0], normal[1], normal[2]) || 1;
         for (let k = 0; k < 3; k++) normal[k] /= l;
-        const cap = Math.hypot(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1],
+        const cap = hypot3(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1],
                                positions[3 * a + 2] - positions[3 * b + 2]);
         let hit = surface.castBothWays(x, y, z, normal, cap);
         // A hit on a sheet facing the other way is the far side of a thin part: not this one.
