@@ -1172,6 +1172,10 @@ export function defaultBaseFaces(inputFaces) {
 // diagonal), and the largest weight.
 const EMPHASIS_ROUNDS = 3, EMPHASIS_RADIUS = 0.03, EMPHASIS_CAP = 8;
 
+// Inputs up to this size get the early emphasis round (remesh): beyond it a fit costs more than a
+// round that may not be kept is worth (dragon-203k reaches its goal by the tips rounds).
+const EARLY_EMPHASIS_MAX_FACES = 60000;
+
 // Refined rounds (remesh): at most this many.
 const REFINED_ROUNDS = 2;
 
@@ -1492,7 +1496,34 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     while (levels > 0 && !fits(levels, 1)) levels--;
     for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels; levels++);
     const first = measured;
-    tipsRounds(false);
+    // A small input whose base cannot grow (no larger base fits the cage goal): the first emphasis
+    // round tried before the tips rounds, kept if its drag and nudge reach the goal (dragon-11k:
+    // the emphasis fit gave its 0.450%, the two tips rounds before it nothing); else forgotten, so
+    // the rounds go as before (the emphasis round, made again later, comes from the fits' cache).
+    // (The larger bases' first step, below, at its largest: its far pieces the smallest piece, or
+    // all; a piece of 64 faces or fewer is its own base, never far.)
+    const smallest = Math.min(inputFaces, ...pieces.map((p) => p.mesh.faces.length / 3).filter((f) => f > 64)) / inputFaces;
+    const room = LARGER_BASE_FACES / requested;
+    const noLargerBase = room < 1 || 1 + (room - 1) / smallest < 0.75 * 2;
+    let earlyDone = false;
+    if (distance(measured) > goal && noLargerBase && inputFaces <= EARLY_EMPHASIS_MAX_FACES &&
+        options.emphasis !== false && !options.parametrise) {
+      const before = { result, measured, lastMeasured, tried: tried.length, problems: simplifierProblems.length, genusChanges: [...genusChanges] };
+      emphasis = pieces.map((piece) => farEmphasis(piece.mesh, first.surface.distances(piece.mesh.positions), goal * diagonal,
+                                                   EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
+      const early = tryFit(result.levels, 1) ? result : null;
+      emphasis = null;
+      earlyDone = !!early && early !== before.result && nearlyDone();
+      if (!earlyDone) {
+        if (early && early !== before.result) finishedFits.delete(early);
+        ({ result, measured, lastMeasured } = before);
+        tried.length = before.tried, simplifierProblems.length = before.problems;
+        genusChanges.clear();
+        for (const i of before.genusChanges) genusChanges.add(i);
+      }
+    }
+    // (Kept: no larger base is tried, and nearlyDone() below holds.)
+    if (!earlyDone) tipsRounds(false);
     // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
     for (const scale of [2, 4]) {
       if (distance(measured) <= goal) break;
