@@ -592,7 +592,9 @@ function slideOnLine(constraints, positions, adjacency, i, weight, next, at) {
  * diagonal from the result pulls the nearest corner of the closest result triangle onto itself
  * (at most a local edge length away); those corners are then held while the others relax, and a
  * snap that folds the surface (flipped triangles around it) is pulled halfway back, twice, then
- * undone. Two rounds.
+ * undone. Two rounds. Returns the input's closest points on the result ({ closest, index: the
+ * result's BVH order }) if a round ended with nothing to snap (the result as they were found: the
+ * pull after it starts from them), else null.
  */
 function snapToFeatures(surface, positions, faces, relaxIterations, constraints = null) {
   const input = surface.mesh.positions;
@@ -608,7 +610,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
     result.dispose();
     for (let i = 0; i < input.length / 3; i++)
       if (closest.distances[i] > threshold) candidates.push([closest.distances[i], i, closest.triangles[i]]);
-    if (candidates.length === 0) break;
+    if (candidates.length === 0) return { closest, index };
     candidates.sort((a, b) => b[0] - a[0]);
     let moved = 0;
     const before = new Map();
@@ -633,7 +635,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       held[best] = 1;
       moved++;
     }
-    if (moved === 0) break;
+    if (moved === 0) return { closest, index };
     // Only the neighbourhood of the snapped vertices (6 rings) relaxes and is checked for folds.
     let front = [...before.keys()];
     const near = new Uint8Array(vertexCount);
@@ -675,6 +677,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen(), constraints);
     }
   }
+  return null;
 }
 
 /**
@@ -686,9 +689,10 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
  * relaxes; the corners of triangles that this flips, and their neighbours, return (and are not
  * pulled again). A round is kept only if it lowers the worst input-vertex distance (or keeps it
  * and lowers the sum of squared excesses); otherwise it is undone and retried with half the
- * step, down to a quarter. At most `rounds` rounds. Deterministic.
+ * step, down to a quarter. At most `rounds` rounds. Deterministic. `known`: the input's closest
+ * points on the result as it is (snapToFeatures' answer), else null.
  */
-function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}, constraints = null) {
+function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}, constraints = null, known = null) {
   const input = surface.mesh.positions, inputCount = input.length / 3;
   const limit = threshold * boundingDiagonal(input);
   const vertexCount = positions.length / 3;
@@ -699,10 +703,10 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
   const distance = new Float64Array(inputCount), hitPoint = new Float64Array(3 * inputCount), hitFace = new Uint32Array(inputCount);
   let accepted = null, acceptedWorst = Infinity, acceptedExcess = Infinity, step = 1, retry = false;
   for (let round = 0; round < rounds; round++) {
-    const result = new Surface({ positions, faces }, { normals: false });
+    const result = round === 0 && known ? null : new Surface({ positions, faces }, { normals: false });
     let worst = 0, excess = 0;
-    const closest = result.closestMany(input);
-    result.dispose();
+    const closest = result ? result.closestMany(input) : known.closest;
+    result?.dispose();
     distance.set(closest.distances), hitPoint.set(closest.points), hitFace.set(closest.triangles);
     for (let i = 0; i < inputCount; i++) {
       worst = Math.max(worst, distance[i]);
@@ -722,7 +726,7 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     retry = false;
     adjacency ??= connectivity(faces, vertexCount).neighbours;
-    const index = result.index;
+    const index = result ? result.index : known.index;
     disp.fill(0), weight.fill(0);
     const pull = Math.max(limit, focus * worst);
     for (let i = 0; i < inputCount; i++) {
@@ -1915,8 +1919,8 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
     }
     if (levels > 0) {
       onProgress(work(levels) / work(levels + 1), 'fitting features');
-      snapToFeatures(surface, positions, faces, relaxIterations, constraints);
-      attractToInput(surface, positions, faces, {}, constraints);
+      const known = snapToFeatures(surface, positions, faces, relaxIterations, constraints);
+      attractToInput(surface, positions, faces, {}, constraints, known);
     }
     return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks, constraints, heldTips, unmapped };
   } finally {
