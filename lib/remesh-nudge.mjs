@@ -144,7 +144,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       for (const v of patchCorners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) aroundSet.add(around.list[e]);
       const checked = [...aroundSet].sort((a, b) => a - b);
       const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, against, twins));
-      const ownBefore = patch.map((f) => patchDistance(surface, positions, faces, f));
+      const ownBefore = patchDistances(surface, positions, faces, patch);
       // Input samples the move could uncover: those near the patch (their distance before, this round's).
       const centre = [0, 0, 0];
       let radius = 0;
@@ -162,7 +162,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
         });
         const reach = radius + farthestStep + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&
-          patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
+          patchDistances(surface, positions, faces, patch).every((d, q) => d <= Math.max(ownBefore[q], allowed) + slack) &&
           nearSamplesKept(inputSamples, grid, fromInput, index, checked, movedSet, positions, faces, centre, reach, allowed + slack);
         if (good) return patchCorners;
         corners.forEach((v, j) => positions.set(saved[j], 3 * v));
@@ -250,13 +250,17 @@ function jointMove(e, far, moves, farAt, fixed, used, target) {
   return { corners, displacements };
 }
 
-/** Largest distance from the measure's samples of face f (corners and four inner points) to the surface. */
-function patchDistance(surface, p, faces, f) {
-  const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2];
-  const points = new Float64Array(21);
-  for (let k = 0; k < 3; k++) points[k] = p[a + k], points[3 + k] = p[b + k], points[6 + k] = p[c + k];
-  for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
-  return surface.closestMany(points).distances.reduce((m, x) => Math.max(m, x), 0);
+/** For each face of `patch`: the largest distance from its measure's samples (corners and four inner points) to the surface (one batch). */
+function patchDistances(surface, p, faces, patch) {
+  const points = new Float64Array(21 * patch.length);
+  patch.forEach((f, q) => {
+    const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2], o = 21 * q;
+    for (let k = 0; k < 3; k++) points[o + k] = p[a + k], points[o + 3 + k] = p[b + k], points[o + 6 + k] = p[c + k];
+    for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[o + 9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
+  });
+  const { distances } = surface.closestMany(points), out = new Float64Array(patch.length);
+  for (let q = 0; q < patch.length; q++) for (let j = 7 * q; j < 7 * q + 7; j++) out[q] = Math.max(out[q], distances[j]);
+  return out;
 }
 
 /**
