@@ -847,11 +847,8 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
       return false;
     };
     let patchFaces = [];
-    const far = [];
-    for (let i = 0; i < inputCount; i++) {
-      const hit = result.closest(input[3 * i], input[3 * i + 1], input[3 * i + 2]);
-      if (hit.distance > limit) far.push([hit.distance, i]);
-    }
+    const far = [], { distances } = result.closestMany(input);
+    for (let i = 0; i < inputCount; i++) if (distances[i] > limit) far.push([distances[i], i]);
     if (far.length === 0) break;
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1]);
     const used = new Uint8Array(vertexCount);
@@ -887,7 +884,9 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
           let radius = 0;
           for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, hypot3(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
           const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + hypot3(ox, oy, oz));
-          const before = result.closestMany(Float64Array.from({ length: 3 * nearInput.length }, (_, e) => input[3 * nearInput[Math.floor(e / 3)] + e % 3]));
+          const nearPoints = new Float64Array(3 * nearInput.length);
+          nearInput.forEach((j, q) => nearPoints.set(input.subarray(3 * j, 3 * j + 3), 3 * q));
+          const before = result.closestMany(nearPoints);
           const facesBefore = faceList.map((f) => centroidDistance(surface, positions, faces, f));
           const saved = [];
           for (const [w] of ring) saved.push(w, positions[3 * w], positions[3 * w + 1], positions[3 * w + 2]);
