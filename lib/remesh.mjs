@@ -1571,6 +1571,13 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   // more folded. Done once per fit (see below).
   function dragAndNudge(chosen, chosenMeasured) {
     let done = chosen, doneMeasured = chosenMeasured;
+    // Flipped triangles per positions array (the drag's result, or the fit, is the nudge's start:
+    // counted once; the held vertices are the same).
+    const flippedOf = new Map();
+    const flippedCount = (m, held) => {
+      if (!flippedOf.has(m.positions)) flippedOf.set(m.positions, resultFlipped(m, surface, held).length);
+      return flippedOf.get(m.positions);
+    };
     if (distance(doneMeasured) > goal && options.dragTips !== false) {
       progress(0.92, 'reaching tips');
       const fixed = heldVertices(done);
@@ -1578,7 +1585,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       options.debug?.('chosen', { mesh: done.mesh, measured: doneMeasured });
       dragToTips(surface, dragged.positions, dragged.faces, fixed, { threshold: goal / 2, tolerance: 0.9 * goal });
       const held = { kind: fixed };
-      if (resultFlipped(dragged, surface, held).length <= resultFlipped(done.mesh, surface, held).length) {
+      if (flippedCount(dragged, held) <= flippedCount(done.mesh, held)) {
         const m = measure(dragged, mesh, surface, maxSamples);
         if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: dragged }, doneMeasured = m;
       }
@@ -1590,7 +1597,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       const nudged = { positions: done.mesh.positions.slice(), faces: done.mesh.faces };
       const held = { kind: fixed };
       if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal, against: NUDGE_AGAINST }) > 0 &&
-          resultFlipped(nudged, surface, held).length <= resultFlipped(done.mesh, surface, held).length) {
+          flippedCount(nudged, held) <= flippedCount(done.mesh, held)) {
         const m = measure(nudged, mesh, surface, maxSamples);
         if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: nudged }, doneMeasured = m;
       }
