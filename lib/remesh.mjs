@@ -328,8 +328,16 @@ function farEmphasis(mesh, distances, limit, radius, cap, into = null) {
 }
 
 function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis = null) {
-  // An emphasised base (weights of one fit) is asked for once: not kept.
-  if (emphasis) return makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis);
+  // An emphasised base is asked for again when the early emphasis round (remesh) is not kept: known
+  // by its weights' values (the rounds add to a weights array in place).
+  if (emphasis) {
+    let made = emphasisedMade.get(mesh);
+    if (!made) emphasisedMade.set(mesh, (made = []));
+    const key = `${genus} ${targetFaces} ${attempts} ${repairBase} ${lockKey(lock)}`;
+    let known = made.find((m) => m.key === key && m.emphasis.length === emphasis.length && m.emphasis.every((w, v) => w === emphasis[v]));
+    if (!known) made.push((known = { key, emphasis: emphasis.slice(), base: makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis) }));
+    return known.base;
+  }
   // The same piece, target and lock give the same base (meshoptimizer, the checks and the collapse are
   // deterministic): made once per remesh (the fits at 2, 3, 4 levels ask for the same base; on the large
   // scans each simplification of the whole piece costs seconds). The base is only read by its users.
@@ -340,8 +348,8 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
   return known.get(key);
 }
 
-/** Bases made per input piece (its mesh object): by simplifyToBase()'s arguments. */
-const basesMade = new WeakMap();
+/** Bases made per input piece (its mesh object): by simplifyToBase()'s arguments; the emphasised ones apart. */
+const basesMade = new WeakMap(), emphasisedMade = new WeakMap();
 
 /** The locked vertices of `lock` (a mask or null) as a string. */
 function lockKey(lock) {
