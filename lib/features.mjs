@@ -4,7 +4,7 @@
 // where they are and slides the vertices born on a line along that line (closest point on its
 // segments), so that a CAD part's edges stay sharp.
 import { connectivity, edgeKey } from './connectivity.mjs';
-import { boundingDiagonal, triangleNormal } from './geometry.mjs';
+import { boundingDiagonal, hypot3, triangleNormal } from './geometry.mjs';
 
 /**
  * @param {{ positions: Float64Array, faces: Uint32Array }} mesh welded, closed, manifold
@@ -21,7 +21,7 @@ export function findFeatures(mesh, { angle = 35, maxFraction = 0.05, turn = 40, 
   const normals = new Float64Array(faces.length);
   for (let f = 0; f < faceCount; f++) {
     const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
-    const l = Math.hypot(n[0], n[1], n[2]) || 1;
+    const l = hypot3(n[0], n[1], n[2]) || 1;
     for (let k = 0; k < 3; k++) normals[3 * f + k] = n[k] / l;
   }
   const twins = connectivity(faces, vertexCount).twins;
@@ -46,7 +46,7 @@ export function findFeatures(mesh, { angle = 35, maxFraction = 0.05, turn = 40, 
     const short = new Set();
     features.lines.forEach((s, id) => {
       let length = 0;
-      for (let i = 0; i < s.length; i += 6) length += Math.hypot(s[i + 3] - s[i], s[i + 4] - s[i + 1], s[i + 5] - s[i + 2]);
+      for (let i = 0; i < s.length; i += 6) length += hypot3(s[i + 3] - s[i], s[i + 4] - s[i + 1], s[i + 5] - s[i + 2]);
       if (length < limit) short.add(id);
     });
     if (short.size === 0) break;
@@ -167,7 +167,7 @@ export class Features {
   between(id, a, b, c) {
     const s = this.lines[id], n = s.length;
     let total = 0;
-    for (let i = 0; i < n; i += 6) total += Math.hypot(s[i + 3] - s[i], s[i + 4] - s[i + 1], s[i + 5] - s[i + 2]);
+    for (let i = 0; i < n; i += 6) total += hypot3(s[i + 3] - s[i], s[i + 4] - s[i + 1], s[i + 5] - s[i + 2]);
     const closed = s[0] === s[n - 3] && s[1] === s[n - 2] && s[2] === s[n - 1];
     const d = (x, y) => (closed ? Math.min(Math.abs(x - y), total - Math.abs(x - y)) : Math.abs(x - y));
     return d(a, c) + d(c, b) <= d(a, b) + 1e-9 * total && d(a, c) > 1e-12 * total && d(c, b) > 1e-12 * total;
@@ -218,7 +218,7 @@ export class Constraints {
     if (!la || !lb) return false;
     const mx = (positions[3 * a] + positions[3 * b]) / 2, my = (positions[3 * a + 1] + positions[3 * b + 1]) / 2,
           mz = (positions[3 * a + 2] + positions[3 * b + 2]) / 2;
-    const length = Math.hypot(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1], positions[3 * a + 2] - positions[3 * b + 2]);
+    const length = hypot3(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1], positions[3 * a + 2] - positions[3 * b + 2]);
     for (const id of la) {
       if (!lb.includes(id)) continue;
       const q = this.features.projectToLine(id, mx, my, mz);

@@ -8,6 +8,8 @@
 // Made for bases of a few hundred to a few thousand faces from a mesh already simplified by
 // meshoptimizer to some thousands: plain JS, Maps and Sets.
 
+import { hypot3 } from './geometry.mjs';
+
 /**
  * A binary min-heap of collapses (cost, u, v and the two stamps) in flat typed arrays: no array
  * per entry (millions are pushed, most of them stale). The same sift steps as a heap of
@@ -92,7 +94,7 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
     const [a, b, c] = [faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]];
     for (const [x, y] of [[a, b], [b, c], [c, a]]) neighbours[x].add(y), neighbours[y].add(x);
     facesOf[a].add(f), facesOf[b].add(f), facesOf[c].add(f);
-    const n = faceNormal(p, a, b, c), l = Math.hypot(n[0], n[1], n[2]);
+    const n = faceNormal(p, a, b, c), l = hypot3(n[0], n[1], n[2]);
     if (!(l > 0)) continue;
     const nx = n[0] / l, ny = n[1] / l, nz = n[2] / l, d = -(nx * p[3 * a] + ny * p[3 * a + 1] + nz * p[3 * a + 2]), w = l / 2;
     const q = [nx * nx, nx * ny, nx * nz, nx * d, ny * ny, ny * nz, ny * d, nz * nz, nz * d, d * d];

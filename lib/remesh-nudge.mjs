@@ -5,6 +5,7 @@
 // two-sided measure), each move kept only where it flips nothing and makes no nearby sample farther.
 import { Triangle, Vector3 } from 'three';
 import { connectivity } from './connectivity.mjs';
+import { hypot3 } from './geometry.mjs';
 import { flippedFaces, Surface } from './remesh.mjs';
 
 // Far samples tried per round, the farthest first.
@@ -17,11 +18,46 @@ const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6
 function samplePoints({ positions: p, faces }) {
   const n = p.length / 3, out = new Float64Array(p.length + 12 * faces.length / 3);
   out.set(p);
-  for (let f = 0; f < faces.length / 3; f++)
-    for (let s = 0; s < 4; s++)
-      for (let k = 0; k < 3; k++)
-        out[3 * (n + 4 * f + s) + k] = BARY[s][0] * p[3 * faces[3 * f] + k] + BARY[s][1] * p[3 * faces[3 * f + 1] + k] + BARY[s][2] * p[3 * faces[3 * f + 2] + k];
+  for (let f = 0; f < faces.length / 3; f++) for (let s = 0; s < 4; s++) faceSample(out, p, faces, n, f, s);
   return out;
+}
+
+/** Writes sample s of face f (of a mesh of n vertices) into the samples `out`. */
+function faceSample(out, p, faces, n, f, s) {
+  for (let k = 0; k < 3; k++)
+    out[3 * (n + 4 * f + s) + k] = BARY[s][0] * p[3 * faces[3 * f] + k] + BARY[s][1] * p[3 * faces[3 * f + 1] + k] + BARY[s][2] * p[3 * faces[3 * f + 2] + k];
+}
+
+/**
+ * The result's samples and their closest points on the input, of the result as it is now: those
+ * of the last call (`last`, or null) with only the vertices moved since and their faces' samples
+ * asked again (the same points get the same answers). Returns { samples, closest, at: the
+ * positions they are of }.
+ */
+function resultSamplesOnInput(surface, positions, faces, around, last) {
+  if (!last) {
+    const samples = samplePoints({ positions, faces });
+    return { samples, closest: surface.closestMany(samples), at: positions.slice() };
+  }
+  const { samples, closest, at } = last, n = positions.length / 3;
+  const changed = [], faceChanged = new Uint8Array(faces.length / 3);
+  for (let v = 0; v < n; v++) {
+    if (positions[3 * v] === at[3 * v] && positions[3 * v + 1] === at[3 * v + 1] && positions[3 * v + 2] === at[3 * v + 2]) continue;
+    for (let k = 0; k < 3; k++) samples[3 * v + k] = positions[3 * v + k];
+    changed.push(v);
+    for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) faceChanged[around.list[e]] = 1;
+  }
+  for (let f = 0; f < faceChanged.length; f++)
+    if (faceChanged[f]) for (let s = 0; s < 4; s++) faceSample(samples, positions, faces, n, f, s), changed.push(n + 4 * f + s);
+  const points = new Float64Array(3 * changed.length);
+  changed.forEach((i, q) => points.set(samples.subarray(3 * i, 3 * i + 3), 3 * q));
+  const answers = surface.closestMany(points);
+  changed.forEach((i, q) => {
+    closest.points.set(answers.points.subarray(3 * q, 3 * q + 3), 3 * i);
+    closest.distances[i] = answers.distances[q], closest.triangles[i] = answers.triangles[q];
+  });
+  at.set(positions);
+  return last;
 }
 
 /** Barycentric weights of q on triangle (a, b, c) of p, clamped to the triangle (q is its closest point). */
@@ -56,7 +92,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const inputSamples = samplePoints(surface.mesh);
   const grid = sampleGrid(inputSamples, 0.005 * diagonal);
-  let kept = 0;
+  let kept = 0, onInput = null;
   for (let round = 0; round < rounds; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
     const index = result.index;
@@ -64,8 +100,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     result.dispose();
     // A sample whose closest triangle moves lies within its distance of that triangle.
     const farthestFrom = fromInput.distances.reduce((m, x) => Math.max(m, x), 0);
-    const resultSamples = samplePoints({ positions, faces });
-    const toInput = surface.closestMany(resultSamples);
+    onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
+    const { samples: resultSamples, closest: toInput } = onInput;
     // Far samples: [distance, side (0 input, 1 result), sample]. Input side: the result triangle
     // is the closest one; result side: the sample's own face (or, for a vertex, the vertex alone).
     const far = [];
@@ -108,12 +144,12 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       for (const v of patchCorners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) aroundSet.add(around.list[e]);
       const checked = [...aroundSet].sort((a, b) => a - b);
       const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, against, twins));
-      const ownBefore = patch.map((f) => patchDistance(surface, positions, faces, f));
+      const ownBefore = patchDistances(surface, positions, faces, patch);
       // Input samples the move could uncover: those near the patch (their distance before, this round's).
       const centre = [0, 0, 0];
       let radius = 0;
       for (const v of patchCorners) for (let k = 0; k < 3; k++) centre[k] += positions[3 * v + k] / patchCorners.size;
-      for (const v of patchCorners) radius = Math.max(radius, Math.hypot(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
+      for (const v of patchCorners) radius = Math.max(radius, hypot3(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
       const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
       const movedSet = new Set(corners);
       for (const part of parts) {
@@ -122,11 +158,11 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
         corners.forEach((v, j) => {
           const dv = displacements[j];
           for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + dv[k];
-          farthestStep = Math.max(farthestStep, Math.hypot(dv[0], dv[1], dv[2]));
+          farthestStep = Math.max(farthestStep, hypot3(dv[0], dv[1], dv[2]));
         });
         const reach = radius + farthestStep + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&
-          patch.every((f, q) => patchDistance(surface, positions, faces, f) <= Math.max(ownBefore[q], allowed) + slack) &&
+          patchDistances(surface, positions, faces, patch).every((d, q) => d <= Math.max(ownBefore[q], allowed) + slack) &&
           nearSamplesKept(inputSamples, grid, fromInput, index, checked, movedSet, positions, faces, centre, reach, allowed + slack);
         if (good) return patchCorners;
         corners.forEach((v, j) => positions.set(saved[j], 3 * v));
@@ -214,13 +250,17 @@ function jointMove(e, far, moves, farAt, fixed, used, target) {
   return { corners, displacements };
 }
 
-/** Largest distance from the measure's samples of face f (corners and four inner points) to the surface. */
-function patchDistance(surface, p, faces, f) {
-  const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2];
-  const points = new Float64Array(21);
-  for (let k = 0; k < 3; k++) points[k] = p[a + k], points[3 + k] = p[b + k], points[6 + k] = p[c + k];
-  for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
-  return surface.closestMany(points).distances.reduce((m, x) => Math.max(m, x), 0);
+/** For each face of `patch`: the largest distance from its measure's samples (corners and four inner points) to the surface (one batch). */
+function patchDistances(surface, p, faces, patch) {
+  const points = new Float64Array(21 * patch.length);
+  patch.forEach((f, q) => {
+    const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2], o = 21 * q;
+    for (let k = 0; k < 3; k++) points[o + k] = p[a + k], points[o + 3 + k] = p[b + k], points[o + 6 + k] = p[c + k];
+    for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[o + 9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
+  });
+  const { distances } = surface.closestMany(points), out = new Float64Array(patch.length);
+  for (let q = 0; q < patch.length; q++) for (let j = 7 * q; j < 7 * q + 7; j++) out[q] = Math.max(out[q], distances[j]);
+  return out;
 }
 
 /**

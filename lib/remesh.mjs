@@ -17,7 +17,7 @@ import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
 import { nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
-import { boundingDiagonal, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
+import { boundingDiagonal, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
 
@@ -328,7 +328,7 @@ function farEmphasis(mesh, distances, limit, radius, cap, into = null) {
         if (out[v] >= w) continue;
         const dx = p[3 * v] - x, dy = p[3 * v + 1] - y, dz = p[3 * v + 2] - z;
         if (dx * dx + dy * dy + dz * dz > near) continue;
-        const r = Math.hypot(dx, dy, dz);
+        const r = hypot3(dx, dy, dz);
         if (r <= radius) out[v] = Math.max(out[v], w * (1 - r / radius));
       }
   }
@@ -336,8 +336,16 @@ function farEmphasis(mesh, distances, limit, radius, cap, into = null) {
 }
 
 function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis = null) {
-  // An emphasised base (weights of one fit) is asked for once: not kept.
-  if (emphasis) return makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis);
+  // An emphasised base is asked for again when the early emphasis round (remesh) is not kept: known
+  // by its weights' values (the rounds add to a weights array in place).
+  if (emphasis) {
+    let made = emphasisedMade.get(mesh);
+    if (!made) emphasisedMade.set(mesh, (made = []));
+    const key = `${genus} ${targetFaces} ${attempts} ${repairBase} ${lockKey(lock)}`;
+    let known = made.find((m) => m.key === key && m.emphasis.length === emphasis.length && m.emphasis.every((w, v) => w === emphasis[v]));
+    if (!known) made.push((known = { key, emphasis: emphasis.slice(), base: makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, emphasis) }));
+    return known.base;
+  }
   // The same piece, target and lock give the same base (meshoptimizer, the checks and the collapse are
   // deterministic): made once per remesh (the fits at 2, 3, 4 levels ask for the same base; on the large
   // scans each simplification of the whole piece costs seconds). The base is only read by its users.
@@ -348,8 +356,8 @@ function simplifyToBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, l
   return known.get(key);
 }
 
-/** Bases made per input piece (its mesh object): by simplifyToBase()'s arguments. */
-const basesMade = new WeakMap();
+/** Bases made per input piece (its mesh object): by simplifyToBase()'s arguments; the emphasised ones apart. */
+const basesMade = new WeakMap(), emphasisedMade = new WeakMap();
 
 /** The locked vertices of `lock` (a mask or null) as a string. */
 function lockKey(lock) {
@@ -461,7 +469,7 @@ function refinedBase(mrvol, piece, target, repairBase, lock, emphasis, at, radiu
   const p = larger.base.positions, keys = new Set();
   for (let v = 0; v < p.length / 3; v++)
     for (let j = 0; j < at.length; j += 3)
-      if (Math.hypot(p[3 * v] - at[j], p[3 * v + 1] - at[j + 1], p[3 * v + 2] - at[j + 2]) <= radius) {
+      if (hypot3(p[3 * v] - at[j], p[3 * v + 1] - at[j + 1], p[3 * v + 2] - at[j + 2]) <= radius) {
         keys.add(positionKey(p, v));
         break;
       }
@@ -544,7 +552,7 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
           const t = triangleNormal(positions, faces[f], faces[f + 1], faces[f + 2]);
           n0 += t[0], n1 += t[1], n2 += t[2];
         }
-        const l = Math.hypot(n0, n1, n2) || 1;
+        const l = hypot3(n0, n1, n2) || 1;
         normals[3 * c] = n0 / l, normals[3 * c + 1] = n1 / l, normals[3 * c + 2] = n2 / l;
       }
     } else {
@@ -569,7 +577,7 @@ function relaxTangentially(surface, positions, faces, adjacency, iterations, wei
       const y = positions[3 * i + 1] + weight * (d1 - dn * nv[m + 1]);
       const z = positions[3 * i + 2] + weight * (d2 - dn * nv[m + 2]);
       // The vertex was on the surface: the step is an upper bound of the distance back to it.
-      const step = weight * Math.hypot(d0, d1, d2);
+      const step = weight * hypot3(d0, d1, d2);
       const t = toProject++;
       targets[3 * t] = x, targets[3 * t + 1] = y, targets[3 * t + 2] = z, bounds[t] = 1.01 * step + 1e-12, projected[t] = c;
     }
@@ -612,7 +620,9 @@ function slideOnLine(constraints, positions, adjacency, i, weight, next, at) {
  * diagonal from the result pulls the nearest corner of the closest result triangle onto itself
  * (at most a local edge length away); those corners are then held while the others relax, and a
  * snap that folds the surface (flipped triangles around it) is pulled halfway back, twice, then
- * undone. Two rounds.
+ * undone. Two rounds. Returns the input's closest points on the result ({ closest, index: the
+ * result's BVH order }) if a round ended with nothing to snap (the result as they were found: the
+ * pull after it starts from them), else null.
  */
 function snapToFeatures(surface, positions, faces, relaxIterations, constraints = null) {
   const input = surface.mesh.positions;
@@ -628,7 +638,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
     result.dispose();
     for (let i = 0; i < input.length / 3; i++)
       if (closest.distances[i] > threshold) candidates.push([closest.distances[i], i, closest.triangles[i]]);
-    if (candidates.length === 0) break;
+    if (candidates.length === 0) return { closest, index };
     candidates.sort((a, b) => b[0] - a[0]);
     let moved = 0;
     const before = new Map();
@@ -637,7 +647,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       for (let j = 0; j < 3; j++) {
         const v = index[3 * f + j];
         if (held[v]) continue;
-        const d = Math.hypot(positions[3 * v] - input[3 * i], positions[3 * v + 1] - input[3 * i + 1], positions[3 * v + 2] - input[3 * i + 2]);
+        const d = hypot3(positions[3 * v] - input[3 * i], positions[3 * v + 1] - input[3 * i + 1], positions[3 * v + 2] - input[3 * i + 2]);
         if (d < bestDistance) best = v, bestDistance = d;
       }
       if (best < 0) continue;
@@ -645,7 +655,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       let reach = 0;
       for (let e = adjacency.offsets[best]; e < adjacency.offsets[best + 1]; e++) {
         const w = adjacency.list[e];
-        reach = Math.max(reach, Math.hypot(positions[3 * w] - positions[3 * best], positions[3 * w + 1] - positions[3 * best + 1], positions[3 * w + 2] - positions[3 * best + 2]));
+        reach = Math.max(reach, hypot3(positions[3 * w] - positions[3 * best], positions[3 * w + 1] - positions[3 * best + 1], positions[3 * w + 2] - positions[3 * best + 2]));
       }
       if (bestDistance > reach) continue;
       before.set(best, positions.slice(3 * best, 3 * best + 3));
@@ -653,7 +663,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       held[best] = 1;
       moved++;
     }
-    if (moved === 0) break;
+    if (moved === 0) return { closest, index };
     // Only the neighbourhood of the snapped vertices (6 rings) relaxes and is checked for folds.
     let front = [...before.keys()];
     const near = new Uint8Array(vertexCount);
@@ -695,6 +705,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       if (relaxIterations > 0) relaxTangentially(surface, positions, faces, adjacency, relaxIterations, 0.5, frozen(), constraints);
     }
   }
+  return null;
 }
 
 /**
@@ -706,9 +717,10 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
  * relaxes; the corners of triangles that this flips, and their neighbours, return (and are not
  * pulled again). A round is kept only if it lowers the worst input-vertex distance (or keeps it
  * and lowers the sum of squared excesses); otherwise it is undone and retried with half the
- * step, down to a quarter. At most `rounds` rounds. Deterministic.
+ * step, down to a quarter. At most `rounds` rounds. Deterministic. `known`: the input's closest
+ * points on the result as it is (snapToFeatures' answer), else null.
  */
-function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}, constraints = null) {
+function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 0.5, rounds = 10 } = {}, constraints = null, known = null) {
   const input = surface.mesh.positions, inputCount = input.length / 3;
   const limit = threshold * boundingDiagonal(input);
   const vertexCount = positions.length / 3;
@@ -719,10 +731,10 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
   const distance = new Float64Array(inputCount), hitPoint = new Float64Array(3 * inputCount), hitFace = new Uint32Array(inputCount);
   let accepted = null, acceptedWorst = Infinity, acceptedExcess = Infinity, step = 1, retry = false;
   for (let round = 0; round < rounds; round++) {
-    const result = new Surface({ positions, faces }, { normals: false });
+    const result = round === 0 && known ? null : new Surface({ positions, faces }, { normals: false });
     let worst = 0, excess = 0;
-    const closest = result.closestMany(input);
-    result.dispose();
+    const closest = result ? result.closestMany(input) : known.closest;
+    result?.dispose();
     distance.set(closest.distances), hitPoint.set(closest.points), hitFace.set(closest.triangles);
     for (let i = 0; i < inputCount; i++) {
       worst = Math.max(worst, distance[i]);
@@ -742,7 +754,7 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     retry = false;
     adjacency ??= connectivity(faces, vertexCount).neighbours;
-    const index = result.index;
+    const index = result ? result.index : known.index;
     disp.fill(0), weight.fill(0);
     const pull = Math.max(limit, focus * worst);
     for (let i = 0; i < inputCount; i++) {
@@ -863,11 +875,8 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
       return false;
     };
     let patchFaces = [];
-    const far = [];
-    for (let i = 0; i < inputCount; i++) {
-      const hit = result.closest(input[3 * i], input[3 * i + 1], input[3 * i + 2]);
-      if (hit.distance > limit) far.push([hit.distance, i]);
-    }
+    const far = [], { distances } = result.closestMany(input);
+    for (let i = 0; i < inputCount; i++) if (distances[i] > limit) far.push([distances[i], i]);
     if (far.length === 0) break;
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1]);
     const used = new Uint8Array(vertexCount);
@@ -876,7 +885,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
     const tips = [];
     for (const [, i] of far) {
       if (tips.length >= perRound) break;
-      if (!tips.some((j) => Math.hypot(input[3 * i] - input[3 * j], input[3 * i + 1] - input[3 * j + 1], input[3 * i + 2] - input[3 * j + 2]) < apart)) tips.push(i);
+      if (!tips.some((j) => hypot3(input[3 * i] - input[3 * j], input[3 * i + 1] - input[3 * j + 1], input[3 * i + 2] - input[3 * j + 2]) < apart)) tips.push(i);
     }
     for (const i of tips) {
       const tx = input[3 * i], ty = input[3 * i + 1], tz = input[3 * i + 2];
@@ -886,7 +895,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
       const near = new Set(corners);
       for (const u of corners) for (let e = adjacency.offsets[u]; e < adjacency.offsets[u + 1]; e++) near.add(adjacency.list[e]);
       const order = [...near].filter((u) => !fixed[u] && !used[u])
-        .map((u) => [Math.hypot(positions[3 * u] - tx, positions[3 * u + 1] - ty, positions[3 * u + 2] - tz), u])
+        .map((u) => [hypot3(positions[3 * u] - tx, positions[3 * u + 1] - ty, positions[3 * u + 2] - tz), u])
         .sort((x, y) => x[0] - y[0] || x[1] - y[1]).slice(0, candidates);
       let done = false;
       for (const [, v] of order) {
@@ -901,9 +910,11 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
           patchFaces = faceList;
           const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, faceList, 0, twins));
           let radius = 0;
-          for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, Math.hypot(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
-          const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + Math.hypot(ox, oy, oz));
-          const before = result.closestMany(Float64Array.from({ length: 3 * nearInput.length }, (_, e) => input[3 * nearInput[Math.floor(e / 3)] + e % 3]));
+          for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, hypot3(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
+          const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + hypot3(ox, oy, oz));
+          const nearPoints = new Float64Array(3 * nearInput.length);
+          nearInput.forEach((j, q) => nearPoints.set(input.subarray(3 * j, 3 * j + 3), 3 * q));
+          const before = result.closestMany(nearPoints);
           const facesBefore = faceList.map((f) => centroidDistance(surface, positions, faces, f));
           const saved = [];
           for (const [w] of ring) saved.push(w, positions[3 * w], positions[3 * w + 1], positions[3 * w + 2]);
@@ -990,7 +1001,7 @@ function pointGrid(points, cell) {
         for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
           for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++)
             for (const i of cells.get(key(a, b, c)) ?? [])
-              if (Math.hypot(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
+              if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
       // (A collision can list a point twice.)
       return [...new Set(out)];
     },
@@ -1036,7 +1047,7 @@ function oneSidedHausdorff(mesh, surface, maxSamples) {
       z = w[0] * p[3 * a + 2] + w[1] * p[3 * b + 2] + w[2] * p[3 * c + 2];
     }
     // Distance to a surface is 1-Lipschitz: the previous sample's distance plus the step bounds it.
-    const bound = previous + Math.hypot(x - px, y - py, z - pz);
+    const bound = previous + hypot3(x - px, y - py, z - pz);
     previous = surface.closest(x, y, z, 1.0001 * bound + 1e-12).distance;
     px = x, py = y, pz = z;
     worst = Math.max(worst, previous);
@@ -1084,9 +1095,9 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
           cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
     centroids[3 * q] = cx, centroids[3 * q + 1] = cy, centroids[3 * q + 2] = cz;
     // The corners lie on the surface: the nearest one bounds the centroid's distance.
-    bounds[q] = 1.0001 * Math.min(Math.hypot(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
-                                  Math.hypot(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
-                                  Math.hypot(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
+    bounds[q] = 1.0001 * Math.min(hypot3(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
+                                  hypot3(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
+                                  hypot3(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
   }
   const near = surface.closestMany(centroids, bounds);
   const flipped = [];
@@ -1202,6 +1213,10 @@ export function defaultBaseFaces(inputFaces) {
 // Emphasis rounds (remesh): how many, how far around a far vertex its weight reaches (of the
 // diagonal), and the largest weight.
 const EMPHASIS_ROUNDS = 3, EMPHASIS_RADIUS = 0.03, EMPHASIS_CAP = 8;
+
+// Inputs up to this size get the early emphasis round (remesh): beyond it a fit costs more than a
+// round that may not be kept is worth (dragon-203k reaches its goal by the tips rounds).
+const EARLY_EMPHASIS_MAX_FACES = 60000;
 
 // Refined rounds (remesh): at most this many.
 const REFINED_ROUNDS = 2;
@@ -1546,7 +1561,34 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       before = distance(lastMeasured), retryFaces = Math.max(LARGER_BASE_FACES, 1.1 * result.baseFaces);
     retryFaces = Infinity;
     const first = measured;
-    tipsRounds(false);
+    // A small input whose base cannot grow (no larger base fits the cage goal): the first emphasis
+    // round tried before the tips rounds, kept if its drag and nudge reach the goal (dragon-11k:
+    // the emphasis fit gave its 0.450%, the two tips rounds before it nothing); else forgotten, so
+    // the rounds go as before (the emphasis round, made again later, comes from the fits' cache).
+    // (The larger bases' first step, below, at its largest: its far pieces the smallest piece, or
+    // all; a piece of 64 faces or fewer is its own base, never far.)
+    const smallest = Math.min(inputFaces, ...pieces.map((p) => p.mesh.faces.length / 3).filter((f) => f > 64)) / inputFaces;
+    const room = LARGER_BASE_FACES / requested;
+    const noLargerBase = room < 1 || 1 + (room - 1) / smallest < 0.75 * 2;
+    let earlyDone = false;
+    if (distance(measured) > goal && noLargerBase && inputFaces <= EARLY_EMPHASIS_MAX_FACES &&
+        options.emphasis !== false && !options.parametrise) {
+      const before = { result, measured, lastMeasured, tried: tried.length, problems: simplifierProblems.length, genusChanges: [...genusChanges] };
+      emphasis = pieces.map((piece) => farEmphasis(piece.mesh, first.surface.distances(piece.mesh.positions), goal * diagonal,
+                                                   EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
+      const early = tryFit(result.levels, 1) ? result : null;
+      emphasis = null;
+      earlyDone = !!early && early !== before.result && nearlyDone();
+      if (!earlyDone) {
+        if (early && early !== before.result) finishedFits.delete(early);
+        ({ result, measured, lastMeasured } = before);
+        tried.length = before.tried, simplifierProblems.length = before.problems;
+        genusChanges.clear();
+        for (const i of before.genusChanges) genusChanges.add(i);
+      }
+    }
+    // (Kept: no larger base is tried, and nearlyDone() below holds.)
+    if (!earlyDone) tipsRounds(false);
     // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
     for (const scale of [2, 4]) {
       if (distance(measured) <= goal) break;
@@ -1591,6 +1633,13 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   // more folded. Done once per fit (see below).
   function dragAndNudge(chosen, chosenMeasured) {
     let done = chosen, doneMeasured = chosenMeasured;
+    // Flipped triangles per positions array (the drag's result, or the fit, is the nudge's start:
+    // counted once; the held vertices are the same).
+    const flippedOf = new Map();
+    const flippedCount = (m, held) => {
+      if (!flippedOf.has(m.positions)) flippedOf.set(m.positions, resultFlipped(m, surface, held).length);
+      return flippedOf.get(m.positions);
+    };
     if (distance(doneMeasured) > goal && options.dragTips !== false) {
       progress(0.92, 'reaching tips');
       const fixed = heldVertices(done);
@@ -1598,7 +1647,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       options.debug?.('chosen', { mesh: done.mesh, measured: doneMeasured });
       dragToTips(surface, dragged.positions, dragged.faces, fixed, { threshold: goal / 2, tolerance: 0.9 * goal });
       const held = { kind: fixed };
-      if (resultFlipped(dragged, surface, held).length <= resultFlipped(done.mesh, surface, held).length) {
+      if (flippedCount(dragged, held) <= flippedCount(done.mesh, held)) {
         const m = measure(dragged, mesh, surface, maxSamples);
         if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: dragged }, doneMeasured = m;
       }
@@ -1610,7 +1659,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       const nudged = { positions: done.mesh.positions.slice(), faces: done.mesh.faces };
       const held = { kind: fixed };
       if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal, against: NUDGE_AGAINST }) > 0 &&
-          resultFlipped(nudged, surface, held).length <= resultFlipped(done.mesh, surface, held).length) {
+          flippedCount(nudged, held) <= flippedCount(done.mesh, held)) {
         const m = measure(nudged, mesh, surface, maxSamples);
         if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: nudged }, doneMeasured = m;
       }
@@ -1731,7 +1780,7 @@ function farPoints(p, distances, limit, spacing, count) {
       for (let dy = -1; dy <= 1 && !near; dy++)
         for (let dz = -1; dz <= 1 && !near; dz++)
           for (const j of grid.get(`${cx + dx} ${cy + dy} ${cz + dz}`) ?? [])
-            if (Math.hypot(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing) near = true;
+            if (hypot3(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing) near = true;
     if (near) continue;
     const key = `${cx} ${cy} ${cz}`;
     if (!grid.has(key)) grid.set(key, []);
@@ -1762,7 +1811,7 @@ function addTips(input, distances, limit, spacing, count, keys) {
   const chosen = [];
   for (const [, i] of far) {
     if (chosen.length >= count) break;
-    if (chosen.some((j) => Math.hypot(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing)) continue;
+    if (chosen.some((j) => hypot3(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]) < spacing)) continue;
     chosen.push(i);
   }
   let added = 0;
@@ -1920,9 +1969,9 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
         const x = (positions[3 * a] + positions[3 * b]) / 2, y = (positions[3 * a + 1] + positions[3 * b + 1]) / 2,
               z = (positions[3 * a + 2] + positions[3 * b + 2]) / 2;
         for (let k = 0; k < 3; k++) normal[k] = coarseNormals[3 * a + k] + coarseNormals[3 * b + k];
-        const l = Math.hypot(normal[0], normal[1], normal[2]) || 1;
+        const l = hypot3(normal[0], normal[1], normal[2]) || 1;
         for (let k = 0; k < 3; k++) normal[k] /= l;
-        const cap = Math.hypot(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1],
+        const cap = hypot3(positions[3 * a] - positions[3 * b], positions[3 * a + 1] - positions[3 * b + 1],
                                positions[3 * a + 2] - positions[3 * b + 2]);
         let hit = surface.castBothWays(x, y, z, normal, cap);
         // A hit on a sheet facing the other way is the far side of a thin part: not this one.
@@ -1938,8 +1987,8 @@ function fitLevels(mrvol, surface, base, levels, relaxIterations, features, exac
     }
     if (levels > 0) {
       onProgress(work(levels) / work(levels + 1), 'fitting features');
-      snapToFeatures(surface, positions, faces, relaxIterations, constraints);
-      attractToInput(surface, positions, faces, {}, constraints);
+      const known = snapToFeatures(surface, positions, faces, relaxIterations, constraints);
+      attractToInput(surface, positions, faces, {}, constraints, known);
     }
     return { mesh: { positions, faces }, baseVertices: base.positions.length / 3, baseFaces: base.faces.length / 3, fallbacks, constraints, heldTips, unmapped };
   } finally {

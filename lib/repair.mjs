@@ -3,7 +3,7 @@
 // folded faces dropped, holes closed, optional smoothing); the remesher's validation after it
 // names what the repair could not fix. No three.js here: plain arrays and the mrvol API.
 import { connectivity } from './connectivity.mjs';
-import { boundingDiagonal, triangleNormal } from './geometry.mjs';
+import { boundingDiagonal, hypot3, triangleNormal } from './geometry.mjs';
 
 // ---- input: weld, components, validation ---------------------------------------------------------
 
@@ -256,7 +256,7 @@ function foldedFaces(mesh) {
   const normals = new Float64Array(faces.length);
   for (let f = 0; f < faceCount; f++) {
     const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
-    const l = Math.hypot(n[0], n[1], n[2]) || 1;
+    const l = hypot3(n[0], n[1], n[2]) || 1;
     for (let k = 0; k < 3; k++) normals[3 * f + k] = n[k] / l;
   }
   const twins = connectivity(faces, p.length / 3).twins;

@@ -172,9 +172,12 @@ describe('remesh (API)', () => {
     assert.equal(r.parametrisedFallback, null);
     assert.equal(r.fit, 'simplified');
     assert.deepEqual(r.mesh.faces, without.mesh.faces);
-    // The emphasis fit near the goal is finished by the drag and the nudge: the rounds after it are not run.
+    // The emphasis fit near the goal is finished by the drag and the nudge: the rounds after it are
+    // not run. Tried before the tips rounds (no larger base fits this input's cage goal), it is the
+    // fit that the emphasis round makes after them without the nudge.
     assert.ok(r.fits.length < without.fits.length, `${r.fits.length} fits, ${without.fits.length} without the nudge`);
-    assert.deepEqual(r.fits, without.fits.slice(0, r.fits.length));
+    assert.deepEqual(r.fits[0], without.fits[0]);
+    for (const f of r.fits.slice(1)) assert.ok(without.fits.some((g) => JSON.stringify(g) === JSON.stringify(f)), `${JSON.stringify(f)} not among ${JSON.stringify(without.fits)}`);
   });
 
   test('the decimated dragon: a refined round (a base of the same size with more faces where the closest fit is far) comes after the emphasis rounds', async () => {
