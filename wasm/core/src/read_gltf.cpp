@@ -477,22 +477,28 @@ SceneGeometry collectScene(const Document& d) {
       // The vertices the triangles use, in accessor order, transformed.
       std::vector<uint32_t> outputOf(vertexCount, UINT32_MAX);
       for (uint32_t v : triangles) outputOf[v] = 0;
-      // Room for this primitive at once (growing by doubling would copy the arrays again and again).
-      m.positions.reserve(m.positions.size() + 3 * vertexCount);
-      sourceOfOutput.reserve(sourceOfOutput.size() + vertexCount);
+      // Room for every vertex of the primitive, written in place, then cut back to those used.
+      const size_t firstVertex = m.vertexCount();
+      m.positions.resize(3 * (firstVertex + vertexCount));
+      sourceOfOutput.resize(firstVertex + vertexCount);
+      double* position = m.positions.data() + 3 * firstVertex;
+      uint32_t* source = sourceOfOutput.data() + firstVertex;
+      size_t used = 0;
       const Matrix& w = instance.world;
       for (size_t v = 0; v < vertexCount; ++v) {
         if (outputOf[v] == UINT32_MAX) continue;
-        outputOf[v] = uint32_t(m.vertexCount());
+        outputOf[v] = uint32_t(firstVertex + used);
         const double x = local[3 * v], y = local[3 * v + 1], z = local[3 * v + 2];
         for (int k = 0; k < 3; ++k) {
           const double value = w[k] * x + w[4 + k] * y + w[8 + k] * z + w[12 + k];
           if (!io::coordinateOk(value))
             fail(d, where + ": vertex " + count(v) + " coordinate " + io::coordinateProblem(value) + " after the node transform");
-          m.positions.push_back(value);
+          position[3 * used + k] = value;
         }
-        sourceOfOutput.push_back(uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX)));
+        source[used++] = uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX));
       }
+      m.positions.resize(3 * (firstVertex + used));
+      sourceOfOutput.resize(firstVertex + used);
       const size_t firstIndex = m.faces.size();
       m.faces.resize(firstIndex + triangles.size());
       uint32_t* face = m.faces.data() + firstIndex;
