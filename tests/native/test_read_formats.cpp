@@ -413,6 +413,25 @@ TEST(ReadFormats, GltfIndicesOfEachUnsignedTypeReadAlike) {
   EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 1, 0, 1, 1, 1, 1, 1, 0, 1, 1}));
 }
 
+// A face index beyond int64's range, or NaN, is named in the message without an undefined cast
+// (found by fuzz_ply: tests/fuzz/regressions/fuzz_ply/ascii-index-beyond-int64.ply).
+TEST(ReadFormats, PlyIndexBeyondInt64IsNamed) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar uint vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  auto errorOf = [](const std::string& file) {
+    try {
+      readPly(file);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(errorOf(head + "3 0 1 1e30\n"), "PLY line 13: face 0 vertex index 1e+30 is not valid");
+  EXPECT_EQ(errorOf(head + "3 0 1 -1e30\n"), "PLY line 13: face 0 vertex index -1e+30 is not valid");
+  EXPECT_EQ(errorOf(head + "3 0 1 -2\n"), "PLY line 13: face 0 vertex index -2 is not valid");
+  EXPECT_EQ(errorOf(head + "3 0 1 nan\n"), "PLY line 13: face 0 vertex index nan is not valid");
+}
+
 TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {
   // A subdivided mesh: 642 vertices; coordinates rounded to float32 by the format.
   const MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 3);
