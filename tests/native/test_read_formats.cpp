@@ -362,6 +362,76 @@ TEST(ReadFormats, GltfIndicesOfASignedTypeAreRefused) {
   }
 }
 
+// A tetrahedron's 4 triangles with indices of each unsigned type (read as uint32 straight from the
+// bytes), with sparse indices on top, and an index past the last vertex: the same faces and
+// messages as the double path gives.
+TEST(ReadFormats, GltfIndicesOfEachUnsignedTypeReadAlike) {
+  const std::vector<uint32_t> faces = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
+  auto glbWith = [&](uint64_t type, std::vector<uint32_t> index, bool normalized, bool sparse) {
+    const size_t size = type == 5121 ? 1 : type == 5123 ? 2 : 4;
+    nlohmann::json indices = {{"bufferView", 1}, {"componentType", type}, {"count", index.size()}, {"type", "SCALAR"}};
+    if (normalized) indices["normalized"] = true;
+    if (sparse)  // index 4 (the second triangle's second corner) set to 1 again, read from bufferView 2
+      indices["sparse"] = {{"count", 1}, {"indices", {{"bufferView", 2}, {"componentType", 5125}}},
+                           {"values", {{"bufferView", 2}, {"byteOffset", 4}}}};
+    const float p[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    std::string bin(reinterpret_cast<const char*>(p), 48);
+    for (uint32_t i : index) bin.append(reinterpret_cast<const char*>(&i), size);  // little-endian: the low bytes
+    bin.append((4 - bin.size() % 4) % 4, '\0');
+    const size_t sparseAt = bin.size();
+    const uint32_t sparseData[2] = {4, 1};
+    bin.append(reinterpret_cast<const char*>(sparseData), 8);
+    nlohmann::json doc = {
+        {"asset", {{"version", "2.0"}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}}, indices}},
+        {"bufferViews", {{{"buffer", 0}, {"byteLength", 48}},
+                         {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", size * index.size()}},
+                         {{"buffer", 0}, {"byteOffset", sparseAt}, {"byteLength", 8}}}},
+        {"buffers", {{{"byteLength", bin.size()}}}},
+    };
+    return glbOf(doc, bin);
+  };
+  for (uint64_t type : {5121u, 5123u, 5125u}) {
+    EXPECT_EQ(readGlb(glbWith(type, faces, false, false)).mesh.faces, faces) << type;
+    std::vector<uint32_t> changed = faces;
+    changed[4] = 7;  // past the 4 vertices, but the sparse value puts 1 back
+    EXPECT_EQ(readGlb(glbWith(type, changed, false, true)).mesh.faces, faces) << type;
+    changed[5] = 4;
+    try {
+      readGlb(glbWith(type, changed, false, true));
+      FAIL() << "no error for type " << type;
+    } catch (const Error& e) {
+      EXPECT_STREQ(e.what(), "GLB mesh 0 primitive 0: index 5 is 4 but POSITION has 4 vertices") << type;
+    }
+  }
+  // Normalized indices (not valid glTF) go the double way: values 0..1, truncated to vertex 0 or 1.
+  std::vector<uint32_t> mapped;
+  for (uint32_t i : faces) mapped.push_back(i == 0 ? 0 : 255);
+  const ImportedMesh m = readGlb(glbWith(5121, mapped, true, false));
+  EXPECT_EQ(m.sourceFaces, 4u);
+  EXPECT_EQ(m.mesh.faces, (std::vector<uint32_t>{0, 1, 1, 0, 1, 1, 1, 1, 1, 0, 1, 1}));
+}
+
+// A face index beyond int64's range, or NaN, is named in the message without an undefined cast
+// (found by fuzz_ply: tests/fuzz/regressions/fuzz_ply/ascii-index-beyond-int64.ply).
+TEST(ReadFormats, PlyIndexBeyondInt64IsNamed) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar uint vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  auto errorOf = [](const std::string& file) {
+    try {
+      readPly(file);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(errorOf(head + "3 0 1 1e30\n"), "PLY line 13: face 0 vertex index 1e+30 is not valid");
+  EXPECT_EQ(errorOf(head + "3 0 1 -1e30\n"), "PLY line 13: face 0 vertex index -1e+30 is not valid");
+  EXPECT_EQ(errorOf(head + "3 0 1 -2\n"), "PLY line 13: face 0 vertex index -2 is not valid");
+  EXPECT_EQ(errorOf(head + "3 0 1 nan\n"), "PLY line 13: face 0 vertex index nan is not valid");
+}
+
 TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {
   // A subdivided mesh: 642 vertices; coordinates rounded to float32 by the format.
   const MultiresMesh mr = MultiresMesh::subdivide(fixtures::icosahedron(), 3);

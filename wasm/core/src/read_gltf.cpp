@@ -213,8 +213,13 @@ Strided viewFor(const Document& d, size_t viewIndex, uint64_t offset, uint64_t c
   return {d.buffers[buffer].data() + viewOffset + offset, size_t(stride)};
 }
 
-// Accessor `index` as doubles, `components` per element (normalized integers mapped to [-1, 1]).
-std::vector<double> readAccessor(const Document& d, size_t index, size_t components, const std::string& role) {
+namespace {
+
+// Accessor `index` as T, `components` per element (normalized integers mapped to [-1, 1]); T is
+// double, or uint32_t for an unsigned integer accessor that is not normalized (indices: read
+// without a double per index in between).
+template <class T>
+std::vector<T> readAccessorAs(const Document& d, size_t index, size_t components, const std::string& role) {
   const json& a = entry(d, "accessors", index);
   const std::string where = "accessor " + count(index) + " (" + role + ")";
   const uint64_t type = integer(d, a, "componentType", where, 0);
@@ -229,7 +234,7 @@ std::vector<double> readAccessor(const Document& d, size_t index, size_t compone
   const json* normalizedMember = member(a, "normalized");
   const bool normalized = normalizedMember && normalizedMember->is_boolean() && normalizedMember->get<bool>();
   const size_t elementSize = size * components;
-  std::vector<double> out;
+  std::vector<T> out;
   if (member(a, "bufferView")) {
     const size_t view = indexInto(d, a, "bufferView", "bufferViews", where);
     Strided s = viewFor(d, view, integer(d, a, "byteOffset", where, 0), n, elementSize, where);
@@ -239,14 +244,14 @@ std::vector<double> readAccessor(const Document& d, size_t index, size_t compone
       for (size_t i = 0; i < n; ++i)
         for (size_t c = 0; c < components; ++c) out[i * components + c] = load(s.data + i * s.stride + c * size);
     };
-    if (type == 5126) each([](const char* p) { return double(io::load<float>(p)); });
-    else if (type == 5125) each([](const char* p) { return double(io::load<uint32_t>(p)); });
-    else each([&](const char* p) { return component(p, type, normalized); });
+    if (type == 5126) each([](const char* p) { return T(io::load<float>(p)); });
+    else if (type == 5125) each([](const char* p) { return T(io::load<uint32_t>(p)); });
+    else each([&](const char* p) { return T(component(p, type, normalized)); });
   } else {
     // All zeros (then sparse values): bounded by the bytes there are, so a count alone allocates nothing absurd.
     if (n > d.totalBytes + 1024)
       fail(d, where + ": " + count(n) + " elements without a bufferView, more than the file's " + count(d.totalBytes) + " bytes");
-    out.assign(size_t(n) * components, 0.0);
+    out.assign(size_t(n) * components, T(0));
   }
   if (const json* sparse = member(a, "sparse")) {
     const std::string sw = where + " sparse";
@@ -264,10 +269,28 @@ std::vector<double> readAccessor(const Document& d, size_t index, size_t compone
       const double target = component(si.data + k * componentSize(indexType), indexType, false);
       if (target >= double(n)) fail(d, sw + ": index " + count(uint64_t(target)) + " is past the accessor's " + count(n) + " elements");
       for (size_t c = 0; c < components; ++c)
-        out[size_t(target) * components + c] = component(sv.data + k * elementSize + c * size, type, normalized);
+        out[size_t(target) * components + c] = T(component(sv.data + k * elementSize + c * size, type, normalized));
     }
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<double> readAccessor(const Document& d, size_t index, size_t components, const std::string& role) {
+  return readAccessorAs<double>(d, index, components, role);
+}
+
+// An accessor whose values are unsigned integers as they are (componentType 5121, 5123 or 5125,
+// not normalized): read as uint32_t, each value is what the double path would give. Looks only;
+// readAccessorAs checks the rest and names what is wrong.
+bool plainUnsignedIntegers(const Document& d, size_t index) {
+  const json& a = array(d, "accessors")[index];
+  const json* type = member(a, "componentType");
+  const json* normalized = member(a, "normalized");
+  if (!type || !type->is_number_unsigned()) return false;
+  const uint64_t t = type->get<uint64_t>();
+  return (t == 5121 || t == 5123 || t == 5125) && !(normalized && normalized->is_boolean() && normalized->get<bool>());
 }
 
 // ---- the scene -------------------------------------------------------------------------------
@@ -406,18 +429,26 @@ SceneGeometry collectScene(const Document& d) {
       std::vector<uint32_t> indices;
       if (member(primitive, "indices")) {
         const size_t ia = indexInto(d, primitive, "indices", "accessors", where);
-        const std::vector<double> raw = readAccessor(d, ia, 1, "indices of " + where);
-        // glTF indices are unsigned integers; a signed or float accessor could hold -3 or 1.5.
-        const uint64_t indexType = integer(d, entry(d, "accessors", ia), "componentType", where, 0);
-        if (indexType != 5121 && indexType != 5123 && indexType != 5125)
-          fail(d, "accessor " + count(ia) + " (indices of " + where + "): componentType " + std::to_string(indexType) +
-                      ", indices must be unsigned integers (5121, 5123 or 5125)");
-        indices.resize(raw.size());
-        for (size_t i = 0; i < raw.size(); ++i) {
-          if (raw[i] >= double(vertexCount))
-            fail(d, where + ": index " + count(i) + " is " + count(uint64_t(raw[i])) + " but POSITION has " + count(vertexCount) +
-                        " vertices");
-          indices[i] = uint32_t(raw[i]);
+        const std::string role = "indices of " + where;
+        auto outOfRange = [&](size_t i, uint64_t value) {
+          fail(d, where + ": index " + count(i) + " is " + count(value) + " but POSITION has " + count(vertexCount) + " vertices");
+        };
+        if (plainUnsignedIntegers(d, ia)) {
+          indices = readAccessorAs<uint32_t>(d, ia, 1, role);
+          for (size_t i = 0; i < indices.size(); ++i)
+            if (indices[i] >= vertexCount) outOfRange(i, indices[i]);
+        } else {
+          const std::vector<double> raw = readAccessor(d, ia, 1, role);
+          // glTF indices are unsigned integers; a signed or float accessor could hold -3 or 1.5.
+          const uint64_t indexType = integer(d, entry(d, "accessors", ia), "componentType", where, 0);
+          if (indexType != 5121 && indexType != 5123 && indexType != 5125)
+            fail(d, "accessor " + count(ia) + " (indices of " + where + "): componentType " + std::to_string(indexType) +
+                        ", indices must be unsigned integers (5121, 5123 or 5125)");
+          indices.resize(raw.size());
+          for (size_t i = 0; i < raw.size(); ++i) {
+            if (raw[i] >= double(vertexCount)) outOfRange(i, uint64_t(raw[i]));
+            indices[i] = uint32_t(raw[i]);
+          }
         }
       } else {
         indices.resize(vertexCount);
@@ -446,27 +477,36 @@ SceneGeometry collectScene(const Document& d) {
       // The vertices the triangles use, in accessor order, transformed.
       std::vector<uint32_t> outputOf(vertexCount, UINT32_MAX);
       for (uint32_t v : triangles) outputOf[v] = 0;
-      // Room for this primitive at once (growing by doubling would copy the arrays again and again).
-      m.positions.reserve(m.positions.size() + 3 * vertexCount);
-      sourceOfOutput.reserve(sourceOfOutput.size() + vertexCount);
-      m.faces.reserve(m.faces.size() + triangles.size());
+      // Room for every vertex of the primitive, written in place, then cut back to those used.
+      const size_t firstVertex = m.vertexCount();
+      m.positions.resize(3 * (firstVertex + vertexCount));
+      sourceOfOutput.resize(firstVertex + vertexCount);
+      double* position = m.positions.data() + 3 * firstVertex;
+      uint32_t* source = sourceOfOutput.data() + firstVertex;
+      size_t used = 0;
       const Matrix& w = instance.world;
       for (size_t v = 0; v < vertexCount; ++v) {
         if (outputOf[v] == UINT32_MAX) continue;
-        outputOf[v] = uint32_t(m.vertexCount());
+        outputOf[v] = uint32_t(firstVertex + used);
         const double x = local[3 * v], y = local[3 * v + 1], z = local[3 * v + 2];
         for (int k = 0; k < 3; ++k) {
           const double value = w[k] * x + w[4 + k] * y + w[8 + k] * z + w[12 + k];
           if (!io::coordinateOk(value))
             fail(d, where + ": vertex " + count(v) + " coordinate " + io::coordinateProblem(value) + " after the node transform");
-          m.positions.push_back(value);
+          position[3 * used + k] = value;
         }
-        sourceOfOutput.push_back(uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX)));
+        source[used++] = uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX));
       }
+      m.positions.resize(3 * (firstVertex + used));
+      sourceOfOutput.resize(firstVertex + used);
+      const size_t firstIndex = m.faces.size();
+      m.faces.resize(firstIndex + triangles.size());
+      uint32_t* face = m.faces.data() + firstIndex;
+      const int second = flip ? 2 : 1;  // a mirroring transform turns the winding around
       for (size_t t = 0; t < triangles.size(); t += 3) {
-        const uint32_t a = outputOf[triangles[t]], b = outputOf[triangles[t + 1]], c = outputOf[triangles[t + 2]];
-        if (flip) m.faces.insert(m.faces.end(), {a, c, b});  // a mirroring transform turns the winding around
-        else m.faces.insert(m.faces.end(), {a, b, c});
+        face[t] = outputOf[triangles[t]];
+        face[t + second] = outputOf[triangles[t + 1]];
+        face[t + 3 - second] = outputOf[triangles[t + 2]];
       }
       sourceBase += vertexCount;
       PrimitiveUse use;

@@ -4,6 +4,8 @@
 // Polygons are split into fans. Vertices are welded by exact position (files split them at
 // normal or texture seams).
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -194,8 +196,13 @@ struct Builder {
   }
   template <class Where>
   void addIndex(double value, const Where& where) {
-    if (value < 0 || value != std::floor(value) || value > 0xfffffff0u)
-      throw Error(where() + "vertex index " + std::to_string(int64_t(value)) + " is not valid");
+    if (value < 0 || value != std::floor(value) || value > 0xfffffff0u) {
+      // Cast to an integer only within int64's range (beyond, and for NaN, the cast is undefined).
+      char shown[32];
+      if (std::fabs(value) < 9e18) std::snprintf(shown, sizeof shown, "%lld", static_cast<long long>(value));
+      else std::snprintf(shown, sizeof shown, "%g", value);
+      throw Error(where() + "vertex index " + shown + " is not valid");
+    }
     polygon.push_back(int64_t(value));
   }
 };
