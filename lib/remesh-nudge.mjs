@@ -46,9 +46,10 @@ function weightsOn(p, a, b, c, qx, qy, qz) {
  * max(its distance before, `tolerance`) of the input, and every input sample near it within
  * max(its distance before, `tolerance`) of the result ("turned over": flippedFaces with `against`,
  * the cosine to the input's normal below which a triangle counts as flipped). A move refused is
- * tried again together with the far samples that share a corner with it (jointMove). Vertices with
- * `fixed` set stay. Moves of one round do not share a triangle; `rounds` rounds. Returns how many
- * moves were kept.
+ * tried again together with the far samples that share a corner with it (jointMove), then, for an
+ * input sample, as one vertex near it moved alone toward it (singleCandidates). Vertices with
+ * `fixed` set stay. Moves of one round do not share a triangle; `rounds` rounds (fewer once a round
+ * keeps none). Returns how many moves were kept.
  */
 export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 6, against = 0 }) {
   const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
