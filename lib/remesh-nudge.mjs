@@ -9,6 +9,9 @@ import { flippedFaces, Surface } from './remesh.mjs';
 
 // Far samples tried per round, the farthest first.
 const MAX_TRIES = 2000;
+// Rounds that also bring samples between aim and the goal in (a margin); the later ones run only
+// while a sample is beyond the goal (dragon-871k's spikes took 6: 0.551% -> 0.449%).
+const MARGIN_ROUNDS = 3;
 
 // The measure's points inside a face (remesh's oneSidedHausdorff): centroid and three interior points.
 const BARY = [[1 / 3, 1 / 3, 1 / 3], [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]];
@@ -49,7 +52,7 @@ function weightsOn(p, a, b, c, qx, qy, qz) {
  * tried again together with the far samples that share a corner with it (jointMove), then, for an
  * input sample, as one vertex near it moved alone toward it (singleCandidates). Vertices with
  * `fixed` set stay. Moves of one round do not share a triangle; `rounds` rounds (fewer once a round
- * keeps none). Returns how many moves were kept.
+ * keeps none, and past MARGIN_ROUNDS only while a sample is beyond the goal). Returns how many moves were kept.
  */
 export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 6, against = 0 }) {
   const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
@@ -73,6 +76,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     for (let i = 0; i < fromInput.distances.length; i++) if (fromInput.distances[i] > target) far.push([fromInput.distances[i], 0, i]);
     for (let i = 0; i < toInput.distances.length; i++) if (toInput.distances[i] > target) far.push([toInput.distances[i], 1, i]);
     if (far.length === 0) break;
+    // Past the first rounds, only while a sample is beyond the goal (not for the margin alone).
+    if (round >= MARGIN_ROUNDS && !far.some(([d]) => d > limit)) break;
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1] || x[2] - y[2]);
     // The farthest first; on a fit far beyond the goal (many far samples) no more than these a round.
     far.length = Math.min(far.length, MAX_TRIES);
