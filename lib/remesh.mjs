@@ -39,16 +39,8 @@ export class Surface {
     this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
     this.ray = new Ray();
     this.diagonal = boundingDiagonal(mesh.positions);
-    const positions32 = Float32Array.from(mesh.positions);
-    if (core && !normals) {
-      // Closest points only (no raycasts, no normals): the core's own tree over the same float32
-      // positions, in the faces' order; no MeshBVH (its build was most of a round's result surface).
-      this.core = core, this.nodes = null, this.index = Uint32Array.from(mesh.faces);
-      this.positions64 = Float64Array.from(positions32), this.found = new Float64Array(5);
-      return;
-    }
     const geometry = new BufferGeometry();
-    geometry.setAttribute('position', new BufferAttribute(positions32, 3));
+    geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
     geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
     this.bvh = new MeshBVH(geometry);
     // The BVH reorders the triangles of the index: face indices (hits, normals) follow this.index.
@@ -122,7 +114,7 @@ export class Surface {
   /** The core's closest-point tree (built at the first query; null without the core). */
   get tree() {
     if (!this.core) return null;
-    this.#tree ??= this.core.closestPoints({ positions: this.positions64, faces: this.index }, this.nodes ? { tree: this.nodes } : {});
+    this.#tree ??= this.core.closestPoints({ positions: this.positions64, faces: this.index }, { tree: this.nodes });
     return this.#tree;
   }
   #tree = null;
@@ -136,7 +128,6 @@ export class Surface {
   }
   /** Nearest hit of the line through (x,y,z) along ±n within `cap`, or null. */
   castBothWays(x, y, z, n, cap) {
-    if (!this.bvh) throw new Error('castBothWays: this surface was made for closest points only (normals: false, in the core)');
     let best = null;
     for (const s of [1, -1]) {
       this.ray.origin.set(x, y, z);
