@@ -179,30 +179,28 @@ ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::ve
   pack(nodes);
 }
 
-// Node i of `nodes` becomes inner_[slot[i]] or leaves_[slot[i]]; each inner node takes its
-// children's boxes.
+// The flat nodes as walked (children's boxes in their parent; leaves as their parent's (first,
+// count)); then the corners as floats if they all are.
 void ClosestPoints::pack(const std::vector<Node>& nodes) {
-  std::vector<uint32_t> ref(nodes.size());
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].count == kInner) {
-      ref[i] = static_cast<uint32_t>(inner_.size());
-      inner_.emplace_back();
-    } else {
-      ref[i] = static_cast<uint32_t>(leaves_.size()) | kLeafBit;
-      leaves_.push_back(Leaf{nodes[i].first, nodes[i].count});
-    }
-  }
+  std::vector<uint32_t> slot(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].count == kInner) slot[i] = static_cast<uint32_t>(inner_.size()), inner_.emplace_back();
   for (size_t i = 0; i < nodes.size(); ++i) {
     if (nodes[i].count != kInner) continue;
-    Inner& node = inner_[ref[i]];
+    Inner& node = inner_[slot[i]];
     const size_t children[2] = {i + 1, nodes[i].first};
     for (int c = 0; c < 2; ++c) {
       const Node& child = nodes[children[c]];
-      node.child[c] = ref[children[c]];
+      node.child[c] = child.count == kInner ? slot[children[c]] : child.first;
+      node.count[c] = child.count;
       for (int k = 0; k < 3; ++k) node.lo[c][k] = floatBelow(child.lo[k]), node.hi[c][k] = floatAbove(child.hi[k]);
     }
   }
-  root_ = ref[0];
+  rootFirst_ = nodes[0].count == kInner ? 0 : nodes[0].first, rootCount_ = nodes[0].count;
+  if (std::all_of(corners_.begin(), corners_.end(), [](double x) { return static_cast<double>(static_cast<float>(x)) == x; })) {
+    corners32_.assign(corners_.begin(), corners_.end());
+    std::vector<double>().swap(corners_);
+  }
 }
 
 // Median split along the longest side of the centroids' box; nodes in depth-first order.
@@ -230,20 +228,26 @@ void ClosestPoints::build(std::vector<Node>& nodes, uint32_t begin, uint32_t end
 }
 
 void ClosestPoints::search(const double p[3], double maxDistanceSquared, ClosestHit& hit) const {
+  if (corners32_.empty()) searchIn(corners_.data(), p, maxDistanceSquared, hit);
+  else searchIn(corners32_.data(), p, maxDistanceSquared, hit);
+}
+
+template <typename Corner>
+void ClosestPoints::searchIn(const Corner* corners, const double p[3], double maxDistanceSquared, ClosestHit& hit) const {
   // Depth first, the nearer child first (the second on a tie), as three-mesh-bvh's walk: a child
   // is entered if its box is nearer than both the best so far and the bound (the farther one
   // checked again when popped: the best may have shrunk); every triangle of a leaf visited counts.
   // The root is always entered. Depth < 120 (checked, or median splits): 128 entries suffice.
-  uint32_t stackNode[128];
+  uint32_t stackNode[128], stackCount[128];
   double stackDistance[128];
   size_t top = 0;
   double best = hit.distanceSquared;
-  uint32_t node = root_;
+  uint32_t node = rootFirst_, count = rootCount_;
   for (;;) {
-    if (node & kLeafBit) {
-      const Leaf& leaf = leaves_[node & ~kLeafBit];
-      for (uint32_t s = leaf.first; s < leaf.first + leaf.count; ++s) {
-        const double* c = &corners_[9 * s];
+    if (count != kInner) {
+      for (uint32_t s = node; s < node + count; ++s) {
+        double c[9];
+        for (int k = 0; k < 9; ++k) c[k] = corners[9 * s + k];
         double q[3];
         const double d = closestPointOnTriangle(p, c, c + 3, c + 6, q);
         if (d < best) {
@@ -255,23 +259,24 @@ void ClosestPoints::search(const double p[3], double maxDistanceSquared, Closest
       }
     } else {
       const Inner& inner = inner_[node];
-      uint32_t near = inner.child[0], far = inner.child[1];
+      uint32_t near = inner.child[0], far = inner.child[1], nearCount = inner.count[0], farCount = inner.count[1];
       double dn = boxDistanceSquared(inner.lo[0], inner.hi[0], p), df = boxDistanceSquared(inner.lo[1], inner.hi[1], p);
-      if (df < dn) std::swap(near, far), std::swap(dn, df);
+      if (df < dn) std::swap(near, far), std::swap(nearCount, farCount), std::swap(dn, df);
       const bool enterFar = df < best && df < maxDistanceSquared;
       if (dn < best && dn < maxDistanceSquared) {
-        if (enterFar) stackNode[top] = far, stackDistance[top++] = df;
-        node = near;
+        if (enterFar) stackNode[top] = far, stackCount[top] = farCount, stackDistance[top++] = df;
+        node = near, count = nearCount;
         continue;
       }
       if (enterFar) {
-        node = far;
+        node = far, count = farCount;
         continue;
       }
     }
     while (top > 0 && !(stackDistance[top - 1] < best && stackDistance[top - 1] < maxDistanceSquared)) --top;
     if (top == 0) break;
-    node = stackNode[--top];
+    --top;
+    node = stackNode[top], count = stackCount[top];
   }
 }
 

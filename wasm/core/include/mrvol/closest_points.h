@@ -59,28 +59,28 @@ class ClosestPoints {
     uint32_t count;  // triangles in a leaf; kInner for an inner node
   };
   // The tree as walked: an inner node holds its two children's boxes (float, rounded outward:
-  // exact for three-mesh-bvh's float32 boxes), so a step reads one cache line; a child is an
-  // inner node's index, or with kLeafBit a leaf's.
+  // exact for three-mesh-bvh's float32 boxes), so a step reads one cache line; child c is an
+  // inner node's index (count[c] = kInner) or a leaf's first triangle slot (count[c] triangles).
   struct alignas(64) Inner {
     float lo[2][3], hi[2][3];
-    uint32_t child[2];
+    uint32_t child[2], count[2];
   };
-  struct Leaf {
-    uint32_t first, count;
-  };
-  static constexpr uint32_t kLeafBit = 0x80000000u;
   void checkMesh(const std::vector<double>& positions, const std::vector<uint32_t>& triangles) const;
   void storeCorners(const std::vector<double>& positions, const std::vector<uint32_t>& triangles);
   void build(std::vector<Node>& nodes, uint32_t begin, uint32_t end, const std::vector<double>& centroids);
   void pack(const std::vector<Node>& nodes);
   // Closest within maxDistanceSquared, from `hit`'s current best (distanceSquared: infinity first).
   void search(const double p[3], double maxDistanceSquared, ClosestHit& hit) const;
+  template <typename Corner>
+  void searchIn(const Corner* corners, const double p[3], double maxDistanceSquared, ClosestHit& hit) const;
 
   std::vector<Inner> inner_;
-  std::vector<Leaf> leaves_;
-  uint32_t root_ = 0;
+  uint32_t rootFirst_ = 0, rootCount_ = kInner;  // the root: inner_[0], or a leaf
   std::vector<uint32_t> triangleIds_;  // tree order -> the caller's triangle index
-  std::vector<double> corners_;        // tree order: 9 coordinates per triangle (a, b, c)
+  // Tree order: 9 coordinates per triangle (a, b, c); as floats when every corner is one (the
+  // remesher's float32 surfaces): half the memory the walk reads, the same numbers.
+  std::vector<double> corners_;
+  std::vector<float> corners32_;
 };
 
 // The closest point of triangle (a, b, c) to p (Ericson's regions, in three.js's
