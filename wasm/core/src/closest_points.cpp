@@ -17,8 +17,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Queries per block of a batch: each costs a few microseconds.
 constexpr size_t kQueryGrain = 256;
 
-// In double, from the float bounds: the same numbers as three-mesh-bvh's walk of its float32 boxes.
-double boxDistanceSquared(const float lo[3], const float hi[3], const double p[3]) {
+double boxDistanceSquared(const double lo[3], const double hi[3], const double p[3]) {
   double s = 0;
   for (int k = 0; k < 3; ++k) {
     const double l = lo[k], h = hi[k];
@@ -26,18 +25,6 @@ double boxDistanceSquared(const float lo[3], const float hi[3], const double p[3
     s += d * d;
   }
   return s;
-}
-
-// The nearest float at or below (above) x: a float box that still holds the double one.
-float floatBelow(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-float floatAbove(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
 }
 
 }  // namespace
@@ -179,8 +166,7 @@ ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::ve
   pack(nodes);
 }
 
-// The flat nodes as walked (children's boxes in their parent; leaves as their parent's (first,
-// count)); then the corners as floats if they all are.
+// The flat nodes as walked: children's boxes in their parent, leaves as their parent's (first, count).
 void ClosestPoints::pack(const std::vector<Node>& nodes) {
   std::vector<uint32_t> slot(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i)
@@ -193,14 +179,10 @@ void ClosestPoints::pack(const std::vector<Node>& nodes) {
       const Node& child = nodes[children[c]];
       node.child[c] = child.count == kInner ? slot[children[c]] : child.first;
       node.count[c] = child.count;
-      for (int k = 0; k < 3; ++k) node.lo[c][k] = floatBelow(child.lo[k]), node.hi[c][k] = floatAbove(child.hi[k]);
+      for (int k = 0; k < 3; ++k) node.lo[c][k] = child.lo[k], node.hi[c][k] = child.hi[k];
     }
   }
   rootFirst_ = nodes[0].count == kInner ? 0 : nodes[0].first, rootCount_ = nodes[0].count;
-  if (std::all_of(corners_.begin(), corners_.end(), [](double x) { return static_cast<double>(static_cast<float>(x)) == x; })) {
-    corners32_.assign(corners_.begin(), corners_.end());
-    std::vector<double>().swap(corners_);
-  }
 }
 
 // Median split along the longest side of the centroids' box; nodes in depth-first order.
@@ -228,12 +210,6 @@ void ClosestPoints::build(std::vector<Node>& nodes, uint32_t begin, uint32_t end
 }
 
 void ClosestPoints::search(const double p[3], double maxDistanceSquared, ClosestHit& hit) const {
-  if (corners32_.empty()) searchIn(corners_.data(), p, maxDistanceSquared, hit);
-  else searchIn(corners32_.data(), p, maxDistanceSquared, hit);
-}
-
-template <typename Corner>
-void ClosestPoints::searchIn(const Corner* corners, const double p[3], double maxDistanceSquared, ClosestHit& hit) const {
   // Depth first, the nearer child first (the second on a tie), as three-mesh-bvh's walk: a child
   // is entered if its box is nearer than both the best so far and the bound (the farther one
   // checked again when popped: the best may have shrunk); every triangle of a leaf visited counts.
@@ -246,8 +222,7 @@ void ClosestPoints::searchIn(const Corner* corners, const double p[3], double ma
   for (;;) {
     if (count != kInner) {
       for (uint32_t s = node; s < node + count; ++s) {
-        double c[9];
-        for (int k = 0; k < 9; ++k) c[k] = corners[9 * s + k];
+        const double* c = &corners_[9 * s];
         double q[3];
         const double d = closestPointOnTriangle(p, c, c + 3, c + 6, q);
         if (d < best) {

@@ -58,11 +58,11 @@ class ClosestPoints {
     uint32_t first;  // a leaf: its first triangle slot; inner: the second child (the first is next)
     uint32_t count;  // triangles in a leaf; kInner for an inner node
   };
-  // The tree as walked: an inner node holds its two children's boxes (float, rounded outward:
-  // exact for three-mesh-bvh's float32 boxes), so a step reads one cache line; child c is an
-  // inner node's index (count[c] = kInner) or a leaf's first triangle slot (count[c] triangles).
+  // The tree as walked: an inner node holds its two children's boxes side by side (a step reads
+  // two adjacent cache lines, not two nodes apart); child c is an inner node's index (count[c] =
+  // kInner) or a leaf's first triangle slot (count[c] triangles).
   struct alignas(64) Inner {
-    float lo[2][3], hi[2][3];
+    double lo[2][3], hi[2][3];
     uint32_t child[2], count[2];
   };
   void checkMesh(const std::vector<double>& positions, const std::vector<uint32_t>& triangles) const;
@@ -71,16 +71,11 @@ class ClosestPoints {
   void pack(const std::vector<Node>& nodes);
   // Closest within maxDistanceSquared, from `hit`'s current best (distanceSquared: infinity first).
   void search(const double p[3], double maxDistanceSquared, ClosestHit& hit) const;
-  template <typename Corner>
-  void searchIn(const Corner* corners, const double p[3], double maxDistanceSquared, ClosestHit& hit) const;
 
   std::vector<Inner> inner_;
   uint32_t rootFirst_ = 0, rootCount_ = kInner;  // the root: inner_[0], or a leaf
   std::vector<uint32_t> triangleIds_;  // tree order -> the caller's triangle index
-  // Tree order: 9 coordinates per triangle (a, b, c); as floats when every corner is one (the
-  // remesher's float32 surfaces): half the memory the walk reads, the same numbers.
-  std::vector<double> corners_;
-  std::vector<float> corners32_;
+  std::vector<double> corners_;        // tree order: 9 coordinates per triangle (a, b, c)
 };
 
 // The closest point of triangle (a, b, c) to p (Ericson's regions, in three.js's
