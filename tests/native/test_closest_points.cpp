@@ -1,8 +1,9 @@
 // Closest points on a mesh (closest_points.h): the tree's answers against a brute-force scan of
 // every triangle on random meshes (the same squared distance), with its own tree and with one given
 // from outside, the point-triangle step against sampled points of the triangle, bounds, batches
-// and the sampled distance at 1, 2 and 3 threads (the same bits), and bad meshes and trees refused
-// with a message.
+// and the sampled distance at 1, 2 and 3 threads (the same bits), a given tree walked in
+// three-mesh-bvh's order (the same triangle, point and distance bits, exact ties included), and
+// bad meshes and trees refused with a message.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -351,10 +352,10 @@ Soup gridMesh(int size) {
 
 }  // namespace
 
-TEST(ClosestPoints, AGivenFloatTreeIsWalkedAsThreeMeshBvhWalksItTiesIncluded) {
+TEST(ClosestPoints, AGivenTreeIsWalkedAsThreeMeshBvhWalksItTiesIncluded) {
   std::mt19937 rng(23);
   Soup bumpy = randomMesh(rng, 12, 17, 40);
-  // Float32 corners (as the remesher's surfaces have): the tree's float boxes are then exact.
+  // Float32 corners, as the remesher's surfaces (three-mesh-bvh over a Float32Array) have.
   for (double& x : bumpy.positions) x = static_cast<float>(x);
   std::uniform_real_distribution<double> u(0, 1);
   Soup grid = gridMesh(9);
@@ -385,9 +386,9 @@ TEST(ClosestPoints, AGivenFloatTreeIsWalkedAsThreeMeshBvhWalksItTiesIncluded) {
   }
 }
 
-TEST(ClosestPoints, BoxesOfDoubleCornersAreRoundedOutward) {
-  // Corners that are not floats: the walk's float boxes must still hold them, so the closest
-  // triangle is never pruned (a point just outside a corner, in every direction).
+TEST(ClosestPoints, PointsBesideCornersGetExactlyTheBruteForceDistance) {
+  // A point just beside a corner, in any direction: the boxes the walk keeps in the parents must
+  // still hold that corner, so the closest triangle is never pruned.
   std::mt19937 rng(29);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int trial = 0; trial < 200; ++trial) {
