@@ -20,8 +20,7 @@ constexpr size_t kQueryGrain = 256;
 double boxDistanceSquared(const double lo[3], const double hi[3], const double p[3]) {
   double s = 0;
   for (int k = 0; k < 3; ++k) {
-    const double l = lo[k], h = hi[k];
-    const double d = p[k] < l ? l - p[k] : (p[k] > h ? p[k] - h : 0.0);
+    const double d = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0);
     s += d * d;
   }
   return s;
