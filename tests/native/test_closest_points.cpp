@@ -1,8 +1,9 @@
 // Closest points on a mesh (closest_points.h): the tree's answers against a brute-force scan of
 // every triangle on random meshes (the same squared distance), with its own tree and with one given
 // from outside, the point-triangle step against sampled points of the triangle, bounds, batches
-// and the sampled distance at 1, 2 and 3 threads (the same bits), and bad meshes and trees refused
-// with a message.
+// and the sampled distance at 1, 2 and 3 threads (the same bits), a given tree walked in
+// three-mesh-bvh's order (the same triangle, point and distance bits, exact ties included), and
+// bad meshes and trees refused with a message.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -297,4 +298,108 @@ TEST(ClosestPoints, BadMeshesAreRefusedWithAMessage) {
   EXPECT_NE(message({0, 0, NAN, 1, 0, 0, 0, 1, 0}, {0, 1, 2}).find("finite"), std::string::npos);
   const ClosestPoints tree(p, {0, 1, 2});
   EXPECT_THROW(tree.sampledDistanceFrom(p, {0, 1, 5}, 10), Error);
+}
+
+namespace {
+
+// three-mesh-bvh's walk (lib/remesh.mjs closestPointQuery), recursive, over the given tree's
+// double boxes: the reference for which triangle wins a tie.
+struct ReferenceWalk {
+  const Soup& m;
+  const GivenTree& tree;
+  const double* p;
+  double maxSquared, best = kInf;
+  ClosestHit hit{};
+  double box(uint32_t n) const {
+    double s = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = std::max(tree.bounds[6 * n + k], std::min(tree.bounds[6 * n + 3 + k], p[k])) - p[k];
+      s += d * d;
+    }
+    return s;
+  }
+  void traverse(uint32_t n) {
+    if (tree.count[n] != ClosestPoints::kInner) {
+      for (uint32_t t = tree.first[n]; t < tree.first[n] + tree.count[n]; ++t) {
+        double q[3];
+        const double d = closestPointOnTriangle(p, &m.positions[3 * m.triangles[3 * t]], &m.positions[3 * m.triangles[3 * t + 1]],
+                                                &m.positions[3 * m.triangles[3 * t + 2]], q);
+        if (d < best) best = d, hit = ClosestHit{{q[0], q[1], q[2]}, d, t};
+      }
+      return;
+    }
+    uint32_t c1 = n + 1, c2 = tree.first[n];
+    double s1 = box(c1), s2 = box(c2);
+    if (s2 < s1) std::swap(c1, c2), std::swap(s1, s2);
+    if (s1 < best && s1 < maxSquared) traverse(c1);
+    if (s2 < best && s2 < maxSquared) traverse(c2);
+  }
+};
+
+// A flat grid of unit squares (two triangles each) at z = 0, float-exact: most points above it
+// are equally near several triangles.
+Soup gridMesh(int size) {
+  Soup m;
+  for (int i = 0; i <= size; ++i)
+    for (int j = 0; j <= size; ++j) m.positions.insert(m.positions.end(), {double(i), double(j), 0.0});
+  for (int i = 0; i < size; ++i)
+    for (int j = 0; j < size; ++j) {
+      const uint32_t a = i * (size + 1) + j, b = a + 1, c = a + size + 1, d = c + 1;
+      m.triangles.insert(m.triangles.end(), {a, c, b, b, c, d});
+    }
+  return m;
+}
+
+}  // namespace
+
+TEST(ClosestPoints, AGivenTreeIsWalkedAsThreeMeshBvhWalksItTiesIncluded) {
+  std::mt19937 rng(23);
+  Soup bumpy = randomMesh(rng, 12, 17, 40);
+  // Float32 corners, as the remesher's surfaces (three-mesh-bvh over a Float32Array) have.
+  for (double& x : bumpy.positions) x = static_cast<float>(x);
+  std::uniform_real_distribution<double> u(0, 1);
+  Soup grid = gridMesh(9);
+  for (Soup* m : {&bumpy, &grid}) {
+    for (uint32_t leaf : {1u, 4u, 10u}) {
+      GivenTree given;
+      addNode(*m, 0, static_cast<uint32_t>(m->triangles.size() / 3), leaf, given);
+      const ClosestPoints tree(m->positions, m->triangles, given.bounds, given.first, given.count);
+      std::vector<double> points = randomPoints(rng, 400, 2.5);
+      if (m == &grid)  // above the grid, on its vertices, edges and centres: exact ties
+        for (size_t i = 0; i < points.size() / 3; ++i)
+          points[3 * i] = std::floor(9 * u(rng)) + 0.5 * (i % 3), points[3 * i + 1] = std::floor(9 * u(rng)) + 0.5 * (i % 2),
+          points[3 * i + 2] = 0.25 * (i % 5);
+      for (size_t i = 0; i < points.size() / 3; ++i) {
+        for (double bound : {kInf, 0.5, 0.05}) {
+          ReferenceWalk ref{*m, given, &points[3 * i], bound * bound};
+          ref.traverse(0);
+          ClosestHit hit{};
+          const bool found = tree.closest(&points[3 * i], bound * bound, hit);
+          ASSERT_EQ(found, ref.best < kInf) << "leaf " << leaf << " point " << i << " bound " << bound;
+          if (!found) continue;
+          ASSERT_EQ(hit.triangle, ref.hit.triangle) << "leaf " << leaf << " point " << i << " bound " << bound;
+          for (int k = 0; k < 3; ++k) ASSERT_EQ(hit.point[k], ref.hit.point[k]);
+          ASSERT_EQ(hit.distanceSquared, ref.hit.distanceSquared);
+        }
+      }
+    }
+  }
+}
+
+TEST(ClosestPoints, PointsBesideCornersGetExactlyTheBruteForceDistance) {
+  // A point just beside a corner, in any direction: the boxes the walk keeps in the parents must
+  // still hold that corner, so the closest triangle is never pruned.
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    Soup m = randomMesh(rng, 3, 5, 30);
+    const ClosestPoints tree(m.positions, m.triangles);
+    for (size_t v = 0; v < m.positions.size() / 3; v += 7) {
+      const double* c = &m.positions[3 * v];
+      const double p[3] = {c[0] + 1e-12 * u(rng), c[1] + 1e-12 * u(rng), c[2] + 1e-12 * u(rng)};
+      ClosestHit hit{};
+      ASSERT_TRUE(tree.closest(p, kInf, hit));
+      ASSERT_EQ(hit.distanceSquared, bruteForce(m, p)) << "trial " << trial << " vertex " << v;
+    }
+  }
 }

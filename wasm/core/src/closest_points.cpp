@@ -111,10 +111,11 @@ ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::ve
       centroids[3 * t + k] = (positions[3 * triangles[3 * t] + k] + positions[3 * triangles[3 * t + 1] + k] +
                               positions[3 * triangles[3 * t + 2] + k]) / 3;
   }
-  nodes_.reserve(2 * (triangleCount / kLeafSize + 1));
-  build(0, static_cast<uint32_t>(triangleCount), centroids);
+  std::vector<Node> nodes;
+  nodes.reserve(2 * (triangleCount / kLeafSize + 1));
+  build(nodes, 0, static_cast<uint32_t>(triangleCount), centroids);
   storeCorners(positions, triangles);
-  for (Node& node : nodes_) {
+  for (Node& node : nodes) {
     if (node.count == kInner) continue;
     std::fill(node.lo, node.lo + 3, kInfinity);
     std::fill(node.hi, node.hi + 3, -kInfinity);
@@ -126,12 +127,13 @@ ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::ve
         }
   }
   // Inner boxes from their children, the children being after their parent.
-  for (size_t i = nodes_.size(); i-- > 0;) {
-    Node& node = nodes_[i];
+  for (size_t i = nodes.size(); i-- > 0;) {
+    Node& node = nodes[i];
     if (node.count != kInner) continue;
-    const Node &l = nodes_[i + 1], &r = nodes_[node.first];
+    const Node &l = nodes[i + 1], &r = nodes[node.first];
     for (int k = 0; k < 3; ++k) node.lo[k] = std::min(l.lo[k], r.lo[k]), node.hi[k] = std::max(l.hi[k], r.hi[k]);
   }
+  pack(nodes);
 }
 
 ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::vector<uint32_t>& triangles,
@@ -143,9 +145,9 @@ ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::ve
     throw Error("closest points: the tree needs 6 bounds, a first and a count per node (" + std::to_string(nodeBounds.size()) +
                 " bounds, " + std::to_string(nodeFirst.size()) + " firsts, " + std::to_string(nodeCount.size()) + " counts)");
   std::vector<uint8_t> depth(nodeCount_, 0);
-  nodes_.resize(nodeCount_);
+  std::vector<Node> nodes(nodeCount_);
   for (size_t i = 0; i < nodeCount_; ++i) {
-    Node& node = nodes_[i];
+    Node& node = nodes[i];
     for (int k = 0; k < 3; ++k) node.lo[k] = nodeBounds[6 * i + k], node.hi[k] = nodeBounds[6 * i + 3 + k];
     node.first = nodeFirst[i], node.count = nodeCount[i];
     if (node.count == kInner) {
@@ -160,12 +162,32 @@ ClosestPoints::ClosestPoints(const std::vector<double>& positions, const std::ve
   triangleIds_.resize(triangleCount);
   for (size_t t = 0; t < triangleCount; ++t) triangleIds_[t] = static_cast<uint32_t>(t);
   storeCorners(positions, triangles);
+  pack(nodes);
+}
+
+// The flat nodes as walked: children's boxes in their parent, leaves as their parent's (first, count).
+void ClosestPoints::pack(const std::vector<Node>& nodes) {
+  std::vector<uint32_t> slot(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].count == kInner) slot[i] = static_cast<uint32_t>(inner_.size()), inner_.emplace_back();
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].count != kInner) continue;
+    Inner& node = inner_[slot[i]];
+    const size_t children[2] = {i + 1, nodes[i].first};
+    for (int c = 0; c < 2; ++c) {
+      const Node& child = nodes[children[c]];
+      node.child[c] = child.count == kInner ? slot[children[c]] : child.first;
+      node.count[c] = child.count;
+      for (int k = 0; k < 3; ++k) node.lo[c][k] = child.lo[k], node.hi[c][k] = child.hi[k];
+    }
+  }
+  rootFirst_ = nodes[0].count == kInner ? 0 : nodes[0].first, rootCount_ = nodes[0].count;
 }
 
 // Median split along the longest side of the centroids' box; nodes in depth-first order.
-void ClosestPoints::build(uint32_t begin, uint32_t end, const std::vector<double>& centroids) {
-  const size_t index = nodes_.size();
-  nodes_.push_back(Node{{0, 0, 0}, {0, 0, 0}, begin, end - begin});
+void ClosestPoints::build(std::vector<Node>& nodes, uint32_t begin, uint32_t end, const std::vector<double>& centroids) {
+  const size_t index = nodes.size();
+  nodes.push_back(Node{{0, 0, 0}, {0, 0, 0}, begin, end - begin});
   if (end - begin <= kLeafSize) return;
   double lo[3] = {kInfinity, kInfinity, kInfinity}, hi[3] = {-kInfinity, -kInfinity, -kInfinity};
   for (uint32_t s = begin; s < end; ++s)
@@ -180,30 +202,25 @@ void ClosestPoints::build(uint32_t begin, uint32_t end, const std::vector<double
                      const double ca = centroids[3 * a + axis], cb = centroids[3 * b + axis];
                      return ca < cb || (ca == cb && a < b);
                    });
-  nodes_[index].count = kInner;
-  build(begin, middle, centroids);
-  nodes_[index].first = static_cast<uint32_t>(nodes_.size());
-  build(middle, end, centroids);
+  nodes[index].count = kInner;
+  build(nodes, begin, middle, centroids);
+  nodes[index].first = static_cast<uint32_t>(nodes.size());
+  build(nodes, middle, end, centroids);
 }
 
 void ClosestPoints::search(const double p[3], double maxDistanceSquared, ClosestHit& hit) const {
-  // Depth first, the nearer child first (the second on a tie), as three-mesh-bvh's walk; every
-  // triangle of a leaf visited counts. Depth < 120 (checked, or median splits): 128 entries suffice.
-  struct Entry {
-    uint32_t node;
-    double distanceSquared;
-  };
-  Entry stack[128];
+  // Depth first, the nearer child first (the second on a tie), as three-mesh-bvh's walk: a child
+  // is entered if its box is nearer than both the best so far and the bound (the farther one
+  // checked again when popped: the best may have shrunk); every triangle of a leaf visited counts.
+  // The root is always entered. Depth < 120 (checked, or median splits): 128 entries suffice.
+  uint32_t stackNode[128], stackCount[128];
+  double stackDistance[128];
   size_t top = 0;
-  stack[top++] = {0, 0.0};
   double best = hit.distanceSquared;
-  while (top > 0) {
-    const Entry e = stack[--top];
-    // (The root is always entered, as in three-mesh-bvh.)
-    if (e.node != 0 && !(e.distanceSquared < best && e.distanceSquared < maxDistanceSquared)) continue;
-    const Node& node = nodes_[e.node];
-    if (node.count != kInner) {
-      for (uint32_t s = node.first; s < node.first + node.count; ++s) {
+  uint32_t node = rootFirst_, count = rootCount_;
+  for (;;) {
+    if (count != kInner) {
+      for (uint32_t s = node; s < node + count; ++s) {
         const double* c = &corners_[9 * s];
         double q[3];
         const double d = closestPointOnTriangle(p, c, c + 3, c + 6, q);
@@ -214,13 +231,26 @@ void ClosestPoints::search(const double p[3], double maxDistanceSquared, Closest
           hit.triangle = triangleIds_[s];
         }
       }
-      continue;
+    } else {
+      const Inner& inner = inner_[node];
+      uint32_t near = inner.child[0], far = inner.child[1], nearCount = inner.count[0], farCount = inner.count[1];
+      double dn = boxDistanceSquared(inner.lo[0], inner.hi[0], p), df = boxDistanceSquared(inner.lo[1], inner.hi[1], p);
+      if (df < dn) std::swap(near, far), std::swap(nearCount, farCount), std::swap(dn, df);
+      const bool enterFar = df < best && df < maxDistanceSquared;
+      if (dn < best && dn < maxDistanceSquared) {
+        if (enterFar) stackNode[top] = far, stackCount[top] = farCount, stackDistance[top++] = df;
+        node = near, count = nearCount;
+        continue;
+      }
+      if (enterFar) {
+        node = far, count = farCount;
+        continue;
+      }
     }
-    uint32_t near = e.node + 1, far = node.first;
-    double dn = boxDistanceSquared(nodes_[near].lo, nodes_[near].hi, p), df = boxDistanceSquared(nodes_[far].lo, nodes_[far].hi, p);
-    if (df < dn) std::swap(near, far), std::swap(dn, df);
-    stack[top++] = {far, df};
-    stack[top++] = {near, dn};
+    while (top > 0 && !(stackDistance[top - 1] < best && stackDistance[top - 1] < maxDistanceSquared)) --top;
+    if (top == 0) break;
+    --top;
+    node = stackNode[top], count = stackCount[top];
   }
 }
 

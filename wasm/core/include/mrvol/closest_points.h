@@ -52,18 +52,28 @@ class ClosestPoints {
                              size_t maxSamples) const;
 
  private:
+  // The tree as built or given: per node its box; a leaf's triangles, or an inner node's second child.
   struct Node {
     double lo[3], hi[3];
     uint32_t first;  // a leaf: its first triangle slot; inner: the second child (the first is next)
     uint32_t count;  // triangles in a leaf; kInner for an inner node
   };
+  // The tree as walked: an inner node holds its two children's boxes side by side (a step reads
+  // two adjacent cache lines, not two nodes apart); child c is an inner node's index (count[c] =
+  // kInner) or a leaf's first triangle slot (count[c] triangles).
+  struct alignas(64) Inner {
+    double lo[2][3], hi[2][3];
+    uint32_t child[2], count[2];
+  };
   void checkMesh(const std::vector<double>& positions, const std::vector<uint32_t>& triangles) const;
   void storeCorners(const std::vector<double>& positions, const std::vector<uint32_t>& triangles);
-  void build(uint32_t begin, uint32_t end, const std::vector<double>& centroids);
+  void build(std::vector<Node>& nodes, uint32_t begin, uint32_t end, const std::vector<double>& centroids);
+  void pack(const std::vector<Node>& nodes);
   // Closest within maxDistanceSquared, from `hit`'s current best (distanceSquared: infinity first).
   void search(const double p[3], double maxDistanceSquared, ClosestHit& hit) const;
 
-  std::vector<Node> nodes_;
+  std::vector<Inner> inner_;
+  uint32_t rootFirst_ = 0, rootCount_ = kInner;  // the root: inner_[0], or a leaf
   std::vector<uint32_t> triangleIds_;  // tree order -> the caller's triangle index
   std::vector<double> corners_;        // tree order: 9 coordinates per triangle (a, b, c)
 };
