@@ -88,15 +88,21 @@ function weightsOn(p, a, b, c, qx, qy, qz) {
  * tried again together with the far samples that share a corner with it (jointMove), then, for an
  * input sample, as one vertex near it moved alone toward it (singleCandidates). Vertices with
  * `fixed` set stay. Moves of one round do not share a triangle; `rounds` rounds (fewer once a round
- * keeps none, and past MARGIN_ROUNDS only while a sample is beyond the goal). Returns how many moves were kept.
+ * keeps none, and past MARGIN_ROUNDS only while a sample is beyond the goal). Returns { kept: how
+ * many moves were kept, measured: the two-sided sampled distances of the result as it ends ({ toInput,
+ * fromInput }, as remesh's measure takes them), or null where the last round's moves were not
+ * measured again or a side has more than `maxSamples` samples (the measure strides those) }.
  */
-export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 6, against = 0 }) {
+export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 6, against = 0, maxSamples = Infinity }) {
   const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const inputSamples = samplePoints(surface.mesh);
   const grid = sampleGrid(inputSamples, 0.005 * diagonal);
-  let kept = 0, onInput = null;
+  let kept = 0, onInput = null, measured = null;
+  // The samples' largest distances, where both sides are all of the measure's samples.
+  const measuredNow = (fromInput) => (inputSamples.length / 3 > maxSamples || onInput.samples.length / 3 > maxSamples ? null
+    : { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances) });
   for (let round = 0; round < rounds; round++) {
     const result = new Surface({ positions, faces }, { normals: false });
     const index = result.index;
@@ -111,6 +117,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     const far = [];
     for (let i = 0; i < fromInput.distances.length; i++) if (fromInput.distances[i] > target) far.push([fromInput.distances[i], 0, i]);
     for (let i = 0; i < toInput.distances.length; i++) if (toInput.distances[i] > target) far.push([toInput.distances[i], 1, i]);
+    // Where the loop ends, the result is as these queries found it.
+    measured = measuredNow(fromInput);
     if (far.length === 0) break;
     // Past the first rounds, only while a sample is beyond the goal (not for the margin alone).
     if (round >= MARGIN_ROUNDS && !far.some(([d]) => d > limit)) break;
@@ -208,8 +216,16 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     }
     kept += movedThisRound;
     if (movedThisRound === 0) break;
+    measured = null;
   }
-  return kept;
+  return { kept, measured };
+}
+
+/** The largest of `values` (0 if none). */
+function largest(values) {
+  let m = 0;
+  for (let i = 0; i < values.length; i++) if (values[i] > m) m = values[i];
+  return m;
 }
 
 // A vertex moved alone toward a far input sample: the nearest of the sample's triangle's corners

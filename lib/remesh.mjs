@@ -1658,9 +1658,11 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       options.debug?.('nudging', { mesh: done.mesh, fixed, measured: doneMeasured });
       const nudged = { positions: done.mesh.positions.slice(), faces: done.mesh.faces };
       const held = { kind: fixed };
-      if (nudgeToGoal(surface, nudged.positions, nudged.faces, fixed, { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal, against: NUDGE_AGAINST }) > 0 &&
-          flippedCount(nudged, held) <= flippedCount(done.mesh, held)) {
-        const m = measure(nudged, mesh, surface, maxSamples);
+      const nudging = nudgeToGoal(surface, nudged.positions, nudged.faces, fixed,
+                                  { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal, against: NUDGE_AGAINST, maxSamples });
+      if (nudging.kept > 0 && flippedCount(nudged, held) <= flippedCount(done.mesh, held)) {
+        // The nudge's last queries measured the result as it ended, if they were all of the measure's samples.
+        const m = nudging.measured ? measuredBy(nudging.measured, nudged) : measure(nudged, mesh, surface, maxSamples);
         if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: nudged }, doneMeasured = m;
       }
     }
@@ -1788,6 +1790,17 @@ function farPoints(p, distances, limit, spacing, count) {
     chosen.push(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
   }
   return Float64Array.from(chosen);
+}
+
+/** A measure (as measure() makes) from distances found otherwise; the result's surface is made when asked for. */
+function measuredBy({ toInput, fromInput }, result) {
+  let resultSurface = null;
+  return {
+    toInput, fromInput,
+    get surface() {
+      return (resultSurface ??= new Surface(result, { normals: false }));
+    },
+  };
 }
 
 /** Two-sided sampled distances between the result and the input (and the result's surface). */
