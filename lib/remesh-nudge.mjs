@@ -103,13 +103,11 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   // The samples' largest distances, where both sides are all of the measure's samples.
   const measuredNow = (fromInput) => (inputSamples.length / 3 > maxSamples || onInput.samples.length / 3 > maxSamples ? null
     : { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances) });
+  let fromInput = null;
   for (let round = 0; round < rounds; round++) {
-    const result = new Surface({ positions, faces }, { normals: false });
-    const index = result.index;
-    const fromInput = result.closestMany(inputSamples);
-    result.dispose();
+    fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
     // A sample whose closest triangle moves lies within its distance of that triangle.
-    const farthestFrom = fromInput.distances.reduce((m, x) => Math.max(m, x), 0);
+    const farthestFrom = largest(fromInput.distances);
     onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
     const { samples: resultSamples, closest: toInput } = onInput;
     // Far samples: [distance, side (0 input, 1 result), sample]. Input side: the result triangle
@@ -128,8 +126,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     // Each far sample's move: the corners of its triangle, their weights at the sample, the gap.
     const moves = far.map(([, side, i]) => {
       if (side === 0) {
-        const t = fromInput.triangles[i], q = fromInput.points.subarray(3 * i, 3 * i + 3);
-        const corners = [index[3 * t], index[3 * t + 1], index[3 * t + 2]];
+        const q = fromInput.points.subarray(3 * i, 3 * i + 3);
+        const corners = [fromInput.corners[3 * i], fromInput.corners[3 * i + 1], fromInput.corners[3 * i + 2]];
         return { corners, weights: weightsOn(positions, corners[0], corners[1], corners[2], q[0], q[1], q[2]),
                  gap: [0, 1, 2].map((k) => inputSamples[3 * i + k] - q[k]) };
       }
@@ -177,7 +175,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
         const reach = radius + farthestStep + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&
           patchDistances(surface, positions, faces, patch).every((d, q) => d <= Math.max(ownBefore[q], allowed) + slack) &&
-          nearSamplesKept(inputSamples, grid, fromInput, index, checked, movedSet, positions, faces, centre, reach, allowed + slack);
+          nearSamplesKept(inputSamples, grid, fromInput, checked, movedSet, positions, faces, centre, reach, allowed + slack);
         if (good) return patchCorners;
         corners.forEach((v, j) => positions.set(saved[j], 3 * v));
       }
@@ -218,7 +216,78 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     if (movedThisRound === 0) break;
     measured = null;
   }
+  // The last round's moves, measured (only the samples they can have changed are asked again).
+  if (!measured && kept > 0 && onInput) {
+    fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
+    onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
+    measured = measuredNow(fromInput);
+  }
   return { kept, measured };
+}
+
+/**
+ * The input's samples' closest points on the result as it is now: { points, distances, corners (of
+ * each one's closest result triangle, 3 per sample), at: the positions they are of }. With the last
+ * call's answers (`last`, or null), only the samples whose closest triangle moved since, or that
+ * are within their distance of the box of a moved triangle, are asked again: the others' closest
+ * triangle is the same (ties aside: a new tree can break them otherwise).
+ */
+function inputSamplesOnResult(samples, grid, positions, faces, around, last) {
+  const n = samples.length / 3;
+  let asked = null;
+  if (last) {
+    const { at, distances, corners } = last;
+    const moved = new Uint8Array(positions.length / 3), faceMoved = new Uint8Array(faces.length / 3);
+    let any = false;
+    for (let v = 0; v < moved.length; v++) {
+      if (positions[3 * v] === at[3 * v] && positions[3 * v + 1] === at[3 * v + 1] && positions[3 * v + 2] === at[3 * v + 2]) continue;
+      moved[v] = 1, any = true;
+      for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) faceMoved[around.list[e]] = 1;
+    }
+    if (!any) return last;
+    const ask = new Uint8Array(n);
+    for (let i = 0; i < n; i++) if (moved[corners[3 * i]] || moved[corners[3 * i + 1]] || moved[corners[3 * i + 2]]) ask[i] = 1;
+    const farthest = largest(distances), lo = [0, 0, 0], hi = [0, 0, 0];
+    for (let f = 0; f < faceMoved.length; f++) {
+      if (!faceMoved[f]) continue;
+      for (let k = 0; k < 3; k++) {
+        const a = positions[3 * faces[3 * f] + k], b = positions[3 * faces[3 * f + 1] + k], c = positions[3 * faces[3 * f + 2] + k];
+        lo[k] = Math.min(a, b, c), hi[k] = Math.max(a, b, c);
+      }
+      const centre = [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2), half = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 2;
+      for (const i of grid.within(centre, half + farthest)) {
+        if (ask[i]) continue;
+        let squared = 0;
+        for (let k = 0; k < 3; k++) {
+          const x = samples[3 * i + k], gap = x < lo[k] ? lo[k] - x : x > hi[k] ? x - hi[k] : 0;
+          squared += gap * gap;
+        }
+        // A little slack: a triangle as close as the closest one may be the new answer.
+        if (Math.sqrt(squared) <= distances[i] * (1 + 1e-9) + 1e-12) ask[i] = 1;
+      }
+    }
+    asked = [];
+    for (let i = 0; i < n; i++) if (ask[i]) asked.push(i);
+  }
+  const result = new Surface({ positions, faces }, { normals: false });
+  const index = result.index;
+  let points = samples;
+  if (asked) {
+    points = new Float64Array(3 * asked.length);
+    asked.forEach((i, q) => points.set(samples.subarray(3 * i, 3 * i + 3), 3 * q));
+  }
+  const answers = points.length > 0 ? result.closestMany(points) : null;
+  result.dispose();
+  const out = last ?? { points: new Float64Array(3 * n), distances: new Float64Array(n), corners: new Uint32Array(3 * n), at: null };
+  const count = points.length / 3;
+  for (let q = 0; q < count; q++) {
+    const i = asked ? asked[q] : q, t = answers.triangles[q];
+    out.points[3 * i] = answers.points[3 * q], out.points[3 * i + 1] = answers.points[3 * q + 1], out.points[3 * i + 2] = answers.points[3 * q + 2];
+    out.distances[i] = answers.distances[q];
+    out.corners[3 * i] = index[3 * t], out.corners[3 * i + 1] = index[3 * t + 1], out.corners[3 * i + 2] = index[3 * t + 2];
+  }
+  out.at = positions.slice();
+  return out;
 }
 
 /** The largest of `values` (0 if none). */
@@ -317,11 +386,11 @@ function patchDistances(surface, p, faces, patch) {
  * corner (unchanged, so no farther), or one of the triangles `near` (the moved ones and a ring
  * around them) is that close.
  */
-function nearSamplesKept(samples, grid, before, index, near, moved, p, faces, centre, reach, allowed) {
-  const inPatch = (t) => moved.has(index[3 * t]) || moved.has(index[3 * t + 1]) || moved.has(index[3 * t + 2]);
+function nearSamplesKept(samples, grid, before, near, moved, p, faces, centre, reach, allowed) {
+  const corners = before.corners;
   for (const i of grid.within(centre, reach)) {
     const x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
-    if (!inPatch(before.triangles[i])) continue;
+    if (!moved.has(corners[3 * i]) && !moved.has(corners[3 * i + 1]) && !moved.has(corners[3 * i + 2])) continue;
     const limit = Math.max(before.distances[i], allowed);
     if (!near.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
   }
