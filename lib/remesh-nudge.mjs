@@ -93,17 +93,17 @@ function weightsOn(p, a, b, c, qx, qy, qz) {
  * fromInput }, as remesh's measure takes them), or null where the last round's moves were not
  * measured again or a side has more than `maxSamples` samples (the measure strides those) }.
  */
-export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 6, against = 0, maxSamples = Infinity }) {
+export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, tolerance, rounds = 6, against = 0, maxSamples = Infinity, start = null }) {
   const diagonal = surface.diagonal, limit = goal * diagonal, target = aim * diagonal, allowed = tolerance * diagonal, slack = 1e-9 * diagonal;
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
-  const inputSamples = samplePoints(surface.mesh);
+  const inputSamples = start?.inputSamples ?? samplePoints(surface.mesh);
   const grid = sampleGrid(inputSamples, 0.005 * diagonal);
-  let kept = 0, onInput = null, measured = null;
+  let kept = 0, onInput = start?.onInput ?? null, measured = null;
   // The samples' largest distances, where both sides are all of the measure's samples.
   const measuredNow = (fromInput) => (inputSamples.length / 3 > maxSamples || onInput.samples.length / 3 > maxSamples ? null
     : { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances) });
-  let fromInput = null;
+  let fromInput = start?.fromInput ?? null;
   for (let round = 0; round < rounds; round++) {
     fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
     // A sample whose closest triangle moves lies within its distance of that triangle.
@@ -223,6 +223,21 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     measured = measuredNow(fromInput);
   }
   return { kept, measured };
+}
+
+/**
+ * The two-sided sampled distances of a result (`positions`, `faces`) from `surface` (the input), as
+ * remesh's measure takes them ({ toInput, fromInput }, or null if a side has more than `maxSamples`
+ * samples: the measure strides those), with the queries that found them: nudgeToGoal's `start`
+ * for this result (its first round asks nothing again). Its arrays are the nudge's to change.
+ */
+export function measureForNudge(surface, positions, faces, maxSamples) {
+  const inputSamples = samplePoints(surface.mesh);
+  if (inputSamples.length / 3 > maxSamples || positions.length / 3 + 4 * faces.length / 3 > maxSamples) return null;
+  const { vertexFaces: around } = connectivity(faces, positions.length / 3);
+  const fromInput = inputSamplesOnResult(inputSamples, null, positions, faces, around, null);
+  const onInput = resultSamplesOnInput(surface, positions, faces, around, null);
+  return { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances), start: { inputSamples, fromInput, onInput } };
 }
 
 /**

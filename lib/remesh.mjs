@@ -15,7 +15,7 @@ import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } f
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
-import { nudgeToGoal } from './remesh-nudge.mjs';
+import { measureForNudge, nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
 import { boundingDiagonal, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
@@ -1632,7 +1632,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   // triangle's corners off the input where need be (lib/remesh-nudge.mjs); kept if closer and not
   // more folded. Done once per fit (see below).
   function dragAndNudge(chosen, chosenMeasured) {
-    let done = chosen, doneMeasured = chosenMeasured;
+    let done = chosen, doneMeasured = chosenMeasured, nudgeStart = null;
     // Flipped triangles per positions array (the drag's result, or the fit, is the nudge's start:
     // counted once; the held vertices are the same).
     const flippedOf = new Map();
@@ -1648,8 +1648,10 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       dragToTips(surface, dragged.positions, dragged.faces, fixed, { threshold: goal / 2, tolerance: 0.9 * goal });
       const held = { kind: fixed };
       if (flippedCount(dragged, held) <= flippedCount(done.mesh, held)) {
-        const m = measure(dragged, mesh, surface, maxSamples);
-        if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: dragged }, doneMeasured = m;
+        // Measured with the queries the nudge starts from (where they are all of the measure's samples).
+        const found = measureForNudge(surface, dragged.positions, dragged.faces, maxSamples);
+        const m = found ? measuredBy(found, dragged) : measure(dragged, mesh, surface, maxSamples);
+        if (distance(m) < distance(doneMeasured)) done = { ...done, mesh: dragged }, doneMeasured = m, nudgeStart = found?.start ?? null;
       }
     }
     if (distance(doneMeasured) > goal && options.nudge !== false) {
@@ -1659,7 +1661,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       const nudged = { positions: done.mesh.positions.slice(), faces: done.mesh.faces };
       const held = { kind: fixed };
       const nudging = nudgeToGoal(surface, nudged.positions, nudged.faces, fixed,
-                                  { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal, against: NUDGE_AGAINST, maxSamples });
+                                  { goal, aim: NUDGE_AIM * goal, tolerance: NUDGE_TOLERANCE * goal, against: NUDGE_AGAINST, maxSamples, start: nudgeStart });
       if (nudging.kept > 0 && flippedCount(nudged, held) <= flippedCount(done.mesh, held)) {
         // The nudge's last queries measured the result as it ended, if they were all of the measure's samples.
         const m = nudging.measured ? measuredBy(nudging.measured, nudged) : measure(nudged, mesh, surface, maxSamples);
