@@ -15,6 +15,7 @@ import { BufferAttribute, BufferGeometry, TorusGeometry, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
 import { closestPointQuery, remesh, repair, Surface, weld } from '../../lib/remesh.mjs';
+import { measureForNudge, nudgeToGoal } from '../../lib/remesh-nudge.mjs';
 
 const MODELS = fileURLToPath(new URL('../../public/models/', import.meta.url));
 const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
@@ -118,6 +119,30 @@ describe('remesh (API)', () => {
     const off = surface.distances(Float64Array.from(moved.flatMap((v) => [0, 1, 2].map((k) => r.mesh.positions[3 * v + k]))));
     surface.dispose();
     assert.ok(Math.max(...off) <= 0.005 * r.diagonal, `a nudged vertex ${Math.max(...off) / r.diagonal} off the input`);
+  });
+
+  test('the nudge measures its result as the core\'s sampled measure does (its later rounds ask again only what moves changed)', async () => {
+    const without = await remesh(mrvol, bunnyMesh(), { levels: 2, baseFaces: 250, parametrise: false, nudge: false });
+    const input = weld(bunnyMesh()), surface = new Surface(input, { core: mrvol });
+    const positions = without.mesh.positions.slice(), faces = without.mesh.faces;
+    const start = measureForNudge(surface, positions, faces, 200000);
+    // As remesh's measure: the core's tree over a Surface (its float32 positions and tree).
+    const sampled = (from, to) => {
+      const s = new Surface(to, { normals: false, core: mrvol }), d = s.tree.sampledDistanceFrom(from, 200000);
+      s.dispose();
+      return d;
+    };
+    assert.equal(start.toInput, sampled(without.mesh, input));
+    assert.equal(start.fromInput, sampled(input, without.mesh));
+    const { kept, measured } = nudgeToGoal(surface, positions, faces, new Uint8Array(positions.length / 3),
+                                           { goal: 0.005, aim: 0.0045, tolerance: 0.00475, against: -0.1, maxSamples: 200000, start: start.start });
+    surface.dispose();
+    assert.ok(kept > 0, 'the nudge moves vertices');
+    assert.ok(measured, 'its last queries measure the result');
+    const nudged = { positions, faces };
+    assert.equal(measured.toInput, sampled(nudged, input));
+    assert.equal(measured.fromInput, sampled(input, nudged));
+    assert.ok(Math.max(measured.toInput, measured.fromInput) < Math.max(start.toInput, start.fromInput));
   });
 
   test('levels and base size given: the tips kept in the base leave the size as asked (the dragon sample within 0.5%)', async () => {
