@@ -25,6 +25,11 @@ function samplePoints({ positions: p, faces }) {
   return out;
 }
 
+/** How many sample points samplePoints() makes of a mesh. */
+function sampleCount({ positions, faces }) {
+  return positions.length / 3 + 4 * faces.length / 3;
+}
+
 /** Writes sample s of face f (of a mesh of n vertices) into the samples `out`. */
 function faceSample(out, p, faces, n, f, s) {
   for (let k = 0; k < 3; k++)
@@ -101,8 +106,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   const grid = sampleGrid(inputSamples, 0.005 * diagonal);
   let kept = 0, onInput = start?.onInput ?? null, measured = null;
   // The samples' largest distances, where both sides are all of the measure's samples.
-  const measuredNow = (fromInput) => (inputSamples.length / 3 > maxSamples || onInput.samples.length / 3 > maxSamples ? null
-    : { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances) });
+  const measurable = sampleCount(surface.mesh) <= maxSamples && sampleCount({ positions, faces }) <= maxSamples;
+  const measuredNow = (fromInput) => (measurable ? { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances) } : null);
   let fromInput = start?.fromInput ?? null;
   for (let round = 0; round < rounds; round++) {
     fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
@@ -217,7 +222,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
     measured = null;
   }
   // The last round's moves, measured (only the samples they can have changed are asked again).
-  if (!measured && kept > 0 && onInput) {
+  if (measurable && !measured && kept > 0 && onInput) {
     fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
     onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
     measured = measuredNow(fromInput);
@@ -232,8 +237,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
  * for this result (its first round asks nothing again). Its arrays are the nudge's to change.
  */
 export function measureForNudge(surface, positions, faces, maxSamples) {
+  if (sampleCount(surface.mesh) > maxSamples || sampleCount({ positions, faces }) > maxSamples) return null;
   const inputSamples = samplePoints(surface.mesh);
-  if (inputSamples.length / 3 > maxSamples || positions.length / 3 + 4 * faces.length / 3 > maxSamples) return null;
   const { vertexFaces: around } = connectivity(faces, positions.length / 3);
   const fromInput = inputSamplesOnResult(inputSamples, null, positions, faces, around, null);
   const onInput = resultSamplesOnInput(surface, positions, faces, around, null);
