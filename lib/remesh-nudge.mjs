@@ -328,7 +328,7 @@ function singleCandidates(corners, around, faces, positions, sample, fixed, used
     for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++)
       for (let j = 0; j < 3; j++) near.add(faces[3 * around.list[e] + j]);
   return [...near].filter((v) => !fixed[v] && !used[v])
-    .map((v) => [Math.hypot(positions[3 * v] - sample[0], positions[3 * v + 1] - sample[1], positions[3 * v + 2] - sample[2]), v])
+    .map((v) => [hypot3(positions[3 * v] - sample[0], positions[3 * v + 1] - sample[1], positions[3 * v + 2] - sample[2]), v])
     .sort((a, b) => a[0] - b[0] || a[1] - b[1]).slice(0, SINGLE_CANDIDATES).map(([, v]) => v);
 }
 

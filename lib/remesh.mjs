@@ -986,24 +986,23 @@ function pointGrid(points, cell) {
   return {
     /** The cells (lists of point indices) that may hold points within r of a point. */
     cellsNear(x, y, z, r) {
-      const out = [];
+      // (A hash collision can name a cell's list twice: kept once, in the order first met.)
+      const out = new Set();
       for (let a = Math.floor((x - r) / cell); a <= Math.floor((x + r) / cell); a++)
         for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
           for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++) {
             const list = cells.get(key(a, b, c));
-            if (list && !out.includes(list)) out.push(list);
+            if (list) out.add(list);
           }
       return out;
     },
+    /** The points within r of a point. */
     within(x, y, z, r) {
       const out = [];
-      for (let a = Math.floor((x - r) / cell); a <= Math.floor((x + r) / cell); a++)
-        for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
-          for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++)
-            for (const i of cells.get(key(a, b, c)) ?? [])
-              if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
-      // (A collision can list a point twice.)
-      return [...new Set(out)];
+      // (Each point is in one list, and cellsNear names a list once: no point twice.)
+      for (const list of this.cellsNear(x, y, z, r))
+        for (const i of list) if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
+      return out;
     },
   };
 }
