@@ -17,6 +17,7 @@ import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
 import { measureForNudge, nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
+import { proxyInput } from './remesh-proxy.mjs';
 import { boundingDiagonal, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
@@ -1305,8 +1306,14 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
 
   // The prepared input (repair, pieces, surfaces, features): the parametrised fallback reuses the first run's.
   const prepared = reuse ?? prepareInput(mrvol, input, options, progress);
-  const { repaired, welded, pieces, genus, droppedComponents, droppedPieces, mesh, inputVolume, diagonal, inputFaces, inputVertices,
-          surface, surfaceOf, features, featureKeys } = prepared;
+  const { repaired, welded, genus, droppedComponents, droppedPieces, inputVolume, diagonal, inputFaces, inputVertices,
+          features, featureKeys } = prepared;
+  // A large input is fitted against a proxy (lib/remesh-proxy.mjs); the chosen fit is measured,
+  // dragged and nudged against the input itself (see the end).
+  // (Made once per prepared input: the parametrised fallback's run reuses it.)
+  if (options.proxy !== false && prepared.proxied === undefined) prepared.proxied = proxyInput(mrvol, prepared, Surface);
+  const proxied = options.proxy === false ? null : prepared.proxied;
+  let { pieces, mesh, surface, surfaceOf } = proxied ?? prepared;
   await MeshoptSimplifier.ready;
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
@@ -1342,7 +1349,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
         if (keep?.[i]) return null;
         // A small piece (64 faces or fewer) is its own base: exact.
         const pieceScale = Array.isArray(baseScale) ? baseScale[i] : baseScale;
-        let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * pieceScale * scale * piece.mesh.faces.length) / 3 / inputFaces));
+        let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * pieceScale * scale * piece.faces) / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
@@ -1363,7 +1370,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       let done = 0;
       const parts = pieces.map((piece, i) => {
         if (keep?.[i]) return keep[i];
-        const b = bases[i], own = surfaceOf(i), weight = piece.mesh.faces.length / 3 / inputFaces;
+        const b = bases[i], own = surfaceOf(i), weight = piece.faces / inputFaces;
         // The same base at the same levels fits the same (deterministic): done once.
         const hold = holdTips && tipKeys.size > 0;
         const keyOf = (held) => `${i} ${used} ${withFeatures ? 1 : 0} ${b.simplified ? 1 : 0} ${held ? 1 : 0} ${b.parametrisation ? 1 : 0}`;
@@ -1566,7 +1573,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // the rounds go as before (the emphasis round, made again later, comes from the fits' cache).
     // (The larger bases' first step, below, at its largest: its far pieces the smallest piece, or
     // all; a piece of 64 faces or fewer is its own base, never far.)
-    const smallest = Math.min(inputFaces, ...pieces.map((p) => p.mesh.faces.length / 3).filter((f) => f > 64)) / inputFaces;
+    const smallest = Math.min(inputFaces, ...pieces.map((p) => p.faces).filter((f) => f > 64)) / inputFaces;
     const room = LARGER_BASE_FACES / requested;
     const noLargerBase = room < 1 || 1 + (room - 1) / smallest < 0.75 * 2;
     let earlyDone = false;
@@ -1598,11 +1605,11 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       // The far pieces' scale lowered so that the bases stay within the cage goal (500 handles:
       // 880 faces asked for leaves room for the small pieces' own bases and the simplifier's count);
       // none less than 3/4 of the scale (a base a few percent larger fits no closer; the teapot's cage 598 -> 479 handles).
-      const farShare = pieces.reduce((t, p, i) => t + (far[i] ? p.mesh.faces.length / 3 : 0), 0) / inputFaces;
+      const farShare = pieces.reduce((t, p, i) => t + (far[i] ? p.faces : 0), 0) / inputFaces;
       const enlarged = Math.min(scale, (LARGER_BASE_FACES / requested - (1 - farShare)) / farShare);
       if (enlarged < 0.75 * scale) break;
       const scales = far.map((f) => (f ? enlarged : 1));
-      const overall = pieces.reduce((t, p, i) => t + scales[i] * p.mesh.faces.length / 3, 0) / inputFaces;
+      const overall = pieces.reduce((t, p, i) => t + scales[i] * p.faces, 0) / inputFaces;
       let l = result.levels;
       while (l > 0 && !fits(l, overall)) l--;
       // The near pieces as in the best fit (at its levels).
@@ -1669,6 +1676,14 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     }
     return { result: done, measured: doneMeasured };
   }
+  // Fitted against a proxy: the closest fit, or the closest of those dragged and nudged against the
+  // proxy, measured against the input, and dragged and nudged against it.
+  if (proxied) {
+    const best = [...finishedFits.values()].reduce((b, f) => (distance(f.measured) < distance(b.measured) ? f : b), { result, measured });
+    ({ mesh, surface, pieces } = prepared);
+    finishedFits.clear();
+    result = best.result, measured = measure(result.mesh, mesh, surface, maxSamples);
+  }
   // The closest fit dragged and nudged; the closest of those made (one before the emphasis rounds, see above).
   finished(result, measured);
   ({ result, measured } = [...finishedFits.values()].reduce((best, f) => (distance(f.measured) < distance(best.measured) ? f : best)));
@@ -1707,6 +1722,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     simplifierRetries: simplifierProblems,
     fit: options.parametrise ? 'parametrised' : 'simplified',
     parametrisedFallback: null,
+    proxy: proxied?.proxy ?? null,
     ms: now() - started,
   };
   // Still far by default: the MAPS fit (parametrise) too (closer on the teapot and bunny, farther on
