@@ -25,8 +25,19 @@ export interface RemeshOptions {
    * the semi-regular vertices put at their place on the input by that map instead of cast and
    * relaxed (lib/remesh-param.mjs). Unset: run as well when the default fit stays above the
    * Hausdorff goal, and kept if closer without flipped triangles (see `fit` in the result); false: never.
+   * An input fitted against a proxy (`proxy`) is fitted this way by default.
    */
   parametrise?: boolean;
+  /**
+   * A large input (over 150000 faces, no sharp features; lib/remesh-proxy.mjs) is fitted against a
+   * proxy: each piece simplified by meshoptimizer to about 55000 faces over all pieces, closed, of at most
+   * its genus, every input vertex within 0.04% of the diagonal of it (the far vertices locked in the
+   * simplification again); the fits run parametrised against it and the chosen fit is measured,
+   * dragged and nudged against the input (see `proxy` in the result). Only where the proxy is
+   * small enough for the parametrised fit (inputs up to about 480k faces) and `parametrise` is not
+   * false. false: never; an object overrides the settings ({ minFaces, ratio, minTarget, limit }).
+   */
+  proxy?: boolean | { minFaces?: number; ratio?: number; minTarget?: number; limit?: number };
   /** Keep only the largest connected component (default false: every component is remeshed). */
   keepLargest?: boolean;
   /** Default levels: the distance to reach (fraction of the diagonal, default 0.005). */
@@ -143,6 +154,12 @@ export interface RemeshResult {
   fit: 'simplified' | 'parametrised';
   /** The MAPS fit tried because the default stayed above the goal (null if not tried): its distance, or its error. */
   parametrisedFallback: { hausdorff?: number; flippedTriangles?: number; error?: string | null; kept: boolean } | null;
+  /**
+   * The proxy the fits ran against (see the `proxy` option), or null: its faces, the farthest input
+   * vertex from it (over the diagonal), the pieces proxied, the simplifications per piece, and the
+   * tunnels the proxies closed.
+   */
+  proxy: { faces: number; distance: number; pieces: number; rounds: number; genusLost: number } | null;
   ms: number;
 }
 
