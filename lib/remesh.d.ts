@@ -160,6 +160,11 @@ export interface RemeshResult {
    * tunnels the proxies closed.
    */
   proxy: { faces: number; distance: number; pieces: number; rounds: number; genusLost: number } | null;
+  /**
+   * A fit against a proxy (parametrised by default there) still above `hausdorffGoal`: the input fitted
+   * without the proxy too (`proxy: false`), the closer unfolded result kept; null when not run.
+   */
+  proxyFallback: { hausdorff?: number; flippedTriangles?: number; error?: string | null; kept: boolean } | null;
   ms: number;
 }
 

@@ -1321,7 +1321,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   let { pieces, mesh, surface, surfaceOf } = proxied ?? prepared;
   // The proxy's pieces are small enough for the MAPS collapse: the parametrised fit by default
   // (dragon-203k: 0.464% with a cage of 520 handles; the simplified fit on the proxy: 1.87%).
-  if (options.parametrise === undefined && proxied) options = { ...options, parametrise: true };
+  const viaProxy = options.parametrise === undefined && !!proxied;
+  if (viaProxy) options = { ...options, parametrise: true };
   await MeshoptSimplifier.ready;
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
@@ -1737,6 +1738,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     fit: options.parametrise ? 'parametrised' : 'simplified',
     parametrisedFallback: null,
     proxy: proxied?.proxy ?? null,
+    proxyFallback: null,
     ms: now() - started,
   };
   // Still far by default: the MAPS fit (parametrise) too (closer on the teapot and bunny, farther on
@@ -1757,6 +1759,21 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     const fallback = other ? { hausdorff: other.hausdorff, flippedTriangles: other.flippedTriangles, kept } : { error, kept };
     const chosen = kept ? other : report;
     return { ...chosen, parametrisedFallback: fallback, ms: now() - started };
+  }
+  // Parametrised against a proxy by default and still above the goal: the input fitted as without
+  // the proxy too (the simplified fit, and its own fallback), the closer of the two without folds kept.
+  if (viaProxy && report.hausdorff > goal) {
+    let other = null, error = null;
+    try {
+      other = await remesh(mrvol, input, { ...options, parametrise: undefined, proxy: false,
+                                           onProgress: (f, stage) => progress(0.95 + 0.05 * f, `fit without the proxy: ${stage}`) }, prepared);
+    } catch (e) {
+      if (!(e instanceof MrvolError)) throw e;
+      error = e.message;
+    }
+    const kept = !!other && other.flippedTriangles === 0 && other.hausdorff < report.hausdorff;
+    const fallback = other ? { hausdorff: other.hausdorff, flippedTriangles: other.flippedTriangles, kept } : { error, kept };
+    return { ...(kept ? other : report), proxyFallback: fallback, ms: now() - started };
   }
   return report;
 }

@@ -80,3 +80,16 @@ test('remesh with a proxy: parametrised against it, measured against the input i
   assert.equal(off.proxy, null);
   assert.equal(off.fit, 'simplified');
 });
+
+test('remesh with a proxy still above the goal: fitted without it too, the closer kept', async () => {
+  const { mesh } = needledTorus(48, 96, 0);
+  const options = { proxy: { minFaces: 5000, minTarget: 2500, limit: 0.0015 }, hausdorffGoal: 0.0005, maxVertices: 12000, dragTips: false, nudge: false };
+  const r = await remesh(mrvol, mesh, options);
+  assert.ok(r.proxyFallback, 'the fit without the proxy was made');
+  assert.equal(r.proxyFallback.flippedTriangles, 0);
+  const without = await remesh(mrvol, mesh, { ...options, proxy: false });
+  assert.equal(without.proxyFallback, null);
+  assert.ok(r.hausdorff <= without.hausdorff, `${r.hausdorff} vs ${without.hausdorff}`);
+  assert.equal(r.proxyFallback.hausdorff, without.hausdorff, 'the same fit as with proxy: false');
+  assert.equal(r.flippedTriangles, 0);
+});
