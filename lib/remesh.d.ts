@@ -161,10 +161,11 @@ export interface RemeshResult {
    */
   proxy: { faces: number; distance: number; pieces: number; rounds: number; genusLost: number } | null;
   /**
-   * A fit against a proxy (parametrised by default there) still above `hausdorffGoal`: the input fitted
-   * without the proxy too (`proxy: false`), the closer unfolded result kept; null when not run.
+   * A fit against a proxy (parametrised by default there) that folded (`error`) or stayed above
+   * `hausdorffGoal`: the input fitted without the proxy too (`proxy: false`; its distance and flipped
+   * triangles here), the closer unfolded result kept; null when not run.
    */
-  proxyFallback: { hausdorff?: number; flippedTriangles?: number; error?: string | null; kept: boolean } | null;
+  proxyFallback: { hausdorff: number; flippedTriangles: number; error: string | null; kept: boolean } | null;
   ms: number;
 }
 

@@ -1311,19 +1311,32 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   const prepared = reuse ?? prepareInput(mrvol, input, options, progress);
   const { repaired, welded, genus, droppedComponents, droppedPieces, inputVolume, diagonal, inputFaces, inputVertices,
           features, featureKeys } = prepared;
-  // A large input is fitted against a proxy (lib/remesh-proxy.mjs); the chosen fit is measured,
-  // dragged and nudged against the input itself (see the end).
-  // (Made once per prepared input: the parametrised fallback's run reuses it.)
-  // Only for the parametrised fit (by default there): the simplified one on the proxy lost.
+  // A large input is fitted against a proxy (lib/remesh-proxy.mjs), and the chosen fit measured,
+  // dragged and nudged against the input itself (see the end); only by the parametrised fit (the
+  // simplified one on the proxy lost). Made once per prepared input (the fallbacks' runs reuse it).
   const useProxy = options.proxy !== false && options.parametrise !== false;
   if (useProxy && prepared.proxied === undefined)
     prepared.proxied = proxyInput(mrvol, prepared, Surface, { ...(typeof options.proxy === 'object' ? options.proxy : {}), maxFaces: PARAMETRISE_MAX_FACES });
   const proxied = useProxy ? prepared.proxied : null;
+  // By default there the parametrised fit against the proxy (dragon-203k: 0.464% with a cage of 521
+  // handles); if it folds or stays above the goal, the input fitted without the proxy too (the
+  // simplified fit and its own fallback), the closer of the two without folds kept.
+  if (options.parametrise === undefined && proxied) {
+    let first = null, error = null;
+    try {
+      first = await remesh(mrvol, input, { ...options, parametrise: true }, prepared);
+    } catch (e) {
+      if (!(e instanceof MrvolError)) throw e;
+      error = e.message;
+    }
+    if (first && first.hausdorff <= goal) return { ...first, ms: now() - started };
+    const other = await remesh(mrvol, input, { ...options, proxy: false,
+                                                onProgress: (f, stage) => progress(0.5 + 0.5 * f, `fit without the proxy: ${stage}`) }, prepared);
+    const kept = !first || (other.flippedTriangles === 0 && other.hausdorff < first.hausdorff);
+    const proxyFallback = { hausdorff: other.hausdorff, flippedTriangles: other.flippedTriangles, kept, error };
+    return { ...(kept ? other : first), proxyFallback, ms: now() - started };
+  }
   let { pieces, mesh, surface, surfaceOf } = proxied ?? prepared;
-  // The proxy's pieces are small enough for the MAPS collapse: the parametrised fit by default
-  // (dragon-203k: 0.464% with a cage of 520 handles; the simplified fit on the proxy: 1.87%).
-  const viaProxy = options.parametrise === undefined && !!proxied;
-  if (viaProxy) options = { ...options, parametrise: true };
   await MeshoptSimplifier.ready;
   const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
@@ -1583,8 +1596,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     retryFaces = Infinity;
     const first = measured;
     // Against a proxy, a closest fit that its drag and nudge bring within the goal ends the fits
-    // (dragon-203k's parametrised 3-level fit: 1.351% -> 0.450%; its tips round, a fold and a base
-    // twice as large, was 2.689%).
+    // (dragon-203k's parametrised 3-level fit: 1.351%, 0.464% at the end; its tips round, a fold and
+    // a base twice as large, was 2.689%).
     const proxyDone = !!proxied && distance(measured) > goal && nearlyDone();
     // A small input whose base cannot grow (no larger base fits the cage goal): the first emphasis
     // round tried before the tips rounds, kept if its drag and nudge reach the goal (dragon-11k:
@@ -1763,21 +1776,6 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     const fallback = other ? { hausdorff: other.hausdorff, flippedTriangles: other.flippedTriangles, kept } : { error, kept };
     const chosen = kept ? other : report;
     return { ...chosen, parametrisedFallback: fallback, ms: now() - started };
-  }
-  // Parametrised against a proxy by default and still above the goal: the input fitted as without
-  // the proxy too (the simplified fit, and its own fallback), the closer of the two without folds kept.
-  if (viaProxy && report.hausdorff > goal) {
-    let other = null, error = null;
-    try {
-      other = await remesh(mrvol, input, { ...options, parametrise: undefined, proxy: false,
-                                           onProgress: (f, stage) => progress(0.95 + 0.05 * f, `fit without the proxy: ${stage}`) }, prepared);
-    } catch (e) {
-      if (!(e instanceof MrvolError)) throw e;
-      error = e.message;
-    }
-    const kept = !!other && other.flippedTriangles === 0 && other.hausdorff < report.hausdorff;
-    const fallback = other ? { hausdorff: other.hausdorff, flippedTriangles: other.flippedTriangles, kept } : { error, kept };
-    return { ...(kept ? other : report), proxyFallback: fallback, ms: now() - started };
   }
   return report;
 }
