@@ -1220,6 +1220,11 @@ const EARLY_EMPHASIS_MAX_FACES = 60000;
 // Refined rounds (remesh): at most this many.
 const REFINED_ROUNDS = 2;
 
+// A first fit farther than this factor of the goal, on an input that gets the early rounds (remesh):
+// no level more before them (a level quarters the faces, but this far it is the base that is far:
+// dragon-48k 2.07% at 2 levels, 2.17% at 3); the early refined round's base this much larger.
+const FAR_LEVEL_FACTOR = 3, EARLY_REFINED_SCALE = 2;
+
 // The most faces asked for in the larger bases (remesh), over all pieces: a cage within 500 handles.
 const LARGER_BASE_FACES = 880;
 
@@ -1524,14 +1529,14 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   // 48k dragon's toes); kept if closer, up to REFINED_ROUNDS rounds. If its fit folds, the retry's
   // base twice as large is refined the same way (the 48k dragon: 1.19% -> 0.41%, cage 535 -> 1034).
   // refine: false keeps the cage instead.
-  const refinedRounds = () => {
+  const refinedRounds = (rounds = REFINED_ROUNDS, scale = 1) => {
     if (options.refine === false || options.parametrise) return;
-    for (let round = 0; round < REFINED_ROUNDS && distance(measured) > goal; round++) {
+    for (let round = 0; round < rounds && distance(measured) > goal; round++) {
       const before = distance(measured);
       const far = pieces.map((piece) => distancesTo(measured, piece.mesh.positions));
       refineAt = pieces.map((piece, i) => farPoints(piece.mesh.positions, far[i], goal * diagonal, 0.005 * diagonal, 400));
       emphasis = pieces.map((piece, i) => farEmphasis(piece.mesh, far[i], goal * diagonal, EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
-      tryFit(result.levels, 1);
+      tryFit(result.levels, scale);
       refineAt = null, emphasis = null;
       if (distance(measured) > 0.95 * before) break;
     }
@@ -1549,48 +1554,83 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     const fits = (levels, scale) => (requested * scale * 4 ** levels) / 2 <= budget;
     let levels = 2;
     while (levels > 0 && !fits(levels, 1)) levels--;
+    // The early rounds below (a small input whose base cannot grow: no larger base fits the cage
+    // goal). (The larger bases' first step, below, at its largest: its far pieces the smallest
+    // piece, or all; a piece of 64 faces or fewer is its own base, never far.)
+    const smallest = Math.min(inputFaces, ...pieces.map((p) => p.mesh.faces.length / 3).filter((f) => f > 64)) / inputFaces;
+    const room = LARGER_BASE_FACES / requested;
+    const noLargerBase = room < 1 || 1 + (room - 1) / smallest < 0.75 * 2;
+    const early = noLargerBase && inputFaces <= EARLY_EMPHASIS_MAX_FACES && options.emphasis !== false && !options.parametrise;
+    // There, a fit over FAR_LEVEL_FACTOR x the goal gets the early rounds first; its level more
+    // only if they do not reach the goal (deferred).
+    let deferred = null;
     // A level that gained less than 5% over the one before leaves little for the next: the base is
     // what is far (dragon-203k: 3.87% at 2 levels, 3.77% at 3, 4.00% at 4, a 4-level fit of 3 s).
     // A level added that folds is made again only on bases within the larger bases' limit or the
     // closest fit's own size (not a larger cage for one level more): dragon-871k's 3-level fit folded
     // on bases of 1064, 2128 and 4062 faces (about 15 s of CPU; its 2-level fit is on 1064).
     let before = Infinity;
-    for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels &&
-           distance(lastMeasured) <= 0.95 * before; levels++)
-      before = distance(lastMeasured), retryFaces = Math.max(LARGER_BASE_FACES, 1.1 * result.baseFaces);
-    retryFaces = Infinity;
-    const first = measured;
+    const levelLoop = () => {
+      for (; tryFit(levels, 1) && distance(measured) > goal && levels < 6 && fits(levels + 1, 1) && result.levels === levels &&
+             distance(lastMeasured) <= 0.95 * before; levels++) {
+        before = distance(lastMeasured), retryFaces = Math.max(LARGER_BASE_FACES, 1.1 * result.baseFaces);
+        if (early && !deferred && distance(lastMeasured) > FAR_LEVEL_FACTOR * goal) {
+          deferred = { levels: levels + 1, before, retryFaces };
+          break;
+        }
+      }
+      retryFaces = Infinity;
+    };
+    levelLoop();
+    let first = measured;
+    // The state before an early round: restore() forgets the round (its result, measures, fits list,
+    // simplifier problems and genus changes), so the rounds go on as before.
+    const saved = () => {
+      const state = { result, measured, lastMeasured, tried: tried.length, problems: simplifierProblems.length, genusChanges: [...genusChanges] };
+      return () => {
+        if (result !== state.result) finishedFits.delete(result);
+        ({ result, measured, lastMeasured } = state);
+        tried.length = state.tried, simplifierProblems.length = state.problems;
+        genusChanges.clear();
+        for (const i of state.genusChanges) genusChanges.add(i);
+      };
+    };
     // A small input whose base cannot grow (no larger base fits the cage goal): the first emphasis
     // round tried before the tips rounds, kept if its drag and nudge reach the goal (dragon-11k:
     // the emphasis fit gave its 0.450%, the two tips rounds before it nothing); else forgotten, so
     // the rounds go as before (the emphasis round, made again later, comes from the fits' cache).
-    // (The larger bases' first step, below, at its largest: its far pieces the smallest piece, or
-    // all; a piece of 64 faces or fewer is its own base, never far.)
-    const smallest = Math.min(inputFaces, ...pieces.map((p) => p.mesh.faces.length / 3).filter((f) => f > 64)) / inputFaces;
-    const room = LARGER_BASE_FACES / requested;
-    const noLargerBase = room < 1 || 1 + (room - 1) / smallest < 0.75 * 2;
     let earlyDone = false;
-    if (distance(measured) > goal && noLargerBase && inputFaces <= EARLY_EMPHASIS_MAX_FACES &&
-        options.emphasis !== false && !options.parametrise) {
-      const before = { result, measured, lastMeasured, tried: tried.length, problems: simplifierProblems.length, genusChanges: [...genusChanges] };
+    if (distance(measured) > goal && early) {
+      const restore = saved(), start = result;
       emphasis = pieces.map((piece) => farEmphasis(piece.mesh, first.surface.distances(piece.mesh.positions), goal * diagonal,
                                                    EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
-      const early = tryFit(result.levels, 1) ? result : null;
+      const closer = tryFit(result.levels, 1) && result !== start;
       emphasis = null;
-      earlyDone = !!early && early !== before.result && nearlyDone();
-      if (!earlyDone) {
-        if (early && early !== before.result) finishedFits.delete(early);
-        ({ result, measured, lastMeasured } = before);
-        tried.length = before.tried, simplifierProblems.length = before.problems;
-        genusChanges.clear();
-        for (const i of before.genusChanges) genusChanges.add(i);
+      earlyDone = closer && nearlyDone();
+      if (!earlyDone) restore();
+      // No closer than the first fit (dragon-48k: 2.60% against 2.07%): this base size misses more
+      // than weights bring back (the 48k's toes), so the tips and emphasis rounds at this size are
+      // predicted not to win either (the 48k's reached 1.63%). One refined round (see refinedRounds)
+      // on a base EARLY_REFINED_SCALE times as large, from the first fit, dragged and nudged, kept if
+      // that reaches the goal (dragon-48k: 0.974% -> 0.382%, 2 fits instead of 7); else forgotten too.
+      if (!closer && options.refine !== false) {
+        const restoreRefined = saved();
+        refinedRounds(1, EARLY_REFINED_SCALE);
+        earlyDone = result !== start && distance(finished(result, measured).measured) <= goal;
+        if (!earlyDone) restoreRefined();
       }
     }
-    // (Kept: no larger base is tried, and nearlyDone() below holds.)
+    // Not done early: the level deferred above, as the levels loop would have made it.
+    if (!earlyDone && deferred) {
+      ({ levels, before, retryFaces } = deferred);
+      levelLoop();
+      first = measured;
+    }
+    // (Kept: no larger base is tried; the rounds below are skipped.)
     if (!earlyDone) tipsRounds(false);
     // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
     for (const scale of [2, 4]) {
-      if (distance(measured) <= goal) break;
+      if (distance(measured) <= goal || earlyDone) break;
       // (Pieces whose input vertices are all near: the far side is the result's, say where
       // centroids of the result bulge off a spike: then every piece is enlarged.)
       let far = farPieces(pieces.map((piece) => distancesTo(measured, piece.mesh.positions)), goal * diagonal);
@@ -1611,7 +1651,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     }
     // Near the goal already: the drag and the nudge may close the gap (teapot 0.562% -> 0.453%); the
     // emphasis rounds (a fit each, from a new base) and the refined rounds only if they do not (see nearlyDone).
-    if (!nearlyDone()) {
+    if (!earlyDone && !nearlyDone()) {
       emphasisRounds(first);
       if (!nearlyDone()) refinedRounds();
     }
