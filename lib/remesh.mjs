@@ -1602,7 +1602,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     let earlyDone = false;
     if (distance(measured) > goal && early) {
       const restore = saved(), start = result;
-      emphasis = pieces.map((piece) => farEmphasis(piece.mesh, first.surface.distances(piece.mesh.positions), goal * diagonal,
+      emphasis = pieces.map((piece) => farEmphasis(piece.mesh, distancesTo(first, piece.mesh.positions), goal * diagonal,
                                                    EMPHASIS_RADIUS * diagonal, EMPHASIS_CAP));
       const closer = tryFit(result.levels, 1) && result !== start;
       emphasis = null;
