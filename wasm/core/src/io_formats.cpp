@@ -263,9 +263,13 @@ std::vector<uint32_t> firstAtPositionSorted(const double* p, size_t n) {
 }
 
 // The same by hashing the positions (linear probing; visiting the vertices in order makes the
-// first one met the smallest). Gives up (returns false) when the probes exceed a few per vertex,
-// as positions made to collide would make it quadratic: the sort then does the work.
-bool firstAtPositionHashed(const double* p, size_t n, std::vector<uint32_t>& representative) {
+// first one met the smallest), as a list: the vertices that are not the first at their position,
+// each with that first one (most files have none, and then nothing per vertex is written). Gives up
+// (returns false) when the probes exceed a few per vertex, as positions made to collide would make
+// it quadratic: the sort then does the work. Vertices go in blocks: their hashes, then their home
+// slots loaded in a loop of their own (the table is larger than the nearer caches: the misses
+// overlap), then each looked up in order.
+bool duplicatesHashed(const double* p, size_t n, std::vector<std::pair<uint32_t, uint32_t>>& duplicates) {
   auto bitsOf = [](double x) {
     uint64_t u;
     x = x == 0 ? 0.0 : x;  // -0 == +0
@@ -277,35 +281,42 @@ bool firstAtPositionHashed(const double* p, size_t n, std::vector<uint32_t>& rep
   const size_t mask = capacity - 1;
   constexpr uint32_t kEmpty = 0xffffffffu;
   std::vector<uint32_t> table(capacity, kEmpty);
-  representative.resize(n);
   uint64_t probes = 0;
   const uint64_t maxProbes = 8 * uint64_t(n) + 1024;
-  for (size_t v = 0; v < n; ++v) {
-    const double* q = p + 3 * v;
-    if (std::isnan(q[0]) || std::isnan(q[1]) || std::isnan(q[2])) {
-      representative[v] = uint32_t(v);  // NaN equals nothing
-      continue;
+  constexpr size_t kBlock = 32;
+  size_t home[kBlock];
+  uint32_t touched = 0;
+  for (size_t first = 0; first < n; first += kBlock) {
+    const size_t count = std::min(kBlock, n - first);
+    for (size_t i = 0; i < count; ++i) {
+      const double* q = p + 3 * (first + i);
+      uint64_t h = bitsOf(q[0]) * 0x9E3779B97F4A7C15ull ^ bitsOf(q[1]) * 0xC2B2AE3D27D4EB4Full ^ bitsOf(q[2]) * 0x165667B19E3779F9ull;
+      h ^= h >> 29;
+      h *= 0xBF58476D1CE4E5B9ull;
+      h ^= h >> 32;
+      home[i] = size_t(h) & mask;
     }
-    uint64_t h = bitsOf(q[0]) * 0x9E3779B97F4A7C15ull ^ bitsOf(q[1]) * 0xC2B2AE3D27D4EB4Full ^ bitsOf(q[2]) * 0x165667B19E3779F9ull;
-    h ^= h >> 29;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 32;
-    for (size_t slot = h & mask;; slot = (slot + 1) & mask) {
-      if (++probes > maxProbes) return false;
-      const uint32_t u = table[slot];
-      if (u == kEmpty) {
-        table[slot] = uint32_t(v);
-        representative[v] = uint32_t(v);
-        break;
-      }
-      const double* r = p + 3 * u;
-      if (r[0] == q[0] && r[1] == q[1] && r[2] == q[2]) {
-        representative[v] = u;
-        break;
+    for (size_t i = 0; i < count; ++i) touched += table[home[i]];
+    for (size_t i = 0; i < count; ++i) {
+      const size_t v = first + i;
+      const double* q = p + 3 * v;
+      if (std::isnan(q[0]) || std::isnan(q[1]) || std::isnan(q[2])) continue;  // NaN equals nothing
+      for (size_t slot = home[i];; slot = (slot + 1) & mask) {
+        if (++probes > maxProbes) return false;
+        const uint32_t u = table[slot];
+        if (u == kEmpty) {
+          table[slot] = uint32_t(v);
+          break;
+        }
+        const double* r = p + 3 * u;
+        if (r[0] == q[0] && r[1] == q[1] && r[2] == q[2]) {
+          duplicates.emplace_back(uint32_t(v), u);
+          break;
+        }
       }
     }
   }
-  return true;
+  return touched != 1;  // (always true: keeps the loads of the home slots)
 }
 
 }  // namespace
@@ -314,7 +325,25 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
   const size_t n = mesh.vertexCount();
   const double* p = mesh.positions.data();
   std::vector<uint32_t> representative;
-  if (!firstAtPositionHashed(p, n, representative)) representative = firstAtPositionSorted(p, n);
+  std::vector<std::pair<uint32_t, uint32_t>> duplicates;
+  if (!duplicatesHashed(p, n, duplicates)) {
+    representative = firstAtPositionSorted(p, n);
+  } else if (duplicates.empty()) {  // every vertex is its own output vertex: nothing to renumber
+    if (firstSource) {
+      firstSource->resize(n);
+      std::iota(firstSource->begin(), firstSource->end(), 0u);
+    }
+    if (outputOfSource) {
+      outputOfSource->resize(n);
+      std::iota(outputOfSource->begin(), outputOfSource->end(), 0u);
+    }
+    return 0;
+  } else {
+    representative.resize(n);
+    std::iota(representative.begin(), representative.end(), 0u);
+    for (const auto& [v, u] : duplicates) representative[v] = u;
+    duplicates = {};
+  }
   // Output numbering in the order of first occurrence.
   std::vector<uint32_t> output(n);
   std::vector<uint32_t> first;
