@@ -427,7 +427,8 @@ SceneGeometry collectScene(const Document& d) {
       // float32 positions (the common case) read as floats: exact, and half the bytes of doubles.
       // (A componentType that is not a valid number is named by readAccessor.)
       const json* positionType = member(entry(d, "accessors", positionAccessor), "componentType");
-      const bool floatPositions = positionType && positionType->is_number_unsigned() && positionType->get<uint64_t>() == 5126;
+      const bool floatPositions =
+          positionType && positionType->is_number_unsigned() && positionType->get<uint64_t>() == 5126;
       std::vector<float> localFloat;
       std::vector<double> localDouble;
       if (floatPositions) localFloat = readAccessorAs<float>(d, positionAccessor, 3, "POSITION of " + where);
@@ -500,7 +501,8 @@ SceneGeometry collectScene(const Document& d) {
           for (int k = 0; k < 3; ++k) {
             const double value = w[k] * x + w[4 + k] * y + w[8 + k] * z + w[12 + k];
             if (!io::coordinateOk(value))
-              fail(d, where + ": vertex " + count(v) + " coordinate " + io::coordinateProblem(value) + " after the node transform");
+              fail(d, where + ": vertex " + count(v) + " coordinate " + io::coordinateProblem(value) +
+                          " after the node transform");
             position[3 * used + k] = value;
           }
           source[used++] = uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX));

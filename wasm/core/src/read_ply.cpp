@@ -258,7 +258,8 @@ uint64_t readTriangleFaces(std::string_view b, const Element& e, size_t& pos, bo
   std::vector<uint32_t>& faces = build.out.mesh.faces;
   const size_t firstIndex = faces.size(), firstTriangle = firstIndex / 3;
   // Triangles so far are faces 0, 1, ... with no faceOf entries: these stay so.
-  const bool identity = build.faceOf.empty() && build.identityTriangles == firstTriangle && build.out.sourceFaces == firstTriangle;
+  const bool identity =
+      build.faceOf.empty() && build.identityTriangles == firstTriangle && build.out.sourceFaces == firstTriangle;
   // An index below the vertices read so far is below the final count too (0xfffffff0: the
   // general loop's bound, when the vertices come later).
   const uint64_t vertices = build.out.mesh.vertexCount();
