@@ -513,13 +513,18 @@ SceneGeometry collectScene(const Document& d) {
       m.positions.resize(3 * (firstVertex + used));
       sourceOfOutput.resize(firstVertex + used);
       const size_t firstIndex = m.faces.size();
-      m.faces.resize(firstIndex + triangles.size());
-      uint32_t* face = m.faces.data() + firstIndex;
       const int second = flip ? 2 : 1;  // a mirroring transform turns the winding around
-      for (size_t t = 0; t < triangles.size(); t += 3) {
-        face[t] = outputOf[triangles[t]];
-        face[t + second] = outputOf[triangles[t + 1]];
-        face[t + 3 - second] = outputOf[triangles[t + 2]];
+      if (firstVertex == 0 && used == vertexCount && !flip) {
+        // Every vertex used, the first primitive: outputOf[v] == v, the triangles are the faces.
+        m.faces.insert(m.faces.end(), triangles.begin(), triangles.end());
+      } else {
+        m.faces.resize(firstIndex + triangles.size());
+        uint32_t* face = m.faces.data() + firstIndex;
+        for (size_t t = 0; t < triangles.size(); t += 3) {
+          face[t] = outputOf[triangles[t]];
+          face[t + second] = outputOf[triangles[t + 1]];
+          face[t + 3 - second] = outputOf[triangles[t + 2]];
+        }
       }
       sourceBase += vertexCount;
       PrimitiveUse use;
