@@ -171,21 +171,37 @@ TEST(ReadFormats, WeldMatchesBruteForceOnDuplicatesInAnyOrder) {
 // Positions made to share one hash (the welder's own mix, inverted): the hashed weld gives up and
 // the sort must give the same answer.
 TEST(ReadFormats, WeldOfPositionsCollidingInTheHashFallsBackToTheSort) {
-  const uint64_t k1 = 0x9E3779B97F4A7C15ull, k3 = 0x165667B19E3779F9ull;
+  const uint64_t k1 = 0x9E3779B97F4A7C15ull, k2 = 0xC2B2AE3D27D4EB4Full, k3 = 0x165667B19E3779F9ull;
   uint64_t inverse = k3;
   for (int i = 0; i < 6; ++i) inverse *= 2 - k3 * inverse;
+  // The hash mixes x, then y (here +0: bits 0), then z in; z is chosen so that the value after z is
+  // the same for every x (the steps after it are one-to-one).
   const uint64_t target = 0x3ff0000000000000ull * k3;
   std::vector<double> p;
   for (int i = 1; p.size() < 3 * 4000; ++i) {
     double x = i, z;
     uint64_t xb, zb;
     std::memcpy(&xb, &x, 8);
-    zb = (target ^ xb * k1) * inverse;
+    uint64_t h = xb * k1;
+    h = (h ^ (h >> 32)) * k2;
+    zb = (target * inverse) ^ h ^ (h >> 32);
     std::memcpy(&z, &zb, 8);
     if (std::isnan(z) || z == 0) continue;
     p.insert(p.end(), {x, 0.0, z});
   }
   for (size_t v = 0; v < 1000; ++v) p.insert(p.end(), {p[3 * (999 - v)], p[3 * (999 - v) + 1], p[3 * (999 - v) + 2]});
+  expectWeldLikeBruteForce(p);
+}
+
+// Positions that differ in signs only (a mesh symmetric about the coordinate planes), with
+// duplicates among them.
+TEST(ReadFormats, WeldOfSignSymmetricPositionsMatchesBruteForce) {
+  std::vector<double> p;
+  for (int i = 0; i < 2000; ++i)
+    for (int signs = 0; signs < 8; ++signs)
+      p.insert(p.end(), {(signs & 1 ? -1 : 1) * (1 + i * 0.125), (signs & 2 ? -1 : 1) * (2 + (i % 7) * 0.5),
+                         (signs & 4 ? -1 : 1) * (3 + (i % 13) * 0.25)});
+  for (int i = 0; i < 500; ++i) p.insert(p.end(), {p[3 * (7 * i)], p[3 * (7 * i) + 1], p[3 * (7 * i) + 2]});
   expectWeldLikeBruteForce(p);
 }
 

@@ -262,45 +262,77 @@ std::vector<uint32_t> firstAtPositionSorted(const double* p, size_t n) {
   return representative;
 }
 
-// The same by hashing the positions (linear probing; visiting the vertices in order makes the
-// first one met the smallest). Gives up (returns false) when the probes exceed a few per vertex,
-// as positions made to collide would make it quadratic: the sort then does the work.
-bool firstAtPositionHashed(const double* p, size_t n, std::vector<uint32_t>& representative) {
+uint64_t positionHash(const double* q) {
   auto bitsOf = [](double x) {
     uint64_t u;
     x = x == 0 ? 0.0 : x;  // -0 == +0
     std::memcpy(&u, &x, 8);
     return u;
   };
-  size_t capacity = 16;
-  while (capacity < 2 * n) capacity *= 2;
-  const size_t mask = capacity - 1;
-  constexpr uint32_t kEmpty = 0xffffffffu;
-  std::vector<uint32_t> table(capacity, kEmpty);
-  representative.resize(n);
-  uint64_t probes = 0;
-  const uint64_t maxProbes = 8 * uint64_t(n) + 1024;
+  // Each coordinate mixed in before the next: a sum of one product per coordinate would give
+  // positions that differ in signs only (a mesh symmetric about planes through the origin) the
+  // same hash.
+  uint64_t h = bitsOf(q[0]) * 0x9E3779B97F4A7C15ull;
+  h = (h ^ (h >> 32) ^ bitsOf(q[1])) * 0xC2B2AE3D27D4EB4Full;
+  h = (h ^ (h >> 32) ^ bitsOf(q[2])) * 0x165667B19E3779F9ull;
+  h ^= h >> 29;
+  h *= 0xBF58476D1CE4E5B9ull;
+  return h ^ (h >> 32);
+}
+
+// The same by hashing the positions, as a list: the vertices that are not the first at their
+// position, each with that first one (most files have none, and then nothing per vertex is
+// written). First a filter: each vertex sets one bit of its hash in a bitmap of about 8 bits per
+// vertex (small enough to stay in the CPU's cache, where a table of the vertices would miss on
+// every lookup); vertices at one position set the same bit, so only the vertices whose bit was set
+// more than once (a few percent when all positions differ) can have a duplicate. Those alone are
+// looked up in a table (linear probing; visiting them in order makes the first one met the
+// smallest). Gives up (returns false) when the probes exceed a few per vertex, as positions made to
+// collide would make it quadratic: the sort then does the work.
+bool duplicatesHashed(const double* p, size_t n, std::vector<std::pair<uint32_t, uint32_t>>& duplicates) {
+  constexpr uint32_t kNaN = 0xffffffffu;  // NaN equals nothing: no bit
+  size_t bits = 1024;
+  int shift = 64 - 10;
+  while (bits < 8 * n && bits < (size_t(1) << 31)) bits *= 2, --shift;
+  std::vector<uint64_t> seen(bits / 64, 0), shared(bits / 64, 0);
+  std::vector<uint32_t> bitOf(n);
   for (size_t v = 0; v < n; ++v) {
     const double* q = p + 3 * v;
     if (std::isnan(q[0]) || std::isnan(q[1]) || std::isnan(q[2])) {
-      representative[v] = uint32_t(v);  // NaN equals nothing
+      bitOf[v] = kNaN;
       continue;
     }
-    uint64_t h = bitsOf(q[0]) * 0x9E3779B97F4A7C15ull ^ bitsOf(q[1]) * 0xC2B2AE3D27D4EB4Full ^ bitsOf(q[2]) * 0x165667B19E3779F9ull;
-    h ^= h >> 29;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 32;
-    for (size_t slot = h & mask;; slot = (slot + 1) & mask) {
+    const uint32_t b = uint32_t(positionHash(q) >> shift);
+    bitOf[v] = b;
+    const uint64_t m = uint64_t(1) << (b & 63);
+    shared[b >> 6] |= seen[b >> 6] & m;
+    seen[b >> 6] |= m;
+  }
+  seen = {};
+  std::vector<uint32_t> candidates;
+  for (size_t v = 0; v < n; ++v)
+    if (bitOf[v] != kNaN && (shared[bitOf[v] >> 6] >> (bitOf[v] & 63) & 1)) candidates.push_back(uint32_t(v));
+  bitOf = {};
+  shared = {};
+  size_t capacity = 16;
+  while (capacity < 2 * candidates.size()) capacity *= 2;
+  const size_t mask = capacity - 1;
+  constexpr uint32_t kEmpty = 0xffffffffu;
+  std::vector<uint32_t> table(capacity, kEmpty);
+  uint64_t probes = 0;
+  const uint64_t maxProbes = 8 * uint64_t(candidates.size()) + 1024;
+  for (const uint32_t v : candidates) {
+    const double* q = p + 3 * size_t(v);
+    for (size_t slot = size_t(positionHash(q)) & mask;; slot = (slot + 1) & mask) {
       if (++probes > maxProbes) return false;
       const uint32_t u = table[slot];
       if (u == kEmpty) {
-        table[slot] = uint32_t(v);
-        representative[v] = uint32_t(v);
+        table[slot] = v;
         break;
       }
-      const double* r = p + 3 * u;
+      const double* r = p + 3 * size_t(u);
       if (r[0] == q[0] && r[1] == q[1] && r[2] == q[2]) {
-        representative[v] = u;
+        duplicates.emplace_back(v, u);
         break;
       }
     }
@@ -314,7 +346,25 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
   const size_t n = mesh.vertexCount();
   const double* p = mesh.positions.data();
   std::vector<uint32_t> representative;
-  if (!firstAtPositionHashed(p, n, representative)) representative = firstAtPositionSorted(p, n);
+  std::vector<std::pair<uint32_t, uint32_t>> duplicates;
+  if (!duplicatesHashed(p, n, duplicates)) {
+    representative = firstAtPositionSorted(p, n);
+  } else if (duplicates.empty()) {  // every vertex is its own output vertex: nothing to renumber
+    if (firstSource) {
+      firstSource->resize(n);
+      std::iota(firstSource->begin(), firstSource->end(), 0u);
+    }
+    if (outputOfSource) {
+      outputOfSource->resize(n);
+      std::iota(outputOfSource->begin(), outputOfSource->end(), 0u);
+    }
+    return 0;
+  } else {
+    representative.resize(n);
+    std::iota(representative.begin(), representative.end(), 0u);
+    for (const auto& [v, u] : duplicates) representative[v] = u;
+    duplicates = {};
+  }
   // Output numbering in the order of first occurrence.
   std::vector<uint32_t> output(n);
   std::vector<uint32_t> first;

@@ -424,8 +424,16 @@ SceneGeometry collectScene(const Document& d) {
       const json* attributes = member(primitive, "attributes");
       if (!attributes || !member(*attributes, "POSITION")) fail(d, where + " has no POSITION attribute");
       const size_t positionAccessor = indexInto(d, *attributes, "POSITION", "accessors", where + " attributes");
-      const std::vector<double> local = readAccessor(d, positionAccessor, 3, "POSITION of " + where);
-      const size_t vertexCount = local.size() / 3;
+      // float32 positions (the common case) read as floats: exact, and half the bytes of doubles.
+      // (A componentType that is not a valid number is named by readAccessor.)
+      const json* positionType = member(entry(d, "accessors", positionAccessor), "componentType");
+      const bool floatPositions =
+          positionType && positionType->is_number_unsigned() && positionType->get<uint64_t>() == 5126;
+      std::vector<float> localFloat;
+      std::vector<double> localDouble;
+      if (floatPositions) localFloat = readAccessorAs<float>(d, positionAccessor, 3, "POSITION of " + where);
+      else localDouble = readAccessor(d, positionAccessor, 3, "POSITION of " + where);
+      const size_t vertexCount = (floatPositions ? localFloat.size() : localDouble.size()) / 3;
       std::vector<uint32_t> indices;
       if (member(primitive, "indices")) {
         const size_t ia = indexInto(d, primitive, "indices", "accessors", where);
@@ -485,28 +493,38 @@ SceneGeometry collectScene(const Document& d) {
       uint32_t* source = sourceOfOutput.data() + firstVertex;
       size_t used = 0;
       const Matrix& w = instance.world;
-      for (size_t v = 0; v < vertexCount; ++v) {
-        if (outputOf[v] == UINT32_MAX) continue;
-        outputOf[v] = uint32_t(firstVertex + used);
-        const double x = local[3 * v], y = local[3 * v + 1], z = local[3 * v + 2];
-        for (int k = 0; k < 3; ++k) {
-          const double value = w[k] * x + w[4 + k] * y + w[8 + k] * z + w[12 + k];
-          if (!io::coordinateOk(value))
-            fail(d, where + ": vertex " + count(v) + " coordinate " + io::coordinateProblem(value) + " after the node transform");
-          position[3 * used + k] = value;
+      auto place = [&](const auto* local) {
+        for (size_t v = 0; v < vertexCount; ++v) {
+          if (outputOf[v] == UINT32_MAX) continue;
+          outputOf[v] = uint32_t(firstVertex + used);
+          const double x = local[3 * v], y = local[3 * v + 1], z = local[3 * v + 2];
+          for (int k = 0; k < 3; ++k) {
+            const double value = w[k] * x + w[4 + k] * y + w[8 + k] * z + w[12 + k];
+            if (!io::coordinateOk(value))
+              fail(d, where + ": vertex " + count(v) + " coordinate " + io::coordinateProblem(value) +
+                          " after the node transform");
+            position[3 * used + k] = value;
+          }
+          source[used++] = uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX));
         }
-        source[used++] = uint32_t(std::min<uint64_t>(sourceBase + v, UINT32_MAX));
-      }
+      };
+      if (floatPositions) place(localFloat.data());
+      else place(localDouble.data());
       m.positions.resize(3 * (firstVertex + used));
       sourceOfOutput.resize(firstVertex + used);
       const size_t firstIndex = m.faces.size();
-      m.faces.resize(firstIndex + triangles.size());
-      uint32_t* face = m.faces.data() + firstIndex;
       const int second = flip ? 2 : 1;  // a mirroring transform turns the winding around
-      for (size_t t = 0; t < triangles.size(); t += 3) {
-        face[t] = outputOf[triangles[t]];
-        face[t + second] = outputOf[triangles[t + 1]];
-        face[t + 3 - second] = outputOf[triangles[t + 2]];
+      if (firstVertex == 0 && used == vertexCount && !flip) {
+        // Every vertex used, the first primitive: outputOf[v] == v, the triangles are the faces.
+        m.faces.insert(m.faces.end(), triangles.begin(), triangles.end());
+      } else {
+        m.faces.resize(firstIndex + triangles.size());
+        uint32_t* face = m.faces.data() + firstIndex;
+        for (size_t t = 0; t < triangles.size(); t += 3) {
+          face[t] = outputOf[triangles[t]];
+          face[t + second] = outputOf[triangles[t + 1]];
+          face[t + 3 - second] = outputOf[triangles[t + 2]];
+        }
       }
       sourceBase += vertexCount;
       PrimitiveUse use;
@@ -531,8 +549,12 @@ ImportedMesh readDocument(const Document& d) {
   out.sourceVertices = out.mesh.vertexCount();
   std::vector<uint32_t> first;
   out.welded = weldExactPositions(out.mesh, &first);
-  out.sourceVertex.resize(first.size());
-  for (size_t i = 0; i < first.size(); ++i) out.sourceVertex[i] = scene.sourceOfVertex[first[i]];
+  if (out.welded == 0) {  // first[i] == i
+    out.sourceVertex = std::move(scene.sourceOfVertex);
+  } else {
+    out.sourceVertex.resize(first.size());
+    for (size_t i = 0; i < first.size(); ++i) out.sourceVertex[i] = scene.sourceOfVertex[first[i]];
+  }
   return out;
 }
 

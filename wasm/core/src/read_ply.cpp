@@ -175,9 +175,17 @@ Header parseHeader(std::string_view b) {
 
 struct Builder {
   ImportedMesh& out;
-  std::vector<uint32_t> faceOf;  // PLY face of each triangle (for index errors)
+  // The PLY face of each triangle (for index errors): the first `identityTriangles` triangles are
+  // faces 0, 1, 2, ... (files of triangles: nothing stored), faceOf holds the rest.
+  std::vector<uint32_t> faceOf;
   std::vector<int64_t> polygon;
   uint64_t vertexCount = 0;
+  size_t identityTriangles = 0;
+  // Face indices from the start already checked against the vertices read (the common layout's
+  // fast path checks them as it reads): the final check starts after them.
+  size_t checkedIndices = 0;
+
+  uint64_t faceOfTriangle(size_t t) const { return t < identityTriangles ? t : faceOf[t - identityTriangles]; }
 
   // `where` makes the message prefix only when there is an error (a string per face would cost
   // more than reading it).
@@ -239,33 +247,58 @@ uint64_t readFixedVertices(std::string_view b, const Element& e, size_t pos, boo
 }
 
 // Fast path for a face element whose only property is a 1-byte-counted list of 4-byte integer
-// indices: triangles are read straight from the bytes. Stops at the first item that is not a
-// triangle or not plainly valid (the general loop takes over there); returns the items read.
+// indices: triangles are read straight from the bytes, each index checked against the vertices
+// read so far when the vertex element came first. Stops at the first item that is not a triangle
+// or not plainly valid (the general loop takes over there and names the problem); returns the
+// items read.
 uint64_t readTriangleFaces(std::string_view b, const Element& e, size_t& pos, bool big, Builder& build) {
   if (e.properties.size() != 1) return 0;
   const Property& p = e.properties[0];
   if (!p.list || sizeOf(p.countType) != 1 || (p.type != Type::Int32 && p.type != Type::UInt32)) return 0;
-  const bool isSigned = p.type == Type::Int32;
   std::vector<uint32_t>& faces = build.out.mesh.faces;
+  const size_t firstIndex = faces.size(), firstTriangle = firstIndex / 3;
+  // Triangles so far are faces 0, 1, ... with no faceOf entries: these stay so.
+  const bool identity =
+      build.faceOf.empty() && build.identityTriangles == firstTriangle && build.out.sourceFaces == firstTriangle;
+  // An index below the vertices read so far is below the final count too (0xfffffff0: the
+  // general loop's bound, when the vertices come later).
+  const uint64_t vertices = build.out.mesh.vertexCount();
+  const bool checked = vertices > 0 && build.checkedIndices == firstIndex;
+  // An int32 read as unsigned: a negative one is above 0x7fffffff.
+  const uint64_t bound = std::min<uint64_t>(p.type == Type::Int32 ? 0x7fffffffu : 0xfffffff0u, 0xfffffff0u);
+  const uint32_t limit = uint32_t(checked ? std::min<uint64_t>(vertices - 1, bound) : bound);
   // Written in place (the arrays sized for every item, cut back to those read).
-  const size_t firstIndex = faces.size(), firstTriangle = build.faceOf.size();
-  faces.resize(firstIndex + 3 * e.count);
-  build.faceOf.resize(firstTriangle + e.count);
+  const size_t items = size_t(std::min<uint64_t>(e.count, (b.size() - pos) / 13));
+  faces.resize(firstIndex + 3 * items);
+  if (!identity) build.faceOf.resize(build.faceOf.size() + items);
   uint32_t* out = faces.data() + firstIndex;
-  uint32_t* faceOf = build.faceOf.data() + firstTriangle;
-  uint64_t item = 0;
-  for (; item < e.count && b.size() - pos >= 13 && uint8_t(b[pos]) == 3; ++item, pos += 13) {
-    uint32_t index[3];
-    for (int k = 0; k < 3; ++k) index[k] = io::load<uint32_t>(b.data() + pos + 1 + 4 * k, big);
-    bool valid = true;
-    for (int k = 0; k < 3; ++k) valid &= (isSigned ? int32_t(index[k]) >= 0 : true) && index[k] <= 0xfffffff0u;
-    if (!valid) break;
-    for (int k = 0; k < 3; ++k) out[3 * item + k] = index[k];
-    faceOf[item] = uint32_t(build.out.sourceFaces);
-    ++build.out.sourceFaces;
+  uint32_t* faceOf = identity ? nullptr : build.faceOf.data() + build.faceOf.size() - items;
+  const char* at = b.data() + pos;
+  size_t item = 0;
+  if (!big) {
+    for (; item < items && uint8_t(at[0]) == 3; ++item, at += 13) {
+      const uint32_t i0 = io::load<uint32_t>(at + 1), i1 = io::load<uint32_t>(at + 5), i2 = io::load<uint32_t>(at + 9);
+      if ((i0 > limit) | (i1 > limit) | (i2 > limit)) break;
+      out[3 * item] = i0, out[3 * item + 1] = i1, out[3 * item + 2] = i2;
+    }
+  } else {
+    for (; item < items && uint8_t(at[0]) == 3; ++item, at += 13) {
+      uint32_t index[3];
+      for (int k = 0; k < 3; ++k) index[k] = io::load<uint32_t>(at + 1 + 4 * k, true);
+      if ((index[0] > limit) | (index[1] > limit) | (index[2] > limit)) break;
+      for (int k = 0; k < 3; ++k) out[3 * item + k] = index[k];
+    }
   }
+  if (identity) {
+    build.identityTriangles += item;
+  } else {
+    for (size_t i = 0; i < item; ++i) faceOf[i] = uint32_t(build.out.sourceFaces + i);
+    build.faceOf.resize(build.faceOf.size() - (items - item));
+  }
+  build.out.sourceFaces += item;
+  if (checked) build.checkedIndices += 3 * item;
+  pos += 13 * item;
   faces.resize(firstIndex + 3 * item);
-  build.faceOf.resize(firstTriangle + item);
   return item;
 }
 
@@ -420,9 +453,9 @@ ImportedMesh readPly(std::string_view bytes) {
     out.variant = h.encoding == Encoding::Little ? "binary little-endian PLY" : "binary big-endian PLY";
   }
   const uint64_t nv = out.mesh.vertexCount();
-  for (size_t i = 0; i < out.mesh.faces.size(); ++i)
+  for (size_t i = build.checkedIndices; i < out.mesh.faces.size(); ++i)
     if (out.mesh.faces[i] >= nv)
-      throw Error("PLY: face " + count(build.faceOf[i / 3]) + " refers to vertex " + count(out.mesh.faces[i]) +
+      throw Error("PLY: face " + count(build.faceOfTriangle(i / 3)) + " refers to vertex " + count(out.mesh.faces[i]) +
                   " but the file has " + count(nv) + " vertices (indices start at 0)");
   out.sourceVertices = nv;
   out.welded = weldExactPositions(out.mesh, &out.sourceVertex);
