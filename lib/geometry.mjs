@@ -74,3 +74,17 @@ export function vertexNormals(positions, faces) {
   }
   return n;
 }
+
+/** Meshes side by side in one (vertices and faces appended in order). */
+export function concatenate(meshes) {
+  let vertexCount = 0, faceCount = 0;
+  for (const m of meshes) vertexCount += m.positions.length / 3, faceCount += m.faces.length / 3;
+  const positions = new Float64Array(3 * vertexCount), faces = new Uint32Array(3 * faceCount);
+  let v = 0, f = 0;
+  for (const m of meshes) {
+    positions.set(m.positions, 3 * v);
+    for (let i = 0; i < m.faces.length; i++) faces[3 * f + i] = m.faces[i] + v;
+    v += m.positions.length / 3, f += m.faces.length / 3;
+  }
+  return { positions, faces };
+}

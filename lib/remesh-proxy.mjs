@@ -9,6 +9,7 @@
 // The proxy's vertices are input vertices (same coordinates), so position keys (tips, feature
 // vertices) carry over.
 import { MeshoptSimplifier } from 'meshoptimizer';
+import { concatenate } from './geometry.mjs';
 import { repair } from './repair.mjs';
 
 /** Inputs of more faces than this are fitted against a proxy (the 203k and 871k dragons). */
@@ -123,17 +124,4 @@ export function proxyInput(mrvol, prepared, Surface, { minFaces = PROXY_MIN_FACE
   };
   return { ...prepared, pieces: proxies, mesh, surface, surfaceOf,
            proxy: { faces: mesh.faces.length / 3, distance: distance / diagonal, pieces: proxied, rounds, genusLost } };
-}
-
-/** Meshes end to end. */
-function concatenate(meshes) {
-  const positions = new Float64Array(meshes.reduce((t, m) => t + m.positions.length, 0));
-  const faces = new Uint32Array(meshes.reduce((t, m) => t + m.faces.length, 0));
-  let p = 0, f = 0;
-  for (const m of meshes) {
-    positions.set(m.positions, p);
-    for (let i = 0; i < m.faces.length; i++) faces[f + i] = m.faces[i] + p / 3;
-    p += m.positions.length, f += m.faces.length;
-  }
-  return { positions, faces };
 }

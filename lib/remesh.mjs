@@ -18,7 +18,7 @@ import { collapseToTarget } from './remesh-collapse.mjs';
 import { measureForNudge, nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
 import { PROXY_MIN_FACES, proxyInput } from './remesh-proxy.mjs';
-import { boundingDiagonal, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
+import { boundingDiagonal, concatenate, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
 import { repair, weld } from './repair.mjs';
 
@@ -503,19 +503,6 @@ function componentMesh(mesh, ofFace, c) {
   return weld({ positions: mesh.positions, faces: Uint32Array.from(faces) });
 }
 
-/** Meshes side by side in one (vertices and faces appended in order). */
-function concatenate(meshes) {
-  let vertexCount = 0, faceCount = 0;
-  for (const m of meshes) vertexCount += m.positions.length / 3, faceCount += m.faces.length / 3;
-  const positions = new Float64Array(3 * vertexCount), faces = new Uint32Array(3 * faceCount);
-  let v = 0, f = 0;
-  for (const m of meshes) {
-    positions.set(m.positions, 3 * v);
-    for (let i = 0; i < m.faces.length; i++) faces[3 * f + i] = m.faces[i] + v;
-    v += m.positions.length / 3, f += m.faces.length / 3;
-  }
-  return { positions, faces };
-}
 
 // ---- fitting the subdivided mesh to the surface ------------------------------------------------
 
