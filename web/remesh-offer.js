@@ -91,7 +91,8 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
       finish(`remeshing failed: ${e.message || 'the worker could not start'}`);
     };
     const mesh = source.mesh ? { positions: source.mesh.positions, faces: source.mesh.faces } : undefined;
-    running.postMessage({ text: source.text, mesh, levels, baseFaces: base > 0 ? base : undefined,
+    // 0 levels: the remesher's default (from 2, more while the detail needs them; its cage goal), as the CLI's.
+    running.postMessage({ text: source.text, mesh, levels: levels > 0 ? levels : undefined, baseFaces: base > 0 ? base : undefined,
       repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined, quads: intoQuads });
   };
   $('remesh-cancel').onclick = cancelRemesh;
