@@ -1,49 +1,19 @@
-// Whether the surface intersects itself: a BVH of the fine triangles (three-mesh-bvh) cast against
-// itself, triangle pairs that share a vertex skipped (they touch by construction). Run after each
+// Whether the surface intersects itself (lib/self-intersection.mjs, stopped at the first pair). Run after each
 // edit (not during drags), in a worker (SelfIntersectionChecker); meshes over MAX_FACES triangles are
 // not checked (null).
-import * as THREE from 'three';
-import { MeshBVH } from 'three-mesh-bvh';
+import { selfIntersections } from '../lib/self-intersection.mjs';
 
 const MAX_FACES = 200_000;
-const identity = new THREE.Matrix4();
 
 /**
  * positions: Float64Array (3 per vertex), faces: Uint32Array (3 per triangle). Returns
  * { intersects: boolean, pair: [i, j] (caller's face indices) | null, ms } or null when not checked.
  */
 export function findSelfIntersection(positions, faces) {
-  const faceCount = faces.length / 3;
-  if (faceCount > MAX_FACES) return null;
+  if (faces.length / 3 > MAX_FACES) return null;
   const started = performance.now();
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(positions), 3));
-  // the BVH reorders the index; a face id attribute is not needed: the original face of a reordered
-  // triangle is found by its vertices only when reported
-  geometry.setIndex(new THREE.BufferAttribute(Uint32Array.from(faces), 1));
-  const bvh = new MeshBVH(geometry);
-  const index = geometry.index.array;
-  let pair = null;
-  bvh.bvhcast(bvh, identity, {
-    intersectsTriangles(t1, t2, i1, i2) {
-      if (i1 >= i2) return false;
-      const a = 3 * i1, b = 3 * i2;
-      for (let p = 0; p < 3; p++)
-        for (let q = 0; q < 3; q++) if (index[a + p] === index[b + q]) return false;
-      if (!t1.intersectsTriangle(t2)) return false;
-      pair = [originalFace(faces, index, a), originalFace(faces, index, b)];
-      return true;
-    },
-  });
-  geometry.dispose();
-  return { intersects: pair !== null, pair, ms: performance.now() - started };
-}
-
-function originalFace(faces, index, offset) {
-  const key = [index[offset], index[offset + 1], index[offset + 2]].sort((x, y) => x - y).join(',');
-  for (let f = 0; f < faces.length; f += 3)
-    if ([faces[f], faces[f + 1], faces[f + 2]].sort((x, y) => x - y).join(',') === key) return f / 3;
-  return -1;
+  const { first } = selfIntersections(positions, faces, { limit: 1 });
+  return { intersects: first !== null, pair: first, ms: performance.now() - started };
 }
 
 /**
