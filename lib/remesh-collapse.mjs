@@ -115,6 +115,8 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
   };
   const stamp = new Uint32Array(vertexCount);
   const heap = new Heap();
+  // refused[u]: the v of each collapse u -> v popped and refused since u's or v's neighbourhood last changed.
+  const refused = Array.from({ length: vertexCount }, () => new Set());
   // u moves onto v (u disappears).
   const offer = (u, v) => {
     if (lock?.[u]) return;
@@ -149,8 +151,10 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
     heap.pop(top);
     const u = top[0], v = top[1], su = top[2], sv = top[3];
     if (su !== stamp[u] || sv !== stamp[v] || !neighbours[u].has(v)) continue;
-    if (!allowed(u, v)) continue;
-    if (tracker && !tracker.collapse(u, v)) continue;
+    if (!allowed(u, v) || (tracker && !tracker.collapse(u, v))) {
+      refused[u].add(v);
+      continue;
+    }
     for (const f of [...facesOf[u]]) {
       const a = faces[3 * f], b = faces[3 * f + 1], c = faces[3 * f + 2];
       if (a === v || b === v || c === v) {
@@ -169,10 +173,16 @@ export function collapseToTarget(mesh, targetFaces, lock = null, { maxTurn = 0.2
     neighbours[v].delete(u);
     neighbours[u].clear();
     for (let k = 0; k < 10; k++) quadric[10 * v + k] += quadric[10 * u + k];
+    // Only v's quadric changed: the collapses onto and off v are offered again with their new cost.
+    // The others around v keep their cost and their heap entry, but those refused may be allowed
+    // now (their link or their triangles changed): they are offered again too.
     stamp[u]++, stamp[v]++;
+    refused[u].clear(), refused[v].clear();
     for (const w of neighbours[v]) {
-      stamp[w]++;
-      for (const x of neighbours[w]) offer(w, x), offer(x, w);
+      offer(w, v), offer(v, w);
+      for (const x of refused[w]) if (x !== v && neighbours[w].has(x)) offer(w, x);
+      refused[w].clear();
+      for (const x of neighbours[w]) if (x !== v && refused[x].delete(w)) offer(x, w);
     }
   }
   // Compacted, the vertices in their input order.
