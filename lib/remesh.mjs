@@ -1350,6 +1350,15 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   let featuresFolded = false;
   // Fitted pieces by base (a retry often makes some pieces' bases again).
   const fitted = new Map();
+  // Parametrised bases by piece, size and locks: the fits of other levels ask for the same one (the collapse is deterministic).
+  const parametrised = new Map();
+  const parametrisedOnce = (i, piece, target, lock) => {
+    const key = `${i} ${target}`, known = (parametrised.get(key) ?? []).find((k) => sameMask(k.lock, lock));
+    if (known) return known.base;
+    const base = parametrisedBase(mrvol, piece, target, lock);
+    parametrised.set(key, [...(parametrised.get(key) ?? []), { lock, base }]);
+    return base;
+  };
   // baseScale: one factor, or one per piece; keep: fitted parts to reuse as they are (at `levels`).
   const fit = (levels, fraction, share, baseScale = 1, keep = null, size = null) => {
     // Folds left after untangling: once more without the feature constraints (if any), then
@@ -1368,7 +1377,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
-        const b = (options.parametrise && parametrisedBase(mrvol, piece, target, lock)) ||
+        const b = (options.parametrise && parametrisedOnce(i, piece, target, lock)) ||
           (refineAt?.[i] && refinedBase(mrvol, piece, target, !!repaired, lock, emphasis?.[i] ?? null, refineAt[i], REFINED_RADIUS * diagonal)) ||
           simplifyToBase(mrvol, piece.mesh, piece.genus, target, 8, !!repaired, lock, emphasis?.[i] ?? null);
         simplifierProblems.push(...b.problems);
@@ -1820,6 +1829,14 @@ function sameMesh(a, b) {
   if (a.faces.length !== b.faces.length || a.positions.length !== b.positions.length) return false;
   for (let i = 0; i < a.faces.length; i++) if (a.faces[i] !== b.faces[i]) return false;
   for (let i = 0; i < a.positions.length; i++) if (a.positions[i] !== b.positions[i]) return false;
+  return true;
+}
+
+/** Whether two vertex masks (arrays of 0 / 1, or null for none) are the same. */
+function sameMask(a, b) {
+  if (!a || !b) return !a && !b;
+  if (a.length !== b.length) return false;
+  for (let i = 0; i < a.length; i++) if (!a[i] !== !b[i]) return false;
   return true;
 }
 
