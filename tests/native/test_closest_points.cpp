@@ -386,6 +386,42 @@ TEST(ClosestPoints, AGivenTreeIsWalkedAsThreeMeshBvhWalksItTiesIncluded) {
   }
 }
 
+// A batch without bounds bounds each query by the one before it (the distance is 1-Lipschitz): the
+// answers must be those of the unbounded walk, bit for bit and ties included, for queries in order
+// along a surface (the grid's vertices, edge midpoints and centres, above and on it: exact ties)
+// and for scattered ones (each far from the one before), at 1 and 2 threads.
+TEST(ClosestPoints, ABatchAnswersAsTheUnboundedWalkTiesIncluded) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(0, 1);
+  Soup bumpy = randomMesh(rng, 12, 17, 40);
+  for (double& x : bumpy.positions) x = static_cast<float>(x);
+  Soup grid = gridMesh(9);
+  for (Soup* m : {&bumpy, &grid}) {
+    GivenTree given;
+    addNode(*m, 0, static_cast<uint32_t>(m->triangles.size() / 3), 4, given);
+    const ClosestPoints tree(m->positions, m->triangles, given.bounds, given.first, given.count);
+    std::vector<double> points;
+    for (int y = 0; y <= 18; ++y)  // a raster over the grid at half steps: neighbours in order
+      for (int x = 0; x <= 18; ++x) points.insert(points.end(), {0.5 * x, 0.5 * y, 0.25 * ((x + y) % 3)});
+    const std::vector<double> scattered = randomPoints(rng, 300, 2.5);
+    points.insert(points.end(), scattered.begin(), scattered.end());
+    const size_t n = points.size() / 3;
+    for (unsigned threads : {1u, 2u}) {
+      Threads t(threads);
+      std::vector<double> out(3 * n), d(n);
+      std::vector<uint32_t> tri(n);
+      tree.closestMany(points.data(), n, nullptr, out.data(), d.data(), tri.data());
+      for (size_t i = 0; i < n; ++i) {
+        ReferenceWalk ref{*m, given, &points[3 * i], kInf};
+        ref.traverse(0);
+        ASSERT_EQ(tri[i], ref.hit.triangle) << "point " << i << " threads " << threads;
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(out[3 * i + k], ref.hit.point[k]) << "point " << i;
+        ASSERT_EQ(d[i], ref.hit.distanceSquared) << "point " << i;
+      }
+    }
+  }
+}
+
 TEST(ClosestPoints, PointsBesideCornersGetExactlyTheBruteForceDistance) {
   // A point just beside a corner, in any direction: the boxes the walk keeps in the parents must
   // still hold that corner, so the closest triangle is never pruned.

@@ -265,14 +265,25 @@ bool ClosestPoints::closest(const double p[3], double maxDistanceSquared, Closes
 void ClosestPoints::closestMany(const double* points, size_t n, const double* bounds, double* points3,
                                 double* distanceSquared, uint32_t* triangles) const {
   parallelFor(0, n, kQueryGrain, [&](size_t begin, size_t end) {
+    // As in sampledDistanceFrom: the previous query's distance plus the step bounds this one's
+    // (distance to a surface is 1-Lipschitz), which prunes the search when the queries come in
+    // order along a surface (a mesh's vertices). The answer is the same: the subtrees it skips hold
+    // nothing within the bound, and the others are walked in the same order.
+    double previous = kInfinity;
+    const double* last = nullptr;
     for (size_t i = begin; i < end; ++i) {
       ClosestHit hit{{0, 0, 0}, kInfinity, 0};
       const double* p = points + 3 * i;
-      const double bound = bounds ? bounds[i] : kInfinity;
+      double bound = bounds ? bounds[i] : kInfinity;
+      if (last) {
+        const double dx = p[0] - last[0], dy = p[1] - last[1], dz = p[2] - last[2];
+        bound = std::min(bound, (previous + std::sqrt(dx * dx + dy * dy + dz * dz)) * 1.0001 + 1e-12);
+      }
       if (!(bound < kInfinity && closest(p, bound * bound, hit))) closest(p, kInfinity, hit);
       for (int k = 0; k < 3; ++k) points3[3 * i + k] = hit.point[k];
       distanceSquared[i] = hit.distanceSquared;
       triangles[i] = hit.triangle;
+      previous = std::sqrt(hit.distanceSquared), last = p;
     }
   });
 }

@@ -40,8 +40,10 @@ class ClosestPoints {
   bool closest(const double p[3], double maxDistanceSquared, ClosestHit& hit) const;
 
   // n queries: points (3 each), bounds (n distances, or null: none); a query with nothing within
-  // its bound is searched again without it. Writes 3 coordinates, the squared distance and the
-  // triangle per query (points3, distanceSquared, triangles: n each).
+  // its bound is searched again without it. Each query is also bounded by the one before it (its
+  // distance plus the step), which gives the same answers faster for points in order along a
+  // surface. Writes 3 coordinates, the squared distance and the triangle per query (points3,
+  // distanceSquared, triangles: n each).
   void closestMany(const double* points, size_t n, const double* bounds, double* points3, double* distanceSquared,
                    uint32_t* triangles) const;
 
