@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -21,6 +22,7 @@
 #include "mrvol/io_formats.h"
 #include "mrvol/mesh.h"
 #include "mrvol/multires_mesh.h"
+#include "mrvol/thread_pool.h"
 #include "../../wasm/core/src/position_table.h"
 
 using namespace mrvol;
@@ -280,6 +282,89 @@ TEST(ReadFormats, StlOfPositionsCollidingInTheHashIsWeldedAllTheSame) {
   }
   EXPECT_GT(table.probes(), 8u * 3000 + 1024);
   expectStlLikeReadThenWeld(corners);
+}
+
+// The pool set to `count` threads and cut to small blocks: a binary STL of a few thousand
+// triangles is welded in `count` blocks at once.
+struct StlThreads {
+  explicit StlThreads(unsigned count) {
+    setThreadCount(count);
+    setGrainCap(16);
+  }
+  ~StlThreads() {
+    setGrainCap(0);
+    setThreadCount(1);
+  }
+};
+
+// Random corners among few positions (most repeat in several blocks), -0 and +0 mixed.
+std::vector<float> randomStlCorners(uint32_t seed, int triangles) {
+  std::vector<float> corners;
+  auto next = [&] { return seed = seed * 1103515245u + 12345u; };
+  auto coordinate = [&] { const uint32_t r = (next() >> 8) % 40; return r < 4 ? (r % 2 ? -0.0f : 0.0f) : float(r) * 0.5f; };
+  for (int i = 0; i < 9 * triangles; ++i) corners.push_back(coordinate());
+  return corners;
+}
+
+// Welded in blocks on several threads: the same numbers as in one pass (vertices in the order of
+// their first corner, the first corner's -0 kept), 2 to 16 blocks.
+TEST(ReadFormats, StlWeldedInBlocksMatchesReadThenWeld) {
+  for (unsigned threads : {2u, 3u, 16u}) {
+    StlThreads pool(threads);
+    SCOPED_TRACE(threads);
+    expectStlLikeReadThenWeld(randomStlCorners(11, 4000));
+    // A strip whose later triangles come back to the first ones' positions (vertices first met in
+    // a later block, then in earlier and later ones again).
+    std::vector<float> strip;
+    for (int t = 0; t < 3000; ++t) {
+      const int a = (t * 7) % 1500, b = (t * 7 + 1) % 1500, c = t % 2 ? t : 1;
+      strip.insert(strip.end(), {float(a), 0.0f, -0.0f, float(b), 1.0f, 0.0f, float(c), 2.0f, t % 3 ? 0.0f : -0.0f});
+    }
+    expectStlLikeReadThenWeld(strip);
+  }
+}
+
+// A non-finite coordinate in several blocks: the message names the first in the file, as one pass does.
+TEST(ReadFormats, StlWeldedInBlocksReportsTheFirstNonFiniteCoordinate) {
+  std::vector<float> corners = randomStlCorners(5, 4000);
+  corners[9 * 3500 + 4] = std::numeric_limits<float>::quiet_NaN();
+  corners[9 * 1200 + 7] = std::numeric_limits<float>::infinity();
+  corners[9 * 2100 + 1] = -std::numeric_limits<float>::infinity();
+  const std::string file = binaryStl(corners);
+  auto message = [&] {
+    try {
+      readStl(file);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string expected = message();
+  EXPECT_NE(expected.find("triangle 1,200 "), std::string::npos) << expected;
+  for (unsigned threads : {2u, 4u, 16u}) {
+    StlThreads pool(threads);
+    EXPECT_EQ(message(), expected) << threads << " threads";
+  }
+}
+
+// Positions made to collide, welded in blocks: the blocks give up as one pass does, same result.
+TEST(ReadFormats, StlOfCollidingPositionsInBlocksIsWeldedAllTheSame) {
+  auto bits = [](float x) { uint32_t u; std::memcpy(&u, &x, 4); return u; };
+  std::vector<float> keys;
+  uint64_t home = 0;
+  for (uint32_t i = 1; keys.size() < 3 * 400; ++i) {
+    const uint32_t key[3] = {bits(float(i)), bits(1.0f), bits(2.0f)};
+    const uint64_t h = io::FloatPositionTable::hash(key) >> 52;
+    if (keys.empty()) home = h;
+    if (h == home) keys.insert(keys.end(), {float(i), 1.0f, 2.0f});
+  }
+  std::vector<float> corners;
+  for (size_t i = 0; corners.size() < 9 * 2000; i = (i + 7) % 400) corners.insert(corners.end(), &keys[3 * i], &keys[3 * i + 3]);
+  corners.resize(9 * 2000);
+  for (unsigned threads : {2u, 4u}) {
+    StlThreads pool(threads);
+    expectStlLikeReadThenWeld(corners);
+  }
 }
 
 TEST(ReadFormats, PolygonsAreSplitIntoFans) {

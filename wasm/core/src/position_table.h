@@ -44,7 +44,24 @@ class FloatPositionTable {
     return entry.number;
   }
 
+  // The number of a key already added, or kNone; reads only (several threads may look up at once).
+  uint32_t find(const uint32_t (&key)[3], uint64_t& probes) const {
+    for (size_t s = size_t(hash(key) >> shift_);; s = (s + 1) & mask_) {
+      ++probes;
+      const Entry& slot = slots_[s];
+      if (slot.number == kNone || same(slot.key, key)) return slot.number;
+    }
+  }
+
   size_t size() const { return size_; }
+  // Every key added is in one of the slots [0, capacity()): entry() gives it and its number (false:
+  // an empty slot).
+  size_t capacity() const { return slots_.size(); }
+  bool entry(size_t slot, uint32_t (&key)[3], uint32_t& number) const {
+    const Entry& e = slots_[slot];
+    key[0] = e.key[0], key[1] = e.key[1], key[2] = e.key[2], number = e.number;
+    return e.number != kNone;
+  }
   // The key's 64-bit mix: its high bits choose the home slot, its low bits the cache entry.
   static uint64_t hash(const uint32_t (&key)[3]) {
     uint64_t h = ((uint64_t(key[0]) << 32) | key[1]) * 0x9E3779B97F4A7C15ull;
@@ -54,8 +71,9 @@ class FloatPositionTable {
   // unless keys were made to collide.
   uint64_t probes() const { return probes_; }
 
- private:
   static constexpr uint32_t kNone = 0xffffffffu;  // numbers stay below 2^32 - 1
+
+ private:
   static constexpr size_t kRecent = 4096;
   struct Entry {
     uint32_t key[3];

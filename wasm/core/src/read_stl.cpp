@@ -2,11 +2,14 @@
 // normal ... outer loop vertex x y z ... endloop endfacet ... endsolid"). Every triangle has its
 // own three vertices: they are welded by exact position.
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "io_common.h"
 #include "mrvol/io_formats.h"
+#include "mrvol/thread_pool.h"
 #include "position_table.h"
 
 namespace mrvol {
@@ -104,6 +107,163 @@ bool readBinaryWelded(std::string_view b, uint64_t declared, ImportedMesh& out) 
   return true;
 }
 
+// The lookup key of corner c of the triangle at p (its three floats' bits, -0 made +0); false at
+// a coordinate that is not finite (its place 3 c + k in `bad`).
+bool cornerKey(const char* p, int c, uint32_t (&key)[3], int& bad) {
+  std::memcpy(key, p + 12 + 12 * c, 12);
+  for (int k = 0; k < 3; ++k) {
+    if ((key[k] & 0x7f800000u) == 0x7f800000u) {
+      bad = 3 * c + k;
+      return false;
+    }
+    if (key[k] == 0x80000000u) key[k] = 0;  // -0 == +0
+  }
+  return true;
+}
+
+// Triangles [from, to) welded on their own: each block's own table stays small enough for one
+// core's caches, and the blocks run on the pool's threads at once.
+struct WeldedBlock {
+  uint64_t from = 0, to = 0;
+  std::unique_ptr<io::FloatPositionTable> table;
+  // Of each of the block's vertices, in its own numbering: its first corner, its position.
+  std::vector<uint32_t> firstCorner;
+  std::vector<double> positions;
+  // One bit per hash value of the block's keys (about 8 bits per vertex, in L2): a key of a later
+  // block whose bit is not set is not looked up in this block's table, a miss there being a miss in
+  // memory too.
+  std::vector<uint64_t> seen;
+  std::vector<uint32_t> globalOf;     // the output number of each vertex (blocks after the first)
+  uint64_t badTriangle = UINT64_MAX;  // where the block's first non-finite coordinate is
+  int badCoordinate = 0;
+  bool gaveUp = false;                // more probes than the budget (keys made to collide)
+};
+
+// The bit of a key in WeldedBlock::seen (bits below the table's home-slot bits).
+size_t seenBit(const uint32_t (&key)[3], size_t bits) { return size_t(io::FloatPositionTable::hash(key) >> 20) & (bits - 1); }
+bool wasSeen(const std::vector<uint64_t>& seen, size_t bit) { return seen[bit >> 6] >> (bit & 63) & 1; }
+
+// The block's numbers written to its corners' faces (the same lookup as readBinaryWelded's); stops
+// at a non-finite coordinate or beyond the probe budget (the caller decides what is reported).
+void weldBlock(const char* triangles, size_t expectedVertices, size_t seenBits, WeldedBlock& block, uint32_t* faces) {
+  const uint64_t corners = 3 * (block.to - block.from);
+  block.table = std::make_unique<io::FloatPositionTable>(corners / 6);
+  io::FloatPositionTable& table = *block.table;
+  const uint64_t maxProbes = 8 * corners + 1024;
+  block.firstCorner.reserve(expectedVertices);
+  block.positions.reserve(3 * expectedVertices);
+  block.seen.assign(seenBits / 64, 0);
+  const char* p = triangles + 50 * block.from;
+  for (uint64_t t = block.from; t < block.to; ++t, p += 50) {
+    for (int c = 0; c < 3; ++c) {
+      uint32_t key[3];
+      if (!cornerKey(p, c, key, block.badCoordinate)) {
+        block.badTriangle = t;
+        return;
+      }
+      const uint32_t v = table.findOrAdd(key);
+      if (v == block.firstCorner.size()) {
+        block.firstCorner.push_back(uint32_t(3 * t + c));
+        for (int k = 0; k < 3; ++k) block.positions.push_back(io::load<float>(p + 12 + 12 * c + 4 * k));
+        const size_t bit = seenBit(key, seenBits);
+        block.seen[bit >> 6] |= uint64_t(1) << (bit & 63);
+      }
+      faces[3 * t + c] = v;
+    }
+    if (table.probes() > maxProbes) {
+      block.gaveUp = true;
+      return;
+    }
+  }
+}
+
+// readBinaryWelded's result (the same numbers, bit for bit) from `count` blocks of triangles
+// welded at once on the pool's threads. The first block's numbers are the output's; each later
+// block's vertices are looked up among the vertices of the blocks before it (its new ones are
+// numbered in its own order, which is the order of their first corners), then its corners are
+// renumbered. Gives up (false) as readBinaryWelded does.
+bool readBinaryWeldedInBlocks(std::string_view b, uint64_t declared, size_t count, ImportedMesh& out) {
+  const char* triangles = b.data() + 84;
+  const uint64_t corners = 3 * declared;
+  const size_t expectedVertices = corners / 6 + 16;  // as readBinaryWelded: about 6 corners per vertex
+  size_t seenBits = 1024;
+  while (seenBits < 8 * expectedVertices && seenBits < (size_t(1) << 31)) seenBits *= 2;
+  TriangleMesh& m = out.mesh;
+  m.faces.resize(corners);
+  std::vector<WeldedBlock> blocks(count);
+  for (size_t k = 0; k < count; ++k) blocks[k].from = declared * k / count, blocks[k].to = declared * (k + 1) / count;
+  parallelFor(0, count, 1, [&](size_t first, size_t end) {
+    for (size_t k = first; k < end; ++k)  // the first block's vectors become the output's: room for all
+      weldBlock(triangles, k == 0 ? expectedVertices : expectedVertices / count + 16, seenBits, blocks[k], m.faces.data());
+  });
+  for (const WeldedBlock& block : blocks)
+    if (block.gaveUp) return false;
+  for (const WeldedBlock& block : blocks)  // the first one in the file, as one pass would meet it
+    if (block.badTriangle != UINT64_MAX) notFinite(block.badTriangle, block.badCoordinate);
+
+  // The blocks merged so far: their vertices (numbered as the output), their bits.
+  io::FloatPositionTable& merged = *blocks[0].table;
+  std::vector<uint64_t>& mergedSeen = blocks[0].seen;
+  std::vector<uint32_t>& first = out.sourceVertex;
+  first = std::move(blocks[0].firstCorner);
+  m.positions = std::move(blocks[0].positions);
+  std::atomic<uint64_t> probes{0};  // of the lookups among the merged blocks
+  const uint64_t maxProbes = 8 * corners + 1024;
+  for (size_t k = 1; k < count; ++k) {
+    WeldedBlock& block = blocks[k];
+    const io::FloatPositionTable& table = *block.table;
+    block.globalOf.resize(block.firstCorner.size());
+    std::atomic<size_t> added{0};
+    parallelFor(0, table.capacity(), 1 << 14, [&](size_t from, size_t to) {
+      uint64_t visited = 0;
+      size_t absent = 0;
+      for (size_t s = from; s < to; ++s) {
+        uint32_t key[3], local;
+        if (!table.entry(s, key, local)) continue;
+        const uint32_t v = wasSeen(mergedSeen, seenBit(key, seenBits)) ? merged.find(key, visited) : io::FloatPositionTable::kNone;
+        block.globalOf[local] = v;
+        absent += v == io::FloatPositionTable::kNone;
+      }
+      probes += visited;
+      added += absent;
+    });
+    // The block's new vertices after those merged, in its order (resized once: a push per vertex is slow in WASM).
+    size_t next = first.size();
+    first.resize(next + added);
+    m.positions.resize(3 * (next + added));
+    const bool last = k + 1 == count;
+    for (size_t i = 0; i < block.globalOf.size(); ++i) {
+      if (block.globalOf[i] != io::FloatPositionTable::kNone) continue;
+      block.globalOf[i] = uint32_t(next);
+      first[next] = block.firstCorner[i];
+      std::memcpy(&m.positions[3 * next], &block.positions[3 * i], 3 * sizeof(double));
+      ++next;
+      if (last) continue;
+      uint32_t key[3];
+      int bad;
+      cornerKey(triangles + 50 * size_t(first[next - 1] / 3), int(first[next - 1] % 3), key, bad);
+      merged.findOrAdd(key);  // numbered next - 1, as the table and `first` grow together
+    }
+    if (!last)
+      for (size_t w = 0; w < mergedSeen.size(); ++w) mergedSeen[w] |= block.seen[w];
+    block.table.reset();
+    if (probes + merged.probes() > maxProbes) return false;
+  }
+  blocks[0].table.reset();
+
+  parallelFor(3 * blocks[0].to, corners, 1 << 16, [&](size_t from, size_t to) {
+    size_t k = 1;
+    for (size_t c = from; c < to; ++c) {
+      while (c >= 3 * blocks[k].to) ++k;
+      m.faces[c] = blocks[k].globalOf[m.faces[c]];
+    }
+  });
+  out.sourceVertices = corners;
+  out.sourceFaces = declared;
+  out.welded = corners - first.size();
+  return true;
+}
+
 void readAscii(std::string_view b, ImportedMesh& out) {
   io::LineReader lines(b);
   std::string_view line, tokens[8];
@@ -166,7 +326,10 @@ ImportedMesh readStl(std::string_view bytes) {
   if (looksBinary(bytes)) {
     const uint64_t declared = binaryTriangles(bytes);
     out.variant = "binary STL";
-    if (!readBinaryWelded(bytes, declared, out)) {
+    // Blocks big enough that merging them costs little beside welding them.
+    const size_t blocks = parallelBlocks(declared, 1 << 15);
+    const bool welded = blocks > 1 ? readBinaryWeldedInBlocks(bytes, declared, blocks, out) : readBinaryWelded(bytes, declared, out);
+    if (!welded) {
       out.mesh = {};
       out.sourceVertex = {};
       readBinary(bytes, declared, out);

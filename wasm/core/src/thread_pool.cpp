@@ -136,6 +136,8 @@ size_t blockCount(size_t n, size_t grain) {
 }
 }  // namespace
 
+size_t parallelBlocks(size_t n, size_t grain) { return insideParallelFor ? 1 : std::max<size_t>(blockCount(n, grain), 1); }
+
 bool runsInline(size_t n, size_t grain) { return insideParallelFor || blockCount(n, grain) <= 1; }
 
 void parallelForOnPool(size_t begin, size_t end, size_t grain, const std::function<void(size_t, size_t)>& fn) {

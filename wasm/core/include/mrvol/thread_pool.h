@@ -29,6 +29,10 @@ void setGrainCap(size_t cap);
 template <class F>
 void parallelFor(size_t begin, size_t end, size_t grain, F&& fn);
 
+// How many blocks parallelFor cuts n iterations of this grain into (1 when it runs them inline):
+// for loops that keep one state per block.
+size_t parallelBlocks(size_t n, size_t grain);
+
 // Whether parallelFor runs n iterations of this grain inline (no std::function is made then: a
 // small sweep of a drag's step costs a call).
 bool runsInline(size_t n, size_t grain);
