@@ -2,13 +2,14 @@
 // Reading speed of the binary mesh formats through the WASM module (Node): a Loop-subdivided
 // icosahedron (7 levels: 163,842 vertices, 327,680 triangles) as binary STL, binary PLY and GLB,
 // and as OBJ text for comparison. readMesh copies the bytes into the heap, parses, welds (STL),
-// and copies the arrays out. Best of 5 runs per file (the machine is shared). A reference row: the
+// and copies the arrays out. Best of 15 runs per file (the machine is shared and noisy). A reference row: the
 // file's bytes copied into the heap and nothing else, the time a reader at memory speed would take.
 //   node bench/formats.mjs        (writes bench/RESULTS-formats.md)
 import { writeFileSync } from 'node:fs';
 import { createMrvol } from '../lib/node.mjs';
 
 const mrvol = await createMrvol();
+const RUNS = 15;
 const ico = mrvol.readObj(`v -1 1.618 0\nv 1 1.618 0\nv -1 -1.618 0\nv 1 -1.618 0\nv 0 -1 1.618\nv 0 1 1.618\nv 0 -1 -1.618\n` +
   `v 0 1 -1.618\nv 1.618 0 -1\nv 1.618 0 1\nv -1.618 0 -1\nv -1.618 0 1\n` +
   [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
@@ -51,7 +52,7 @@ const rows = [];
 for (const [what, bytes] of Object.entries(files)) {
   const name = { 'binary STL': 'a.stl', 'binary PLY (little-endian)': 'a.ply', GLB: 'a.glb', OBJ: 'a.obj' }[what];
   let best = Infinity, result;
-  for (let run = 0; run < 5; run++) {
+  for (let run = 0; run < RUNS; run++) {
     const t0 = performance.now();
     result = mrvol.readMesh(bytes, { name });
     best = Math.min(best, performance.now() - t0);
@@ -64,7 +65,7 @@ for (const [what, bytes] of Object.entries(files)) {
 {
   const bytes = files['binary STL'];
   let best = Infinity;
-  for (let run = 0; run < 5; run++) {
+  for (let run = 0; run < RUNS; run++) {
     const t0 = performance.now();
     if (mrvol.detectFormat(bytes, 'a.stl') !== 'stl') throw new Error('reference: not detected as STL');
     best = Math.min(best, performance.now() - t0);
@@ -73,11 +74,12 @@ for (const [what, bytes] of Object.entries(files)) {
               mbs: bytes.length / 1e6 / (best / 1000) });
 }
 
-const table = ['| file | size | readMesh (best of 5) | throughput |', '| --- | --- | --- | --- |',
+const table = [`| file | size | readMesh (best of ${RUNS}) | throughput |`, '| --- | --- | --- | --- |',
   ...rows.map((r) => `| ${r.what} | ${r.mb.toFixed(1)} MB | ${r.ms.toFixed(1)} ms | ${r.mbs.toFixed(0)} MB/s |`)].join('\n');
 const text = `# Mesh file reading (bench/formats.mjs)\n\n${nv.toLocaleString('en')} vertices, ${nf.toLocaleString('en')} triangles ` +
   `(Loop-subdivided icosahedron, 7 levels), WASM under Node ${process.version}, ${new Date().toISOString().slice(0, 10)}:\n\n${table}\n\n` +
-  'The binary STL is welded on reading (3 corners per triangle: 983,040 source vertices, welded through a hash table of positions). ' +
+  `The binary STL is welded on reading (3 corners per triangle: 983,040 source vertices, welded through a hash table of positions; ` +
+  `with ${mrvol.threads} threads here, in one block of triangles per thread, the blocks merged after). ` +
   'The reference row is the one copy of the file into the WASM heap that every read starts with: a reader at memory speed would take about that.\n';
 writeFileSync(new URL('RESULTS-formats.md', import.meta.url), text);
 process.stdout.write(text);
