@@ -1350,8 +1350,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   let featuresFolded = false;
   // Fitted pieces by base (a retry often makes some pieces' bases again).
   const fitted = new Map();
-  // Base scales tried before 2x and 4x when a fit folds (the early refined round's: a smaller cage first).
-  let foldRetryScales = [];
+  // The base scales a fit that folds is retried at (null: 2x and 4x); the early refined round sets its own.
+  let foldRetryScales = null;
   // Parametrised bases by piece, size and locks: the fits of other levels ask for the same one (the collapse is deterministic).
   const parametrised = new Map();
   const parametrisedOnce = (i, piece, target, lock) => {
@@ -1364,9 +1364,9 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   // baseScale: one factor, or one per piece; keep: fitted parts to reuse as they are (at `levels`).
   const fit = (levels, fraction, share, baseScale = 1, keep = null, size = null) => {
     // Folds left after untangling: once more without the feature constraints (if any), then
-    // (unless the base size is given) with a base twice and four times as large.
+    // (unless the base size is given) with a base twice and four times as large (or foldRetryScales').
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
-    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : [...foldRetryScales, 2, 4].map((scale) => [scale, null]).filter(([scale]) => requested * scale <= retryFaces))];
+    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : (foldRetryScales ?? [2, 4]).map((scale) => [scale, null]).filter(([scale]) => requested * scale <= retryFaces))];
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
@@ -1657,15 +1657,16 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       // to 25k faces 1.706% on the asked size, 0.456% after (cage 537); the corpus's 48k (STL) folds
       // there, its retry twice as large 0.974%, 0.382% after (2 fits instead of 7); the npm package's
       // 48k (another vertex order) is not within the goal on the asked size, 0.362% twice as large.
-      // Between them, a base 1.5x as large, and a fold on the asked size retried on one 1.25x as
-      // large before 2x: the smallest cage that reaches the goal (the corpus's 48k: cage 1037 -> 660
-      // handles, 0.451%; the package's: 1034 -> 783, 0.450%).
+      // Between them, a base 1.5x as large (not retried larger if it folds: the round on 2x follows),
+      // and a fold on the asked size retried on one 1.25x as large before 2x: the smallest cage that
+      // reaches the goal (the corpus's 48k: cage 1037 -> 660 handles, 0.451%; the package's: 1034 ->
+      // 783, 0.450%).
       for (const scale of [1, 1.5, 2]) {
         if (closer || options.refine === false) break;
         const restoreRefined = saved(), made = tried.length;
-        foldRetryScales = scale === 1 ? [1.25] : [];
+        foldRetryScales = scale === 1 ? [1.25, 2, 4] : scale === 1.5 ? [] : null;
         refinedRounds(1, scale);
-        foldRetryScales = [];
+        foldRetryScales = null;
         earlyDone = result !== start && distance(finished(result, measured).measured) <= goal;
         if (earlyDone) break;
         // (A fold retried on twice this round's base: the rounds on larger bases are made.)
