@@ -16,6 +16,17 @@ export function installDebugHook(app) {
       for (let i = 0; i < app.session.cageSize; i++) out.push([rect.left + screen[2 * i], rect.top + screen[2 * i + 1]]);
       return out;
     },
+    /**
+     * Handle dots: the setting ('auto' or CSS px), the size for the view now and the size last
+     * drawn (CSS px), and each handle's alpha through the surface (faint, or 1: selected, hovered).
+     */
+    handleDots: () => {
+      const cage = app.viewer.cage;
+      if (!cage?.handles) return null;
+      const behind = cage.hiddenHandles.geometry.getAttribute('color');
+      return { setting: cage.handleSize, size: app.viewer.handlePixelSize, drawn: cage.materials.handles.size,
+        alphaBehind: Array.from({ length: cage.count }, (_, i) => behind.getW(i)) };
+    },
     volume: () => editor()?.volume() ?? null,
     referenceVolume: () => editor()?.referenceVolume() ?? null,
     thetaSource: () => app.theta?.source ?? null,

@@ -135,6 +135,8 @@ export class Viewer {
     // One set of cage materials for every cage shown (their shaders compile once, in precompile()).
     this.cageMaterials = CageObject.materials({ color: CAGE_COLOR });
     this.cage = null;
+    // handle dots sized to the cage's spacing on the screen (6..13 CSS px), or a fixed size in CSS px
+    this.handleSize = 'auto';
     // Optional layers: a second, semi-transparent mesh (an approximation of the fine one, same
     // faces) and line segments (one per vertex, from the approximation to the fine position).
     this.approxMaterial = new THREE.MeshStandardMaterial({
@@ -173,11 +175,15 @@ export class Viewer {
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]), 3));
     geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
     geometry.setIndex([0, 1, 2]);
+    const behind = new THREE.BufferGeometry();  // the faint handles' colours have an alpha
+    behind.setAttribute('position', geometry.getAttribute('position'));
+    behind.setAttribute('color', new THREE.BufferAttribute(new Float32Array(12), 4));
     const placeholders = [
       new THREE.Mesh(geometry, this.meshMaterial),
       new THREE.LineSegments(geometry, this.cageMaterials.lines),
       new THREE.LineSegments(geometry, this.cageMaterials.hidden),
       new THREE.Points(geometry, this.cageMaterials.handles),
+      new THREE.Points(behind, this.cageMaterials.hiddenHandles),
     ];
     this.scene.add(...placeholders);
     try {
@@ -185,6 +191,7 @@ export class Viewer {
     } finally {
       this.scene.remove(...placeholders);
       geometry.dispose();
+      behind.dispose();
     }
   }
 
@@ -456,7 +463,7 @@ export class Viewer {
       this.cageGroup.remove(this.cage);
       this.cage.dispose();
     }
-    this.cage = new CageObject(positions, edges, { materials: this.cageMaterials });
+    this.cage = new CageObject(positions, edges, { materials: this.cageMaterials, handleSize: this.handleSize });
     this.cageGroup.add(this.cage);
     this.selection = new Set();
     this.marks = new Map();
@@ -465,6 +472,11 @@ export class Viewer {
   }
 
   get cageCount() { return this.cage?.count ?? 0; }
+  /** The handle dot size (CSS px) for the camera and the view now (handleSize 'auto': from the cage's spacing on the screen). */
+  get handlePixelSize() {
+    if (!this.cage) return null;
+    return this.cage.updateHandleSize(this.camera, this.canvas.clientWidth, this.canvas.clientHeight);
+  }
   /** Handle positions (Float64Array, 3 per handle) as drawn. */
   get cagePositions() { return this.cage?.positions ?? null; }
 
@@ -492,8 +504,9 @@ export class Viewer {
 
   updateColors() {
     if (!this.cage) return;
+    // selected and hovered handles at full strength through the surface too, the others faint there
     this.cage.setHandleColors((i) => (this.selection.has(i) ? SELECTED_COLOR : i === this.hover ? HOVER_COLOR
-      : this.marks.get(i) ?? HANDLE_COLOR));
+      : this.marks.get(i) ?? HANDLE_COLOR), (i) => this.selection.has(i) || i === this.hover);
     this.requestRender();
   }
 

@@ -19,7 +19,7 @@ import { SurfaceMesh, CageObject, CAGE_COLOR } from './objects.mjs';
 import { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
 
 export { EditingSession, FREE_SET_MODES, MAX_PARTS, QUAD_SCHEME } from './session.mjs';
-export { SurfaceMesh, CageObject, arrows, bounds, frameSphere, edgesOf, quadEdgesOf, trianglesOfQuads } from './objects.mjs';
+export { SurfaceMesh, CageObject, HIDDEN_HANDLE_OPACITY, AUTO_HANDLE_SIZE, handleSizeForSpacing, medianEdgeSpacing, arrows, bounds, frameSphere, edgesOf, quadEdgesOf, trianglesOfQuads } from './objects.mjs';
 export { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
 
 const HOVER_COLOR = new THREE.Color(0x3fb950);
@@ -34,12 +34,13 @@ export class VolumeEditControls extends THREE.EventDispatcher {
    *   a triangle or quad mesh, or a MultiresMesh / QuadMultiresMesh (stays the caller's)
    * @param {object} [options] { level = 0, scheme = 'loop', preserve = true, tolerance = 1e-6,
    *   theta: 'matrix-free' (default) | 'auto' (compute theta^e now when it fits) | a Theta,
-   *   pickRadius = 10 (CSS px), surfaceColor, cageColor, handleSize = 13, flat = true }
+   *   pickRadius = 10 (CSS px), surfaceColor, cageColor, flat = true,
+   *   handleSize = 'auto' (sized to the cage's spacing on the screen, 6..13 CSS px) | CSS px }
    */
   constructor(mrvol, camera, element, mesh, options = {}) {
     super();
     const { level = 0, scheme, preserve = true, tolerance = 1e-6, theta = 'matrix-free', pickRadius = 10,
-      surfaceColor, cageColor = CAGE_COLOR, handleSize = 13, flat = true } = options;
+      surfaceColor, cageColor = CAGE_COLOR, handleSize = 'auto', flat = true } = options;
     this.camera = camera;
     this.domElement = element?.domElement ?? element;
     if (!this.domElement?.addEventListener) throw new TypeError('VolumeEditControls needs a DOM element or a renderer');
@@ -85,6 +86,16 @@ export class VolumeEditControls extends THREE.EventDispatcher {
   get dragging() { return this.#drag?.started ?? false; }
   /** Handle (cage vertex) count. */
   get handleCount() { return this.session.cageSize; }
+  /** 'auto' or the fixed handle size (CSS px) given. */
+  get handleSize() { return this.cage.handleSize; }
+  /**
+   * The handle dot size (CSS px) for the camera and the element now: the fixed size, or 'auto''s
+   * (measured again only when the camera, the element's size or the cage changed).
+   */
+  get handlePixelSize() {
+    const rect = this.domElement.getBoundingClientRect();
+    return this.cage.updateHandleSize(this.camera, rect.width, rect.height);
+  }
 
   volume() { return this.session.volume(); }
   referenceVolume() { return this.session.referenceVolume(); }
