@@ -4,31 +4,7 @@
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { mkdtempSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { launchBrowser, settle, root, RESULTS_DIR } from './harness.mjs';
-
-/** vite's dev server on examples/web/vite.config.mjs, on a free port with a private cache. */
-async function startExampleServer() {
-  const { createServer } = await import('vite');
-  const scratch = mkdtempSync(join(tmpdir(), 'mrvol-example-'));
-  const server = await createServer({
-    configFile: join(root, 'examples/web/vite.config.mjs'),
-    logLevel: 'warn',
-    clearScreen: false,
-    cacheDir: join(scratch, 'vite-cache'),
-    server: { port: 0, strictPort: false, watch: null, hmr: false },
-  });
-  await server.listen();
-  const { address, port } = server.httpServer.address();
-  return {
-    url: `http://${address}:${port}/`,
-    async close() {
-      await server.close().catch(() => {});
-      rmSync(scratch, { recursive: true, force: true });
-    },
-  };
-}
+import { launchBrowser, settle, startExampleServer, RESULTS_DIR } from './harness.mjs';
 
 let server, browser, page;
 

@@ -35,6 +35,28 @@ export async function startTestServer({ mode = 'dev' } = {}) {
   };
 }
 
+/** vite's dev server on examples/web/vite.config.mjs, on a free port with a private cache. */
+export async function startExampleServer() {
+  const { createServer } = await import('vite');
+  const scratch = mkdtempSync(join(tmpdir(), 'mrvol-example-'));
+  const server = await createServer({
+    configFile: join(root, 'examples/web/vite.config.mjs'),
+    logLevel: 'warn',
+    clearScreen: false,
+    cacheDir: join(scratch, 'vite-cache'),
+    server: { port: 0, strictPort: false, watch: null, hmr: false },
+  });
+  await server.listen();
+  const { address, port } = server.httpServer.address();
+  return {
+    url: `http://${address}:${port}/`,
+    async close() {
+      await server.close().catch(() => {});
+      rmSync(scratch, { recursive: true, force: true });
+    },
+  };
+}
+
 /**
  * A browser with a fresh profile (IndexedDB and localStorage of its own, kept across reloads and
  * pages of this context) on a server's url. close() stops it and removes the profile.
