@@ -21,8 +21,15 @@ export interface VolumeEditControlsOptions {
   pickRadius?: number;
   surfaceColor?: THREE.ColorRepresentation;
   cageColor?: THREE.ColorRepresentation;
-  /** Handle dot size in CSS pixels (default 13). */
-  handleSize?: number;
+  /**
+   * Handle dot size: 'auto' (default) sizes the dots to the cage's density on the screen,
+   * clamp(0.55 x the median on-screen cage edge length, 6, 13) CSS pixels (AUTO_HANDLE_SIZE),
+   * measured again when the camera, the element's size or the cage changed: a cage of 600 handles
+   * seen whole on a phone gets small dots, zoomed in they grow back to 13 px. A number: that size
+   * in CSS pixels, fixed. Either way a handle behind the surface is drawn faint (the hovered and
+   * the dragged one at full strength), and pickRadius, not the dot, decides what a press grabs.
+   */
+  handleSize?: 'auto' | number;
   /** Flat shading (default true). */
   flat?: boolean;
 }
@@ -61,6 +68,10 @@ export class VolumeEditControls extends THREE.EventDispatcher<VolumeEditControls
   readonly level: number;
   readonly dragging: boolean;
   readonly handleCount: number;
+  /** The handleSize option: 'auto' or the fixed size (CSS pixels). */
+  readonly handleSize: 'auto' | number;
+  /** The dot size (CSS pixels) for the camera and the element now ('auto': from the cage's screen spacing, 6..13). */
+  readonly handlePixelSize: number;
   readonly lastReport: EditReport | null;
   volume(): number;
   referenceVolume(): number;
@@ -192,20 +203,56 @@ export class SurfaceMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshStan
   dispose(): void;
 }
 
-export interface CageMaterials { lines: THREE.LineBasicMaterial; hidden: THREE.LineBasicMaterial; handles: THREE.PointsMaterial | null }
+/**
+ * lines: edges seen; hidden: edges through the surface (0.22 opacity); handles: dots where seen
+ * (depth-tested); hiddenHandles: dots through the surface (no depth test, colours with alpha).
+ */
+export interface CageMaterials { lines: THREE.LineBasicMaterial; hidden: THREE.LineBasicMaterial; handles: THREE.PointsMaterial | null;
+  hiddenHandles: THREE.PointsMaterial | null }
 
-/** A cage: edges seen and through the surface, a coloured dot per handle. */
+/**
+ * A cage: edges seen and through the surface, a coloured dot per handle, drawn at full strength
+ * where seen and faint (HIDDEN_HANDLE_OPACITY) through the surface. handleSize 'auto' (default):
+ * sized to the cage's spacing on the screen before each frame that changed the view or the cage.
+ */
 export class CageObject extends THREE.Group {
   constructor(positions: ArrayLike<number>, edges: ArrayLike<number>, options?: { color?: THREE.ColorRepresentation;
-    handles?: boolean; handleSize?: number; opacity?: number; materials?: CageMaterials | null });
+    handles?: boolean; handleSize?: 'auto' | number; opacity?: number; materials?: CageMaterials | null });
+  /** handleSize: the materials' initial dot size (CSS pixels; an 'auto' cage sets it before it draws). */
   static materials(options?: { color?: THREE.ColorRepresentation; handleSize?: number; opacity?: number; points?: boolean }): CageMaterials;
   readonly count: number;
   readonly positions: Float64Array;
+  /** The edges (pairs of handle indices). */
+  readonly edges: Uint32Array;
   readonly baseColor: THREE.Color;
+  /** The dots where seen (null without handles). */
+  readonly handles: THREE.Points | null;
+  /** The dots through the surface (null without handles). */
+  readonly hiddenHandles: THREE.Points | null;
+  /** 'auto' or the fixed dot size (CSS pixels). */
+  readonly handleSize: 'auto' | number;
+  /** The dot size (CSS pixels) last drawn or measured. */
+  readonly handlePixelSize: number;
+  /** The dot size for a camera on a width x height CSS-pixel view, set on the materials (measured again only when something changed). */
+  updateHandleSize(camera: THREE.Camera, width: number, height: number, options?: { matrices?: boolean }): number;
   setPositions(positions: ArrayLike<number>): void;
-  setHandleColors(colorOf: (handle: number) => THREE.Color): void;
+  /** strong(i): handle i at full strength through the surface too (default: the handles not of the base colour). */
+  setHandleColors(colorOf: (handle: number) => THREE.Color, strong?: ((handle: number) => boolean) | null): void;
   dispose(): void;
 }
+
+/** Opacity of a handle dot through the surface (0.3; the cage's hidden edges: 0.22). */
+export const HIDDEN_HANDLE_OPACITY: number;
+/** handleSize 'auto': k x the median on-screen cage edge length, within [min, max] CSS pixels (0.55, 6, 13). */
+export const AUTO_HANDLE_SIZE: Readonly<{ k: number; min: number; max: number }>;
+/** clamp(k x spacing, min, max) in quarter pixels; max when the spacing is not a positive number. */
+export function handleSizeForSpacing(spacing: number, options?: { k?: number; min?: number; max?: number }): number;
+/**
+ * Median on-screen length (CSS pixels) of the edges under `matrix` (projection x view x model,
+ * column-major) on a width x height view; at most `samples` (256) edges looked at; NaN when none is seen.
+ */
+export function medianEdgeSpacing(positions: ArrayLike<number>, edges: ArrayLike<number>, matrix: ArrayLike<number>,
+  width: number, height: number, samples?: number): number;
 
 export function edgesOf(faces: ArrayLike<number>, index?: Map<number, number> | null): Uint32Array;
 /** Unique sides of quads (4 indices each): no diagonals. */
