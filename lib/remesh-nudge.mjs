@@ -111,8 +111,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   let fromInput = start?.fromInput ?? null;
   for (let round = 0; round < rounds; round++) {
     fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
-    // A sample whose closest triangle moves lies within its distance of that triangle.
-    const farthestFrom = largest(fromInput.distances);
+    // The input samples by the corners of their closest triangle: those a move can uncover.
+    const samplesAt = samplesByCorner(fromInput.corners, vertexCount);
     onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
     const { samples: resultSamples, closest: toInput } = onInput;
     // Far samples: [distance, side (0 input, 1 result), sample]. Input side: the result triangle
@@ -162,25 +162,16 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       const checked = [...aroundSet].sort((a, b) => a - b);
       const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, against, twins));
       const ownBefore = patchDistances(surface, positions, faces, patch);
-      // Input samples the move could uncover: those near the patch (their distance before, this round's).
-      const centre = [0, 0, 0];
-      let radius = 0;
-      for (const v of patchCorners) for (let k = 0; k < 3; k++) centre[k] += positions[3 * v + k] / patchCorners.size;
-      for (const v of patchCorners) radius = Math.max(radius, hypot3(positions[3 * v] - centre[0], positions[3 * v + 1] - centre[1], positions[3 * v + 2] - centre[2]));
       const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
-      const movedSet = new Set(corners);
       for (const part of parts) {
         const displacements = step(part);
-        let farthestStep = 0;
         corners.forEach((v, j) => {
           const dv = displacements[j];
           for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + dv[k];
-          farthestStep = Math.max(farthestStep, hypot3(dv[0], dv[1], dv[2]));
         });
-        const reach = radius + farthestStep + farthestFrom;
         const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&
           patchDistances(surface, positions, faces, patch).every((d, q) => d <= Math.max(ownBefore[q], allowed) + slack) &&
-          nearSamplesKept(inputSamples, grid, fromInput, checked, movedSet, positions, faces, centre, reach, allowed + slack);
+          nearSamplesKept(inputSamples, samplesAt, fromInput, checked, corners, positions, faces, allowed + slack);
         if (good) return patchCorners;
         corners.forEach((v, j) => positions.set(saved[j], 3 * v));
       }
@@ -401,20 +392,34 @@ function patchDistances(surface, p, faces, patch) {
 }
 
 /**
- * Whether every input sample within `reach` of `centre` is, after a move of the patch, within
- * max(its distance before, `allowed`) of the result: its closest triangle before has no `moved`
- * corner (unchanged, so no farther), or one of the triangles `near` (the moved ones and a ring
- * around them) is that close.
+ * Whether every input sample is, after a move of the `moved` vertices, within max(its distance
+ * before, `allowed`) of the result: its closest triangle before has no moved corner (unchanged, so
+ * no farther), or one of the triangles `near` (the moved ones and a ring around them) is that close.
+ * Only the samples listed at a moved vertex (samplesByCorner) are asked.
  */
-function nearSamplesKept(samples, grid, before, near, moved, p, faces, centre, reach, allowed) {
-  const corners = before.corners;
-  for (const i of grid.within(centre, reach)) {
-    const x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
-    if (!moved.has(corners[3 * i]) && !moved.has(corners[3 * i + 1]) && !moved.has(corners[3 * i + 2])) continue;
-    const limit = Math.max(before.distances[i], allowed);
-    if (!near.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
-  }
+function nearSamplesKept(samples, samplesAt, before, near, moved, p, faces, allowed) {
+  const { offsets, list } = samplesAt, seen = new Set();
+  for (const v of moved)
+    for (let e = offsets[v]; e < offsets[v + 1]; e++) {
+      const i = list[e];
+      if (seen.has(i)) continue;
+      seen.add(i);
+      const x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
+      const limit = Math.max(before.distances[i], allowed);
+      if (!near.some((f) => pointTriangleDistance(x, y, z, p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]) <= limit)) return false;
+    }
   return true;
+}
+
+/** The samples by vertex: each sample listed at the (distinct) corners of its closest triangle, as { offsets, list }. */
+function samplesByCorner(corners, vertexCount) {
+  const offsets = new Uint32Array(vertexCount + 1), n = corners.length / 3;
+  const distinct = (i, j) => j === 0 || (corners[3 * i + j] !== corners[3 * i] && (j === 1 || corners[3 * i + 2] !== corners[3 * i + 1]));
+  for (let i = 0; i < n; i++) for (let j = 0; j < 3; j++) if (distinct(i, j)) offsets[corners[3 * i + j] + 1]++;
+  for (let v = 0; v < vertexCount; v++) offsets[v + 1] += offsets[v];
+  const list = new Uint32Array(offsets[vertexCount]), fill = offsets.slice(0, vertexCount);
+  for (let i = 0; i < n; i++) for (let j = 0; j < 3; j++) if (distinct(i, j)) list[fill[corners[3 * i + j]]++] = i;
+  return { offsets, list };
 }
 
 /** Points (flat xyz) in cubic cells of side `cell`: `within(centre, reach)` lists those in the box of half-side `reach`. */

@@ -13,7 +13,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createMrvol, MrvolError } from '../../lib/node.mjs';
-import { remesh } from '../../lib/remesh.mjs';
+import { remesh, Surface } from '../../lib/remesh.mjs';
+import { measureForNudge } from '../../lib/remesh-nudge.mjs';
+import { repair } from '../../lib/repair.mjs';
 import { CORPUS, makeCorpus } from '../../scripts/corpus.mjs';
 
 const CLI = fileURLToPath(new URL('../../bin/mrvol.mjs', import.meta.url));
@@ -57,6 +59,33 @@ describe('corpus: read, repair, remesh, edit', () => {
     assert.ok(closest > 0.005 && closest <= 0.0075, `closest fit ${closest}`);
     assert.deepEqual(r.fits, plain.fits);
     assert.ok(r.baseVertices <= 500, `a cage of ${r.baseVertices} handles`);
+  });
+
+  test('teapot: the nudge leaves no input sample farther than before or than its tolerance', async () => {
+    const model = CORPUS.find((c) => c.name === 'teapot');
+    const read = mrvol.readMesh(readFileSync(model.file), { name: model.file });
+    const input = { positions: read.positions, faces: read.faces };
+    let start = null;
+    const r = await remesh(mrvol, input, { repair: true, debug: (stage, data) => {
+      if (stage === 'nudging' && !start) start = { positions: data.mesh.positions.slice(), faces: data.mesh.faces };
+    } });
+    assert.ok(start, 'the teapot\'s closest fit is nudged');
+    assert.equal(r.mesh.faces.length, start.faces.length);
+    assert.ok(r.mesh.positions.some((x, i) => x !== start.positions[i]), 'the nudge moved vertices');
+    // The input's samples (its vertices and four points per face), their distances before and after.
+    const surface = new Surface(repair(input).mesh, { normals: false, core: mrvol });
+    const samples = measureForNudge(surface, start.positions, start.faces, 200000).start.inputSamples;
+    const distances = (mesh) => {
+      const s = new Surface(mesh, { normals: false, core: mrvol }), d = s.distances(samples);
+      s.dispose();
+      return d;
+    };
+    const before = distances(start), now = distances(r.mesh);
+    const allowed = 0.95 * 0.005 * surface.diagonal;
+    surface.dispose();
+    let worse = 0;
+    for (let i = 0; i < before.length; i++) if (now[i] > Math.max(before[i], allowed) * (1 + 1e-9) + 1e-9 * surface.diagonal) worse++;
+    assert.equal(worse, 0, `${worse} of ${before.length} input samples farther than before and than the tolerance`);
   });
 
   for (const model of MODELS) {
