@@ -6,6 +6,7 @@
 import { Triangle, Vector3 } from 'three';
 import { connectivity } from './connectivity.mjs';
 import { hypot3 } from './geometry.mjs';
+import { pointGrid } from './point-grid.mjs';
 import { flippedFaces, Surface } from './remesh.mjs';
 
 // Far samples tried per round, the farthest first.
@@ -103,7 +104,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const inputSamples = start?.inputSamples ?? samplePoints(surface.mesh);
-  const grid = sampleGrid(inputSamples, 0.005 * diagonal);
+  const grid = pointGrid(inputSamples, 0.005 * diagonal);
   let kept = 0, onInput = start?.onInput ?? null, measured = null;
   // The samples' largest distances, where both sides are all of the measure's samples.
   const measurable = sampleCount(surface.mesh) <= maxSamples && sampleCount({ positions, faces }) <= maxSamples;
@@ -266,7 +267,7 @@ function inputSamplesOnResult(samples, grid, positions, faces, around, last) {
         lo[k] = Math.min(a, b, c), hi[k] = Math.max(a, b, c);
       }
       const centre = [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2), half = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 2;
-      for (const i of grid.within(centre, half + farthest)) {
+      for (const i of grid.inBox(centre[0], centre[1], centre[2], half + farthest)) {
         if (ask[i]) continue;
         let squared = 0;
         for (let k = 0; k < 3; k++) {
@@ -420,38 +421,6 @@ function samplesByCorner(corners, vertexCount) {
   const list = new Uint32Array(offsets[vertexCount]), fill = offsets.slice(0, vertexCount);
   for (let i = 0; i < n; i++) for (let j = 0; j < 3; j++) if (distinct(i, j)) list[fill[corners[3 * i + j]]++] = i;
   return { offsets, list };
-}
-
-/** Points (flat xyz) in cubic cells of side `cell`: `within(centre, reach)` lists those in the box of half-side `reach`. */
-function sampleGrid(points, cell) {
-  // Cells numbered from the points' lowest cell (an exact number per cell: strings as keys took seconds on a large input).
-  const n = points.length / 3, lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  for (let i = 0; i < n; i++)
-    for (let k = 0; k < 3; k++) {
-      const c = Math.floor(points[3 * i + k] / cell);
-      if (c < lo[k]) lo[k] = c;
-      if (c > hi[k]) hi[k] = c;
-    }
-  const nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
-  const cells = new Map(), key = (a, b, c) => (a - lo[0]) + nx * ((b - lo[1]) + ny * (c - lo[2]));
-  for (let i = 0; i < n; i++) {
-    const k = key(Math.floor(points[3 * i] / cell), Math.floor(points[3 * i + 1] / cell), Math.floor(points[3 * i + 2] / cell));
-    let list = cells.get(k);
-    if (!list) cells.set(k, (list = []));
-    list.push(i);
-  }
-  return {
-    within([x, y, z], reach) {
-      const out = [];
-      // Only the cells that hold points (outside the points' cells a number could name another cell).
-      for (let a = Math.max(lo[0], Math.floor((x - reach) / cell)); a <= Math.min(hi[0], Math.floor((x + reach) / cell)); a++)
-        for (let b = Math.max(lo[1], Math.floor((y - reach) / cell)); b <= Math.min(hi[1], Math.floor((y + reach) / cell)); b++)
-          for (let c = Math.max(lo[2], Math.floor((z - reach) / cell)); c <= Math.min(hi[2], Math.floor((z + reach) / cell)); c++)
-            for (const i of cells.get(key(a, b, c)) ?? [])
-              if (Math.abs(points[3 * i] - x) <= reach && Math.abs(points[3 * i + 1] - y) <= reach && Math.abs(points[3 * i + 2] - z) <= reach) out.push(i);
-      return out;
-    },
-  };
 }
 
 /** Distance from (x, y, z) to triangle (a, b, c) of p (three's closest point on a triangle). */

@@ -17,6 +17,7 @@ import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
 import { measureForNudge, nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
+import { pointGrid } from './point-grid.mjs';
 import { PROXY_MIN_FACES, proxyInput } from './remesh-proxy.mjs';
 import { boundingDiagonal, concatenate, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
@@ -960,39 +961,6 @@ function ringsOf(adjacency, v, k) {
     front = next;
   }
   return ring;
-}
-
-/** A uniform grid over points (flat xyz): `within(x, y, z, r)` lists those within r of a point. */
-function pointGrid(points, cell) {
-  // Cells hashed to numbers (a collision only adds candidates, which are checked).
-  const cells = new Map(), key = (a, b, c) => ((a * 73856093) ^ (b * 19349663) ^ (c * 83492791)) | 0;
-  for (let i = 0; i < points.length / 3; i++) {
-    const k = key(Math.floor(points[3 * i] / cell), Math.floor(points[3 * i + 1] / cell), Math.floor(points[3 * i + 2] / cell));
-    if (!cells.has(k)) cells.set(k, []);
-    cells.get(k).push(i);
-  }
-  return {
-    /** The cells (lists of point indices) that may hold points within r of a point. */
-    cellsNear(x, y, z, r) {
-      // (A hash collision can name a cell's list twice: kept once, in the order first met.)
-      const out = new Set();
-      for (let a = Math.floor((x - r) / cell); a <= Math.floor((x + r) / cell); a++)
-        for (let b = Math.floor((y - r) / cell); b <= Math.floor((y + r) / cell); b++)
-          for (let c = Math.floor((z - r) / cell); c <= Math.floor((z + r) / cell); c++) {
-            const list = cells.get(key(a, b, c));
-            if (list) out.add(list);
-          }
-      return out;
-    },
-    /** The points within r of a point. */
-    within(x, y, z, r) {
-      const out = [];
-      // (Each point is in one list, and cellsNear names a list once: no point twice.)
-      for (const list of this.cellsNear(x, y, z, r))
-        for (const i of list) if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
-      return out;
-    },
-  };
 }
 
 /** Barycentric coordinates of the point q (on or near the triangle a, b, c). */

@@ -1,0 +1,41 @@
+// lib/point-grid.mjs: the grid's answers are the brute-force ones, for small and wide query boxes
+// (a wide box walks the cells that hold points instead of the box's cells).
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { pointGrid } from '../../lib/point-grid.mjs';
+import { hypot3 } from '../../lib/geometry.mjs';
+
+/** A deterministic pseudo-random generator in [0, 1). */
+function random(seed) {
+  let s = seed >>> 0;
+  return () => ((s = (Math.imul(s, 1664525) + 1013904223) >>> 0) / 4294967296);
+}
+
+test('within and inBox list exactly the points a brute-force scan finds, at every reach', () => {
+  const rnd = random(7), n = 3000, points = new Float64Array(3 * n);
+  // Points on a sphere's surface (cells mostly empty inside), some duplicated, some on cell borders.
+  for (let i = 0; i < n; i++) {
+    const u = 2 * rnd() - 1, t = 2 * Math.PI * rnd(), s = Math.sqrt(1 - u * u);
+    points.set([s * Math.cos(t), s * Math.sin(t), u], 3 * i);
+  }
+  points.set(points.subarray(0, 30), 3 * 100);
+  points.set([0.25, -0.5, 0.75], 3 * 200);
+  const grid = pointGrid(points, 0.05);
+  let wide = 0;
+  for (let q = 0; q < 200; q++) {
+    const x = 2.4 * rnd() - 1.2, y = 2.4 * rnd() - 1.2, z = 2.4 * rnd() - 1.2, r = q % 4 === 0 ? 1.5 * rnd() : 0.2 * rnd();
+    if (r > 0.5) wide++;
+    const near = [], box = [];
+    for (let i = 0; i < n; i++) {
+      if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) near.push(i);
+      if (Math.abs(points[3 * i] - x) <= r && Math.abs(points[3 * i + 1] - y) <= r && Math.abs(points[3 * i + 2] - z) <= r) box.push(i);
+    }
+    assert.deepEqual(grid.within(x, y, z, r).sort((a, b) => a - b), near, `query ${q}`);
+    assert.deepEqual(grid.inBox(x, y, z, r).sort((a, b) => a - b), box, `query ${q}`);
+    // Each point's cell named once.
+    const listed = grid.cellsNear(x, y, z, r).flat();
+    assert.equal(new Set(listed).size, listed.length);
+  }
+  assert.ok(wide > 10, `${wide} wide queries`);
+  assert.deepEqual(pointGrid(new Float64Array(0), 1).within(0, 0, 0, 10), []);
+});
