@@ -415,11 +415,20 @@ function nearSamplesKept(samples, samplesAt, before, near, moved, p, faces, allo
 /** The samples by vertex: each sample listed at the (distinct) corners of its closest triangle, as { offsets, list }. */
 function samplesByCorner(corners, vertexCount) {
   const offsets = new Uint32Array(vertexCount + 1), n = corners.length / 3;
-  const distinct = (i, j) => j === 0 || (corners[3 * i + j] !== corners[3 * i] && (j === 1 || corners[3 * i + 2] !== corners[3 * i + 1]));
-  for (let i = 0; i < n; i++) for (let j = 0; j < 3; j++) if (distinct(i, j)) offsets[corners[3 * i + j] + 1]++;
+  for (let i = 0; i < n; i++) {
+    const a = corners[3 * i], b = corners[3 * i + 1], c = corners[3 * i + 2];
+    offsets[a + 1]++;
+    if (b !== a) offsets[b + 1]++;
+    if (c !== a && c !== b) offsets[c + 1]++;
+  }
   for (let v = 0; v < vertexCount; v++) offsets[v + 1] += offsets[v];
   const list = new Uint32Array(offsets[vertexCount]), fill = offsets.slice(0, vertexCount);
-  for (let i = 0; i < n; i++) for (let j = 0; j < 3; j++) if (distinct(i, j)) list[fill[corners[3 * i + j]]++] = i;
+  for (let i = 0; i < n; i++) {
+    const a = corners[3 * i], b = corners[3 * i + 1], c = corners[3 * i + 2];
+    list[fill[a]++] = i;
+    if (b !== a) list[fill[b]++] = i;
+    if (c !== a && c !== b) list[fill[c]++] = i;
+  }
   return { offsets, list };
 }
 
