@@ -67,6 +67,20 @@ void readBinary(std::string_view b, uint64_t declared, ImportedMesh& out) {
   out.welded = weldExactPositions(m, &out.sourceVertex);
 }
 
+// The lookup key of corner c of the triangle at p (its three floats' bits, -0 made +0); false at
+// a coordinate that is not finite (its place 3 c + k in `bad`).
+bool cornerKey(const char* p, int c, uint32_t (&key)[3], int& bad) {
+  std::memcpy(key, p + 12 + 12 * c, 12);
+  for (int k = 0; k < 3; ++k) {
+    if ((key[k] & 0x7f800000u) == 0x7f800000u) {
+      bad = 3 * c + k;
+      return false;
+    }
+    if (key[k] == 0x80000000u) key[k] = 0;  // -0 == +0
+  }
+  return true;
+}
+
 // The same result read and welded in one pass over the file: each corner's three floats are looked
 // up among the positions met so far (equal floats are equal doubles; -0 is made +0 for the lookup,
 // the first corner's own value is kept). Output vertices come in the order of their first corner,
@@ -86,11 +100,8 @@ bool readBinaryWelded(std::string_view b, uint64_t declared, ImportedMesh& out) 
   for (uint64_t t = 0; t < declared; ++t, p += 50) {
     for (int c = 0; c < 3; ++c) {
       uint32_t key[3];
-      std::memcpy(key, p + 12 + 12 * c, 12);
-      for (int k = 0; k < 3; ++k) {
-        if ((key[k] & 0x7f800000u) == 0x7f800000u) notFinite(t, 3 * c + k);
-        if (key[k] == 0x80000000u) key[k] = 0;  // -0 == +0
-      }
+      int bad = 0;
+      if (!cornerKey(p, c, key, bad)) notFinite(t, bad);
       const uint32_t v = table.findOrAdd(key);
       if (v == next) {
         for (int k = 0; k < 3; ++k) m.positions.push_back(io::load<float>(p + 12 + 12 * c + 4 * k));
@@ -104,20 +115,6 @@ bool readBinaryWelded(std::string_view b, uint64_t declared, ImportedMesh& out) 
   out.sourceVertices = corners;
   out.sourceFaces = declared;
   out.welded = corners - next;
-  return true;
-}
-
-// The lookup key of corner c of the triangle at p (its three floats' bits, -0 made +0); false at
-// a coordinate that is not finite (its place 3 c + k in `bad`).
-bool cornerKey(const char* p, int c, uint32_t (&key)[3], int& bad) {
-  std::memcpy(key, p + 12 + 12 * c, 12);
-  for (int k = 0; k < 3; ++k) {
-    if ((key[k] & 0x7f800000u) == 0x7f800000u) {
-      bad = 3 * c + k;
-      return false;
-    }
-    if (key[k] == 0x80000000u) key[k] = 0;  // -0 == +0
-  }
   return true;
 }
 
