@@ -16,7 +16,8 @@ export interface RemeshOptions {
    * / 12 within 200..1000 (a cage of about 100-500 handles), raised to make room for the feature
    * vertices of a CAD part; a component smaller than its share is its own base (then exact). A
    * result that still folds after untangling is retried without the feature constraints, then
-   * (unless given) with twice and four times the base.
+   * with twice and four times the base. A size given is kept once a fit on it does not fold; if
+   * the first fit folds on it, it grows (1.5x, 2x, 4x) and `baseGrown` in the result says so.
    */
   baseFaces?: number;
   /**
@@ -114,6 +115,11 @@ export interface RemeshResult {
   components: number;
   baseVertices: number;
   baseFaces: number;
+  /**
+   * The base size given (`baseFaces`) folded the first fit at every level, so the base was made
+   * larger (`to` faces asked of the simplifier) rather than give up; null otherwise.
+   */
+  baseGrown: { asked: number; to: number } | null;
   vertices: number;
   faces: number;
   /** Two-sided sampled Hausdorff distance / bounding-box diagonal of the input. */

@@ -1298,7 +1298,10 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   }
   let { pieces, mesh, surface, surfaceOf } = proxied ?? prepared;
   await MeshoptSimplifier.ready;
-  const requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
+  // (let: a base size given that folds until grown is grown for the rounds after it, see fit below.)
+  let requested = options.baseFaces ?? defaultBaseFaces(inputFaces);
+  // The base size given when the first fit without folds needed a larger one (else null).
+  let grownFrom = null;
   const budget = options.maxVertices ?? Math.max(2 * inputVertices, 10000);
 
   const genusChanges = new Set();
@@ -1331,10 +1334,15 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   };
   // baseScale: one factor, or one per piece; keep: fitted parts to reuse as they are (at `levels`).
   const fit = (levels, fraction, share, baseScale = 1, keep = null, size = null) => {
-    // Folds left after untangling: once more without the feature constraints (if any), then
-    // (unless the base size is given) with a base twice and four times as large (or foldRetryScales').
+    // Folds left after untangling: once more without the feature constraints (if any), then with a
+    // base twice and four times as large (or foldRetryScales'). A base size given is kept unless no
+    // fit without folds is made yet: then it grows (1.5x, 2x, 4x) rather than give up (the torus
+    // knot and the genus-3 pretzel fold on 100 base faces at every level and fit on 150-200), and the
+    // rounds after go on at the size that fitted (the report's baseFacesAsked says so).
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
-    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...(options.baseFaces !== undefined ? [] : (foldRetryScales ?? [2, 4]).map((scale) => [scale, null]).filter(([scale]) => requested * scale <= retryFaces))];
+    const given = options.baseFaces !== undefined;
+    const retryScales = given ? (haveFit() ? [] : [1.5, 2, 4]) : (foldRetryScales ?? [2, 4]).filter((scale) => requested * scale <= retryFaces);
+    const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...retryScales.map((scale) => [scale, null])];
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
@@ -1417,7 +1425,10 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       };
       result.levelsUsed = used;
       result.parts = parts;
-      if (result.flippedTriangles === 0 || options.allowFlipped) break;
+      if (result.flippedTriangles === 0 || options.allowFlipped) {
+        if (given && scale > 1) grownFrom = requested, requested = Math.round(requested * scale);
+        break;
+      }
       // Features that fold a fit (a ridge the fit cannot follow, held corners on a thin tip) fold
       // the fits of more levels on the same base too: those go without them.
       if (withFeatures) featuresFolded = true;
@@ -1426,6 +1437,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
   };
 
   let result = null, measured = null, lastMeasured = null;
+  // Whether a fit without folds is kept (fit() above shadows `result`).
+  const haveFit = () => result !== null;
   // The distances of input points (positions) from a measured fit's result: the tips, emphasis and
   // refined rounds ask for the same fit's more than once (the 871k scan's 435k vertices each time).
   const distancesKnown = new WeakMap();
@@ -1752,6 +1765,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     fits: tried,
     baseVertices: result.baseVertices,
     baseFaces: result.baseFaces,
+    // A base size given that folded at every level, grown until a fit did not (see fit above).
+    baseGrown: grownFrom === null ? null : { asked: grownFrom, to: requested },
     vertices: result.mesh.positions.length / 3,
     faces: result.mesh.faces.length / 3,
     components: pieces.length,

@@ -9,6 +9,7 @@ import assert from 'node:assert/strict';
 import { readFile, readdir } from 'node:fs/promises';
 import { join } from 'node:path';
 import { createMrvol } from '../../lib/node.mjs';
+import { CORPUS, makeCorpus } from '../../scripts/corpus.mjs';
 import { openApp, waitGradient, visibleHandles, dragHandle, settle, root, RESULTS_DIR } from './harness.mjs';
 
 const GOOD = join(root, 'tests/data/good');
@@ -162,6 +163,25 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     assert.equal(await page.locator('[data-testid="remesh-stage"]').textContent(), 'cancelled');
     assert.equal(await page.locator('[data-testid="remesh-progress"]').isVisible(), false);
     assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
+  });
+
+  test('a base size that folds the fit grows, and the notice says so (genus-3 pretzel on 100 base faces)', async () => {
+    await makeCorpus({ big: false, names: ['pretzel-genus-3'] });
+    const file = CORPUS.find((c) => c.name === 'pretzel-genus-3').file;
+    await openFile('pretzel-genus-3.off', await readFile(file));
+    await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
+    // The automatic remesh (defaults) stopped; the same file remeshed on 100 base faces.
+    await page.locator('[data-testid="remesh-cancel"]').click();
+    await page.locator('[data-testid="remesh-base"]').fill('100');
+    await page.locator('[data-testid="remesh-go"]').click();
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'pretzel-genus-3-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    const notice = await page.locator('[data-testid="notice"]').textContent();
+    assert.match(notice, /0 flipped triangles, .*; 100 base faces folded the fit at every level, so the base has (\d+)$/);
+    assert.ok(Number(notice.match(/the base has (\d+)$/)[1]) > 100, notice);
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 25, -20);
+    assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
+    await page.screenshot({ path: join(RESULTS_DIR, 'files-remeshed-base-grown.png') });
   });
 
   test('hostile files of every format give one clear message; the model stays usable', async () => {

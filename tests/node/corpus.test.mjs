@@ -88,6 +88,36 @@ describe('corpus: read, repair, remesh, edit', () => {
     assert.equal(worse, 0, `${worse} of ${before.length} input samples farther than before and than the tolerance`);
   });
 
+  test('a base size given that folds the fit at every level grows instead of giving up (torus knot, 100 base faces)', async () => {
+    const model = CORPUS.find((c) => c.name === 'torus-knot');
+    const read = mrvol.readMesh(readFileSync(model.file), { name: model.file });
+    const input = { positions: read.positions, faces: read.faces };
+    // Its first fit, 2 levels on about 100 base faces, folds even untangled (this used to end in the
+    // error "folds over"); the base grows to 150 and the fits go on there.
+    const fitted = [];
+    let base = 0;
+    const r = await remesh(mrvol, input, { repair: true, baseFaces: 100, levels: 2, debug: (stage, data) => {
+      if (stage === 'fitted') base = data.base.faces.length / 3;
+      if (stage === 'untangled') fitted.push({ base, flipped: data.flippedTriangles });
+    } });
+    assert.ok(fitted[0].base < 150 && fitted[0].flipped > 0, JSON.stringify(fitted));
+    assert.equal(r.flippedTriangles, 0);
+    assert.deepEqual(r.baseGrown, { asked: 100, to: 150 });
+    assert.ok(r.fits.every((f) => f.baseFaces >= 150), JSON.stringify(r.fits));
+    assert.ok(r.hausdorff <= 0.05, `hausdorff ${r.hausdorff}`);
+    const mr = mrvol.openMesh(r.mesh);
+    try {
+      assert.equal(mr.info().levels, r.levels);
+      const volume = mrvol.volume(r.mesh), editor = mr.createEditor({ level: 0 });
+      const report = editor.moveVertices([{ vertex: mr.info().baseVertexIndices[0], offset: [0.02 * r.diagonal, 0, 0] }]);
+      assert.ok(report.converged, report.message);
+      assert.ok(Math.abs(mrvol.volume({ positions: editor.positions(), faces: r.mesh.faces }) / volume - 1) <= 1e-5);
+      editor.delete();
+    } finally {
+      mr.delete();
+    }
+  });
+
   for (const model of MODELS) {
     test(`${model.name} (${model.kind}, ${model.format})`, async () => {
       const read = mrvol.readMesh(readFileSync(model.file), { name: model.file });
@@ -149,6 +179,19 @@ describe('corpus: mrvol remesh (CLI)', () => {
       if (name === 'three-parts-scene') assert.equal(r.components, 3);
       if (name !== 'three-parts-scene') assert.ok(r.hausdorff <= 0.0005, `${name}: ${r.hausdorff}`);
     }
+  });
+
+  test('--base-faces that folds the fit: the base grown, said in one line (genus-3 pretzel, 100 base faces)', () => {
+    const out = join(dir, 'pretzel.obj');
+    const run = cli('remesh', CORPUS.find((c) => c.name === 'pretzel-genus-3').file, '--repair', '--base-faces', '100', '-o', out);
+    assert.equal(run.status, 0, run.stderr);
+    assert.match(run.stdout, /^base grown {7}--base-faces 100 folded the fit at every level: made \d+ base faces instead$/m);
+    assert.match(run.stdout, /^flipped {10}0 triangles$/m);
+    const json = cli('remesh', CORPUS.find((c) => c.name === 'pretzel-genus-3').file, '--repair', '--base-faces', '100', '-o', out, '--json');
+    assert.deepEqual(JSON.parse(json.stdout).baseGrown, { asked: 100, to: 150 });
+    // Without a size given, nothing grows: the key is there, null.
+    const plain = cli('remesh', CORPUS.find((c) => c.name === 'pretzel-genus-3').file, '--repair', '-o', out, '--json');
+    assert.equal(JSON.parse(plain.stdout).baseGrown, null);
   });
 
   test('a one-sided surface: exit 1, one line saying why', () => {
