@@ -17,7 +17,8 @@ export interface RemeshOptions {
    * vertices of a CAD part; a component smaller than its share is its own base (then exact). A
    * result that still folds after untangling is retried without the feature constraints, then
    * with twice and four times the base. A size given is kept once a fit on it does not fold; if
-   * the first fit folds on it, it grows (1.5x, 2x, 4x) and `baseGrown` in the result says so.
+   * the first fit folds on it, it grows (1.5x to 16x, within 4x the default size) and `baseGrown` in
+   * the result says so.
    */
   baseFaces?: number;
   /**

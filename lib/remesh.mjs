@@ -1333,15 +1333,22 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     return base;
   };
   // baseScale: one factor, or one per piece; keep: fitted parts to reuse as they are (at `levels`).
+  // The scales a base size given grows by when the first fit folds on it: 1.5x to 16x of the size
+  // the simplifier makes (at least 64 faces a piece), up to 4x the default size (a torus knot asked
+  // for 4 or 20 faces fits on 128-256).
+  const grownScales = () => {
+    const made = Math.max(requested, 64), most = Math.max(4 * defaultBaseFaces(inputFaces), 1.5 * made);
+    return [1.5, 2, 4, 8, 16].map((k) => (k * made) / requested).filter((scale) => requested * scale <= most);
+  };
   const fit = (levels, fraction, share, baseScale = 1, keep = null, size = null) => {
     // Folds left after untangling: once more without the feature constraints (if any), then with a
     // base twice and four times as large (or foldRetryScales'). A base size given is kept unless no
-    // fit without folds is made yet: then it grows (1.5x, 2x, 4x) rather than give up (the torus
+    // fit without folds is made yet: then it grows (grownScales) rather than give up (the torus
     // knot and the genus-3 pretzel fold on 100 base faces at every level and fit on 150-200), and the
     // rounds after go on at the size that fitted (the report's baseFacesAsked says so).
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
     const given = options.baseFaces !== undefined;
-    const retryScales = given ? (haveFit() ? [] : [1.5, 2, 4]) : (foldRetryScales ?? [2, 4]).filter((scale) => requested * scale <= retryFaces);
+    const retryScales = given ? (haveFit() ? [] : grownScales()) : (foldRetryScales ?? [2, 4]).filter((scale) => requested * scale <= retryFaces);
     const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...retryScales.map((scale) => [scale, null])];
     let result = null;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
