@@ -1465,7 +1465,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     tried.push({ levels, baseFaces: attempt.baseFaces, flipped: attempt.flippedTriangles });
     if (attempt.flippedTriangles > 0 && !options.allowFlipped) {
       if (result) return false;  // a fit without folds is kept
-      throw new MrvolError(`the remeshed surface folds over: ${attempt.flippedTriangles} flipped triangles after untangling (base of ${attempt.baseFaces} faces, ${levels} levels); try more base faces or fewer levels`);
+      throw new MrvolError(`the remeshed surface folds over: ${attempt.flippedTriangles} flipped triangles after untangling (base of ${attempt.baseFaces} faces, ${levels} levels); try more base faces${levels > 0 ? ' or fewer levels' : ''}`);
     }
     progress(Math.min(0.9, fraction + 0.2), 'measuring the Hausdorff distance');
     // The same pieces as an earlier fit: the same distances.
