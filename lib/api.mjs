@@ -724,20 +724,6 @@ export function wrapModule(module) {
       checkMesh(mesh);
       return createClosestPoints(module, mesh, MrvolError, tree);
     },
-    /**
-     * three-mesh-bvh's packed tree of a triangle mesh, built in the core as its MeshBVH (0.9.17)
-     * builds one with the default options, bit for bit: positions a Float32Array (3 a vertex), faces
-     * a Uint32Array. Returns { nodes: ArrayBuffer (32 bytes a node), index: Uint32Array (the faces
-     * in the tree's order) }, which MeshBVH.deserialize({ version: 1, roots: [nodes], index }, geometry) takes.
-     */
-    packedBvh(positions, faces) {
-      if (!(positions instanceof Float32Array) || !(faces instanceof Uint32Array))
-        throw new MrvolError('packedBvh expects positions: Float32Array and faces: Uint32Array');
-      const out = module._packedBvh(positions, faces);
-      const error = module._takeClosestPointsError();
-      if (error) throw new MrvolError(error);
-      return { nodes: out.nodes.buffer, index: out.index };
-    },
     /** Checks manifoldness and orientation; returns { edges, boundaryEdges, components, closed, genus }. */
     validate(mesh) {
       checkMesh(mesh);

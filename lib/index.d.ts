@@ -506,13 +506,6 @@ export interface Mrvol {
    * of range, a non-finite corner or a bad tree.
    */
   closestPoints(mesh: Mesh, options?: { tree?: { bounds: Float64Array; first: Uint32Array; count: Uint32Array } }): ClosestPoints;
-  /**
-   * three-mesh-bvh's packed tree (0.9.17, default options: CENTER split, 10 triangles a leaf), built in the core bit
-   * for bit as MeshBVH builds it: `nodes` (32 bytes a node) and `index` (the faces in the tree's order), as
-   * `MeshBVH.deserialize({ version: 1, roots: [nodes], index }, geometry)` takes them. Throws MrvolError for an index
-   * out of range.
-   */
-  packedBvh(positions: Float32Array, faces: Uint32Array): { nodes: ArrayBuffer; index: Uint32Array };
   /** OBJ text: `v` lines (17 significant digits) then `f` lines, vertex order kept. */
   writeObj(mesh: Mesh): string;
   /**

@@ -11,7 +11,7 @@
 // parameter and uses only npm packages that run in both. The core entries (lib/api.mjs,
 // lib/node.mjs, lib/browser.mjs) do not load it, nor three.js, three-mesh-bvh or meshoptimizer.
 import { MeshoptSimplifier } from 'meshoptimizer';
-import { Box3, BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } from 'three';
+import { BufferAttribute, BufferGeometry, DoubleSide, Ray, Triangle, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
 import { connectivity } from './connectivity.mjs';
 import { collapseToTarget } from './remesh-collapse.mjs';
@@ -41,19 +41,10 @@ export class Surface {
     this.hit = { point: new Vector3(), distance: 0, faceIndex: 0 };
     this.ray = new Ray();
     this.diagonal = boundingDiagonal(mesh.positions);
-    const geometry = new BufferGeometry(), positions32 = Float32Array.from(mesh.positions);
-    geometry.setAttribute('position', new BufferAttribute(positions32, 3));
-    if (core?.packedBvh) {
-      // The same tree built in the core (bit for bit: api.mjs's packedBvh), handed to three-mesh-bvh
-      // for the raycasts; its build in JS was 8-14% of a remesh.
-      const { nodes, index } = core.packedBvh(positions32, mesh.faces);
-      geometry.setIndex(new BufferAttribute(index, 1));
-      this.bvh = MeshBVH.deserialize({ version: 1, roots: [nodes], index }, geometry);
-      geometry.boundingBox = this.bvh.getBoundingBox(new Box3());  // as MeshBVH's own build sets it
-    } else {
-      geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
-      this.bvh = new MeshBVH(geometry);
-    }
+    const geometry = new BufferGeometry();
+    geometry.setAttribute('position', new BufferAttribute(Float32Array.from(mesh.positions), 3));
+    geometry.setIndex(new BufferAttribute(Uint32Array.from(mesh.faces), 1));
+    this.bvh = new MeshBVH(geometry);
     // The BVH reorders the triangles of the index: face indices (hits, normals) follow this.index.
     this.index = geometry.index.array;
     // The core walks the same tree over the same float32 positions: the same answers, ties included.

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "mrvol/closest_points.h"
-#include "mrvol/packed_bvh.h"
 #include "guard.h"
 #include "typed_arrays.h"
 
@@ -92,18 +91,6 @@ bool manyGuarded(JsClosestPoints& c, size_t n, bool withBounds) {
 double sampledGuarded(JsClosestPoints& c, val positions, val triangles, double maxSamples) {
   return closestPointsErrors.guarded([&] { return c.sampledDistanceFrom(positions, triangles, maxSamples); });
 }
-// three-mesh-bvh's packed tree (mrvol/packed_bvh.h): { nodes: Uint32Array, index: Uint32Array (reordered) }, or
-// null with the error in the slot.
-val packedBvh(val positions, val index) {
-  return closestPointsErrors.guarded([&]() -> val {
-    std::vector<uint32_t> order = toVector<uint32_t>(index, "index");
-    const std::vector<uint32_t> nodes = buildPackedBvh(toVector<float>(positions, "positions"), order);
-    val out = val::object();
-    out.set("nodes", toTyped(nodes));
-    out.set("index", toTyped(order));
-    return out;
-  });
-}
 val takeClosestPointsError() { return closestPointsErrors.take(); }
 
 }  // namespace
@@ -123,6 +110,5 @@ EMSCRIPTEN_BINDINGS(mrvol_closest_points) {
       .function("sampledDistanceFrom", &sampledGuarded);
   emscripten::function("_closestPoints", &makeClosestPoints, emscripten::allow_raw_pointers());
   emscripten::function("_closestPointsWithTree", &makeClosestPointsWithTree, emscripten::allow_raw_pointers());
-  emscripten::function("_packedBvh", &packedBvh);
   emscripten::function("_takeClosestPointsError", &takeClosestPointsError);
 }
