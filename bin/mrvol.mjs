@@ -584,7 +584,7 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   print(values, result, (x) => [
     `wrote            ${x.output}: ${x.vertices} vertices, ${x.faces} faces, ${x.levels} levels over ${x.baseVertices} base vertices`,
     `hausdorff        ${round(100 * x.hausdorff, 3)}% of the bounding-box diagonal (to input ${round(100 * x.hausdorffToInput, 3)}%, from input ${round(100 * x.hausdorffFromInput, 3)}%)`,
-    ...(x.baseGrown ? [`base grown       --base-faces ${x.baseGrown.asked} folded the fit at every level: made ${x.baseFaces} base faces instead`] : []),
+    ...(x.baseGrown ? [`base grown       the first fit on --base-faces ${x.baseGrown.asked} folded: the base was made larger (${x.baseFaces} faces)`] : []),
     `flipped          ${x.flippedTriangles} triangles`,
     `fit              ${x.fit}${x.parametrisedFallback ? ` (parametrised fallback ${x.parametrisedFallback.error ?? `${round(100 * x.parametrisedFallback.hausdorff, 3)}%`}, ${x.parametrisedFallback.kept ? 'kept' : 'not kept'})` : ''}`,
     `volume change    ${round(100 * x.volumeChange, 4)}%`,

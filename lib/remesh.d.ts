@@ -117,7 +117,7 @@ export interface RemeshResult {
   baseVertices: number;
   baseFaces: number;
   /**
-   * The base size given (`baseFaces`) folded the first fit at every level, so the base was made
+   * The first fit on the base size given (`baseFaces`) folded even untangled, so the base was made
    * larger (`to` faces asked of the simplifier) rather than give up; null otherwise.
    */
   baseGrown: { asked: number; to: number } | null;

@@ -1344,8 +1344,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // Folds left after untangling: once more without the feature constraints (if any), then with a
     // base twice and four times as large (or foldRetryScales'). A base size given is kept unless no
     // fit without folds is made yet: then it grows (grownScales) rather than give up (the torus
-    // knot and the genus-3 pretzel fold on 100 base faces at every level and fit on 150-200), and the
-    // rounds after go on at the size that fitted (the report's baseFacesAsked says so).
+    // knot and the genus-3 pretzel fold on 100 base faces and fit on 150), and the rounds after go
+    // on at the size that fitted (the report's baseGrown says so).
     const useFeatures = features && features.edgeCount > 0 && !featuresFolded;
     const given = options.baseFaces !== undefined;
     const retryScales = given ? (haveFit() ? [] : grownScales()) : (foldRetryScales ?? [2, 4]).filter((scale) => requested * scale <= retryFaces);
@@ -1772,7 +1772,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     fits: tried,
     baseVertices: result.baseVertices,
     baseFaces: result.baseFaces,
-    // A base size given that folded at every level, grown until a fit did not (see fit above).
+    // A base size given whose first fit folded, grown until a fit did not (see fit above).
     baseGrown: grownFrom === null ? null : { asked: grownFrom, to: requested },
     vertices: result.mesh.positions.length / 3,
     faces: result.mesh.faces.length / 3,

@@ -85,7 +85,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
         notice(`${fixes} in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
           `${r.vertices} vertices, Hausdorff ${(100 * r.hausdorff).toFixed(2)}% of the diagonal, ` +
           `${r.flippedTriangles} flipped triangles, volume change ${(100 * r.volumeChange).toFixed(2)}%` +
-          (r.baseGrown ? `; ${r.baseGrown.asked} base faces folded the fit at every level, so the base has ${r.baseFaces}` : ''));
+          (r.baseGrown ? `; the first fit on ${r.baseGrown.asked} base faces folded, so the base was made larger (${r.baseFaces} faces)` : ''));
     };
     running.onerror = (e) => {
       e.preventDefault?.();
