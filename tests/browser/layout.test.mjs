@@ -202,4 +202,23 @@ describe('web editor layout at desktop and phone sizes', { timeout: 1_200_000 },
       });
     });
   }
+
+  test('phone: what a remesh did is said in sight, under the model\'s name, without scrolling the sheet', { timeout: 120_000 }, async () => {
+    await withBrowser(SIZES.phone, async (page) => {
+      await page.goto(server.url);
+      await waitReady(page);
+      await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'uv.obj', mimeType: 'text/plain', buffer: Buffer.from(uvSphereObj()) });
+      await page.waitForFunction(() => window.mrvolDebug.modelName() === 'uv-remeshed' && window.mrvolDebug.ready(), null, { timeout: 60_000 });
+      const at = await page.evaluate(() => {
+        const rect = (sel) => document.querySelector(sel).getBoundingClientRect().toJSON();
+        return { notice: rect('[data-testid="notice"]'), name: rect('[data-testid="model-name"]'), table: rect('.readouts table'),
+                 sheetTop: document.querySelector('#side-content').scrollTop, text: document.querySelector('[data-testid="notice"]').textContent };
+      });
+      assert.match(at.text, /^Remeshed in /);
+      assert.equal(at.sheetTop, 0);
+      assert.ok(at.notice.top >= at.name.bottom - 0.5 && at.notice.bottom <= at.table.top + 0.5, 'the notice between the name and the table');
+      assert.ok(at.notice.bottom <= SIZES.phone.height, `the notice ends at ${at.notice.bottom}px of ${SIZES.phone.height}`);
+      await page.screenshot({ path: join(RESULTS_DIR, 'layout-phone-remesh-notice.png') });
+    });
+  });
 });
