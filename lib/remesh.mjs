@@ -18,6 +18,7 @@ import { collapseToTarget } from './remesh-collapse.mjs';
 import { measureForNudge, nudgeToGoal } from './remesh-nudge.mjs';
 import { BaseParametrisation } from './remesh-param.mjs';
 import { pointGrid } from './point-grid.mjs';
+import { InputOnResult } from './remesh-input-on-result.mjs';
 import { PROXY_MIN_FACES, proxyInput } from './remesh-proxy.mjs';
 import { boundingDiagonal, concatenate, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
@@ -609,8 +610,8 @@ function slideOnLine(constraints, positions, adjacency, i, weight, next, at) {
  * diagonal from the result pulls the nearest corner of the closest result triangle onto itself
  * (at most a local edge length away); those corners are then held while the others relax, and a
  * snap that folds the surface (flipped triangles around it) is pulled halfway back, twice, then
- * undone. Two rounds. Returns the input's closest points on the result ({ closest, index: the
- * result's BVH order }) if a round ended with nothing to snap (the result as they were found: the
+ * undone. Two rounds. Returns the input's closest points on the result (an InputOnResult whose
+ * limit is the threshold) if a round ended with nothing to snap (the result as they were found: the
  * pull after it starts from them), else null.
  */
 function snapToFeatures(surface, positions, faces, relaxIterations, constraints = null) {
@@ -620,21 +621,19 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
   // Vertices on features are not snapped (held = 2: never).
   const held = constraints ? constraints.kind.map((k) => (k ? 2 : 0)) : new Uint8Array(vertexCount);
   const adjacency = connectivity(faces, vertexCount).neighbours;
+  const closest = new InputOnResult(input, threshold);
   for (let round = 0; round < 2; round++) {
-    const result = new Surface({ positions, faces }, { normals: false });
-    const index = result.index;
-    const candidates = [], closest = result.closestMany(input);
-    result.dispose();
+    const { distances, corners } = closest.update(positions, faces), candidates = [];
     for (let i = 0; i < input.length / 3; i++)
-      if (closest.distances[i] > threshold) candidates.push([closest.distances[i], i, closest.triangles[i]]);
-    if (candidates.length === 0) return { closest, index };
+      if (distances[i] > threshold) candidates.push([distances[i], i]);
+    if (candidates.length === 0) return closest;
     candidates.sort((a, b) => b[0] - a[0]);
     let moved = 0;
     const before = new Map();
-    for (const [, i, f] of candidates) {
+    for (const [, i] of candidates) {
       let best = -1, bestDistance = Infinity;
       for (let j = 0; j < 3; j++) {
-        const v = index[3 * f + j];
+        const v = corners[3 * i + j];
         if (held[v]) continue;
         const d = hypot3(positions[3 * v] - input[3 * i], positions[3 * v + 1] - input[3 * i + 1], positions[3 * v + 2] - input[3 * i + 2]);
         if (d < bestDistance) best = v, bestDistance = d;
@@ -652,7 +651,7 @@ function snapToFeatures(surface, positions, faces, relaxIterations, constraints 
       held[best] = 1;
       moved++;
     }
-    if (moved === 0) return { closest, index };
+    if (moved === 0) return closest;
     // Only the neighbourhood of the snapped vertices (6 rings) relaxes and is checked for folds.
     let front = [...before.keys()];
     const near = new Uint8Array(vertexCount);
@@ -717,14 +716,12 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
   // Vertices on features stay on them.
   const noMore = constraints ? constraints.kind.map((k) => (k ? 1 : 0)) : new Uint8Array(vertexCount);
   const disp = new Float64Array(3 * vertexCount), weight = new Float64Array(vertexCount);
-  const distance = new Float64Array(inputCount), hitPoint = new Float64Array(3 * inputCount), hitFace = new Uint32Array(inputCount);
+  // The input's closest points, asked again each round where they can be beyond the limit.
+  const closest = known && known.limit <= limit ? known : new InputOnResult(input, limit);
   let accepted = null, acceptedWorst = Infinity, acceptedExcess = Infinity, step = 1, retry = false;
   for (let round = 0; round < rounds; round++) {
-    const result = round === 0 && known ? null : new Surface({ positions, faces }, { normals: false });
+    const { distances: distance, points: hitPoint, corners: hitCorners } = closest.update(positions, faces);
     let worst = 0, excess = 0;
-    const closest = result ? result.closestMany(input) : known.closest;
-    result?.dispose();
-    distance.set(closest.distances), hitPoint.set(closest.points), hitFace.set(closest.triangles);
     for (let i = 0; i < inputCount; i++) {
       worst = Math.max(worst, distance[i]);
       if (distance[i] > limit) excess += (distance[i] - limit) ** 2;
@@ -743,13 +740,12 @@ function attractToInput(surface, positions, faces, { threshold = 0.002, focus = 
     }
     retry = false;
     adjacency ??= connectivity(faces, vertexCount).neighbours;
-    const index = result ? result.index : known.index;
     disp.fill(0), weight.fill(0);
     const pull = Math.max(limit, focus * worst);
     for (let i = 0; i < inputCount; i++) {
       if (distance[i] <= pull) continue;
-      const f = hitFace[i], qx = hitPoint[3 * i], qy = hitPoint[3 * i + 1], qz = hitPoint[3 * i + 2];
-      const corners = [index[3 * f], index[3 * f + 1], index[3 * f + 2]];
+      const qx = hitPoint[3 * i], qy = hitPoint[3 * i + 1], qz = hitPoint[3 * i + 2];
+      const corners = [hitCorners[3 * i], hitCorners[3 * i + 1], hitCorners[3 * i + 2]];
       const w = barycentric(positions, corners[0], corners[1], corners[2], qx, qy, qz);
       const o = [input[3 * i] - qx, input[3 * i + 1] - qy, input[3 * i + 2] - qz];
       for (let j = 0; j < 3; j++) {
@@ -845,6 +841,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
   const { neighbours: adjacency, vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const grid = pointGrid(input, 0.01 * surface.diagonal);
   const apart = spacing * surface.diagonal;
+  const closest = new InputOnResult(input, limit);
   let result = null;
   for (let round = 0; round < rounds; round++) {
     result?.dispose();
@@ -864,7 +861,7 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
       return false;
     };
     let patchFaces = [];
-    const far = [], { distances } = result.closestMany(input);
+    const far = [], { distances } = closest.update(positions, faces, result);
     for (let i = 0; i < inputCount; i++) if (distances[i] > limit) far.push([distances[i], i]);
     if (far.length === 0) break;
     far.sort((x, y) => y[0] - x[0] || x[1] - y[1]);
