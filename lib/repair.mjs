@@ -149,26 +149,48 @@ function cancelDuplicates(faces) {
 /**
  * Faces that make the mesh non-manifold: all faces of an edge shared by more than two faces or
  * walked twice in the same direction, and at a vertex whose faces form several fans, the faces of
- * all fans but the largest. Returns a mask of the faces to drop and their count. `only` (a vertex
- * mask, or null): the mesh is what a call's drop left, and only those vertices (the dropped faces'
- * corners) can have several fans now; dropping faces makes no edge bad, so the edges are not checked.
+ * all fans but the largest. Returns a mask of the faces to drop and their count. `since` (or null:
+ * the whole mesh is checked): the mesh is one that had no such face with faces removed around the
+ * vertices of `since.touched` (a mask) and faces appended from index `since.appendedFrom` on. A
+ * removal makes no edge bad, and leaves one fan at a vertex it does not touch: only the appended
+ * faces' edges are checked, and the fans at the touched vertices, at the appended faces' corners
+ * and at those of the faces of bad edges (the same faces as checking the whole mesh).
  */
-function nonManifoldFaces(faces, vertexCount, only = null) {
-  const drop = new Uint8Array(faces.length / 3);
-  const edges = only ? null : connectivity(faces, vertexCount).edgeFaces;
-  const { offsets, list } = edges ?? { offsets: null, list: null };
+export function nonManifoldFaces(faces, vertexCount, since = null) {
+  const faceCount = faces.length / 3, drop = new Uint8Array(faceCount);
+  const around = connectivity(faces, vertexCount).vertexFaces;
   // The face's vertex after `a` (its direction along the edge a-b).
   const after = (f, a) => { for (let j = 0; j < 3; j++) if (faces[3 * f + j] === a) return faces[3 * f + (j + 1) % 3]; };
-  for (let e = 0; e < (edges?.count ?? 0); e++) {
-    const size = offsets[e + 1] - offsets[e];
-    let bad = size > 2;
-    // Two faces must walk the edge in opposite directions.
-    if (size === 2) bad = after(list[offsets[e]], edges.a[e]) === after(list[offsets[e] + 1], edges.a[e]);
-    if (bad) for (let i = offsets[e]; i < offsets[e + 1]; i++) drop[list[i]] = 1;
+  // An edge is bad if more than two faces share it, or two walk it the same way.
+  const badEdge = (size, a, f0, f1) => size > 2 || (size === 2 && after(f0, a) === after(f1, a));
+  if (!since) {
+    const edges = connectivity(faces, vertexCount).edgeFaces, { offsets, list } = edges;
+    for (let e = 0; e < edges.count; e++)
+      if (badEdge(offsets[e + 1] - offsets[e], edges.a[e], list[offsets[e]], list[offsets[e] + 1]))
+        for (let i = offsets[e]; i < offsets[e + 1]; i++) drop[list[i]] = 1;
+  } else {
+    // The appended faces' edges: their faces are those around the smaller end that hold the larger.
+    const holding = [];
+    for (let g = since.appendedFrom; g < faceCount; g++)
+      for (let j = 0; j < 3; j++) {
+        const x = faces[3 * g + j], y = faces[3 * g + (j + 1) % 3], a = x < y ? x : y, b = x < y ? y : x;
+        holding.length = 0;
+        for (let e = around.offsets[a]; e < around.offsets[a + 1]; e++) {
+          const f = around.list[e];
+          if (faces[3 * f] === b || faces[3 * f + 1] === b || faces[3 * f + 2] === b) holding.push(f);
+        }
+        if (badEdge(holding.length, a, holding[0], holding[1])) for (const f of holding) drop[f] = 1;
+      }
+  }
+  // The vertices whose fans are looked at (null: all).
+  let only = null;
+  if (since) {
+    only = Uint8Array.from(since.touched);
+    for (let g = since.appendedFrom; g < faceCount; g++) for (let j = 0; j < 3; j++) only[faces[3 * g + j]] = 1;
+    for (let f = 0; f < faceCount; f++) if (drop[f]) for (let j = 0; j < 3; j++) only[faces[3 * f + j]] = 1;
   }
   // Fans: the kept faces around a vertex, joined across the edges at it that two of them share
   // (union-find over the few faces of one vertex).
-  const around = connectivity(faces, vertexCount).vertexFaces;
   // The faces kept by the edge step (the fans of every vertex are taken from them).
   const afterEdges = drop.slice();
   let most = 0;
@@ -419,14 +441,16 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     return touched;
   };
   // Non-manifold faces dropped until none is left (after the first call, only where faces went).
-  const dropNonManifold = () => {
-    let only = null;
+  // `since`: what changed since the mesh was last left with none (nonManifoldFaces), or null.
+  // Returns whether none is left.
+  const dropNonManifold = (since = null) => {
     for (let round = 0; round < 16; round++) {
-      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3, only);
-      if (count === 0) break;
+      const { drop, count } = nonManifoldFaces(mesh.faces, mesh.positions.length / 3, since);
+      if (count === 0) return true;
       report.nonManifoldFaces += count;
-      only = keepFaces(drop.map((d) => 1 - d));
+      since = { touched: keepFaces(drop.map((d) => 1 - d)), appendedFrom: mesh.faces.length / 3 };
     }
+    return false;
   };
   const duplicates = cancelDuplicates(mesh.faces);
   report.finFaces = duplicates.finFaces;
@@ -437,9 +461,12 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   report.reorientedFaces = oriented.reversed;
   report.oneSidedEdges = oriented.conflicts;
   report.foldedFaces = 0;
-  // Folds left by the input or by a fill are cut out with their neighbours and filled again.
+  // Folds left by the input or by a fill are cut out with their neighbours and filled again. After
+  // the first pass, what the fill appended and the folds' removal touched is all that changed
+  // since the non-manifold faces were dropped (if that ran to the end): only that is checked.
+  let changed = null;
   for (let pass = 0; pass < 6; pass++) {
-    dropNonManifold();
+    const clean = dropNonManifold(changed);
     if (pass === 0 && keepLargest && mesh.faces.length > 0) {
       const largest = keepLargestComponent(mesh);
       mesh = largest.mesh;
@@ -450,11 +477,16 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     report.holeEdges += filled.holeEdges;
     report.holesLeft = filled.holesLeft;
     report.largestHoleLeft = filled.largestLeft;
+    const appendedAt = mesh.faces.length / 3;
     mesh = filled.mesh;
     const folds = foldedFaces(mesh);
     if (folds.count === 0 || filled.holesLeft > 0 || pass === 5) break;
     report.foldedFaces += folds.count;
-    keepFaces(folds.drop.map((d) => 1 - d));
+    const keep = folds.drop.map((d) => 1 - d), touched = keepFaces(keep);
+    // The appended faces stay last, in order: they start after the kept faces that were there before.
+    let appendedFrom = 0;
+    for (let f = 0; f < appendedAt; f++) appendedFrom += keep[f];
+    changed = clean ? { touched, appendedFrom } : null;
   }
   // A fill can repeat a face that is still there (a 3-edge hole closed by the face across it):
   // such pairs cancel, and what they leave is cleaned and filled once more.
