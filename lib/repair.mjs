@@ -233,17 +233,17 @@ export function nonManifoldFaces(faces, vertexCount, since = null) {
 /**
  * Closes the boundary loops of at most `maxHoleEdges` edges (a triangle for three edges, else a
  * fan around a new vertex at the loop's centroid). Needs manifold vertices (one boundary loop
- * through each boundary vertex at most). Returns the new mesh and what it did.
+ * through each boundary vertex at most). Returns the new mesh and what it did. `touched` (a vertex
+ * mask, or null): the mesh was closed, then faces went around those vertices only: a boundary
+ * edge has both ends there (the same loops, found without the whole mesh's twins).
  */
-function fillHoles(mesh, maxHoleEdges) {
+export function fillHoles(mesh, maxHoleEdges, touched = null) {
   const { positions, faces } = mesh;
   const next = new Map();  // boundary half-edge of the hole, b -> a for a face edge a -> b without twin
-  const twins = connectivity(faces, positions.length / 3).twins;
-  for (let f = 0; f < faces.length / 3; f++)
-    for (let j = 0; j < 3; j++) {
-      const a = faces[3 * f + j], b = faces[3 * f + (j + 1) % 3];
-      if (twins[3 * f + j] < 0) next.set(b, a);
-    }
+  for (const h of boundaryHalfEdges(faces, positions.length / 3, touched)) {
+    const f = (h / 3) | 0, j = h % 3;
+    next.set(faces[3 * f + (j + 1) % 3], faces[h]);
+  }
   // What the fills add (the mesh's own arrays are copied once at the end: copied into plain arrays
   // up front, a large scan's millions of numbers took seconds per pass).
   const addedPositions = [], addedFaces = [], vertexCount = positions.length / 3;
@@ -275,33 +275,108 @@ function fillHoles(mesh, maxHoleEdges) {
 }
 
 /**
+ * The half-edges (3f + j: face f's edge from corner j) whose twin is missing, in increasing order.
+ * `touched`: as fillHoles' (only half-edges with both ends there are looked at), or null: all.
+ */
+function boundaryHalfEdges(faces, vertexCount, touched) {
+  const out = [];
+  if (!touched) {
+    const twins = connectivity(faces, vertexCount).twins;
+    for (let h = 0; h < twins.length; h++) if (twins[h] < 0) out.push(h);
+    return out;
+  }
+  const around = connectivity(faces, vertexCount).vertexFaces;
+  for (let a = 0; a < touched.length; a++) {
+    if (!touched[a]) continue;
+    for (let e = around.offsets[a]; e < around.offsets[a + 1]; e++) {
+      const f = around.list[e];
+      for (let j = 0; j < 3; j++) {
+        if (faces[3 * f + j] !== a) continue;
+        const b = faces[3 * f + (j + 1) % 3];
+        if (touched[b] && twinFace(faces, around, a, b) < 0) out.push(3 * f + j);
+      }
+    }
+  }
+  return out.sort((x, y) => x - y);
+}
+
+/** The last face (by index) holding the directed edge b -> a, the twin of a -> b (as connectivity's twins), or -1. */
+function twinFace(faces, around, a, b) {
+  for (let e = around.offsets[b + 1] - 1; e >= around.offsets[b]; e--) {
+    const g = around.list[e];
+    for (let j = 0; j < 3; j++) if (faces[3 * g + j] === b && faces[3 * g + (j + 1) % 3] === a) return g;
+  }
+  return -1;
+}
+
+/** The unit normal of face f into out[at..at+2] (0 for a degenerate face). */
+function unitFaceNormal(p, faces, f, out, at) {
+  const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
+  const l = hypot3(n[0], n[1], n[2]) || 1;
+  for (let k = 0; k < 3; k++) out[at + k] = n[k] / l;
+}
+
+/**
  * Folded faces: faces whose normal points against those of at least two of their three edge
  * neighbours (more than 120 degrees apart), as crude decimation and hole filling leave them. A
  * mask of those faces and their neighbours (a hole that refills as a fan), and its count.
+ * `since` ({ touched: a vertex mask, appendedFrom }, or null: every face is checked): the mesh is
+ * one whose folded faces were all cut out, with faces removed around the touched vertices and
+ * faces appended from index appendedFrom on; a face's neighbours changed only across an edge with
+ * both ends among those vertices and the appended faces' corners, and only those faces are checked.
  */
-function foldedFaces(mesh) {
+export function foldedFaces(mesh, since = null) {
   const { positions: p, faces } = mesh;
-  const faceCount = faces.length / 3;
-  const normals = new Float64Array(faces.length);
-  for (let f = 0; f < faceCount; f++) {
-    const n = triangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2]);
-    const l = hypot3(n[0], n[1], n[2]) || 1;
-    for (let k = 0; k < 3; k++) normals[3 * f + k] = n[k] / l;
-  }
-  const twins = connectivity(faces, p.length / 3).twins;
+  const faceCount = faces.length / 3, vertexCount = p.length / 3;
   const drop = new Uint8Array(faceCount);
   let count = 0;
-  for (let f = 0; f < faceCount; f++) {
-    // (No array per face: on a large scan those were most of this step.)
+  if (!since) {
+    const normals = new Float64Array(faces.length);
+    for (let f = 0; f < faceCount; f++) unitFaceNormal(p, faces, f, normals, 3 * f);
+    const twins = connectivity(faces, vertexCount).twins;
+    for (let f = 0; f < faceCount; f++) {
+      // (No array per face: on a large scan those were most of this step.)
+      let against = 0;
+      for (let j = 0; j < 3; j++) {
+        const g = twins[3 * f + j];
+        if (g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
+      }
+      if (against < 2) continue;
+      count++;
+      drop[f] = 1;
+      for (let j = 0; j < 3; j++) if (twins[3 * f + j] >= 0) drop[twins[3 * f + j]] = 1;
+    }
+    return { drop, count };
+  }
+  const changed = new Uint8Array(vertexCount);
+  changed.set(since.touched.subarray(0, Math.min(since.touched.length, vertexCount)));
+  for (let i = 3 * since.appendedFrom; i < faces.length; i++) changed[faces[i]] = 1;
+  const around = connectivity(faces, vertexCount).vertexFaces;
+  // The faces with an edge between two changed vertices, in increasing order.
+  const look = new Uint8Array(faceCount), candidates = [];
+  for (let v = 0; v < vertexCount; v++) {
+    if (!changed[v]) continue;
+    for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) {
+      const f = around.list[e];
+      if (look[f]) continue;
+      const a = changed[faces[3 * f]], b = changed[faces[3 * f + 1]], c = changed[faces[3 * f + 2]];
+      if (a + b + c >= 2) look[f] = 1, candidates.push(f);
+    }
+  }
+  const own = new Float64Array(3), other = new Float64Array(3), twins = [0, 0, 0];
+  for (const f of candidates) {
+    unitFaceNormal(p, faces, f, own, 0);
     let against = 0;
     for (let j = 0; j < 3; j++) {
-      const g = twins[3 * f + j];
-      if (g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
+      const g = (twins[j] = twinFace(faces, around, faces[3 * f + j], faces[3 * f + (j + 1) % 3]));
+      if (g < 0) continue;
+      unitFaceNormal(p, faces, g, other, 0);
+      if (own[0] * other[0] + own[1] * other[1] + own[2] * other[2] < -0.5) against++;
     }
     if (against < 2) continue;
     count++;
     drop[f] = 1;
-    for (let j = 0; j < 3; j++) if (twins[3 * f + j] >= 0) drop[twins[3 * f + j]] = 1;
+    for (let j = 0; j < 3; j++) if (twins[j] >= 0) drop[twins[j]] = 1;
   }
   return { drop, count };
 }
@@ -427,6 +502,9 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   let mesh = welded;
   // The mesh stays welded as faces go: only the vertices no face uses are dropped. Returns a mask
   // of the dropped faces' corners still used (new numbering), or null if nothing was dropped.
+  // The vertices the removals touched since the last fill left the mesh closed (in the numbering
+  // as it goes), or null: then the next fill and fold check look only there (see the passes).
+  let sinceFill = null;
   const keepFaces = (keep) => {
     let count = 0;
     for (let f = 0; f < keep.length; f++) count += keep[f] ? 1 : 0;
@@ -438,6 +516,11 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     const touched = new Uint8Array(mesh.positions.length / 3);
     for (let f = 0; f < keep.length; f++)
       if (!keep[f]) for (let j = 0; j < 3; j++) if (kept.order[old[3 * f + j]] >= 0) touched[kept.order[old[3 * f + j]]] = 1;
+    if (sinceFill) {
+      const carried = touched.slice();
+      for (let v = 0; v < sinceFill.length; v++) if (sinceFill[v] && kept.order[v] >= 0) carried[kept.order[v]] = 1;
+      sinceFill = carried;
+    }
     return touched;
   };
   // Non-manifold faces dropped until none is left (after the first call, only where faces went).
@@ -464,24 +547,28 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   // Folds left by the input or by a fill are cut out with their neighbours and filled again. After
   // the first pass, what the fill appended and the folds' removal touched is all that changed
   // since the non-manifold faces were dropped (if that ran to the end): only that is checked.
+  // Likewise a fill of a mesh without non-manifold faces that closes every hole leaves it closed,
+  // and the folds it had are cut out: the next holes and folds can only be where faces went since
+  // (sinceFill) or were appended.
   let changed = null;
   for (let pass = 0; pass < 6; pass++) {
-    const clean = dropNonManifold(changed);
+    const clean = dropNonManifold(changed), local = sinceFill;
     if (pass === 0 && keepLargest && mesh.faces.length > 0) {
       const largest = keepLargestComponent(mesh);
       mesh = largest.mesh;
       report.droppedComponents = largest.dropped;
     }
-    const filled = fillHoles(mesh, maxHoleEdges);
+    const filled = fillHoles(mesh, maxHoleEdges, local);
     report.holesFilled += filled.holesFilled;
     report.holeEdges += filled.holeEdges;
     report.holesLeft = filled.holesLeft;
     report.largestHoleLeft = filled.largestLeft;
     const appendedAt = mesh.faces.length / 3;
     mesh = filled.mesh;
-    const folds = foldedFaces(mesh);
+    const folds = foldedFaces(mesh, local ? { touched: local, appendedFrom: appendedAt } : null);
     if (folds.count === 0 || filled.holesLeft > 0 || pass === 5) break;
     report.foldedFaces += folds.count;
+    sinceFill = clean ? new Uint8Array(mesh.positions.length / 3) : null;
     const keep = folds.drop.map((d) => 1 - d), touched = keepFaces(keep);
     // The appended faces stay last, in order: they start after the kept faces that were there before.
     let appendedFrom = 0;

@@ -1,16 +1,44 @@
-// lib/repair.mjs's non-manifold check told what changed since a mesh had no non-manifold face
-// (faces removed around some vertices, faces appended: what the repair's passes do) finds the same
-// faces as checking the whole mesh: over random removals and appended faces of every kind that
-// makes a mesh non-manifold (a duplicate, a reversed copy, a third face on an edge, a face joining
-// two fans at a vertex, a fan closing a hole).
+// lib/repair.mjs's checks told what changed since the last pass (faces removed around some
+// vertices, faces appended: what the repair's passes do) find what checking the whole mesh finds:
+// the non-manifold faces, over random removals and appended faces of every kind that makes a mesh
+// non-manifold (a duplicate, a reversed copy, a third face on an edge, a face joining two fans at a
+// vertex, a fan closing a hole); the holes of a closed mesh with faces removed (the same fill); the
+// folds of a mesh whose folds were cut out and its holes filled.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import bunny from 'bunny';
-import { nonManifoldFaces } from '../../lib/repair.mjs';
+import { fillHoles, foldedFaces, nonManifoldFaces } from '../../lib/repair.mjs';
+
+/** A closed sphere of rows x columns quads (split) and two poles. */
+function sphere(rows, columns) {
+  const positions = [0, 0, 1], faces = [];
+  for (let r = 1; r < rows; r++)
+    for (let c = 0; c < columns; c++) {
+      const t = (Math.PI * r) / rows, q = (2 * Math.PI * c) / columns;
+      positions.push(Math.sin(t) * Math.cos(q), Math.sin(t) * Math.sin(q), Math.cos(t));
+    }
+  const south = positions.length / 3, at = (r, c) => 1 + (r - 1) * columns + (c % columns);
+  positions.push(0, 0, -1);
+  for (let c = 0; c < columns; c++) faces.push(0, at(1, c), at(1, c + 1), south, at(rows - 1, c + 1), at(rows - 1, c));
+  for (let r = 1; r < rows - 1; r++)
+    for (let c = 0; c < columns; c++) faces.push(at(r, c), at(r + 1, c), at(r + 1, c + 1), at(r, c), at(r + 1, c + 1), at(r, c + 1));
+  return { positions: Float64Array.from(positions), faces: Uint32Array.from(faces) };
+}
+
+/** The mesh without the faces of `drop` (a mask), and the mask of their corners. */
+function without(mesh, drop) {
+  const faces = [], touched = new Uint8Array(mesh.positions.length / 3);
+  for (let f = 0; f < drop.length; f++) {
+    if (!drop[f]) faces.push(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]);
+    else for (let j = 0; j < 3; j++) touched[mesh.faces[3 * f + j]] = 1;
+  }
+  return { mesh: { positions: mesh.positions, faces: Uint32Array.from(faces) }, touched };
+}
+
+const seeded = (seed) => () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
 
 test('the check of what changed finds the faces of the check of the whole mesh', () => {
-  let seed = 11;
-  const random = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+  const random = seeded(11);
   const pick = (n) => Math.floor(random() * n);
   const vertexCount = bunny.positions.length;
   // The bunny without its non-manifold faces (none: checked) is the clean mesh.
@@ -50,4 +78,50 @@ test('the check of what changed finds the faces of the check of the whole mesh',
   }
   // The trials made non-manifold faces to find.
   assert.ok(found > 100, `${found} non-manifold faces found`);
+});
+
+test('the fill of a closed mesh with faces removed, told where they went, fills the same holes', () => {
+  const random = seeded(5), closed = sphere(24, 32), faceCount = closed.faces.length / 3;
+  let filled = 0;
+  for (let trial = 0; trial < 40; trial++) {
+    const drop = new Uint8Array(faceCount);
+    // Single faces and patches (holes of 3 to tens of edges, some joined).
+    for (let r = 0, n = 1 + Math.floor(random() * 20); r < n; r++) {
+      const f = Math.floor(random() * faceCount);
+      drop[f] = 1;
+      if (random() < 0.3) for (let g = f; g < Math.min(faceCount, f + 6); g++) drop[g] = 1;
+    }
+    const { mesh, touched } = without(closed, drop);
+    const whole = fillHoles(mesh, 30), local = fillHoles(mesh, 30, touched);
+    for (const key of ['holesFilled', 'holeEdges', 'holesLeft', 'largestLeft']) assert.equal(local[key], whole[key], `trial ${trial}: ${key}`);
+    assert.deepEqual(local.mesh.faces, whole.mesh.faces, `trial ${trial}: faces`);
+    assert.deepEqual(local.mesh.positions, whole.mesh.positions, `trial ${trial}: positions`);
+    filled += whole.holesFilled;
+  }
+  assert.ok(filled > 100, `${filled} holes filled`);
+});
+
+test('the fold check told what the cut and the fill changed finds the folds of the whole mesh', () => {
+  const random = seeded(9);
+  let found = 0;
+  for (let trial = 0; trial < 40; trial++) {
+    // A sphere with vertices pushed through the surface (folds), its folds cut out and filled: the
+    // fill's fans and their neighbours can fold again (a pushed vertex on the hole's rim).
+    // Every other trial, noise on every vertex too: faces with one neighbour against them (not
+    // folded, kept) that a fan beside them can fold.
+    const mesh = sphere(16, 20), n = mesh.positions.length / 3;
+    for (let r = 0, m = 1 + Math.floor(random() * 12); r < m; r++) {
+      const v = Math.floor(random() * n), s = -0.6 - random();
+      for (let k = 0; k < 3; k++) mesh.positions[3 * v + k] *= s;
+    }
+    if (trial % 2) for (let i = 0; i < mesh.positions.length; i++) mesh.positions[i] += 0.25 * (random() - 0.5);
+    const first = foldedFaces(mesh);
+    const cut = without(mesh, first.drop), appendedFrom = cut.mesh.faces.length / 3;
+    const filled = fillHoles(cut.mesh, 1000).mesh;
+    const whole = foldedFaces(filled), local = foldedFaces(filled, { touched: cut.touched, appendedFrom });
+    assert.equal(local.count, whole.count, `trial ${trial}: count`);
+    assert.deepEqual(local.drop, whole.drop, `trial ${trial}: the faces dropped`);
+    found += whole.count;
+  }
+  assert.ok(found >= 5, `${found} folds found after the fills`);
 });
