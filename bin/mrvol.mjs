@@ -603,10 +603,24 @@ COMMANDS.theta = async (mrvol, values, positionals) =>
 const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, describeTensor,
                    loadMesh, parseList };
 
+/**
+ * argv with a negative number after an option that takes a value joined to it (`--levels -1` as
+ * `--levels=-1`): parseArgs calls it ambiguous, where the option's own check says what is wrong.
+ */
+function joinNegativeValues(argv) {
+  const out = [];
+  for (let i = 0; i < argv.length; i++) {
+    const name = /^--[a-z-]+$/.test(argv[i]) ? argv[i].slice(2) : null;
+    if (name && OPTIONS[name]?.type === 'string' && /^-\.?\d/.test(argv[i + 1] ?? '')) out.push(`${argv[i]}=${argv[++i]}`);
+    else out.push(argv[i]);
+  }
+  return out;
+}
+
 export async function main(argv) {
   let values, positionals;
   try {
-    ({ values, positionals } = parseArgs({ args: argv, options: OPTIONS, allowPositionals: true, strict: true }));
+    ({ values, positionals } = parseArgs({ args: joinNegativeValues(argv), options: OPTIONS, allowPositionals: true, strict: true }));
   } catch (e) {
     process.stderr.write(`mrvol: error: ${e.message}\n${usage()}\n`);
     return 2;

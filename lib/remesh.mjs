@@ -488,6 +488,9 @@ const REFINED_RADIUS = 0.03;
 // Above this the Maps and Sets of the JS collapse take too long: the simplifier's base instead.
 const PARAMETRISE_MAX_FACES = 60000;
 
+/** The most faces a remesh makes: those of the 2,621,442-vertex sphere, the largest mesh the editor is benchmarked on (issue 14). */
+export const MAX_RESULT_FACES = 5242880;
+
 /** `lock` (a mask over the vertices of `mesh`, or null) as a mask over those of `base` (by position). */
 function lockOf(base, mesh, lock) {
   if (!lock) return null;
@@ -1259,6 +1262,16 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     throw new MrvolError('remesh expects a mesh { positions: Float64Array, faces: Uint32Array }');
   if (options.baseFaces !== undefined && !(Number.isInteger(options.baseFaces) && options.baseFaces >= 4))
     throw new MrvolError(`baseFaces must be an integer >= 4, got ${options.baseFaces}`);
+  // Levels given: a result past what the editor is made for is refused before any work, not after
+  // minutes of fitting and an out-of-memory error (6 levels on 4000 base faces: 16 million faces, 111 s).
+  if (!auto) {
+    const faces = input.faces.length / 3, base = Math.min(options.baseFaces ?? defaultBaseFaces(faces), faces);
+    const made = base * 4 ** options.levels;
+    if (made > MAX_RESULT_FACES)
+      throw new MrvolError(`${options.levels} levels on ${base} base faces would make about ${made.toLocaleString('en-US')} faces, ` +
+                           `more than the ${MAX_RESULT_FACES.toLocaleString('en-US')} the remesher makes (the 2.6-million-vertex ` +
+                           'meshes the editor is made for): ask fewer levels or base faces');
+  }
   const relaxIterations = options.relaxIterations ?? 4;
   const maxSamples = options.maxSamples ?? 200000;
   const goal = options.hausdorffGoal ?? DEFAULT_HAUSDORFF;

@@ -174,6 +174,14 @@ describe('errors', () => {
     failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '13', '-o', file('big.obj')), /levels must be between 0 and 12/);
   });
 
+  test('a negative number given to an option: the option\'s own message', () => {
+    usageError(mrvolCli('remesh', file('ico.obj'), '--levels', '-1', '-o', file('never.obj')), /^mrvol: error: --levels must be in 0\.\.6, got -1$/);
+    usageError(mrvolCli('remesh', file('ico.obj'), '--base-faces', '-5', '-o', file('never.obj')), /^mrvol: error: --base-faces must be at least 4, got -5$/);
+    // (subdivide checks its levels in the API, as for 13: exit 1.)
+    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '-2', '-o', file('never.obj')), /levels must be between 0 and 12, got -2/);
+    assert.ok(!existsSync(file('never.obj')));
+  });
+
   test('output that cannot be written: exit 1', () => {
     failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file(join('no', 'such', 'dir.obj'))), /cannot write/);
   });

@@ -283,6 +283,17 @@ describe('remesh (API)', () => {
     await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 9 }), /levels must be an integer in 0..6/);
   });
 
+  test('levels and a base that would make more faces than the editor is made for: refused at once', async () => {
+    // The bunny (3674 faces) at 6 levels on 2000 base faces: 8 million faces. (It took minutes of
+    // fitting, then an out-of-memory error, before the size was checked first.)
+    const started = performance.now();
+    await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 6, baseFaces: 2000, repair: true }),
+                         (e) => e instanceof MrvolError && /^6 levels on 2000 base faces would make about 8,192,000 faces, more than the 5,242,880 .*ask fewer levels or base faces$/.test(e.message));
+    assert.ok(performance.now() - started < 5000, 'refused before any fitting');
+    // A base larger than the input is the input: 3674 faces at 6 levels, 15 million.
+    await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 6, baseFaces: 100000 }), /: 6 levels on 3674 base faces would make about 15,048,704 faces,/);
+  });
+
   test('keepLargest drops the smaller components', async () => {
     const small = tetrahedron([30, 0, 0]);
     const r = await remesh(mrvol, concat(torusMesh(), small), { levels: 1, baseFaces: 200, keepLargest: true });
