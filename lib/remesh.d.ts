@@ -8,7 +8,9 @@ export interface RemeshOptions {
   /**
    * Levels of 1-to-4 splits over the base mesh (0..6). Default: from 2, as many as bring the
    * two-sided Hausdorff distance within `hausdorffGoal`, within `maxVertices`; still above it, a
-   * base twice and four times as large is tried.
+   * base twice and four times as large is tried. Given, with the base (given or default) it must
+   * make at most 5,242,880 faces (MAX_RESULT_FACES: the 2.6-million-vertex meshes the editor is
+   * made for); more is refused at once.
    */
   levels?: number;
   /**
@@ -231,3 +233,6 @@ export function weld(mesh: Mesh): Mesh & { merged: number; droppedFaces: number 
 
 /** remesh()'s default base size (faces over all components) for an input of `inputFaces` faces. */
 export function defaultBaseFaces(inputFaces: number): number;
+
+/** The most faces remesh() makes with levels given (5,242,880: the 2.6-million-vertex meshes the editor is made for). */
+export const MAX_RESULT_FACES: number;
