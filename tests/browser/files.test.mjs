@@ -184,6 +184,33 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await page.screenshot({ path: join(RESULTS_DIR, 'files-remeshed-base-grown.png') });
   });
 
+  test('a remesh past the size the editor is made for is refused at once, in words; the form stays (teapot, 6 levels on 4000 faces)', async () => {
+    await makeCorpus({ big: false, names: ['teapot'] });
+    await openFile('teapot.glb', await readFile(CORPUS.find((c) => c.name === 'teapot').file));
+    await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
+    // The automatic remesh (defaults) stopped; 6 levels on 4000 of its 4032 faces asked: 16 million faces.
+    await page.locator('[data-testid="remesh-cancel"]').click();
+    const current = await page.evaluate(() => window.mrvolDebug.modelName());
+    await page.locator('[data-testid="remesh-levels"]').fill('6');
+    await page.locator('[data-testid="remesh-base"]').fill('4000');
+    await page.locator('[data-testid="remesh-go"]').click();
+    const stage = page.locator('[data-testid="remesh-stage"]');
+    await page.waitForFunction(() => /^remeshing failed: /.test(document.querySelector('[data-testid="remesh-stage"]').textContent), null, { timeout: 30_000 });
+    assert.match(await stage.textContent(), /^remeshing failed: 6 levels on 4000 base faces would make about 16,384,000 faces, more than the 5,242,880 .*ask fewer levels or base faces$/);
+    assert.equal(await page.locator('[data-testid="remesh-progress"]').isVisible(), false);
+    assert.equal(await page.locator('[data-testid="remesh-go"]').isEnabled(), true);
+    assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
+    await page.screenshot({ path: join(RESULTS_DIR, 'files-remesh-too-large.png') });
+    // Asked again within the size (the defaults), the same form remeshes it.
+    await page.locator('[data-testid="remesh-levels"]').fill('0');
+    await page.locator('[data-testid="remesh-base"]').fill('0');
+    await page.locator('[data-testid="remesh-go"]').click();
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'teapot-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 20, -15);
+    assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
+  });
+
   test('hostile files of every format give one clear message; the model stays usable', async () => {
     const expected = JSON.parse(await readFile(join(BAD, 'expected-formats.json'), 'utf8')).files;
     const current = await page.evaluate(() => window.mrvolDebug.modelName());
