@@ -83,10 +83,13 @@ describe('web editor: sessions in IndexedDB', { timeout: 600_000 }, () => {
       const page = await browser.newPage();
       const cdp = await page.context().newCDPSession(page);
       const origin = new URL(server.url).origin;
+      // A 0.9 MB OBJ opened as a file: its text goes into the session, over a 100 kB quota. The quota
+      // is set before the page writes anything: after each quota check Chromium lets writes through
+      // for up to 30 s against the space it found then (BucketContext::kBucketSpaceCacheTimeLimit),
+      // so a quota lowered after the sample's first save may not be met by the file's save at once.
+      await cdp.send('Storage.overrideQuotaForOrigin', { origin, quotaSize: 100_000 });
       await page.goto(server.url);
       await waitReady(page);
-      // a 0.9 MB OBJ opened as a file: its text goes into the session, over a 100 kB quota
-      await cdp.send('Storage.overrideQuotaForOrigin', { origin, quotaSize: 100_000 });
       await page.locator('[data-testid="open-file"]').setInputFiles(join(root, 'public/models/dragon-remeshed.obj'));
       await page.waitForFunction(() => window.mrvolDebug.modelName() === 'dragon-remeshed.obj' && window.mrvolDebug.ready());
       const problem = page.locator('[data-testid="storage-problem"]');
