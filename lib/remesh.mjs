@@ -1682,6 +1682,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     // (Kept: no larger base is tried; the rounds below are skipped.)
     if (!earlyDone && !proxyDone) tipsRounds(false);
     // Only the pieces that are still far get the larger base (a lid the fit cuts, not the body).
+    let lastEnlarged = 1;
     for (const scale of [2, 4]) {
       if (distance(measured) <= goal || earlyDone || proxyDone) break;
       // (Pieces whose input vertices are all near: the far side is the result's, say where
@@ -1690,10 +1691,13 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       if (!far.some((f) => f)) far = far.map(() => true);
       // The far pieces' scale lowered so that the bases stay within the cage goal (500 handles:
       // 880 faces asked for leaves room for the small pieces' own bases and the simplifier's count);
-      // none less than 3/4 of the scale (a base a few percent larger fits no closer; the teapot's cage 598 -> 479 handles).
+      // none less than 3/4 of the scale (a base a few percent larger fits no closer; the teapot's cage 598 -> 479 handles),
+      // unless a quarter larger than the step before (the teapot scaled by 1.001: its far pieces 2.77x after 2x, 1.217%
+      // without that step, 0.45% with it; as given 3.08x, 0.453%).
       const farShare = pieces.reduce((t, p, i) => t + (far[i] ? p.faces : 0), 0) / inputFaces;
       const enlarged = Math.min(scale, (LARGER_BASE_FACES / requested - (1 - farShare)) / farShare);
-      if (enlarged < 0.75 * scale) break;
+      if (enlarged < 0.75 * scale && !(lastEnlarged > 1 && enlarged >= 1.25 * lastEnlarged)) break;
+      lastEnlarged = enlarged;
       const scales = far.map((f) => (f ? enlarged : 1));
       const overall = pieces.reduce((t, p, i) => t + scales[i] * p.faces, 0) / inputFaces;
       let l = result.levels;
