@@ -1692,8 +1692,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
       // The far pieces' scale lowered so that the bases stay within the cage goal (500 handles:
       // 880 faces asked for leaves room for the small pieces' own bases and the simplifier's count);
       // none less than 3/4 of the scale (a base a few percent larger fits no closer; the teapot's cage 598 -> 479 handles),
-      // unless a quarter larger than the step before (the teapot scaled by 1.001: its far pieces 2.77x after 2x, 1.217%
-      // without that step, 0.45% with it; as given 3.08x, 0.453%).
+      // unless a quarter larger than the step before (the teapot scaled by 1.001: its far pieces 2.77x after 2x; 1.217%
+      // without that step, 0.751% with it; as read 3.08x, 0.453%).
       const farShare = pieces.reduce((t, p, i) => t + (far[i] ? p.faces : 0), 0) / inputFaces;
       const enlarged = Math.min(scale, (LARGER_BASE_FACES / requested - (1 - farShare)) / farShare);
       if (enlarged < 0.75 * scale && !(lastEnlarged > 1 && enlarged >= 1.25 * lastEnlarged)) break;
