@@ -20,24 +20,29 @@ export const PROXY_RATIO = 8, PROXY_MIN_TARGET = 55000;
 export const PROXY_LIMIT = 0.0004;
 /** Simplifications per piece (the 871k's spikes: 3). */
 const PROXY_ROUNDS = 4;
+/** After the rounds, a proxy within this many times the limit is taken (0.16% of the diagonal: a third of the fits' goal). */
+const PROXY_SLACK = 4;
 
 /**
  * A proxy of one piece ({ mesh, genus }): { mesh, genus, faces, distance, surface, rounds }, one
- * closed 2-manifold of at most the piece's genus with every input vertex within `limit`, or null
- * (the simplifier pinched thin parts into fins or pieces apart that its repair does not mend, or
- * a vertex is left beyond the limit). `surfaceOf(mesh)` makes a Surface.
+ * closed 2-manifold of at most the piece's genus with every input vertex within `limit` (within
+ * `slack` x `limit` after the last of `rounds` simplifications, or when nothing is left to lock),
+ * or null (the simplifier pinched thin parts into fins or pieces apart that its repair does not
+ * mend, or a vertex is left beyond that). `surfaceOf(mesh)` makes a Surface.
  */
-export function proxyPiece(mrvol, piece, { target, limit, surfaceOf }) {
+export function proxyPiece(mrvol, piece, { target, limit, surfaceOf, rounds = PROXY_ROUNDS, slack = PROXY_SLACK }) {
   const { mesh } = piece;
   const n = mesh.positions.length / 3;
   const positions32 = Float32Array.from(mesh.positions);
   const lock = new Uint8Array(n);
-  for (let round = 0; round < PROXY_ROUNDS; round++) {
+  for (let round = 0; round < rounds; round++) {
     const [indices] = MeshoptSimplifier.simplifyWithAttributes(mesh.faces, positions32, 3, new Float32Array(0), 0, [], lock, 3 * target, 1.0, []);
     let proxy = compact(mesh, indices);
-    // Pinched thin parts (fins, a non-manifold edge) cleaned as the bases are (small holes only).
+    // Pinched thin parts (fins, a non-manifold edge, faces made twice: the core refuses those) cleaned
+    // as the bases are (small holes only). (Refused ones were given up: dragon-203k rotated, a pair of
+    // duplicate faces in its first proxy, was fitted without a proxy: 1.736% against 0.464% as read.)
     let checked = check(mrvol, proxy);
-    if (checked && !checked.ok) proxy = repair(proxy, { maxHoleEdges: 12 }).mesh, checked = check(mrvol, proxy);
+    if (!checked?.ok) proxy = repair(proxy, { maxHoleEdges: 12 }).mesh, checked = check(mrvol, proxy);
     // Tunnels the simplifier closes at this size close in any cage made by it too (a scan's tiny
     // tunnels): the bases are checked against the piece's genus as before. (The 871k dragon's
     // proxies came out in 3 to 17 pieces: never clean.)
@@ -51,7 +56,14 @@ export function proxyPiece(mrvol, piece, { target, limit, surfaceOf }) {
       worst = Math.max(worst, distances[v]);
       if (distances[v] > limit && !lock[v]) lock[v] = 1, far++;
     }
-    if (worst <= limit) return { mesh: proxy, genus: checked.genus, faces: proxy.faces.length / 3, distance: worst, surface, rounds: round + 1 };
+    // The last round, or nothing left to lock: within PROXY_SLACK x the limit the proxy is taken still.
+    // (A thin part the simplifier folds into faces made twice, which the repair takes out, leaves its
+    // locked vertices out every round: dragon-203k rotated 1.70x, scaled by 1.001 3.73x; without a
+    // proxy they were fitted at 1.736% and 0.782%. The fits are measured, dragged and nudged against
+    // the input itself in the end.)
+    const last = round === rounds - 1 || far === 0;
+    if (worst <= limit || (last && worst <= slack * limit))
+      return { mesh: proxy, genus: checked.genus, faces: proxy.faces.length / 3, distance: worst, surface, rounds: round + 1 };
     surface.dispose();
     if (far === 0) return null;
   }

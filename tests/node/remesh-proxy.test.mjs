@@ -49,6 +49,22 @@ test('proxyPiece: the vertices the first simplification leaves beyond the limit 
   assert.ok(p.distance <= limit);
 });
 
+test('proxyPiece: after its last round a proxy within slack x the limit is taken, its distance said; beyond that none', () => {
+  const { mesh } = needledTorus(48, 96, 4);
+  const diagonal = boundingDiagonal(mesh.positions), limit = 0.0015 * diagonal;
+  const surfaceOf = (m) => new Surface(m, { normals: false });
+  // One round: the needles' tips are not locked yet, so some input vertex is beyond the limit.
+  const one = proxyPiece(mrvol, { mesh, genus: 1 }, { target: 2500, limit, surfaceOf, rounds: 1, slack: Infinity });
+  assert.ok(one && one.rounds === 1 && one.distance > limit, `the first round's proxy is beyond the limit (${one?.distance / limit}x)`);
+  const distances = surfaceOf(one.mesh).distances(mesh.positions);
+  assert.equal(Math.max(...distances), one.distance, 'its distance is the farthest input vertex\'s');
+  const ratio = one.distance / limit;
+  const within = proxyPiece(mrvol, { mesh, genus: 1 }, { target: 2500, limit, surfaceOf, rounds: 1, slack: 1.01 * ratio });
+  assert.ok(within && within.distance === one.distance, 'taken within the slack');
+  assert.equal(proxyPiece(mrvol, { mesh, genus: 1 }, { target: 2500, limit, surfaceOf, rounds: 1, slack: 0.99 * ratio }), null, 'none beyond it');
+  assert.equal(proxyPiece(mrvol, { mesh, genus: 1 }, { target: 2500, limit, surfaceOf, rounds: 1, slack: 1 }), null, 'none without slack');
+});
+
 test('proxyInput: only above minFaces, without features, and with a proxy the parametrised fit can take', () => {
   const { mesh } = needledTorus(48, 96, 4);
   const prepared = { pieces: [{ mesh, faces: mesh.faces.length / 3, genus: 1 }], inputFaces: mesh.faces.length / 3, diagonal: boundingDiagonal(mesh.positions), features: null };
