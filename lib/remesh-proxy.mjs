@@ -4,7 +4,8 @@
 // bases, emphasis and refined rounds). Each large piece is simplified by meshoptimizer to a
 // fraction of its faces, its vertices that end up farther than PROXY_LIMIT from the proxy locked
 // and the simplification made again (a scan's thin spikes, which the quadric error lets go
-// cheaply), until every input vertex is within the limit; the fits then run against the proxy and
+// cheaply), until every input vertex is within the limit (after the last round, or with nothing
+// left to lock, within PROXY_SLACK x the limit); the fits then run against the proxy and
 // only the chosen fit is measured, dragged and nudged against the input itself (lib/remesh.mjs).
 // The proxy's vertices are input vertices (same coordinates), so position keys (tips, feature
 // vertices) carry over.
@@ -16,7 +17,7 @@ import { repair } from './repair.mjs';
 export const PROXY_MIN_FACES = 150000;
 /** The proxy's faces: the input's over PROXY_RATIO, at least PROXY_MIN_TARGET. */
 export const PROXY_RATIO = 8, PROXY_MIN_TARGET = 55000;
-/** Every input vertex within this (over the diagonal) of its piece's proxy (the proxy's vertices are on the input). */
+/** Every input vertex within this (over the diagonal) of its piece's proxy (the proxy's vertices are on the input); PROXY_SLACK x this after the last round. */
 export const PROXY_LIMIT = 0.0004;
 /** Simplifications per piece (the 871k's spikes: 3). */
 const PROXY_ROUNDS = 4;
