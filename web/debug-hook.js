@@ -62,17 +62,10 @@ export function installDebugHook(app) {
       const viewer = app.viewer;
       if (!viewer?.mesh) return null;
       const { floor } = viewer.shadow;
-      const pixels = () => {
-        viewer.renderer.render(viewer.scene, viewer.camera); // the drawing buffer holds this frame now
-        const { width, height } = viewer.canvas;
-        const copy = Object.assign(document.createElement('canvas'), { width, height }).getContext('2d', { willReadFrequently: true });
-        copy.drawImage(viewer.canvas, 0, 0);
-        return copy.getImageData(0, 0, width, height).data;
-      };
       const shown = floor.visible;
-      const withFloor = pixels();
+      const withFloor = viewPixels(viewer);
       floor.visible = false;
-      const without = pixels();
+      const without = viewPixels(viewer);
       floor.visible = shown;
       viewer.renderer.render(viewer.scene, viewer.camera);
       let darkened = 0;
@@ -80,8 +73,24 @@ export function installDebugHook(app) {
       return { visible: shown, updates: viewer.shadow.updates, darkened: darkened / (without.length / 4) };
     },
     ready: () => app.ready,
-    /** ms the room lighting took to prefilter (null until done). */
-    environmentMs: () => app.viewer?.environmentMs ?? null,
+    /**
+     * The room light (web/room-light.js): { intensity, brightened } where brightened is the share
+     * of the view's pixels it makes brighter (two frames drawn now, with and without it; the view
+     * is left as it was).
+     */
+    roomLight() {
+      const viewer = app.viewer;
+      if (!viewer?.mesh) return null;
+      const light = viewer.roomLight, intensity = light.intensity;
+      const lit = viewPixels(viewer);
+      light.intensity = 0;
+      const unlit = viewPixels(viewer);
+      light.intensity = intensity;
+      viewer.renderer.render(viewer.scene, viewer.camera);
+      let brightened = 0;
+      for (let i = 0; i < lit.length; i += 4) if (lit[i] + lit[i + 1] + lit[i + 2] - unlit[i] - unlit[i + 1] - unlit[i + 2] > 15) brightened++;
+      return { intensity, brightened: brightened / (lit.length / 4) };
+    },
     thetaReady: () => app.ready && app.theta?.source != null && editor()?.path() === 'tensor',
     /** Drag steps on their fast path: the cage polynomial, or theta^e in use. */
     gradientReady: () => app.ready && (editor()?.path() === 'polynomial' || (app.theta?.source != null && editor()?.path() === 'tensor')),
@@ -153,4 +162,13 @@ export function installDebugHook(app) {
     },
   };
   Object.defineProperty(window, 'mrvolDebug', { value: Object.freeze(hook), writable: false, configurable: false });
+}
+
+/** The view's pixels (RGBA) of a frame drawn now (the drawing buffer holds it), for the checks above. */
+function viewPixels(viewer) {
+  viewer.renderer.render(viewer.scene, viewer.camera);
+  const { width, height } = viewer.canvas;
+  const copy = Object.assign(document.createElement('canvas'), { width, height }).getContext('2d', { willReadFrequently: true });
+  copy.drawImage(viewer.canvas, 0, 0);
+  return copy.getImageData(0, 0, width, height).data;
 }

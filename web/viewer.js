@@ -4,11 +4,11 @@
 // (lib/three): the same objects and pointer geometry as the component.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
 import { FloorShadow } from './floor-shadow.js';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
 import { SurfaceUpload } from './surface-upload.js';
+import { roomLightProbe } from './room-light.js';
 import { softwareWebGL } from './software-webgl.js';
 
 const MESH_COLOR = 0xc9b8a0;
@@ -20,7 +20,7 @@ const DETAIL_COLOR = 0xcf222e;
 const FOV_DEG = 35;
 // The page's background (web/style.css --page-bg) in each theme.
 const BACKGROUND = { light: 0xf4f5f7, dark: 0x16191d };
-const ENVIRONMENT_INTENSITY = 0.45;
+const ROOM_LIGHT_INTENSITY = 0.45;
 
 const FRAME_DIRECTION = new THREE.Vector3(0.45, 0.35, 1).normalize();
 const FRAME_MARGIN = 1.1;
@@ -95,19 +95,10 @@ export class Viewer {
     dark?.addEventListener?.('change', applyTheme);
 
     this.scene = new THREE.Scene();
-    // Physically based shading lit by a room (image-based light) plus a key light. Prefiltering the
-    // room costs a few hundred ms on software WebGL: it is done once the page is idle, at 64 px.
-    const lightRoom = () => {
-      const started = performance.now();
-      const pmrem = new THREE.PMREMGenerator(this.renderer);
-      this.scene.environment = pmrem.fromScene(new RoomEnvironment(), 0.04, 0.1, 100, { size: 64 }).texture;
-      this.scene.environmentIntensity = ENVIRONMENT_INTENSITY; // (materials' envMapIntensity applies to their own envMap only)
-      pmrem.dispose();
-      this.environmentMs = performance.now() - started;
-      this.requestRender();
-    };
-    this.environmentMs = null;
-    (window.requestIdleCallback ?? ((f) => setTimeout(f, 200)))(lightRoom, { timeout: 3000 });
+    // Physically based shading lit by a room (a light probe of three's RoomEnvironment: web/room-light.js)
+    // plus a key light.
+    this.roomLight = roomLightProbe(ROOM_LIGHT_INTENSITY);
+    this.scene.add(this.roomLight);
     this.camera = new THREE.PerspectiveCamera(FOV_DEG, 1, 0.01, 1000);
     this.camera.position.set(0, 0, 6);
     this.scene.add(this.camera);

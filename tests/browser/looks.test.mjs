@@ -1,4 +1,4 @@
-// The editor's looks in real Chromium: a physically based surface lit by the room environment, and a
+// The editor's looks in real Chromium: a physically based surface lit by the room light, and a
 // soft shadow of the model on a floor under it (web/floor-shadow.js) in both themes; the shadow is
 // drawn again after a drag and goes with the mesh layer. Screenshots: test-results/looks-*.png.
 import { after, before, describe, test } from 'node:test';
@@ -18,10 +18,9 @@ describe('web editor: material, environment light and floor shadow', { timeout: 
       await page.emulateMedia({ colorScheme: scheme });
       await page.reload();
       await waitReady(page);
-      // polled from here: the room is prefiltered when the page is idle
-      for (let i = 0; i < 60 && await page.evaluate(() => window.mrvolDebug.environmentMs()) === null; i++) await page.waitForTimeout(500);
-      assert.ok(await page.evaluate(() => window.mrvolDebug.environmentMs()) > 0, 'the room environment lights the surface');
       await settle(page);
+      const room = await page.evaluate(() => window.mrvolDebug.roomLight());
+      assert.ok(room.intensity > 0 && room.brightened > 0.2, `the room light brightens ${(100 * room.brightened).toFixed(2)}% of the view`);
       const s = await shadow();
       assert.equal(s.visible, true);
       assert.ok(s.updates >= 1, 'the shadow map was drawn');
