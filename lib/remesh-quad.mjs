@@ -97,6 +97,10 @@ export async function remeshQuads(mrvol, input, options = {}) {
     volume,
     volumeChange: (volume - tri.volumeInput) / tri.volumeInput,
     triangleRemesh: { baseFaces: tri.baseFaces, hausdorff: tri.hausdorff },
+    // What the triangle remesh read, repaired and kept (the pieces), as its report says.
+    components: tri.components,
+    input: tri.input,
+    repair: tri.repair,
     ms: performance.now() - started,
   };
 }

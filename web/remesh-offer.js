@@ -35,6 +35,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
   cancelRemesh();
   $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
   $('remesh-repair').checked = repair;
+  $('remesh-largest').checked = false;
   $('remesh-into').value = quads ? 'quads' : 'triangles';
   $('remesh-smooth').disabled = !repair;
   $('remesh-repair').onchange = () => { $('remesh-smooth').disabled = !$('remesh-repair').checked; };
@@ -45,6 +46,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
   $('remesh-go').onclick = () => {
     const levels = Number($('remesh-levels').value), base = Number($('remesh-base').value);
     const repairing = $('remesh-repair').checked, smooth = Number($('remesh-smooth').value);
+    const keepLargest = $('remesh-largest').checked;
     const intoQuads = $('remesh-into').value === 'quads';
     worker?.terminate();
     const running = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
@@ -73,16 +75,19 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
       if (!finish('')) return;
       const r = data.report;
       const ok = await open({ name: `${baseNameOf(source.name)}-remeshed`, kind: 'file', text: data.text });
+      // Pieces dropped: by "largest piece only", or closed but enclosing no volume.
+      const dropped = r.input ? r.input.droppedComponents + r.input.droppedPieces : r.repair?.droppedComponents ?? 0;
       const fixes = r.repair
         ? `Repaired (${r.repair.finFaces + r.repair.duplicateFaces + r.repair.nonManifoldFaces + r.repair.foldedFaces} faces ` +
-          `dropped, ${r.repair.droppedComponents} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
-        : 'Remeshed';
+          `dropped, ${dropped} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
+        : `Remeshed${dropped > 0 ? ` (${dropped} pieces dropped)` : ''}`;
+      const pieces = r.components > 1 ? `${r.components} pieces, ` : '';
       if (ok && r.quads)
-        notice(`${fixes} into quads in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} Catmull-Clark levels, ` +
+        notice(`${fixes} into quads in ${((performance.now() - started) / 1000).toFixed(1)} s: ${pieces}${r.levels} Catmull-Clark levels, ` +
           `${r.vertices} vertices, ${r.faces} quads, farthest vertex ${(100 * r.distanceToInput).toFixed(2)}% of the diagonal ` +
           `from the input, volume change ${(100 * r.volumeChange).toFixed(2)}%`);
       else if (ok)
-        notice(`${fixes} in ${((performance.now() - started) / 1000).toFixed(1)} s: ${r.levels} levels, ` +
+        notice(`${fixes} in ${((performance.now() - started) / 1000).toFixed(1)} s: ${pieces}${r.levels} levels, ` +
           `${r.vertices} vertices, Hausdorff ${(100 * r.hausdorff).toFixed(2)}% of the diagonal, ` +
           `${r.flippedTriangles} flipped triangles, volume change ${(100 * r.volumeChange).toFixed(2)}%` +
           (r.baseGrown ? `; the first fit on ${r.baseGrown.asked} base faces folded, so the base was made larger (${r.baseFaces} faces)` : ''));
@@ -94,7 +99,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     const mesh = source.mesh ? { positions: source.mesh.positions, faces: source.mesh.faces } : undefined;
     // 0 levels: the remesher's default (from 2, more while the detail needs them; its cage goal), as the CLI's.
     running.postMessage({ text: source.text, mesh, levels: levels > 0 ? levels : undefined, baseFaces: base > 0 ? base : undefined,
-      repair: repairing, smooth: repairing && smooth > 0 ? smooth : undefined, quads: intoQuads });
+      repair: repairing, keepLargest, smooth: repairing && smooth > 0 ? smooth : undefined, quads: intoQuads });
   };
   $('remesh-cancel').onclick = cancelRemesh;
   if (auto) $('remesh-go').onclick();

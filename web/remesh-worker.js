@@ -1,6 +1,6 @@
 // Module worker that turns an ordinary closed mesh into a semi-regular one (lib/remesh.mjs; with
 // `quads`, a semi-regular quad mesh: lib/remesh-quad.mjs, written with quad faces) off the page's thread.
-// Message in:   { mesh: { positions, faces } | text (OBJ), levels? (default: chosen by the remesher), baseFaces?, repair?, smooth?, quads? } (repair also keeps the largest piece)
+// Message in:   { mesh: { positions, faces } | text (OBJ), levels? (default: chosen by the remesher), baseFaces?, repair?, keepLargest?, smooth?, quads? }
 // Messages out: { type: 'stage', stage }, { type: 'done', text, report }, { type: 'error', message }
 import { loadMrvol } from './mrvol.js';
 import { remesh } from '../lib/remesh.mjs';
@@ -13,7 +13,7 @@ self.onmessage = async (event) => {
     const mrvol = await loadMrvol();
     self.postMessage({ type: 'stage', stage: `${job.repair ? 'repairing and remeshing' : 'remeshing'}${job.quads ? ' into quads' : ''} (${job.levels ? `${job.levels} levels` : 'levels chosen by the detail'})` });
     const result = await (job.quads ? remeshQuads : remesh)(mrvol, job.mesh ?? mrvol.readObj(job.text), {
-      levels: job.levels, baseFaces: job.baseFaces, repair: !!job.repair, keepLargest: !!job.repair, smooth: job.smooth,
+      levels: job.levels, baseFaces: job.baseFaces, repair: !!job.repair, keepLargest: !!job.keepLargest, smooth: job.smooth,
     });
     const { mesh, ...report } = result;
     self.postMessage({ type: 'done', text: job.quads ? mrvol.writeObjQuads(mesh) : mrvol.writeObj(mesh), report: { ...report, quads: !!job.quads } });

@@ -206,6 +206,8 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await page.locator('[data-testid="remesh-base"]').fill('0');
     await page.locator('[data-testid="remesh-go"]').click();
     await page.waitForFunction(() => window.mrvolDebug.modelName() === 'teapot-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    // Its body, lid, spout and handle all kept (as the CLI keeps them): "largest piece only" is off by default.
+    assert.match(await page.textContent('[data-testid="notice"]'), /^Repaired \(\d+ faces dropped, 0 pieces dropped, \d+ holes closed\), then remeshed in [\d.]+ s: 4 pieces, \d+ levels, /);
     const { index } = (await visibleHandles(page))[0];
     await dragHandle(page, index, 20, -15);
     assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
