@@ -34,10 +34,13 @@ function originalFace(faces, corners, t) {
 
 /**
  * positions: Float64Array (3 per vertex), faces: Uint32Array (3 per triangle). Counts intersecting
- * triangle pairs, stopping once `limit` are found: { withinPieces, betweenPieces, first: [i, j]
- * (face indices of the first pair found) | null, complete (false when stopped at the limit) }.
+ * triangle pairs, stopping once `limit` are found (or once `limitWithin` pairs within one piece are):
+ * { withinPieces, betweenPieces, first: [i, j] (face indices of the first pair found) | null,
+ * firstWithin, firstBetween (the first pair within one piece, of two pieces, or null), complete
+ * (false when stopped at a limit) }. With `limitWithin`, pairs of two pieces after the first are
+ * skipped untested (not counted): a surface folding into itself is what it looks for.
  */
-export function selfIntersections(positions, faces, { limit = Infinity } = {}) {
+export function selfIntersections(positions, faces, { limit = Infinity, limitWithin = Infinity } = {}) {
   const geometry = new BufferGeometry();
   geometry.setAttribute('position', new BufferAttribute(Float32Array.from(positions), 3));
   geometry.setIndex(new BufferAttribute(Uint32Array.from(faces), 1));
@@ -45,21 +48,26 @@ export function selfIntersections(positions, faces, { limit = Infinity } = {}) {
   // The BVH reorders the triangles of the index: the pairs found are in its order.
   const corners = geometry.index.array;
   const piece = vertexPieces(faces, positions.length / 3);
-  let withinPieces = 0, betweenPieces = 0, first = null;
+  const skipBetween = limitWithin < Infinity;
+  let withinPieces = 0, betweenPieces = 0, first = null, firstWithin = null, firstBetween = null, stopped = false;
   bvh.bvhcast(bvh, identity, {
     intersectsTriangles(t1, t2, i1, i2) {
       if (i1 >= i2) return false;
       const a = 3 * i1, b = 3 * i2;
       for (let p = 0; p < 3; p++)
         for (let q = 0; q < 3; q++) if (corners[a + p] === corners[b + q]) return false;
+      const within = piece[corners[a]] === piece[corners[b]];
+      if (!within && skipBetween && firstBetween) return false;
       if (!t1.intersectsTriangle(t2)) return false;
-      if (piece[corners[a]] === piece[corners[b]]) withinPieces++;
-      else betweenPieces++;
+      if (within) withinPieces++, firstWithin ??= [i1, i2];
+      else betweenPieces++, firstBetween ??= [i1, i2];
       first ??= [i1, i2];
-      return withinPieces + betweenPieces >= limit;
+      stopped = withinPieces + betweenPieces >= limit || withinPieces >= limitWithin;
+      return stopped;
     },
   });
   geometry.dispose();
-  if (first) first = [originalFace(faces, corners, first[0]), originalFace(faces, corners, first[1])];
-  return { withinPieces, betweenPieces, first, complete: withinPieces + betweenPieces < limit };
+  const original = (pair) => pair && [originalFace(faces, corners, pair[0]), originalFace(faces, corners, pair[1])];
+  return { withinPieces, betweenPieces, first: original(first), firstWithin: original(firstWithin), firstBetween: original(firstBetween),
+           complete: !stopped };
 }

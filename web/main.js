@@ -76,10 +76,17 @@ const app = {
   dragHandles: [],   // cage indices of the drag in progress
 };
 
-/** Warns under the readouts when the surface intersects itself (checked after each edit, not during drags, in a worker). */
+/**
+ * Warns under the readouts when the surface intersects itself, or says that two pieces pass through
+ * each other (checked after each edit, not during drags, in a worker). A crossing the model had when
+ * it opened (a file's own, kept by the remesher) is said as such, without asking to undo it.
+ */
 let intersectionTimer = null;
 const intersections = new SelfIntersectionChecker();
-function checkSelfIntersection() {
+let crossedAtOpen = null; // whether the opened model crossed itself (null: not known yet)
+function checkSelfIntersection({ detail } = {}) {
+  const opening = detail?.reason === 'model';
+  if (opening) crossedAtOpen = null;
   clearTimeout(intersectionTimer);
   intersectionTimer = setTimeout(async () => {
     const { session } = app;
@@ -87,9 +94,15 @@ function checkSelfIntersection() {
     if (!session.editor || session.dragging) return;
     const found = await intersections.check(session.positions(), session.model.faces);
     if (found === undefined) return; // a later check replaced it
+    if (opening) crossedAtOpen = !!found?.intersects;
+    const triangles = (pair) => `triangles ${pair[0]} and ${pair[1]}`;
     warning.textContent = found?.intersects
-      ? `The surface intersects itself (triangles ${found.pair[0]} and ${found.pair[1]}): the volume counts the overlap with opposite signs. Undo or move the handles apart.`
-      : '';
+      ? crossedAtOpen
+        ? `The surface intersects itself (${triangles(found.pair)}), as it did when opened: the volume counts the overlap with opposite signs.`
+        : `The surface intersects itself (${triangles(found.pair)}): the volume counts the overlap with opposite signs. Undo or move the handles apart.`
+      : found?.piecesOverlap
+        ? `Two pieces pass through each other (${triangles(found.piecesOverlap)}): the volume kept is the sum of the pieces' volumes, their overlap counted in both.`
+        : '';
     warning.dataset.checkedMs = found ? found.ms.toFixed(1) : '';
   }, 50);
 }
@@ -358,10 +371,10 @@ function followSessionInView(session) {
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
   });
   session.addEventListener('error', ({ detail }) => showError(detail.message));
-  session.addEventListener('change', ({ detail }) => {
-    if (detail.reason !== 'step' || !session.dragging) checkSelfIntersection();
+  session.addEventListener('change', (event) => {
+    if (event.detail.reason !== 'step' || !session.dragging) checkSelfIntersection(event);
   });
-  session.addEventListener('dragend', checkSelfIntersection);
+  session.addEventListener('dragend', () => checkSelfIntersection());
 }
 
 /**

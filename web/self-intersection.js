@@ -1,4 +1,4 @@
-// Whether the surface intersects itself (lib/self-intersection.mjs, stopped at the first pair). Run after each
+// Whether the surface intersects itself (lib/self-intersection.mjs, stopped at the first pair within a piece). Run after each
 // edit (not during drags), in a worker (SelfIntersectionChecker); meshes over MAX_FACES triangles are
 // not checked (null).
 import { selfIntersections } from '../lib/self-intersection.mjs';
@@ -7,13 +7,16 @@ const MAX_FACES = 200_000;
 
 /**
  * positions: Float64Array (3 per vertex), faces: Uint32Array (3 per triangle). Returns
- * { intersects: boolean, pair: [i, j] (caller's face indices) | null, ms } or null when not checked.
+ * { intersects: boolean, pair: [i, j] (caller's face indices) | null, piecesOverlap: [i, j] | null, ms }
+ * or null when not checked. intersects: a piece crosses itself (its volume counts the overlap with
+ * opposite signs); piecesOverlap: two closed pieces pass through each other (a teapot's spout into its
+ * body, as many files have them: each piece's volume is right, their overlap is counted in both).
  */
 export function findSelfIntersection(positions, faces) {
   if (faces.length / 3 > MAX_FACES) return null;
   const started = performance.now();
-  const { first } = selfIntersections(positions, faces, { limit: 1 });
-  return { intersects: first !== null, pair: first, ms: performance.now() - started };
+  const { firstWithin, firstBetween } = selfIntersections(positions, faces, { limitWithin: 1 });
+  return { intersects: firstWithin !== null, pair: firstWithin, piecesOverlap: firstBetween, ms: performance.now() - started };
 }
 
 /**

@@ -18,7 +18,7 @@ function octahedron([x, y, z], r, first = 0) {
 test('a closed octahedron and the npm bunny do not intersect themselves', () => {
   const o = octahedron([0, 0, 0], 1);
   assert.deepEqual(selfIntersections(...Object.values(mesh(o.points, o.triangles))),
-                   { withinPieces: 0, betweenPieces: 0, first: null, complete: true });
+                   { withinPieces: 0, betweenPieces: 0, first: null, firstWithin: null, firstBetween: null, complete: true });
   const b = mesh(bunny.positions, bunny.cells);
   const found = selfIntersections(b.positions, b.faces);
   assert.equal(found.withinPieces + found.betweenPieces, 0);
@@ -54,6 +54,18 @@ test('a strip whose far triangle pierces its first, and a piece crossing it: one
   const one = selfIntersections(m.positions, m.faces, { limit: 1 });
   assert.equal(one.withinPieces + one.betweenPieces, 1);
   assert.equal(one.complete, false);
+  // stopped at the first pair within a piece; the first pair of two pieces named apart
+  const within = selfIntersections(m.positions, m.faces, { limitWithin: 1 });
+  assert.equal(within.withinPieces, 1);
+  assert.deepEqual([...within.firstWithin].sort(), [0, 2]);
+  assert.ok(within.firstBetween === null || String([...within.firstBetween].sort()) === '0,3', `${within.firstBetween}`);
+  assert.equal(within.complete, false);
+  // two pieces passing through each other and nothing else: named, not a fold, the whole mesh walked
+  const apart = mesh(points, [[0, 1, 2], [7, 8, 9], [10, 11, 12]]);
+  const between = selfIntersections(apart.positions, apart.faces, { limitWithin: 1 });
+  assert.equal(between.firstWithin, null);
+  assert.deepEqual([...between.firstBetween].sort(), [0, 1]);
+  assert.equal(between.complete, true);
   // the same pair found by its faces in another order (the BVH reorders them; the answer names the caller's faces)
   const reversed = mesh(points, [...triangles].reverse());
   const again = selfIntersections(reversed.positions, reversed.faces);
