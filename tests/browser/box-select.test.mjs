@@ -102,6 +102,7 @@ describe('web editor: box selection, cage export, remeshing offer', { timeout: 1
     assert.match(await page.textContent('[data-testid="remesh-why"]'), /Not a closed 2-manifold: repair and remesh/);
     assert.equal(await page.isChecked('[data-testid="remesh-repair"]'), true);
     assert.equal(await page.isEnabled('[data-testid="remesh-smooth"]'), true);
+    assert.equal(await page.inputValue('[data-testid="remesh-smooth"]'), '0', 'no smoothing unless asked, as in the CLI');
     const before = await page.evaluate(() => window.mrvolDebug.modelName());
     assert.notEqual(before, 'dragon-remeshed', 'the current model stays');
     // Only the body: the scan's loose pieces dropped (off by default, every closed piece is kept).
