@@ -44,7 +44,7 @@ export function openObj(mrvol, text) {
  * Opens a mesh read from a file ({ positions, faces }, any format) for editing: the MultiresMesh
  * (the caller's) and its info; with `opened` (a MultiresMesh of this mesh) that one, with
  * `hierarchy` (MultiresMesh.hierarchyArrays() of this mesh) by the fast path. Otherwise throws the reason, with `offer`: 'remesh' (it opened but is
- * not semi-regular), 'repair' (it is not a closed 2-manifold, a raw scan), or null (nothing would help).
+ * not semi-regular), 'repair' (it is not a closed 2-manifold, a raw scan, or has holes), or null (nothing would help).
  */
 export function openParsed(mrvol, mesh, { hierarchy = null, opened = null } = {}) {
   let mr = null, info;
@@ -53,13 +53,18 @@ export function openParsed(mrvol, mesh, { hierarchy = null, opened = null } = {}
     // validation or detection here again
     mr = opened ?? (hierarchy ? mrvol.openMeshWithHierarchy(mesh, hierarchy) : mrvol.openMesh(mesh));
     info = mr.info();
+    // A mesh with holes and no levels: the remesher needs it closed (the repair offered), and as it is it encloses no volume.
+    if (info.levels === 0 && !info.closed)
+      throw new mrvol.MrvolError(`this mesh has holes (${info.boundaryEdges} boundary edges), so it encloses no volume to keep, ` +
+                                 'and it is not semi-regular (no 1-to-4 subdivision levels)');
     if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
       throw new mrvol.MrvolError(
         `this mesh is not semi-regular: no 1-to-4 subdivision levels were found in its ${info.vertices} vertices, ` +
         'so it has no coarse cage to edit (mrvol edits meshes made by repeated 1-to-4 splits of a base mesh)');
     return { mr, info };
   } catch (e) {
-    e.offer = mr !== null && info?.levels === 0 ? 'remesh' : mr === null ? 'repair' : null;
+    // an open flat mesh is repaired first (its holes closed), as one that does not open at all
+    e.offer = mr !== null && info?.levels === 0 ? (info.closed ? 'remesh' : 'repair') : mr === null ? 'repair' : null;
     mr?.delete();
     throw e;
   }

@@ -156,6 +156,20 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await page.screenshot({ path: join(RESULTS_DIR, 'files-remeshed-stl.png') });
   });
 
+  test('a file with holes (an STL sphere with its cap cut off) is repaired and remeshed by itself', async () => {
+    await makeCorpus({ big: false, names: ['sphere-open-cap'] });
+    await openFile('open-cap.stl', await readFile(CORPUS.find((c) => c.name === 'sphere-open-cap').file));
+    await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
+    assert.match(await page.locator('[data-testid="error-text"]').textContent(), /open-cap\.stl: this mesh has holes \(\d+ boundary edges\)/);
+    assert.match(await page.textContent('[data-testid="remesh-why"]'), /Not a closed 2-manifold: repair and remesh/);
+    assert.equal(await page.isChecked('[data-testid="remesh-repair"]'), true);
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'open-cap-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    assert.match(await page.locator('[data-testid="notice"]').textContent(), /^Repaired \(0 faces dropped, 0 pieces dropped, 1 holes closed\), then remeshed in /);
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 20, 20);
+    assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
+  });
+
   test('remeshing can be cancelled: the current model stays', async () => {
     const current = await page.evaluate(() => window.mrvolDebug.modelName());
     await openFile('globe-2.stl', Buffer.from(uvSphereStl(14, 20)));
