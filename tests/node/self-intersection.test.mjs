@@ -72,3 +72,29 @@ test('a strip whose far triangle pierces its first, and a piece crossing it: one
   assert.equal(again.withinPieces, 1);
   assert.ok([...again.first].sort().every((f) => [4, 2, 1].includes(f)), `first pair ${again.first}`);
 });
+
+test('pairs that only touch do not cross: a point twice in the file, flat neighbours with round-off', () => {
+  // two triangles meeting at one point given as two vertices (an unwelded pole): touching, not crossing
+  const touching = mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 0], [-1, 0, 0.2], [0, -1, -0.3]], [[0, 1, 2], [3, 4, 5]]);
+  assert.equal(selfIntersections(touching.positions, touching.faces).withinPieces + selfIntersections(touching.positions, touching.faces).betweenPieces, 0);
+  // a flat 20 x 20 grid whose z is round-off (what synthesis leaves on a CAD part's face): three's
+  // float32 test took 1,076 such pairs on a quad pipe's end for crossings
+  let seed = 7;
+  const random = () => ((seed = (seed * 16807) % 2147483647) / 2147483647 - 0.5);
+  const points = [], triangles = [];
+  for (let j = 0; j <= 20; j++) for (let i = 0; i <= 20; i++) points.push([i / 20 + 1e-3 * random(), j / 20 + 1e-3 * random(), 1e-16 * random()]);
+  for (let j = 0; j < 20; j++)
+    for (let i = 0; i < 20; i++) {
+      const v = j * 21 + i;
+      triangles.push([v, v + 1, v + 22], [v, v + 22, v + 21]);
+    }
+  const flat = mesh(points, triangles);
+  assert.equal(selfIntersections(flat.positions, flat.faces).withinPieces, 0);
+  // one of its triangles folded back over its neighbours, in the plane: that overlap is a crossing
+  const folded = Float64Array.from(flat.positions);
+  folded[3 * (10 * 21 + 10)] += 0.12;  // a vertex pulled past its ring
+  assert.ok(selfIntersections(folded, flat.faces).withinPieces > 0);
+  // and a real crossing through the plane
+  const pierced = mesh([...points, [0.52, 0.52, -1], [0.53, 0.52, 1], [0.6, 0.7, 1]], [...triangles, [441, 442, 443]]);
+  assert.ok(selfIntersections(pierced.positions, pierced.faces).betweenPieces > 0);
+});
