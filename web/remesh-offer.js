@@ -31,6 +31,22 @@ export function cancelRemesh() {
  * repair stage checked; auto: start at once. open({ name, kind, text }) resolves true when the
  * result opened; notice(text) shows the outcome.
  */
+const count = (n, one, many = `${one}s`) => `${n} ${n === 1 ? one : many}`;
+
+/** What the repair did, in words: the counts that are not 0 (lib/repair.mjs's report). */
+export function repairWords(report, piecesDropped) {
+  const dropped = report.degenerateFaces + report.finFaces + report.duplicateFaces + report.nonManifoldFaces + report.foldedFaces;
+  const done = [
+    [report.weldedVertices, (n) => `${count(n, 'vertex', 'vertices')} welded`],
+    [dropped, (n) => `${count(n, 'face')} dropped`],
+    [report.reorientedFaces, (n) => `${count(n, 'face')} turned to agree`],
+    [report.reversedComponents, (n) => `${count(n, 'piece')} turned outward`],
+    [piecesDropped, (n) => `${count(n, 'piece')} dropped`],
+    [report.holesFilled, (n) => `${count(n, 'hole')} closed`],
+  ].filter(([n]) => n > 0).map(([n, words]) => words(n));
+  return done.length ? done.join(', ') : 'nothing needed it';
+}
+
 export function offerRemesh(source, { repair = false, open, notice, auto = false, quads = false }) {
   cancelRemesh();
   $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
@@ -77,10 +93,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
       const ok = await open({ name: `${baseNameOf(source.name)}-remeshed`, kind: 'file', text: data.text });
       // Pieces dropped: by "largest piece only", or closed but enclosing no volume.
       const dropped = r.input ? r.input.droppedComponents + r.input.droppedPieces : r.repair?.droppedComponents ?? 0;
-      const fixes = r.repair
-        ? `Repaired (${r.repair.finFaces + r.repair.duplicateFaces + r.repair.nonManifoldFaces + r.repair.foldedFaces} faces ` +
-          `dropped, ${dropped} pieces dropped, ${r.repair.holesFilled} holes closed), then remeshed`
-        : `Remeshed${dropped > 0 ? ` (${dropped} pieces dropped)` : ''}`;
+      const fixes = r.repair ? `Repaired (${repairWords(r.repair, dropped)}), then remeshed` : `Remeshed${dropped > 0 ? ` (${count(dropped, 'piece')} dropped)` : ''}`;
       const pieces = r.components > 1 ? `${r.components} pieces, ` : '';
       if (ok && r.quads)
         notice(`${fixes} into quads in ${((performance.now() - started) / 1000).toFixed(1)} s: ${pieces}${r.levels} Catmull-Clark levels, ` +

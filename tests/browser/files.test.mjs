@@ -164,7 +164,7 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     assert.match(await page.textContent('[data-testid="remesh-why"]'), /Not a closed 2-manifold: repair and remesh/);
     assert.equal(await page.isChecked('[data-testid="remesh-repair"]'), true);
     await page.waitForFunction(() => window.mrvolDebug.modelName() === 'open-cap-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
-    assert.match(await page.locator('[data-testid="notice"]').textContent(), /^Repaired \(0 faces dropped, 0 pieces dropped, 1 holes closed\), then remeshed in /);
+    assert.match(await page.locator('[data-testid="notice"]').textContent(), /^Repaired \(\d+ vertices welded, 1 hole closed\), then remeshed in /);
     const { index } = (await visibleHandles(page))[0];
     await dragHandle(page, index, 20, 20);
     assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);
@@ -221,7 +221,7 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await page.locator('[data-testid="remesh-go"]').click();
     await page.waitForFunction(() => window.mrvolDebug.modelName() === 'teapot-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
     // Its body, lid, spout and handle all kept (as the CLI keeps them): "largest piece only" is off by default.
-    assert.match(await page.textContent('[data-testid="notice"]'), /^Repaired \(\d+ faces dropped, 0 pieces dropped, \d+ holes closed\), then remeshed in [\d.]+ s: 4 pieces, \d+ levels, /);
+    assert.match(await page.textContent('[data-testid="notice"]'), /^Repaired \(96 vertices welded, 3 faces dropped, 6 holes closed\), then remeshed in [\d.]+ s: 4 pieces, \d+ levels, /);
     // The floor shadows only under the teapot: without the shadow's bias the floor shadowed itself (33% of the view, 10.5% with it).
     const { darkened } = await page.evaluate(() => window.mrvolDebug.floorShadow());
     assert.ok(darkened > 0.01 && darkened < 0.2, `the shadow darkens ${(100 * darkened).toFixed(1)}% of the view`);
