@@ -45,7 +45,10 @@ function planeDistances(p, t, n, q, eps) {
   });
 }
 
-const oneSide = (d) => (d[0] > 0 && d[1] > 0 && d[2] > 0) || (d[0] < 0 && d[1] < 0 && d[2] < 0);
+// Corners strictly on both sides of the other's plane: a triangle that only reaches that plane with a
+// corner or an edge touches the other (a hinge along a seam given twice, a tip resting on it), it does
+// not pass through it.
+const bothSides = (d) => (d[0] > 0 || d[1] > 0 || d[2] > 0) && (d[0] < 0 || d[1] < 0 || d[2] < 0);
 
 // The segment of triangle t on the other plane, as an interval of the coordinates `key` gives.
 function interval(p, t, d, key) {
@@ -80,11 +83,9 @@ function coplanarOverlap(p, a, b, n, eps) {
 export function trianglesCross(p, a, b, eps) {
   const na = unitNormal(p, a), nb = unitNormal(p, b);
   if (!na || !nb) return false;  // a degenerate triangle bounds nothing
-  const da = planeDistances(p, a, nb, b[0], eps);
-  if (oneSide(da)) return false;
-  const db = planeDistances(p, b, na, a[0], eps);
-  if (oneSide(db)) return false;
+  const da = planeDistances(p, a, nb, b[0], eps), db = planeDistances(p, b, na, a[0], eps);
   if (da.every((d) => d === 0) || db.every((d) => d === 0)) return coplanarOverlap(p, a, b, na, eps);
+  if (!bothSides(da) || !bothSides(db)) return false;
   // Both cut the line where the planes meet: their segments on it overlap by more than eps.
   const line = cross3(na, nb), l = Math.hypot(line[0], line[1], line[2]);
   if (l < 1e-12) return false;  // parallel planes, not coplanar: apart

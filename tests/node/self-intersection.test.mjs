@@ -77,6 +77,9 @@ test('pairs that only touch do not cross: a point twice in the file, flat neighb
   // two triangles meeting at one point given as two vertices (an unwelded pole): touching, not crossing
   const touching = mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 0], [-1, 0, 0.2], [0, -1, -0.3]], [[0, 1, 2], [3, 4, 5]]);
   assert.equal(selfIntersections(touching.positions, touching.faces).withinPieces + selfIntersections(touching.positions, touching.faces).betweenPieces, 0);
+  // a hinge: two triangles along a seam given twice (its two copies 1e-16 apart, as three's sphere writes it)
+  const hinge = mesh([[0, 0, 0], [1, 0, 0], [0.5, 1, -0.3], [0, 0, 1e-16], [1, 0, -1e-16], [0.5, -1, 0.4]], [[0, 1, 2], [4, 3, 5]]);
+  assert.equal(selfIntersections(hinge.positions, hinge.faces).withinPieces + selfIntersections(hinge.positions, hinge.faces).betweenPieces, 0);
   // a flat 20 x 20 grid whose z is round-off (what synthesis leaves on a CAD part's face): three's
   // float32 test took 1,076 such pairs on a quad pipe's end for crossings
   let seed = 7;
