@@ -11,6 +11,7 @@
 // against the input's triangles).
 import { BufferAttribute, BufferGeometry, Vector3 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
+import { edgeKey } from './connectivity.mjs';
 import { boundingDiagonal } from './geometry.mjs';
 import { closestPointQuery, remesh } from './remesh.mjs';
 
@@ -23,7 +24,7 @@ function closestOn(mesh) {
   return (x, y, z) => query(x, y, z, Infinity);
 }
 
-const pairKey = (a, b) => (a < b ? a * 0x100000000 + b : b * 0x100000000 + a);
+const pairKey = (a, b) => (a < b ? edgeKey(a, b) : edgeKey(b, a));
 
 /**
  * The fitted triangle mesh as a map of its base: point(a, b, c, α, β, γ) is the point of base

@@ -4,6 +4,7 @@
 // each other, which a remesher keeps as the input had them).
 import { BufferAttribute, BufferGeometry, Matrix4 } from 'three';
 import { MeshBVH } from 'three-mesh-bvh';
+import { boundingDiagonal, unitTriangleNormal } from './geometry.mjs';
 
 const identity = new Matrix4();
 
@@ -28,13 +29,11 @@ function vertexPieces(faces, vertexCount) {
 // their planes meet, with a tolerance): three's test on the BVH's float32 copy reported flat regions'
 // neighbours as crossing once synthesis round-off (1e-16) made them not quite coplanar (a quad pipe's
 // end: 1,076 pairs after an edit, none before). Pairs that only touch within `eps` do not cross.
-const sub = (p, i, j) => [p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2]];
 const cross3 = (u, v) => [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
 
 function unitNormal(p, t) {
-  const n = cross3(sub(p, t[1], t[0]), sub(p, t[2], t[0]));
-  const l = Math.hypot(n[0], n[1], n[2]);
-  return l > 0 ? [n[0] / l, n[1] / l, n[2] / l] : null;
+  const n = unitTriangleNormal(p, t[0], t[1], t[2], [0, 0, 0]);
+  return n[0] === 0 && n[1] === 0 && n[2] === 0 ? null : n;
 }
 
 // Signed distances of triangle t's corners to the plane (n through q), those within eps made 0.
@@ -120,10 +119,7 @@ export function selfIntersections(positions, faces, { limit = Infinity, limitWit
   const corners = geometry.index.array;
   const piece = vertexPieces(faces, positions.length / 3);
   const skipBetween = limitWithin < Infinity;
-  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  for (let i = 0; i < positions.length; i += 3)
-    for (let k = 0; k < 3; k++) lo[k] = Math.min(lo[k], positions[i + k]), hi[k] = Math.max(hi[k], positions[i + k]);
-  const eps = 1e-10 * (Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1);
+  const eps = 1e-10 * (boundingDiagonal(positions) || 1);
   let withinPieces = 0, betweenPieces = 0, first = null, firstWithin = null, firstBetween = null, stopped = false;
   bvh.bvhcast(bvh, identity, {
     intersectsTriangles(t1, t2, i1, i2) {
