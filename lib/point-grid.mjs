@@ -1,67 +1,101 @@
 // A uniform grid over points for the remesher's neighbour queries (the drag's and the nudge's input
-// samples near a patch, the emphasis weights around far vertices). Cells are numbered exactly from
-// the points' lowest cell (one number, one cell). A query box that spans more cells than there are
-// cells holding points walks those instead: a fit far from its input makes the reach of a query
-// wide (thousands of empty cells a query at 0.5% of the diagonal a cell).
+// samples near a patch, the emphasis weights around far vertices). The cells that hold points are
+// numbered in the order their first point comes, and found through a hash table of their integer
+// coordinates in typed arrays (no Map: a query box of a few hundred cells is a few hundred probes);
+// each cell's points are a run of `order`, in increasing index. A query box that spans more cells
+// than there are cells holding points walks those instead: a fit far from its input makes the reach
+// of a query wide (thousands of empty cells a query at 0.5% of the diagonal a cell).
 import { hypot3 } from './geometry.mjs';
 
 /**
- * The grid of `points` (flat xyz) in cubic cells of side `cell`: `cellsNear(x, y, z, r)` the lists
- * of point indices of the cells meeting the box of half-side r; `within(x, y, z, r)` the points
- * within distance r; `inBox(x, y, z, r)` those within the box of half-side r.
+ * The grid of `points` (flat xyz) in cubic cells of side `cell`: `cellsNear(x, y, z, r)` the cells
+ * meeting the box of half-side r (numbers: cell q's points are order[start[q]] to
+ * order[start[q + 1] - 1]); `within(x, y, z, r)` the points within distance r; `inBox(x, y, z, r)`
+ * those within the box of half-side r. A cell's points come in increasing index, the cells in
+ * increasing (x, y, z) of the box, or in the order of their first point for a wide box.
  */
 export function pointGrid(points, cell) {
-  const n = points.length / 3, lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  for (let i = 0; i < n; i++)
-    for (let k = 0; k < 3; k++) {
-      const c = Math.floor(points[3 * i + k] / cell);
-      if (c < lo[k]) lo[k] = c;
-      if (c > hi[k]) hi[k] = c;
-    }
-  const nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
-  const key = (a, b, c) => (a - lo[0]) + nx * ((b - lo[1]) + ny * (c - lo[2]));
-  const cells = new Map();
-  // The cells holding points, with their coordinates: [a, b, c, list] each.
-  const held = [];
-  for (let i = 0; i < n; i++) {
-    const a = Math.floor(points[3 * i] / cell), b = Math.floor(points[3 * i + 1] / cell), c = Math.floor(points[3 * i + 2] / cell);
-    const k = key(a, b, c);
-    let list = cells.get(k);
-    if (!list) cells.set(k, (list = [])), held.push([a, b, c, list]);
-    list.push(i);
+  const n = points.length / 3;
+  // Each point's cell, relative to the lowest cell of the points (non-negative integers).
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  const at = new Float64Array(3 * n);
+  for (let i = 0; i < 3 * n; i++) {
+    const c = Math.floor(points[i] / cell), k = i % 3;
+    at[i] = c;
+    if (c < lo[k]) lo[k] = c;
+    if (c > hi[k]) hi[k] = c;
   }
-  const range = (x, r, k) => [Math.max(lo[k], Math.floor((x - r) / cell)), Math.min(hi[k], Math.floor((x + r) / cell))];
+  for (let i = 0; i < 3 * n; i++) at[i] -= lo[i % 3];
+  // Open addressing: slot -> cell number (-1: empty); the cells' coordinates beside.
+  let size = 16;
+  while (size < 2 * n) size *= 2;
+  const mask = size - 1, slots = new Int32Array(size).fill(-1);
+  const cellA = new Float64Array(n), cellB = new Float64Array(n), cellC = new Float64Array(n);
+  const hash = (a, b, c) => (Math.imul(a | 0, 0x9e3779b1) ^ Math.imul(b | 0, 0x85ebca77) ^ Math.imul(c | 0, 0xc2b2ae3d)) >>> 0;
+  const find = (a, b, c) => {
+    for (let s = hash(a, b, c) & mask; ; s = (s + 1) & mask) {
+      const q = slots[s];
+      if (q < 0 || (cellA[q] === a && cellB[q] === b && cellC[q] === c)) return s;
+    }
+  };
+  let held = 0;
+  const cellOf = new Int32Array(n), count = new Uint32Array(n + 1);
+  for (let i = 0; i < n; i++) {
+    const a = at[3 * i], b = at[3 * i + 1], c = at[3 * i + 2], s = find(a, b, c);
+    if (slots[s] < 0) slots[s] = held, cellA[held] = a, cellB[held] = b, cellC[held] = c, held++;
+    cellOf[i] = slots[s];
+    count[slots[s] + 1]++;
+  }
+  const start = new Uint32Array(held + 1);
+  for (let q = 0; q < held; q++) start[q + 1] = start[q] + count[q + 1];
+  const order = new Uint32Array(n), next = start.slice(0, held);
+  for (let i = 0; i < n; i++) order[next[cellOf[i]]++] = i;
+
+  // The cells meeting the box of half-side r about (x, y, z), passed to visit(q) in turn.
+  const eachCellNear = (x, y, z, r, visit) => {
+    if (n === 0) return;
+    const a0 = Math.max(0, Math.floor((x - r) / cell) - lo[0]), a1 = Math.min(hi[0], Math.floor((x + r) / cell)) - lo[0];
+    const b0 = Math.max(0, Math.floor((y - r) / cell) - lo[1]), b1 = Math.min(hi[1], Math.floor((y + r) / cell)) - lo[1];
+    const c0 = Math.max(0, Math.floor((z - r) / cell) - lo[2]), c1 = Math.min(hi[2], Math.floor((z + r) / cell)) - lo[2];
+    if (a1 < a0 || b1 < b0 || c1 < c0) return;
+    if ((a1 - a0 + 1) * (b1 - b0 + 1) * (c1 - c0 + 1) > held) {
+      for (let q = 0; q < held; q++)
+        if (cellA[q] >= a0 && cellA[q] <= a1 && cellB[q] >= b0 && cellB[q] <= b1 && cellC[q] >= c0 && cellC[q] <= c1) visit(q);
+      return;
+    }
+    for (let a = a0; a <= a1; a++)
+      for (let b = b0; b <= b1; b++)
+        for (let c = c0; c <= c1; c++) {
+          const q = slots[find(a, b, c)];
+          if (q >= 0) visit(q);
+        }
+  };
   const grid = {
+    order,
+    start,
     cellsNear(x, y, z, r) {
       const out = [];
-      if (n === 0) return out;
-      const [a0, a1] = range(x, r, 0), [b0, b1] = range(y, r, 1), [c0, c1] = range(z, r, 2);
-      if (a1 < a0 || b1 < b0 || c1 < c0) return out;
-      if ((a1 - a0 + 1) * (b1 - b0 + 1) * (c1 - c0 + 1) > held.length) {
-        for (const [a, b, c, list] of held) if (a >= a0 && a <= a1 && b >= b0 && b <= b1 && c >= c0 && c <= c1) out.push(list);
-        return out;
-      }
-      for (let a = a0; a <= a1; a++)
-        for (let b = b0; b <= b1; b++)
-          for (let c = c0; c <= c1; c++) {
-            const list = cells.get(key(a, b, c));
-            if (list) out.push(list);
-          }
+      eachCellNear(x, y, z, r, (q) => out.push(q));
       return out;
     },
     within(x, y, z, r) {
       const out = [];
-      for (const list of grid.cellsNear(x, y, z, r))
-        for (const i of list) {
+      eachCellNear(x, y, z, r, (q) => {
+        for (let j = start[q]; j < start[q + 1]; j++) {
+          const i = order[j];
           if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
         }
+      });
       return out;
     },
     inBox(x, y, z, r) {
       const out = [];
-      for (const list of grid.cellsNear(x, y, z, r))
-        for (const i of list)
+      eachCellNear(x, y, z, r, (q) => {
+        for (let j = start[q]; j < start[q + 1]; j++) {
+          const i = order[j];
           if (Math.abs(points[3 * i] - x) <= r && Math.abs(points[3 * i + 1] - y) <= r && Math.abs(points[3 * i + 2] - z) <= r) out.push(i);
+        }
+      });
       return out;
     },
   };

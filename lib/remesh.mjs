@@ -326,8 +326,8 @@ function farEmphasis(mesh, distances, limit, radius, cap, into = null) {
     if (!(distances[u] > limit)) continue;
     const w = Math.min(cap, distances[u] / limit), x = p[3 * u], y = p[3 * u + 1], z = p[3 * u + 2];
     for (const cell of grid.cellsNear(x, y, z, radius))
-      for (let j = 0; j < cell.length; j++) {
-        const v = cell[j];
+      for (let j = grid.start[cell]; j < grid.start[cell + 1]; j++) {
+        const v = grid.order[j];
         if (out[v] >= w) continue;
         const dx = p[3 * v] - x, dy = p[3 * v + 1] - y, dz = p[3 * v + 2] - z;
         if (dx * dx + dy * dy + dz * dz > near) continue;

@@ -32,9 +32,12 @@ test('within and inBox list exactly the points a brute-force scan finds, at ever
     }
     assert.deepEqual(grid.within(x, y, z, r).sort((a, b) => a - b), near, `query ${q}`);
     assert.deepEqual(grid.inBox(x, y, z, r).sort((a, b) => a - b), box, `query ${q}`);
-    // Each point's cell named once.
-    const listed = grid.cellsNear(x, y, z, r).flat();
-    assert.equal(new Set(listed).size, listed.length);
+    // Each cell named once; its points are its run of grid.order, in increasing index.
+    const cells = grid.cellsNear(x, y, z, r);
+    assert.equal(new Set(cells).size, cells.length);
+    const listed = cells.flatMap((q) => [...grid.order.subarray(grid.start[q], grid.start[q + 1])]);
+    assert.ok(listed.every((i, j) => j === 0 || cells.length > 1 || listed[j - 1] < i));
+    for (const i of near) assert.ok(listed.includes(i), `query ${q}: point ${i} is in a listed cell`);
   }
   assert.ok(wide > 10, `${wide} wide queries`);
   assert.deepEqual(pointGrid(new Float64Array(0), 1).within(0, 0, 0, 10), []);
