@@ -47,6 +47,19 @@ export function repairWords(report, piecesDropped) {
   return done.length ? done.join(', ') : 'nothing needed it';
 }
 
+/**
+ * The remesher's message for the app: its hints name the CLI's flags and the API's options
+ * (lib/remesh.mjs); here they name the form's repair box (which closes holes of up to 100 edges).
+ */
+export function remeshFailureWords(message) {
+  return message
+    .replace(' (--repair drops such faces and closes the holes)', ' (tick repair: it drops such faces and closes the holes)')
+    .replace('close the holes first (or try --repair)', 'close the holes first, or tick repair (it closes holes of up to 100 edges)')
+    .replace('holes larger than the repair closes are left (raise maxHoleEdges / --max-hole)',
+             'the repair closes holes of up to 100 edges, and these are larger: close them in a modelling tool, or use the CLI\'s --max-hole')
+    .replace('(--repair turns it)', '(tick repair: it turns it outward)');
+}
+
 export function offerRemesh(source, { repair = false, open, notice, auto = false, quads = false }) {
   cancelRemesh();
   $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
@@ -87,7 +100,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
         $('remesh-stage').textContent = data.stage;
         return;
       }
-      if (data.type === 'error') return finish(`remeshing failed: ${data.message}`);
+      if (data.type === 'error') return finish(`remeshing failed: ${remeshFailureWords(data.message)}`);
       if (!finish('')) return;
       const r = data.report;
       const ok = await open({ name: `${baseNameOf(source.name)}-remeshed`, kind: 'file', text: data.text });
