@@ -55,12 +55,31 @@ function frameTight(camera, sets, controls) {
   const center = mid.clone().addScaledVector(x, (x0 + x1) / 2).addScaledVector(y, (y0 + y1) / 2);
   const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)), tanH = tanV * camera.aspect;
   let distance = 0, depth = 0;
-  each((q) => {
-    q.sub(center);
-    const along = q.dot(z);
-    depth = Math.max(depth, along);
-    distance = Math.max(distance, along + FRAME_MARGIN * Math.abs(q.dot(x)) / tanH, along + FRAME_MARGIN * Math.abs(q.dot(y)) / tanV);
-  });
+  const place = () => {
+    distance = 0, depth = 0;
+    each((q) => {
+      q.sub(center);
+      const along = q.dot(z);
+      depth = Math.max(depth, along);
+      distance = Math.max(distance, along + FRAME_MARGIN * Math.abs(q.dot(x)) / tanH, along + FRAME_MARGIN * Math.abs(q.dot(y)) / tanV);
+    });
+  };
+  place();
+  // In perspective the near side of the model spreads wider on the screen than the far side: the
+  // centre moves (twice) to the middle of the points' extent on the screen, so the margins match.
+  for (let pass = 0; pass < 2; pass++) {
+    let u0 = Infinity, u1 = -Infinity, v0 = Infinity, v1 = -Infinity;
+    each((q) => {
+      q.sub(center);
+      const ahead = distance - q.dot(z);
+      if (!(ahead > 0)) return;
+      const u = q.dot(x) / (ahead * tanH), v = q.dot(y) / (ahead * tanV);
+      u0 = Math.min(u0, u), u1 = Math.max(u1, u), v0 = Math.min(v0, v), v1 = Math.max(v1, v);
+    });
+    if (!(u1 >= u0 && v1 >= v0)) break;
+    center.addScaledVector(x, ((u0 + u1) / 2) * tanH * distance).addScaledVector(y, ((v0 + v1) / 2) * tanV * distance);
+    place();
+  }
   const radius = box.getSize(new THREE.Vector3()).length() / 2 || 1;
   distance = Math.max(distance, depth + radius * 0.05);
   camera.position.copy(center).addScaledVector(z, distance);
@@ -307,7 +326,11 @@ export class Viewer {
     if (this.mesh) sets.push(this.mesh.geometry.getAttribute('position').array);
     if (this.cage) sets.push(this.cage.positions);
     if (sets.length === 0) return;
+    // The view's size now: a layout change of this task (a model's readouts) is not yet seen by the
+    // ResizeObserver, and a frame made for the old aspect cut the model's sides on a phone.
+    this.#fitSize();
     frameTight(this.camera, sets, this.controls);
+    this.requestRender();
   }
 
   /** Points the camera at a bounding sphere (room left for the panels). */

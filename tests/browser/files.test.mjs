@@ -356,4 +356,23 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     assert.equal(fill.viewTop, 0);
     await page.screenshot({ path: join(RESULTS_DIR, 'files-phone-bunny.png') });
   });
+
+  test('phone (390x844): a file remeshed as it opens is framed at the view\'s size: every handle inside, the sides\' margins even', async () => {
+    // The readouts that grow as the model opens shrink the view in the same task as the framing: the
+    // frame was made for the old, wider view and the teapot's spout came out cut off at the right edge.
+    await page.setViewportSize({ width: 390, height: 844 });
+    await makeCorpus({ big: false, names: ['teapot'] });
+    await openFile('teapot.glb', await readFile(CORPUS.find((c) => c.name === 'teapot').file));
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'teapot-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    await settle(page);
+    const frame = await page.evaluate(() => {
+      const view = document.querySelector('#view canvas').getBoundingClientRect();
+      const xs = window.mrvolDebug.cageScreenPositions().map((p) => p[0]), ys = window.mrvolDebug.cageScreenPositions().map((p) => p[1]);
+      return { left: Math.min(...xs) - view.left, right: view.right - Math.max(...xs), top: Math.min(...ys) - view.top, bottom: view.bottom - Math.max(...ys), width: view.width };
+    });
+    const least = Math.min(frame.left, frame.right, frame.top, frame.bottom);
+    assert.ok(least >= 0.03 * frame.width, `a handle at ${least.toFixed(1)} px from the view's edge: ${JSON.stringify(frame)}`);
+    assert.ok(Math.abs(frame.left - frame.right) <= 0.05 * frame.width, `margins ${frame.left.toFixed(1)} and ${frame.right.toFixed(1)} px`);
+    await page.screenshot({ path: join(RESULTS_DIR, 'files-phone-teapot.png') });
+  });
 });
