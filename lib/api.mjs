@@ -724,6 +724,20 @@ export function wrapModule(module) {
       checkMesh(mesh);
       return createClosestPoints(module, mesh, MrvolError, tree);
     },
+    /**
+     * three-mesh-bvh's tree (0.9.x MeshBVH, default options) built in the core, bit for bit:
+     * positions (Float32Array, 3 per vertex) and index (Uint32Array, 3 per triangle) in; { roots:
+     * [ArrayBuffer of the packed nodes], index (reordered as the library reorders it) } out, for
+     * MeshBVH.deserialize({ ...it, version: 1 }, geometry). The remesher's trees (lib/remesh.mjs).
+     */
+    threeMeshBvh(positions, index) {
+      if (!(positions instanceof Float32Array) || !(index instanceof Uint32Array))
+        throw new MrvolError('threeMeshBvh expects positions as a Float32Array and the index as a Uint32Array');
+      const built = module._buildBvh(positions, index);
+      const error = module._takeClosestPointsError();
+      if (error) throw new MrvolError(error);
+      return { roots: [built.nodes.buffer], index: built.index };
+    },
     /** Checks manifoldness and orientation; returns { edges, boundaryEdges, components, closed, genus }. */
     validate(mesh) {
       checkMesh(mesh);

@@ -506,6 +506,8 @@ export interface Mrvol {
    * of range, a non-finite corner or a bad tree.
    */
   closestPoints(mesh: Mesh, options?: { tree?: { bounds: Float64Array; first: Uint32Array; count: Uint32Array } }): ClosestPoints;
+  /** three-mesh-bvh's tree (0.9.x MeshBVH, default options) built in the core, bit for bit: for MeshBVH.deserialize. */
+  threeMeshBvh(positions: Float32Array, index: Uint32Array): { roots: ArrayBuffer[]; index: Uint32Array };
   /** OBJ text: `v` lines (17 significant digits) then `f` lines, vertex order kept. */
   writeObj(mesh: Mesh): string;
   /**

@@ -1,4 +1,5 @@
-// embind layer for closest points on a mesh (mrvol/closest_points.h): converts types, nothing else.
+// embind layer for closest points on a mesh (mrvol/closest_points.h) and three-mesh-bvh's tree built
+// in the core (mrvol/bvh_build.h): converts types, nothing else.
 // Queries go through buffers that live in the module's memory (their addresses are handed to JS,
 // which reads and writes them through HEAPF64 / HEAPU32), so a query allocates nothing; lib/
 // closest-points.mjs wraps it. Errors are kept in this file's slot (_takeClosestPointsError).
@@ -12,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "mrvol/bvh_build.h"
 #include "mrvol/closest_points.h"
 #include "guard.h"
 #include "typed_arrays.h"
@@ -93,6 +95,19 @@ double sampledGuarded(JsClosestPoints& c, val positions, val triangles, double m
 }
 val takeClosestPointsError() { return closestPointsErrors.take(); }
 
+// positions: Float32Array; index: Uint32Array. Returns { nodes: Uint32Array (8 words a node),
+// index: Uint32Array (reordered) }, or undefined with the error kept.
+val buildBvh(val positions, val index) {
+  return closestPointsErrors.guarded([&] {
+    std::vector<uint32_t> order = toVector<uint32_t>(index, "index");
+    const std::vector<uint32_t> nodes = buildThreeMeshBvh(toVector<float>(positions, "positions"), order);
+    val out = val::object();
+    out.set("nodes", toTyped(nodes));
+    out.set("index", toTyped(order));
+    return out;
+  });
+}
+
 }  // namespace
 
 // Guarded: the factories, reserve, many, sampledDistanceFrom. Unguarded: the getters and one()
@@ -111,4 +126,5 @@ EMSCRIPTEN_BINDINGS(mrvol_closest_points) {
   emscripten::function("_closestPoints", &makeClosestPoints, emscripten::allow_raw_pointers());
   emscripten::function("_closestPointsWithTree", &makeClosestPointsWithTree, emscripten::allow_raw_pointers());
   emscripten::function("_takeClosestPointsError", &takeClosestPointsError);
+  emscripten::function("_buildBvh", &buildBvh);
 }
