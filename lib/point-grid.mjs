@@ -7,6 +7,9 @@
 // of a query wide (thousands of empty cells a query at 0.5% of the diagonal a cell).
 import { hypot3 } from './geometry.mjs';
 
+// Cells along an axis at most (their coordinates are 32-bit integers).
+const MAX_CELLS = 2 ** 30;
+
 /**
  * The grid of `points` (flat xyz) in cubic cells of side `cell`: `cellsNear(x, y, z, r)` the cells
  * meeting the box of half-side r (numbers: cell q's points are order[start[q]] to
@@ -16,22 +19,28 @@ import { hypot3 } from './geometry.mjs';
  */
 export function pointGrid(points, cell) {
   const n = points.length / 3;
-  // Each point's cell, relative to the lowest cell of the points (non-negative integers).
+  // The points' lowest and highest cells: each point's cell is taken relative to the lowest
+  // (non-negative integers, at most MAX_CELLS a side).
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  const at = new Float64Array(3 * n);
   for (let i = 0; i < 3 * n; i++) {
     const c = Math.floor(points[i] / cell), k = i % 3;
-    at[i] = c;
     if (c < lo[k]) lo[k] = c;
     if (c > hi[k]) hi[k] = c;
   }
-  for (let i = 0; i < 3 * n; i++) at[i] -= lo[i % 3];
-  // Open addressing: slot -> cell number (-1: empty); the cells' coordinates beside.
+  for (let k = 0; k < 3 && n > 0; k++)
+    if (!(hi[k] - lo[k] < MAX_CELLS)) throw new RangeError(`pointGrid: ${hi[k] - lo[k] + 1} cells of ${cell} along an axis (at most ${MAX_CELLS})`);
+  // Open addressing: slot -> cell number (-1: empty); the cells' coordinates and point counts
+  // beside, grown as cells come (a scan's millions of samples lie in a few hundred thousand cells).
   let size = 16;
   while (size < 2 * n) size *= 2;
   const mask = size - 1, slots = new Int32Array(size).fill(-1);
-  const cellA = new Float64Array(n), cellB = new Float64Array(n), cellC = new Float64Array(n);
-  const hash = (a, b, c) => (Math.imul(a | 0, 0x9e3779b1) ^ Math.imul(b | 0, 0x85ebca77) ^ Math.imul(c | 0, 0xc2b2ae3d)) >>> 0;
+  let cellA = new Int32Array(1024), cellB = new Int32Array(1024), cellC = new Int32Array(1024), count = new Uint32Array(1024);
+  const grown = (a, length) => {
+    const b = new a.constructor(2 * length);
+    b.set(a);
+    return b;
+  };
+  const hash = (a, b, c) => (Math.imul(a, 0x9e3779b1) ^ Math.imul(b, 0x85ebca77) ^ Math.imul(c, 0xc2b2ae3d)) >>> 0;
   const find = (a, b, c) => {
     for (let s = hash(a, b, c) & mask; ; s = (s + 1) & mask) {
       const q = slots[s];
@@ -39,15 +48,19 @@ export function pointGrid(points, cell) {
     }
   };
   let held = 0;
-  const cellOf = new Int32Array(n), count = new Uint32Array(n + 1);
+  const cellOf = new Int32Array(n);
   for (let i = 0; i < n; i++) {
-    const a = at[3 * i], b = at[3 * i + 1], c = at[3 * i + 2], s = find(a, b, c);
-    if (slots[s] < 0) slots[s] = held, cellA[held] = a, cellB[held] = b, cellC[held] = c, held++;
+    const a = Math.floor(points[3 * i] / cell) - lo[0], b = Math.floor(points[3 * i + 1] / cell) - lo[1], c = Math.floor(points[3 * i + 2] / cell) - lo[2];
+    const s = find(a, b, c);
+    if (slots[s] < 0) {
+      if (held === cellA.length) cellA = grown(cellA, held), cellB = grown(cellB, held), cellC = grown(cellC, held), count = grown(count, held);
+      slots[s] = held, cellA[held] = a, cellB[held] = b, cellC[held] = c, held++;
+    }
     cellOf[i] = slots[s];
-    count[slots[s] + 1]++;
+    count[slots[s]]++;
   }
   const start = new Uint32Array(held + 1);
-  for (let q = 0; q < held; q++) start[q + 1] = start[q] + count[q + 1];
+  for (let q = 0; q < held; q++) start[q + 1] = start[q] + count[q];
   const order = new Uint32Array(n), next = start.slice(0, held);
   for (let i = 0; i < n; i++) order[next[cellOf[i]]++] = i;
 
