@@ -81,7 +81,11 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     const running = new Worker(new URL('./remesh-worker.js', import.meta.url), { type: 'module', name: 'mrvol-remesh' });
     worker = running;
     // stays enabled: changed fields and a click run it again (the running job is replaced)
-    $('remesh-progress').hidden = false;  // indeterminate: the stage text says where it is
+    // Indeterminate until the remesher reports (then its fraction done, never going back: a retry
+    // on a larger base starts its fit over); the stage text says where it is.
+    const bar = $('remesh-progress');
+    bar.removeAttribute('value');
+    bar.hidden = false;
     $('remesh-cancel').hidden = false;
     const started = performance.now();
     const finish = (stage) => {
@@ -97,6 +101,12 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     running.onmessage = async ({ data }) => {
       if (worker !== running) return;
       if (data.type === 'stage') {
+        $('remesh-stage').textContent = data.stage;
+        return;
+      }
+      if (data.type === 'progress') {
+        bar.max = 1;
+        bar.value = Math.max(bar.hasAttribute('value') ? bar.value : 0, Math.min(1, data.fraction));
         $('remesh-stage').textContent = data.stage;
         return;
       }

@@ -215,11 +215,25 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     assert.equal(await page.locator('[data-testid="remesh-go"]').isEnabled(), true);
     assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
     await page.screenshot({ path: join(RESULTS_DIR, 'files-remesh-too-large.png') });
-    // Asked again within the size (the defaults), the same form remeshes it.
+    // Asked again within the size (the defaults), the same form remeshes it, saying what the remesher is
+    // doing (its own stages) with the bar filling as it goes.
+    await page.evaluate(() => {
+      window.remeshSeen = [];
+      const stage = document.querySelector('[data-testid="remesh-stage"]'), bar = document.querySelector('[data-testid="remesh-progress"]');
+      new MutationObserver(() => window.remeshSeen.push([stage.textContent, bar.hasAttribute('value') ? bar.value : null]))
+        .observe(stage, { childList: true, characterData: true, subtree: true });
+    });
     await page.locator('[data-testid="remesh-levels"]').fill('0');
     await page.locator('[data-testid="remesh-base"]').fill('0');
     await page.locator('[data-testid="remesh-go"]').click();
     await page.waitForFunction(() => window.mrvolDebug.modelName() === 'teapot-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
+    const seen = await page.evaluate(() => window.remeshSeen);
+    const stages = new Set(seen.map(([text]) => text.replace(/\d+ of \d+/, 'N of N')));
+    for (const expected of ['repairing', 'simplifying', 'fitting level N of N', 'measuring the Hausdorff distance'])
+      assert.ok(stages.has(expected), `the stage "${expected}" was not shown: ${[...stages].join(' | ')}`);
+    const fractions = seen.map(([, value]) => value).filter((v) => v !== null);
+    assert.ok(fractions.length >= 5 && fractions.every((v, i) => i === 0 || v >= fractions[i - 1]), `the bar: ${fractions.join(', ')}`);
+    assert.ok(fractions.at(-1) >= 0.8, `the bar ended at ${fractions.at(-1)}`);
     // Its body, lid, spout and handle all kept (as the CLI keeps them): "largest piece only" is off by default.
     assert.match(await page.textContent('[data-testid="notice"]'), /^Repaired \(96 vertices welded, 3 faces dropped, 6 holes closed\), then remeshed in [\d.]+ s: 4 pieces, \d+ levels, /);
     // The floor shadows only under the teapot: without the shadow's bias the floor shadowed itself (33% of the view, 10.5% with it).
