@@ -1038,15 +1038,19 @@ const RESULT_AGAINST = -0.25;
  */
 export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins = null) {
   const { positions: p, faces } = mesh;
-  const faceCount = faces.length / 3;
   // Edge-adjacent faces: the face on the other side of each directed edge (given, or found).
   const across = twins ?? connectivity(faces, p.length / 3).twins;
-  // Unit face normals, made where needed (no table over the whole mesh: the drag's checks ask
-  // about a few faces of a big mesh, many times).
-  const own = new Float64Array(3), other = new Float64Array(3);
-  const normal = (f, out) => unitTriangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2], out);
-  // The faces' centroids and their closest points on the surface, in one batch.
-  const count = onlyFaces ? onlyFaces.length : faceCount;
+  const count = onlyFaces ? onlyFaces.length : faces.length / 3;
+  const { centroids, bounds } = centroidsAndBounds(p, faces, onlyFaces, count);
+  return facesAgainst(p, faces, onlyFaces, count, surface, surface.closestMany(centroids, bounds), against, across);
+}
+
+// flippedFaces' two loops are functions of their own: V8 optimises a long-running loop while it
+// runs (on-stack replacement), and code made in the first loop has no type feedback for the
+// second, so it bailed out there at every later call.
+
+/** The faces' centroids, and for each a bound on its distance to the surface (the corners lie on it). */
+function centroidsAndBounds(p, faces, onlyFaces, count) {
   const centroids = new Float64Array(3 * count), bounds = new Float64Array(count);
   for (let q = 0; q < count; q++) {
     const f = onlyFaces ? onlyFaces[q] : q;
@@ -1054,31 +1058,39 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
     const cx = (p[3 * a] + p[3 * b] + p[3 * c]) / 3, cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1]) / 3,
           cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2]) / 3;
     centroids[3 * q] = cx, centroids[3 * q + 1] = cy, centroids[3 * q + 2] = cz;
-    // The corners lie on the surface: the nearest one bounds the centroid's distance.
+    // The nearest corner bounds the centroid's distance.
     bounds[q] = 1.0001 * Math.min(hypot3(p[3 * a] - cx, p[3 * a + 1] - cy, p[3 * a + 2] - cz),
                                   hypot3(p[3 * b] - cx, p[3 * b + 1] - cy, p[3 * b + 2] - cz),
                                   hypot3(p[3 * c] - cx, p[3 * c + 1] - cy, p[3 * c + 2] - cz)) + 1e-12;
   }
-  const near = surface.closestMany(centroids, bounds);
+  return { centroids, bounds };
+}
+
+/** flippedFaces' judgement of each face, given its centroid's closest point on the surface (`near`). */
+function facesAgainst(p, faces, onlyFaces, count, surface, near, against, across) {
+  // Unit face normals, made where needed (no table over the whole mesh: the drag's checks ask
+  // about a few faces of a big mesh, many times).
+  const own = new Float64Array(3), other = new Float64Array(3);
+  const sn = surface.smoothNormals, rn = surface.normals, touching = 1e-9 * surface.diagonal;
   const flipped = [];
   for (let q = 0; q < count; q++) {
     const f = onlyFaces ? onlyFaces[q] : q;
-    normal(f, own);
+    unitTriangleNormal(p, faces[3 * f], faces[3 * f + 1], faces[3 * f + 2], own);
     const n0 = own[0], n1 = own[1], n2 = own[2];
     if (n0 === 0 && n1 === 0 && n2 === 0) {
       flipped.push(f);
       continue;
     }
-    const m = 3 * near.triangles[q], sn = surface.smoothNormals, rn = surface.normals;
+    const m = 3 * near.triangles[q];
     if (n0 * sn[m] + n1 * sn[m + 1] + n2 * sn[m + 2] >= against) continue;
     // Lying on an input face that faces the same way: the input itself is crumpled there.
-    if (against < 0 && near.distances[q] < 1e-9 * surface.diagonal && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
+    if (against < 0 && near.distances[q] < touching && n0 * rn[m] + n1 * rn[m + 1] + n2 * rn[m + 2] > 0) continue;
     // Against the input's normal: a fold if it also turns away from a neighbour (a thin part's
     // tip, where the input's normal is ambiguous, has neighbours that agree with it).
     for (let j = 0; j < 3; j++) {
       const g = across[3 * f + j];
       if (g < 0) continue;
-      normal(g, other);
+      unitTriangleNormal(p, faces[3 * g], faces[3 * g + 1], faces[3 * g + 2], other);
       if (n0 * other[0] + n1 * other[1] + n2 * other[2] < 0) {
         flipped.push(f);
         break;
