@@ -6,8 +6,7 @@
 import { Triangle, Vector3 } from 'three';
 import { connectivity } from './connectivity.mjs';
 import { hypot3 } from './geometry.mjs';
-import { pointGrid } from './point-grid.mjs';
-import { flippedFaces, Surface } from './remesh.mjs';
+import { centroidsOnSurface, flippedFaces, Surface } from './remesh.mjs';
 
 // Far samples tried per round, the farthest first.
 const MAX_TRIES = 2000;
@@ -104,14 +103,15 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   const vertexCount = positions.length / 3;
   const { vertexFaces: around, twins } = connectivity(faces, vertexCount);
   const inputSamples = start?.inputSamples ?? samplePoints(surface.mesh);
-  const grid = pointGrid(inputSamples, 0.005 * diagonal);
+  // The checks' queries on the input, asked again only for faces that moved (see the two functions).
+  const centroidsOn = centroidsOnSurface(surface, faces.length / 3), patchDistances = patchDistancesOn(surface, faces.length / 3);
   let kept = 0, onInput = start?.onInput ?? null, measured = null;
   // The samples' largest distances, where both sides are all of the measure's samples.
   const measurable = sampleCount(surface.mesh) <= maxSamples && sampleCount({ positions, faces }) <= maxSamples;
   const measuredNow = (fromInput) => (measurable ? { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances) } : null);
   let fromInput = start?.fromInput ?? null;
   for (let round = 0; round < rounds; round++) {
-    fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
+    fromInput = inputSamplesOnResult(inputSamples, positions, faces, around, fromInput);
     // The input samples by the corners of their closest triangle: those a move can uncover.
     const samplesAt = samplesByCorner(fromInput.corners, vertexCount);
     onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
@@ -161,8 +161,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
       const aroundSet = new Set(patch);
       for (const v of patchCorners) for (let e = around.offsets[v]; e < around.offsets[v + 1]; e++) aroundSet.add(around.list[e]);
       const checked = [...aroundSet].sort((a, b) => a - b);
-      const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, against, twins));
-      const ownBefore = patchDistances(surface, positions, faces, patch);
+      const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, patch, against, twins, centroidsOn(positions, faces, patch)));
+      const ownBefore = patchDistances(positions, faces, patch);
       const saved = corners.map((v) => positions.slice(3 * v, 3 * v + 3));
       for (const part of parts) {
         const displacements = step(part);
@@ -170,8 +170,8 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
           const dv = displacements[j];
           for (let k = 0; k < 3; k++) positions[3 * v + k] = saved[j][k] + dv[k];
         });
-        const good = flippedFaces({ positions, faces }, surface, patch, against, twins).every((f) => flippedBefore.has(f)) &&
-          patchDistances(surface, positions, faces, patch).every((d, q) => d <= Math.max(ownBefore[q], allowed) + slack) &&
+        const good = flippedFaces({ positions, faces }, surface, patch, against, twins, centroidsOn(positions, faces, patch)).every((f) => flippedBefore.has(f)) &&
+          patchDistances(positions, faces, patch).every((d, q) => d <= Math.max(ownBefore[q], allowed) + slack) &&
           nearSamplesKept(inputSamples, samplesAt, fromInput, checked, corners, positions, faces, allowed + slack);
         if (good) return patchCorners;
         corners.forEach((v, j) => positions.set(saved[j], 3 * v));
@@ -215,7 +215,7 @@ export function nudgeToGoal(surface, positions, faces, fixed, { goal, aim, toler
   }
   // The last round's moves, measured (only the samples they can have changed are asked again).
   if (measurable && !measured && kept > 0 && onInput) {
-    fromInput = inputSamplesOnResult(inputSamples, grid, positions, faces, around, fromInput);
+    fromInput = inputSamplesOnResult(inputSamples, positions, faces, around, fromInput);
     onInput = resultSamplesOnInput(surface, positions, faces, around, onInput);
     measured = measuredNow(fromInput);
   }
@@ -232,7 +232,7 @@ export function measureForNudge(surface, positions, faces, maxSamples) {
   if (sampleCount(surface.mesh) > maxSamples || sampleCount({ positions, faces }) > maxSamples) return null;
   const inputSamples = samplePoints(surface.mesh);
   const { vertexFaces: around } = connectivity(faces, positions.length / 3);
-  const fromInput = inputSamplesOnResult(inputSamples, null, positions, faces, around, null);
+  const fromInput = inputSamplesOnResult(inputSamples, positions, faces, around, null);
   const onInput = resultSamplesOnInput(surface, positions, faces, around, null);
   return { toInput: largest(onInput.closest.distances), fromInput: largest(fromInput.distances), start: { inputSamples, fromInput, onInput } };
 }
@@ -244,7 +244,7 @@ export function measureForNudge(surface, positions, faces, maxSamples) {
  * are within their distance of the box of a moved triangle, are asked again: the others' closest
  * triangle is the same (ties aside: a new tree can break them otherwise).
  */
-function inputSamplesOnResult(samples, grid, positions, faces, around, last) {
+function inputSamplesOnResult(samples, positions, faces, around, last) {
   const n = samples.length / 3;
   let asked = null;
   if (last) {
@@ -259,25 +259,7 @@ function inputSamplesOnResult(samples, grid, positions, faces, around, last) {
     if (!any) return last;
     const ask = new Uint8Array(n);
     for (let i = 0; i < n; i++) if (moved[corners[3 * i]] || moved[corners[3 * i + 1]] || moved[corners[3 * i + 2]]) ask[i] = 1;
-    const farthest = largest(distances), lo = [0, 0, 0], hi = [0, 0, 0];
-    for (let f = 0; f < faceMoved.length; f++) {
-      if (!faceMoved[f]) continue;
-      for (let k = 0; k < 3; k++) {
-        const a = positions[3 * faces[3 * f] + k], b = positions[3 * faces[3 * f + 1] + k], c = positions[3 * faces[3 * f + 2] + k];
-        lo[k] = Math.min(a, b, c), hi[k] = Math.max(a, b, c);
-      }
-      const centre = [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2), half = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 2;
-      for (const i of grid.inBox(centre[0], centre[1], centre[2], half + farthest)) {
-        if (ask[i]) continue;
-        let squared = 0;
-        for (let k = 0; k < 3; k++) {
-          const x = samples[3 * i + k], gap = x < lo[k] ? lo[k] - x : x > hi[k] ? x - hi[k] : 0;
-          squared += gap * gap;
-        }
-        // A little slack: a triangle as close as the closest one may be the new answer.
-        if (Math.sqrt(squared) <= distances[i] * (1 + 1e-9) + 1e-12) ask[i] = 1;
-      }
-    }
+    movedNear(samples, distances, positions, faces, faceMoved, ask);
     asked = [];
     for (let i = 0; i < n; i++) if (ask[i]) asked.push(i);
   }
@@ -300,6 +282,82 @@ function inputSamplesOnResult(samples, grid, positions, faces, around, last) {
   }
   out.at = positions.slice();
   return out;
+}
+
+/**
+ * Sets ask[i] for each sample i within its distance (a little slack: a triangle as close as the
+ * closest one may be the new answer) of the box of a moved face (faceMoved), among the samples in
+ * the cube about that box's centre of half-side its half extent plus the largest distance. Each
+ * sample looks up the moved boxes in a grid over them, within its own distance (most are far
+ * smaller than the largest, which a coarse fit makes a tenth of the model: a cube per moved face
+ * then held most of the samples).
+ */
+export function movedNear(samples, distances, positions, faces, faceMoved, ask) {
+  const farthest = largest(distances), boxes = [];
+  for (let f = 0; f < faceMoved.length; f++) {
+    if (!faceMoved[f]) continue;
+    const box = new Float64Array(8);  // lo x y z, hi x y z, the cube's half-side, (unused)
+    for (let k = 0; k < 3; k++) {
+      const a = positions[3 * faces[3 * f] + k], b = positions[3 * faces[3 * f + 1] + k], c = positions[3 * faces[3 * f + 2] + k];
+      box[k] = Math.min(a, b, c), box[3 + k] = Math.max(a, b, c);
+    }
+    box[6] = Math.max(box[3] - box[0], box[4] - box[1], box[5] - box[2]) / 2 + farthest;
+    boxes.push(box);
+  }
+  if (boxes.length === 0) return;
+  // Cells as large as the largest box, each box in the cells its extent meets.
+  let cell = 0;
+  for (const b of boxes) cell = Math.max(cell, b[3] - b[0], b[4] - b[1], b[5] - b[2]);
+  cell = cell > 0 ? cell : 1;
+  // The cells the boxes meet, numbered within their range (at most 2^17 a side: the cell is the
+  // largest box, and the boxes are a fit's faces).
+  const span = 2 ** 17, lo = [0, 0, 0], hi = [0, 0, 0];
+  const range = () => {
+    lo.fill(Infinity), hi.fill(-Infinity);
+    for (const b of boxes)
+      for (let k = 0; k < 3; k++) lo[k] = Math.min(lo[k], Math.floor(b[k] / cell)), hi[k] = Math.max(hi[k], Math.floor(b[3 + k] / cell));
+    return Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+  };
+  const wide = range();
+  if (!(wide < span)) cell *= wide / (span / 2), range();
+  const cells = new Map(), key = (a, b, c) => (a - lo[0]) + span * ((b - lo[1]) + span * (c - lo[2]));
+  boxes.forEach((b, q) => {
+    for (let a = Math.floor(b[0] / cell); a <= Math.floor(b[3] / cell); a++)
+      for (let y = Math.floor(b[1] / cell); y <= Math.floor(b[4] / cell); y++)
+        for (let z = Math.floor(b[2] / cell); z <= Math.floor(b[5] / cell); z++) {
+          const k = key(a, y, z);
+          if (!cells.has(k)) cells.set(k, []);
+          cells.get(k).push(q);
+        }
+  });
+  const n = samples.length / 3;
+  for (let i = 0; i < n; i++) {
+    if (ask[i]) continue;
+    const reach = distances[i] * (1 + 1e-9) + 1e-12, x = samples[3 * i], y = samples[3 * i + 1], z = samples[3 * i + 2];
+    const a0 = Math.max(lo[0], Math.floor((x - reach) / cell)), a1 = Math.min(hi[0], Math.floor((x + reach) / cell));
+    const b0 = Math.max(lo[1], Math.floor((y - reach) / cell)), b1 = Math.min(hi[1], Math.floor((y + reach) / cell));
+    const c0 = Math.max(lo[2], Math.floor((z - reach) / cell)), c1 = Math.min(hi[2], Math.floor((z + reach) / cell));
+    search: for (let a = a0; a <= a1; a++)
+      for (let b = b0; b <= b1; b++)
+        for (let c = c0; c <= c1; c++) {
+          const list = cells.get(key(a, b, c));
+          if (!list) continue;
+          for (const q of list) {
+            const box = boxes[q];
+            // In the cube about the box's centre (as a point grid's inBox asked it before), and within reach of the box.
+            let inCube = true, squared = 0;
+            for (let k = 0; k < 3; k++) {
+              const v = samples[3 * i + k], centre = (box[k] + box[3 + k]) / 2, gap = v < box[k] ? box[k] - v : v > box[3 + k] ? v - box[3 + k] : 0;
+              if (!(Math.abs(v - centre) <= box[6])) inCube = false;
+              squared += gap * gap;
+            }
+            if (inCube && Math.sqrt(squared) <= reach) {
+              ask[i] = 1;
+              break search;
+            }
+          }
+        }
+  }
 }
 
 /** The largest of `values` (0 if none). */
@@ -379,17 +437,41 @@ function jointMove(e, far, moves, farAt, fixed, used, target) {
   return { corners, displacements };
 }
 
-/** For each face of `patch`: the largest distance from its measure's samples (corners and four inner points) to the surface (one batch). */
-function patchDistances(surface, p, faces, patch) {
-  const points = new Float64Array(21 * patch.length);
-  patch.forEach((f, q) => {
-    const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2], o = 21 * q;
-    for (let k = 0; k < 3; k++) points[o + k] = p[a + k], points[o + 3 + k] = p[b + k], points[o + 6 + k] = p[c + k];
-    for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[o + 9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
-  });
-  const { distances } = surface.closestMany(points), out = new Float64Array(patch.length);
-  for (let q = 0; q < patch.length; q++) for (let j = 7 * q; j < 7 * q + 7; j++) out[q] = Math.max(out[q], distances[j]);
-  return out;
+/**
+ * patchDistances(p, faces, patch): for each face of `patch`, the largest distance from its
+ * measure's samples (corners and four inner points) to the surface, asked in one batch for the
+ * faces whose corners moved since they were last asked (a move tried and undone leaves its patch
+ * as it was, and the next move's patch overlaps it).
+ */
+export function patchDistancesOn(surface, faceCount) {
+  const at = new Float64Array(9 * faceCount), value = new Float64Array(faceCount), asked = new Uint8Array(faceCount);
+  const same = (p, faces, f) => {
+    for (let j = 0; j < 3; j++) {
+      const v = 3 * faces[3 * f + j], o = 9 * f + 3 * j;
+      if (at[o] !== p[v] || at[o + 1] !== p[v + 1] || at[o + 2] !== p[v + 2]) return false;
+    }
+    return true;
+  };
+  return (p, faces, patch) => {
+    const missing = [];
+    for (const f of patch) if (!(asked[f] && same(p, faces, f))) missing.push(f);
+    if (missing.length > 0) {
+      const points = new Float64Array(21 * missing.length);
+      missing.forEach((f, q) => {
+        const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2], o = 21 * q;
+        for (let k = 0; k < 3; k++) points[o + k] = p[a + k], points[o + 3 + k] = p[b + k], points[o + 6 + k] = p[c + k];
+        for (let s = 0; s < 4; s++) for (let k = 0; k < 3; k++) points[o + 9 + 3 * s + k] = BARY[s][0] * p[a + k] + BARY[s][1] * p[b + k] + BARY[s][2] * p[c + k];
+      });
+      const { distances } = surface.closestMany(points);
+      missing.forEach((f, q) => {
+        let largest = 0;
+        for (let j = 7 * q; j < 7 * q + 7; j++) largest = Math.max(largest, distances[j]);
+        value[f] = largest, asked[f] = 1;
+        for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) at[9 * f + 3 * j + k] = p[3 * faces[3 * f + j] + k];
+      });
+    }
+    return Float64Array.from(patch, (f) => value[f]);
+  };
 }
 
 /**

@@ -850,6 +850,8 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
   const grid = pointGrid(input, 0.01 * surface.diagonal);
   const apart = spacing * surface.diagonal;
   const closest = new InputOnResult(input, limit);
+  // The patch faces' centroids on the input (the fold and distance checks before and after each try).
+  const centroidsOn = centroidsOnSurface(surface, faces.length / 3);
   let result = null;
   for (let round = 0; round < rounds; round++) {
     result?.dispose();
@@ -869,6 +871,29 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
       return false;
     };
     let patchFaces = [];
+    // The near input points' closest points on the round's result, each asked once a round (the
+    // patches of a coarse fit are wide, and their near points overlap from tip to tip): the same
+    // answers as asking each patch's points apart (the tree is the round's start).
+    const beforeDistance = new Float64Array(inputCount), beforeTriangle = new Uint32Array(inputCount), known = new Uint8Array(inputCount);
+    const beforeOf = (nearInput) => {
+      const missing = [];
+      for (const j of nearInput) if (!known[j]) missing.push(j);
+      if (missing.length > 0) {
+        const points = new Float64Array(3 * missing.length);
+        for (let q = 0; q < missing.length; q++) {
+          const j = missing[q];
+          points[3 * q] = input[3 * j], points[3 * q + 1] = input[3 * j + 1], points[3 * q + 2] = input[3 * j + 2];
+        }
+        const found = result.closestMany(points);
+        for (let q = 0; q < missing.length; q++) {
+          const j = missing[q];
+          beforeDistance[j] = found.distances[q], beforeTriangle[j] = found.triangles[q], known[j] = 1;
+        }
+      }
+      const out = { distances: new Float64Array(nearInput.length), triangles: new Uint32Array(nearInput.length) };
+      for (let q = 0; q < nearInput.length; q++) out.distances[q] = beforeDistance[nearInput[q]], out.triangles[q] = beforeTriangle[nearInput[q]];
+      return out;
+    };
     const far = [], { distances } = closest.update(positions, faces, result);
     for (let i = 0; i < inputCount; i++) if (distances[i] > limit) far.push([distances[i], i]);
     if (far.length === 0) break;
@@ -902,14 +927,13 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
           for (const [w] of ring) for (let e = around.offsets[w]; e < around.offsets[w + 1]; e++) faceSet.add(around.list[e]);
           const faceList = [...faceSet].sort((x, y) => x - y);
           patchFaces = faceList;
-          const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, faceList, 0, twins));
+          const nearBefore = centroidsOn(positions, faces, faceList);
+          const flippedBefore = new Set(flippedFaces({ positions, faces }, surface, faceList, 0, twins, nearBefore));
           let radius = 0;
           for (const [w, r] of ring) if (r <= k) radius = Math.max(radius, hypot3(positions[3 * w] - positions[3 * v], positions[3 * w + 1] - positions[3 * v + 1], positions[3 * w + 2] - positions[3 * v + 2]));
           const nearInput = grid.within(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], radius + hypot3(ox, oy, oz));
-          const nearPoints = new Float64Array(3 * nearInput.length);
-          nearInput.forEach((j, q) => nearPoints.set(input.subarray(3 * j, 3 * j + 3), 3 * q));
-          const before = result.closestMany(nearPoints);
-          const facesBefore = faceList.map((f) => centroidDistance(surface, positions, faces, f));
+          const before = beforeOf(nearInput);
+          const facesBefore = nearBefore.distances;
           const saved = [];
           for (const [w] of ring) saved.push(w, positions[3 * w], positions[3 * w + 1], positions[3 * w + 2]);
           for (const share of [1, 0.75, 0.5]) {
@@ -920,9 +944,10 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
                 : surface.closest(positions[3 * w] + s * ox, positions[3 * w + 1] + s * oy, positions[3 * w + 2] + s * oz).point;
               positions[3 * w] = p.x, positions[3 * w + 1] = p.y, positions[3 * w + 2] = p.z;
             }
-            const good = flippedFaces({ positions, faces }, surface, faceList, 0, twins).every((f) => flippedBefore.has(f)) &&
+            const nearNow = centroidsOn(positions, faces, faceList);
+            const good = flippedFaces({ positions, faces }, surface, faceList, 0, twins, nearNow).every((f) => flippedBefore.has(f)) &&
               nearInput.every((j, q) => withinAfter(j, q, before, ring, Math.max(before.distances[q], allowed) + slack)) &&
-              faceList.every((f, q) => centroidDistance(surface, positions, faces, f) <= Math.max(facesBefore[q], allowed) + slack);
+              faceList.every((f, q) => nearNow.distances[q] <= Math.max(facesBefore[q], allowed) + slack);
             if (good) {
               for (const [w] of ring) used[w] = 1;
               done = true;
@@ -938,12 +963,6 @@ function dragToTips(surface, positions, faces, fixed, { threshold = 0.0025, tole
     if (kept === 0) break;
   }
   result?.dispose();
-}
-
-/** Distance from the centroid of face f to the surface. */
-function centroidDistance(surface, p, faces, f) {
-  const a = 3 * faces[3 * f], b = 3 * faces[3 * f + 1], c = 3 * faces[3 * f + 2];
-  return surface.closest((p[a] + p[b] + p[c]) / 3, (p[a + 1] + p[b + 1] + p[c + 1]) / 3, (p[a + 2] + p[b + 2] + p[c + 2]) / 3).distance;
 }
 
 // Distance from (x, y, z) to triangle (a, b, c) of positions p: three's Triangle.closestPointToPoint.
@@ -1036,13 +1055,52 @@ const RESULT_AGAINST = -0.25;
  * normal at the closest point to their centroid (cosine below `against`) and against an edge
  * neighbour's, or that are degenerate.
  */
-export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins = null) {
+export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins = null, near = null) {
   const { positions: p, faces } = mesh;
   // Edge-adjacent faces: the face on the other side of each directed edge (given, or found).
   const across = twins ?? connectivity(faces, p.length / 3).twins;
   const count = onlyFaces ? onlyFaces.length : faces.length / 3;
-  const { centroids, bounds } = centroidsAndBounds(p, faces, onlyFaces, count);
-  return facesAgainst(p, faces, onlyFaces, count, surface, surface.closestMany(centroids, bounds), against, across);
+  if (!near) {
+    const { centroids, bounds } = centroidsAndBounds(p, faces, onlyFaces, count);
+    near = surface.closestMany(centroids, bounds);
+  }
+  return facesAgainst(p, faces, onlyFaces, count, surface, near, against, across);
+}
+
+/**
+ * The closest points on `surface` of the centroids of a mesh's faces as its positions move: asked
+ * only for faces whose centroid changed since they were last asked (a drag tries a patch, undoes
+ * it, and the next patch overlaps it). `of(positions, faces, list)`: { distances, triangles } for
+ * the faces of `list`, as flippedFaces' batch (or surface.closest of each centroid) gives them.
+ */
+export function centroidsOnSurface(surface, faceCount) {
+  const at = new Float64Array(3 * faceCount), distance = new Float64Array(faceCount), triangle = new Uint32Array(faceCount);
+  const asked = new Uint8Array(faceCount);
+  return (positions, faces, list) => {
+    const { centroids, bounds } = centroidsAndBounds(positions, faces, list, list.length);
+    const missing = [];
+    for (let q = 0; q < list.length; q++) {
+      const f = list[q];
+      if (!(asked[f] && at[3 * f] === centroids[3 * q] && at[3 * f + 1] === centroids[3 * q + 1] && at[3 * f + 2] === centroids[3 * q + 2]))
+        missing.push(q);
+    }
+    if (missing.length > 0) {
+      const points = new Float64Array(3 * missing.length), limits = new Float64Array(missing.length);
+      for (let m = 0; m < missing.length; m++) {
+        const q = missing[m];
+        points[3 * m] = centroids[3 * q], points[3 * m + 1] = centroids[3 * q + 1], points[3 * m + 2] = centroids[3 * q + 2], limits[m] = bounds[q];
+      }
+      const found = surface.closestMany(points, limits);
+      for (let m = 0; m < missing.length; m++) {
+        const q = missing[m], f = list[q];
+        at[3 * f] = centroids[3 * q], at[3 * f + 1] = centroids[3 * q + 1], at[3 * f + 2] = centroids[3 * q + 2];
+        distance[f] = found.distances[m], triangle[f] = found.triangles[m], asked[f] = 1;
+      }
+    }
+    const out = { distances: new Float64Array(list.length), triangles: new Uint32Array(list.length) };
+    for (let q = 0; q < list.length; q++) out.distances[q] = distance[list[q]], out.triangles[q] = triangle[list[q]];
+    return out;
+  };
 }
 
 // flippedFaces' two loops are functions of their own: V8 optimises a long-running loop while it
