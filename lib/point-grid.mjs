@@ -93,10 +93,16 @@ export function pointGrid(points, cell) {
     },
     within(x, y, z, r) {
       const out = [];
+      // The squared distance settles all but the points at r within rounding; those are decided
+      // by hypot3 (the distance as the remesher measures it) as before.
+      // (Radii whose square would underflow or overflow: hypot3 alone.)
+      const plain = !(r * r > 1e-250 && r * r < 1e250);
+      const inside = plain ? -1 : r * r * (1 - 1e-9), outside = plain ? Infinity : r * r * (1 + 1e-9);
       eachCellNear(x, y, z, r, (q) => {
         for (let j = start[q]; j < start[q + 1]; j++) {
-          const i = order[j];
-          if (hypot3(points[3 * i] - x, points[3 * i + 1] - y, points[3 * i + 2] - z) <= r) out.push(i);
+          const i = order[j], dx = points[3 * i] - x, dy = points[3 * i + 1] - y, dz = points[3 * i + 2] - z;
+          const squared = dx * dx + dy * dy + dz * dz;
+          if (plain ? hypot3(dx, dy, dz) <= r : squared <= inside || (squared < outside && hypot3(dx, dy, dz) <= r)) out.push(i);
         }
       });
       return out;

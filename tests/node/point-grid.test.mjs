@@ -42,3 +42,20 @@ test('within and inBox list exactly the points a brute-force scan finds, at ever
   assert.ok(wide > 10, `${wide} wide queries`);
   assert.deepEqual(pointGrid(new Float64Array(0), 1).within(0, 0, 0, 10), []);
 });
+
+test('within: points at the reach within rounding, and scales whose squares underflow or overflow, as hypot3 decides', () => {
+  const rnd = random(21);
+  for (const scale of [1, 1e-160, 1e160, 3.7e-5, 6.1e4]) {
+    const n = 2000, points = new Float64Array(3 * n), centre = [0.1 * scale, -0.2 * scale, 0.3 * scale], r = 0.5 * scale;
+    for (let i = 0; i < n; i++) {
+      // Directions at random, at the reach times 1 +- a few ulps (both sides of it), and some well inside or out.
+      const u = 2 * rnd() - 1, t = 2 * Math.PI * rnd(), s = Math.sqrt(1 - u * u);
+      const d = i % 3 === 0 ? r * (0.5 + rnd()) : r * (1 + (rnd() - 0.5) * 4e-16);
+      points.set([centre[0] + d * s * Math.cos(t), centre[1] + d * s * Math.sin(t), centre[2] + d * u], 3 * i);
+    }
+    const grid = pointGrid(points, 0.1 * scale), near = [];
+    for (let i = 0; i < n; i++) if (hypot3(points[3 * i] - centre[0], points[3 * i + 1] - centre[1], points[3 * i + 2] - centre[2]) <= r) near.push(i);
+    assert.deepEqual(grid.within(centre[0], centre[1], centre[2], r).sort((a, b) => a - b), near, `scale ${scale}`);
+    assert.ok(near.length > 100 && near.length < n - 100, `scale ${scale}: ${near.length} of ${n} within`);
+  }
+});
