@@ -296,12 +296,12 @@ export function movedNear(samples, distances, positions, faces, faceMoved, ask) 
   const farthest = largest(distances), boxes = [];
   for (let f = 0; f < faceMoved.length; f++) {
     if (!faceMoved[f]) continue;
-    const box = new Float64Array(8);  // lo x y z, hi x y z, the cube's half-side, (unused)
+    const box = new Float64Array(10);  // lo x y z, hi x y z, centre x y z, the cube's half-side
     for (let k = 0; k < 3; k++) {
       const a = positions[3 * faces[3 * f] + k], b = positions[3 * faces[3 * f + 1] + k], c = positions[3 * faces[3 * f + 2] + k];
-      box[k] = Math.min(a, b, c), box[3 + k] = Math.max(a, b, c);
+      box[k] = Math.min(a, b, c), box[3 + k] = Math.max(a, b, c), box[6 + k] = (box[k] + box[3 + k]) / 2;
     }
-    box[6] = Math.max(box[3] - box[0], box[4] - box[1], box[5] - box[2]) / 2 + farthest;
+    box[9] = Math.max(box[3] - box[0], box[4] - box[1], box[5] - box[2]) / 2 + farthest;
     boxes.push(box);
   }
   if (boxes.length === 0) return;
@@ -347,8 +347,8 @@ export function movedNear(samples, distances, positions, faces, faceMoved, ask) 
             // In the cube about the box's centre (as a point grid's inBox asked it before), and within reach of the box.
             let inCube = true, squared = 0;
             for (let k = 0; k < 3; k++) {
-              const v = samples[3 * i + k], centre = (box[k] + box[3 + k]) / 2, gap = v < box[k] ? box[k] - v : v > box[3 + k] ? v - box[3 + k] : 0;
-              if (!(Math.abs(v - centre) <= box[6])) inCube = false;
+              const v = samples[3 * i + k], gap = v < box[k] ? box[k] - v : v > box[3 + k] ? v - box[3 + k] : 0;
+              if (!(Math.abs(v - box[6 + k]) <= box[9])) inCube = false;
               squared += gap * gap;
             }
             if (inCube && Math.sqrt(squared) <= reach) {

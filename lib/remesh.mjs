@@ -1070,8 +1070,8 @@ export function flippedFaces(mesh, surface, onlyFaces = null, against = 0, twins
 /**
  * The closest points on `surface` of the centroids of a mesh's faces as its positions move: asked
  * only for faces whose centroid changed since they were last asked (a drag tries a patch, undoes
- * it, and the next patch overlaps it). `of(positions, faces, list)`: { distances, triangles } for
- * the faces of `list`, as flippedFaces' batch (or surface.closest of each centroid) gives them.
+ * it, and the next patch overlaps it). Returns (positions, faces, list) => { distances, triangles }
+ * for the faces of `list`, as flippedFaces' batch (or surface.closest of each centroid) gives them.
  */
 export function centroidsOnSurface(surface, faceCount) {
   const at = new Float64Array(3 * faceCount), distance = new Float64Array(faceCount), triangle = new Uint32Array(faceCount);
