@@ -318,7 +318,9 @@ function unitFaceNormal(p, faces, f, out, at) {
 
 /**
  * Folded faces: faces whose normal points against those of at least two of their three edge
- * neighbours (more than 120 degrees apart), as crude decimation and hole filling leave them. A
+ * neighbours (more than 120 degrees apart) that agree with each other (less than 90 degrees
+ * apart: a face turned over on a smooth surface, as crude decimation and hole filling leave them;
+ * not the apex face of a sharp corner, such as a tetrahedron's, whose neighbours face three ways). A
  * mask of those faces and their neighbours (a hole that refills as a fan), and its count.
  * `since` ({ touched: a vertex mask, appendedFrom }, or null: every face is checked): the mesh is
  * one whose folded faces were all cut out, with faces removed around the touched vertices and
@@ -336,12 +338,15 @@ export function foldedFaces(mesh, since = null) {
     const twins = connectivity(faces, vertexCount).twins;
     for (let f = 0; f < faceCount; f++) {
       // (No array per face: on a large scan those were most of this step.)
-      let against = 0;
+      let against = 0, first = -1, agree = false;
       for (let j = 0; j < 3; j++) {
         const g = twins[3 * f + j];
-        if (g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5) against++;
+        if (!(g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5)) continue;
+        against++;
+        if (first < 0) first = g;
+        else if (!agree) agree = normals[3 * first] * normals[3 * g] + normals[3 * first + 1] * normals[3 * g + 1] + normals[3 * first + 2] * normals[3 * g + 2] > 0;
       }
-      if (against < 2) continue;
+      if (against < 2 || !agree) continue;
       count++;
       drop[f] = 1;
       for (let j = 0; j < 3; j++) if (twins[3 * f + j] >= 0) drop[twins[3 * f + j]] = 1;
@@ -363,17 +368,19 @@ export function foldedFaces(mesh, since = null) {
       if (a + b + c >= 2) look[f] = 1, candidates.push(f);
     }
   }
-  const own = new Float64Array(3), other = new Float64Array(3), twins = [0, 0, 0];
+  const own = new Float64Array(3), other = new Float64Array(3), firstAgainst = new Float64Array(3), twins = [0, 0, 0];
   for (const f of candidates) {
     unitFaceNormal(p, faces, f, own, 0);
-    let against = 0;
+    let against = 0, agree = false;
     for (let j = 0; j < 3; j++) {
       const g = (twins[j] = twinFace(faces, around, faces[3 * f + j], faces[3 * f + (j + 1) % 3]));
       if (g < 0) continue;
       unitFaceNormal(p, faces, g, other, 0);
-      if (own[0] * other[0] + own[1] * other[1] + own[2] * other[2] < -0.5) against++;
+      if (!(own[0] * other[0] + own[1] * other[1] + own[2] * other[2] < -0.5)) continue;
+      if (against++ === 0) firstAgainst.set(other);
+      else if (!agree) agree = firstAgainst[0] * other[0] + firstAgainst[1] * other[1] + firstAgainst[2] * other[2] > 0;
     }
-    if (against < 2) continue;
+    if (against < 2 || !agree) continue;
     count++;
     drop[f] = 1;
     for (let j = 0; j < 3; j++) if (twins[j] >= 0) drop[twins[j]] = 1;

@@ -3,11 +3,12 @@
 // the non-manifold faces, over random removals and appended faces of every kind that makes a mesh
 // non-manifold (a duplicate, a reversed copy, a third face on an edge, a face joining two fans at a
 // vertex, a fan closing a hole); the holes of a closed mesh with faces removed (the same fill); the
-// folds of a mesh whose folds were cut out and its holes filled.
+// folds of a mesh whose folds were cut out and its holes filled. Sharp corners are not folds: closed
+// meshes whose faces meet at 55-70 degrees (tetrahedra, a spike) pass the repair unchanged.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import bunny from 'bunny';
-import { fillHoles, foldedFaces, nonManifoldFaces } from '../../lib/repair.mjs';
+import { fillHoles, foldedFaces, nonManifoldFaces, repair } from '../../lib/repair.mjs';
 
 /** A closed sphere of rows x columns quads (split) and two poles. */
 function sphere(rows, columns) {
@@ -124,4 +125,50 @@ test('the fold check told what the cut and the fill changed finds the folds of t
     found += whole.count;
   }
   assert.ok(found >= 5, `${found} folds found after the fills`);
+});
+
+test('sharp corners are not folds: tetrahedra and a spike pass the repair unchanged; a face turned over is found', () => {
+  const mesh = (positions, faces) => ({ positions: Float64Array.from(positions), faces: Uint32Array.from(faces) });
+  // Each triangle as its corners' coordinates, from its smallest corner on (orientation kept), sorted.
+  const triangles = (m) => {
+    const out = [];
+    for (let f = 0; f < m.faces.length / 3; f++) {
+      const corners = [0, 1, 2].map((j) => Array.from(m.positions.subarray(3 * m.faces[3 * f + j], 3 * m.faces[3 * f + j] + 3)).join(' '));
+      const first = corners.indexOf([...corners].sort()[0]);
+      out.push([0, 1, 2].map((j) => corners[(first + j) % 3]).join(' | '));
+    }
+    return out.sort();
+  };
+  const tetFaces = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+  const s = Math.sqrt(8 / 9), t = Math.sqrt(2 / 9), u = Math.sqrt(2 / 3);
+  const closed = {
+    // The corner of a cube cut off: the slanted face meets the other three at 54.7 degrees (its
+    // normal 125 degrees from theirs), as a part's sharp corner does. The 'remesh --repair' of this
+    // tetrahedron used to cut every face out ("the input has no triangle").
+    'corner tetrahedron': mesh([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1], tetFaces),
+    'regular tetrahedron': mesh([0, 0, 1, s, 0, -1 / 3, -t, u, -1 / 3, -t, -u, -1 / 3], [0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2]),
+    // A four-sided pyramid three times as high as wide.
+    'spike': mesh([-0.5, -0.5, 0, 0.5, -0.5, 0, 0.5, 0.5, 0, -0.5, 0.5, 0, 0, 0, 3],
+                  [0, 2, 1, 0, 3, 2, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]),
+  };
+  for (const [name, m] of Object.entries(closed)) {
+    assert.equal(foldedFaces(m).count, 0, `${name}: no fold`);
+    const { mesh: out, report } = repair(m);
+    assert.equal(report.foldedFaces, 0, `${name}: folds reported`);
+    // The same oriented triangles (the weld may number the vertices its own way).
+    assert.deepEqual(triangles(out), triangles(m), `${name}: the faces kept`);
+  }
+  // The corner tetrahedron open (its slanted face missing) is closed by the fill, not emptied.
+  const open = repair(mesh([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1], tetFaces.slice(0, 9)));
+  assert.equal(open.mesh.faces.length / 3, 4);
+  assert.equal(open.report.holesFilled, 1);
+  // A face turned over on a smooth surface is still a fold: the sphere's north pole moved just past
+  // the edge between its first two ring neighbours turns face 0 (pole, ring 0, ring 1) over, while
+  // its three neighbours (two of the pole's fan, one of the next row) still face out, together.
+  const ball = sphere(12, 16);
+  const r0 = ball.positions.subarray(3, 6), r1 = ball.positions.subarray(6, 9);
+  for (let k = 0; k < 3; k++) ball.positions[k] = (r0[k] + r1[k]) / 2 * (k < 2 ? 1.05 : 1);
+  const folds = foldedFaces(ball);
+  assert.equal(folds.drop[0], 1, 'the turned-over face is a fold');
+  assert.equal(folds.count, 1);
 });
