@@ -2,7 +2,7 @@
 // Environment-agnostic: lib/node.mjs and the web app each load the module their own way and wrap
 // it here.
 import { wrapQuad } from './quad.mjs';
-import { cageTargetOf, freeSetArgs } from './editor-args.mjs';
+import { cageTargetOf, checkCageTarget, freeSetArgs } from './editor-args.mjs';
 import { createClosestPoints } from './closest-points.mjs';
 
 /** An error reported by mrvol's core, with its message as the core wrote it. */
@@ -294,7 +294,7 @@ export function wrapModule(module) {
      * options: { tolerance = 1e-5, preserve = true, maxIterations, maxSubsteps }.
      */
     deformCage(target, held, options = {}) {
-      if (!(target instanceof Float64Array)) throw new MrvolError('target must be a Float64Array');
+      checkCageTarget(target, MrvolError);
       return call((r) => r.deformCage(target, held instanceof Uint8Array ? held : Uint8Array.from(held), options), this.#live());
     }
     /**
@@ -302,7 +302,7 @@ export function wrapModule(module) {
      * with caller vertex indices; those vertices are held.
      */
     moveVertices(moves, options = {}) {
-      const { target, held } = cageTargetOf(this, moves);
+      const { target, held } = cageTargetOf(this, moves, MrvolError);
       return this.deformCage(target, held, options);
     }
     /** Restores the volume of the current shape, holding the flagged cage vertices. */

@@ -3,7 +3,7 @@
 // quads: Uint32Array (4 per face, counter-clockwise) }. wrapModule (lib/api.mjs) mixes these
 // calls into its API and sends openMesh / subdivide with scheme 'catmull-clark' here.
 import { applyQuadSteps } from './quad-steps.mjs';
-import { cageTargetOf, freeSetArgs } from './editor-args.mjs';
+import { cageTargetOf, checkCageTarget, freeSetArgs } from './editor-args.mjs';
 
 function checkQuadMesh(mesh, MrvolError) {
   if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a quad mesh { positions, quads }');
@@ -104,12 +104,12 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
       if (parts?.length) throw new MrvolError('localized preservation (parts) is not available for quad meshes yet');
     }
     deformCage(target, held, options = {}) {
-      if (!(target instanceof Float64Array)) throw new MrvolError('target must be a Float64Array');
+      checkCageTarget(target, MrvolError);
       return call((r) => r.deformCage(target, Uint8Array.from(held), options), this.#live());
     }
     /** moves = [{ vertex, position } | { vertex, offset }] (caller indices); those vertices are held. */
     moveVertices(moves, options = {}) {
-      const { target, held } = cageTargetOf(this, moves);
+      const { target, held } = cageTargetOf(this, moves, MrvolError);
       return this.deformCage(target, held, options);
     }
     correct(held = new Uint8Array(this.cageSize), options = {}) {

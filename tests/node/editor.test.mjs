@@ -481,6 +481,23 @@ describe('errors and life cycle', () => {
     const bad = t.slice();
     bad[4] = NaN;
     throwsMrvol(() => ed.deformCage(bad, none), 'the cage target has a non-finite coordinate');
+    bad[4] = 1e101;
+    throwsMrvol(() => ed.deformCage(bad, none), 'target: cage vertex 1 has y = 1e+101: coordinates must stay within +-1e+100');
+    // Moves that are not { vertex, position } or { vertex, offset } with 3 finite numbers, or that
+    // put a vertex beyond the coordinates a mesh may have (the readers' limit): named, not read as
+    // zero moves or padded (the CLI's edit wrote a file of NaN volume that no reader took back).
+    const refused = [
+      [{ vertex: 0 }, 'moves must be an array of { vertex, position: [x, y, z] } or { vertex, offset: [dx, dy, dz] }'],
+      [[{ vertex: 0 }], 'moves[0] must give either position: [x, y, z] or offset: [dx, dy, dz]'],
+      [[{ vertex: 0, offset: [0, 0, 0], position: [0, 0, 0] }], 'moves[0] must give either position: [x, y, z] or offset: [dx, dy, dz], not both'],
+      [[{ vertex: 0, offset: [0.1] }], 'moves[0].offset must be 3 finite numbers, got [0.1] (1 values)'],
+      [[{ vertex: 0, offset: [0, 0, 0, 0] }], 'moves[0].offset must be 3 finite numbers, got [0, 0, 0, 0] (4 values)'],
+      [[{ vertex: 0, position: ['1', 0, 0] }], 'moves[0].position must be 3 finite numbers, got [1, 0, 0] (3 values)'],
+      [[{ vertex: 0, offset: [0, NaN, 0] }], 'moves[0].offset must be 3 finite numbers, got [0, NaN, 0] (3 values)'],
+      [[{ vertex: 1, offset: [0.1, 0, 0] }, null], 'moves[1] must be { vertex, position: [x, y, z] } or { vertex, offset: [dx, dy, dz] }'],
+      [[{ vertex: 0, offset: [1e300, 0, 0] }], 'moves[0] puts vertex 0 at x = 1e+300: coordinates must stay within +-1e+100'],
+    ];
+    for (const [moves, message] of refused) throwsMrvol(() => ed.moveVertices(moves), message);
     for (const tolerance of [0, 1, -1e-5, NaN])
       throwsMrvol(() => ed.moveVertices([{ vertex: 0, offset: [0.1, 0, 0] }], { tolerance }), 'tolerance must be between 0 and 1');
     throwsMrvol(() => ed.moveVertices([{ vertex: 0, offset: [0.1, 0, 0] }], { maxIterations: 0 }),
