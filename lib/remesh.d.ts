@@ -209,7 +209,8 @@ export interface RepairReport {
  * The repair stage of remesh, alone: weld by position, cancel fins and drop repeated faces, drop
  * the faces of non-manifold edges and vertices, optionally keep the largest component, close holes
  * of at most maxHoleEdges edges, cut out folds and fill again, optionally smooth. Pure JS; what is
- * left wrong is for validate() to name.
+ * left wrong is for validate() to name. Throws RangeError for arrays that are not a mesh (not 3
+ * numbers per vertex and 3 indices per face, an index past the last vertex, a non-finite coordinate).
  */
 export function repair(mesh: Mesh, options?: { keepLargest?: boolean; maxHoleEdges?: number; smooth?: number }):
   { mesh: Mesh; report: RepairReport };
@@ -219,7 +220,8 @@ export function repair(mesh: Mesh, options?: { keepLargest?: boolean; maxHoleEdg
  * any genus): meshoptimizer simplification of each component to a base mesh (closed, manifold,
  * same genus, feature vertices kept), n levels of 1-to-4 splits fitted to the input
  * (three-mesh-bvh) with corners held and crease vertices kept on their creases, tangential
- * relaxation, local untangling of folds. Rejects with MrvolError naming the problem: holes,
+ * relaxation, local untangling of folds. Rejects with MrvolError naming the problem: arrays that
+ * are not a mesh (an index past the last vertex, a non-finite coordinate), holes,
  * non-manifold input (both: try repair), a one-sided surface, no volume, a fold that no retry removes.
  * `mrvol` is the API object of createMrvol().
  */
@@ -227,7 +229,8 @@ export function remesh(mrvol: Mrvol, mesh: Mesh, options?: RemeshOptions): Promi
 
 /**
  * Merges vertices with identical coordinates (after rounding to 1e-9 of the bounding-box
- * diagonal), drops faces that become degenerate and vertices no face uses.
+ * diagonal), drops faces that become degenerate and vertices no face uses. Throws RangeError as
+ * repair() does.
  */
 export function weld(mesh: Mesh): Mesh & { merged: number; droppedFaces: number };
 

@@ -22,7 +22,7 @@ import { InputOnResult } from './remesh-input-on-result.mjs';
 import { PROXY_MIN_FACES, proxyInput } from './remesh-proxy.mjs';
 import { boundingDiagonal, concatenate, hypot3, triangleNormal, unitTriangleNormal, vertexNormals } from './geometry.mjs';
 import { Constraints, findFeatures } from './features.mjs';
-import { repair, weld } from './repair.mjs';
+import { meshProblem, repair, weld } from './repair.mjs';
 
 export { repair, weld };
 
@@ -1335,6 +1335,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     throw new MrvolError(`levels must be an integer in 0..6, got ${options.levels}`);
   if (!input || !(input.positions instanceof Float64Array) || !(input.faces instanceof Uint32Array))
     throw new MrvolError('remesh expects a mesh { positions: Float64Array, faces: Uint32Array }');
+  const problem = reuse ? null : meshProblem(input);
+  if (problem) throw new MrvolError(`remesh: ${problem}`);
   if (options.baseFaces !== undefined && !(Number.isInteger(options.baseFaces) && options.baseFaces >= 4))
     throw new MrvolError(`baseFaces must be an integer >= 4, got ${options.baseFaces}`);
   // Levels given: a result past what the editor is made for is refused before any work, not after

@@ -8,11 +8,34 @@ import { boundingDiagonal, hypot3, triangleNormal } from './geometry.mjs';
 // ---- input: weld, components, validation ---------------------------------------------------------
 
 /**
+ * What is wrong with { positions: Float64Array, faces: Uint32Array } as a mesh to weld, repair or
+ * remesh (the first problem found, in words), or null: typed arrays of 3 numbers per vertex and 3
+ * indices per face, every index a vertex, every coordinate a finite number (an index past the end
+ * read as vertex 0, out of bounds, and made a mesh of the wrong shape without a word).
+ */
+export function meshProblem(mesh) {
+  if (!mesh || !(mesh.positions instanceof Float64Array) || !(mesh.faces instanceof Uint32Array))
+    return 'expected a mesh { positions: Float64Array, faces: Uint32Array }';
+  const { positions, faces } = mesh;
+  if (positions.length % 3 !== 0) return `positions must hold 3 numbers per vertex, got ${positions.length}`;
+  if (faces.length % 3 !== 0) return `faces must hold 3 vertex indices per face, got ${faces.length}`;
+  const n = positions.length / 3;
+  for (let i = 0; i < faces.length; i++)
+    if (faces[i] >= n) return `face ${(i / 3) | 0} refers to vertex ${faces[i]} but the mesh has ${n} vertices`;
+  for (let i = 0; i < positions.length; i++)
+    if (!Number.isFinite(positions[i])) return `vertex ${(i / 3) | 0} has a coordinate that is not a finite number (${positions[i]})`;
+  return null;
+}
+
+/**
  * Merges vertices with identical coordinates (after rounding to 1e-9 of the bounding-box
- * diagonal), drops faces that become degenerate and vertices no face uses.
+ * diagonal), drops faces that become degenerate and vertices no face uses. Throws RangeError for
+ * a mesh meshProblem() finds wrong.
  * @returns {{ positions: Float64Array, faces: Uint32Array, merged: number, droppedFaces: number }}
  */
 export function weld(mesh) {
+  const problem = meshProblem(mesh);
+  if (problem) throw new RangeError(`weld: ${problem}`);
   const { positions, faces } = mesh;
   const n = positions.length / 3;
   const quantum = (boundingDiagonal(positions) || 1) * 1e-9;
@@ -503,6 +526,8 @@ function taubinSmooth(mesh, iterations) {
  * @returns {{ mesh: { positions: Float64Array, faces: Uint32Array }, report: object }}
  */
 export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth = 0 } = {}) {
+  const problem = meshProblem(input);
+  if (problem) throw new RangeError(`repair: ${problem}`);
   const welded = weld(input);
   const report = { weldedVertices: welded.merged, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
                    nonManifoldFaces: 0, droppedComponents: 0, holesFilled: 0, holeEdges: 0, holesLeft: 0 };

@@ -283,6 +283,25 @@ describe('remesh (API)', () => {
     await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 9 }), /levels must be an integer in 0..6/);
   });
 
+  test('arrays that are not a mesh: remesh rejects, repair and weld throw, naming the index or coordinate', async () => {
+    // An index past the last vertex was read as vertex 0 (out of bounds of a typed array) and the
+    // remesh went on with a mesh of another shape.
+    const past = bunnyMesh();
+    past.faces[3 * 7 + 2] = past.positions.length / 3 + 5;
+    const pastMessage = `face 7 refers to vertex ${past.positions.length / 3 + 5} but the mesh has ${past.positions.length / 3} vertices`;
+    await assert.rejects(remesh(mrvol, past), (e) => e instanceof MrvolError && e.message === `remesh: ${pastMessage}`);
+    await assert.rejects(remesh(mrvol, past, { repair: true }), (e) => e instanceof MrvolError && e.message === `remesh: ${pastMessage}`);
+    assert.throws(() => repair(past), (e) => e instanceof RangeError && e.message === `repair: ${pastMessage}`);
+    assert.throws(() => weld(past), (e) => e instanceof RangeError && e.message === `weld: ${pastMessage}`);
+    const notFinite = bunnyMesh();
+    notFinite.positions[3 * 11 + 1] = Infinity;
+    await assert.rejects(remesh(mrvol, notFinite), (e) => e instanceof MrvolError && e.message === 'remesh: vertex 11 has a coordinate that is not a finite number (Infinity)');
+    const short = { positions: bunnyMesh().positions.subarray(0, 10), faces: Uint32Array.of(0, 1, 2) };
+    assert.throws(() => weld(short), /weld: positions must hold 3 numbers per vertex, got 10/);
+    assert.throws(() => repair({ positions: bunnyMesh().positions, faces: Uint32Array.of(0, 1) }), /repair: faces must hold 3 vertex indices per face, got 2/);
+    assert.throws(() => repair({ positions: [0, 0, 0], faces: [0, 0, 0] }), /repair: expected a mesh \{ positions: Float64Array, faces: Uint32Array \}/);
+  });
+
   test('levels and a base that would make more faces than the editor is made for: refused at once', async () => {
     // The bunny (3674 faces) at 6 levels on 2000 base faces: 8 million faces. (It took minutes of
     // fitting, then an out-of-memory error, before the size was checked first.)
