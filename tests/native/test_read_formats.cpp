@@ -547,6 +547,35 @@ TEST(ReadFormats, GlbExportReadsBackToTheSameMesh) {
   EXPECT_THROW(writeGlb(TriangleMesh{}), Error);
 }
 
+// Text written by editors on Windows starts with a UTF-8 byte order mark: ASCII STL and PLY (ASCII
+// and binary: its header is text) read as without it, found by content with no name too. An ASCII
+// STL with one was taken for binary ("binary STL: 1,702,130,277 triangles declared"), a PLY refused
+// ("the first line must be 'ply'").
+TEST(ReadFormats, ByteOrderMarkBeforeTextHeaders) {
+  const TriangleMesh reference = octahedronObj();
+  const std::string bom = "\xEF\xBB\xBF";
+  for (const char* name : {"octahedron-ascii.stl", "octahedron-ascii.ply", "octahedron-binary-le.ply", "octahedron-binary-be.ply"}) {
+    SCOPED_TRACE(name);
+    const std::string bytes = bom + fixtures::readFile(kGood + "/" + name);
+    const ImportedMesh plain = readGood(name);
+    for (const std::string given : {std::string(name), std::string()}) {
+      ImportedMesh m = readMeshFile(bytes, given, {});
+      EXPECT_EQ(m.format, plain.format);
+      EXPECT_EQ(m.variant, plain.variant);
+      EXPECT_EQ(m.mesh.positions, plain.mesh.positions);
+      EXPECT_EQ(m.mesh.faces, plain.mesh.faces);
+      expectSameMesh(reference, m.mesh, name);
+    }
+  }
+  // A binary STL whose 80-byte header happens to start with those bytes is still binary (its size
+  // fits its count).
+  std::string binary = fixtures::readFile(kGood + "/octahedron-binary.stl");
+  binary.replace(0, 3, bom);
+  ImportedMesh m = readMeshFile(binary, "x.stl", {});
+  EXPECT_EQ(m.variant, "binary STL");
+  expectSameMesh(reference, m.mesh, "binary STL with a BOM-like header");
+}
+
 TEST(ReadFormats, DetectionByContentAndExtension) {
   auto file = [](const char* name) { return fixtures::readFile(kGood + "/" + name); };
   // Content wins over a misleading or missing name.

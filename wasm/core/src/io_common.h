@@ -50,6 +50,9 @@ T load(const char* p, bool bigEndian = false) {
   return value;
 }
 
+// Whether text starts with a UTF-8 byte order mark (EF BB BF).
+inline bool hasByteOrderMark(std::string_view b) { return b.substr(0, 3) == "\xEF\xBB\xBF"; }
+
 // Text formats (ASCII STL, PLY, OFF): line by line, tokens split by blanks.
 inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 

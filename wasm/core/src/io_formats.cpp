@@ -86,6 +86,14 @@ bool isOffKeyword(std::string_view t) {
 // A format identified from the content alone, or false.
 bool signature(std::string_view b, MeshFormat& format) {
   if (b.substr(0, 4) == "glTF") return format = MeshFormat::Glb, true;
+  // Text formats after a UTF-8 byte order mark: PLY's and ASCII STL's signatures as without it.
+  if (io::hasByteOrderMark(b)) {
+    std::string_view text = b.substr(3);
+    if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return format = MeshFormat::Ply, true;
+    if (text.substr(0, 5) == "solid" && text.size() > 5 && std::isspace(static_cast<unsigned char>(text[5])) &&
+        text.substr(0, 4096).find("facet") != std::string_view::npos)
+      return format = MeshFormat::Stl, true;
+  }
   if (b.substr(0, 4) == "ply\n" || b.substr(0, 5) == "ply\r\n") return format = MeshFormat::Ply, true;
   std::string_view token = firstToken(b);
   if (isOffKeyword(token)) return format = MeshFormat::Off, true;

@@ -432,6 +432,8 @@ ImportedMesh readPly(std::string_view bytes) {
   ImportedMesh out;
   out.format = MeshFormat::Ply;
   if (bytes.empty()) throw Error("empty PLY file (0 bytes)");
+  // A UTF-8 byte order mark before "ply" (the header is text): skipped.
+  if (io::hasByteOrderMark(bytes)) bytes.remove_prefix(3);
   const Header h = parseHeader(bytes);
   const Element* vertex = nullptr;
   const Element* face = nullptr;
