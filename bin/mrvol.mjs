@@ -9,7 +9,7 @@ import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError, readObjFile } from '../lib/node.mjs';
 import { chooseGradientPath } from '../lib/api.mjs';
 import { Progress } from './progress.mjs';
-import { QUAD_COMMANDS } from './quad-commands.mjs';
+import { catmullClarkLevels, QUAD_COMMANDS } from './quad-commands.mjs';
 
 const VERSION = JSON.parse(await readFile(new URL('../package.json', import.meta.url), 'utf8')).version;
 
@@ -402,9 +402,16 @@ const COMMANDS = {
       genus: i.genus, volume: i.volume, semiRegular: i.levels > 0, polygons: mesh.polygons,
       polygonTriangles: mesh.polygonTriangles,
     };
+    // A file of quads only, without 1-to-4 splits of its triangles: its quads may have Catmull-Clark
+    // levels (--scheme catmull-clark), which the hint names rather than the remesher.
+    const allQuads = mesh.polygons > 0 && 2 * mesh.polygons === mesh.polygonTriangles && mesh.polygonTriangles === i.faces;
+    if (allQuads && !result.semiRegular) result.catmullClarkLevels = await catmullClarkLevels(mrvol, path, QUAD_CLI);
+    const notSemiRegular = (r) => r.catmullClarkLevels > 0
+      ? `no (as triangles; its quads have ${r.catmullClarkLevels} Catmull-Clark levels: mrvol info ${path} --scheme catmull-clark)`
+      : 'no (no 1-to-4 splits found: mrvol remesh makes a semi-regular mesh)';
     print(values, result, (r) => [
       `vertices       ${r.vertices}`, `faces          ${r.faces}`, `levels         ${r.levels}`,
-      `semi-regular   ${r.semiRegular ? 'yes' : 'no (no 1-to-4 splits found: mrvol remesh makes a semi-regular mesh)'}`,
+      `semi-regular   ${r.semiRegular ? 'yes' : notSemiRegular(r)}`,
       ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
       `genus          ${r.genus}`, `volume         ${r.volume}`].join('\n'));

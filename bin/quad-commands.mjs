@@ -22,6 +22,19 @@ async function openQuads(mrvol, path, cli) {
   }
 }
 
+/** The Catmull-Clark levels found in the quads of `path` (0: none), or null if it is not a closed-enough quad mesh to open. */
+export async function catmullClarkLevels(mrvol, path, cli) {
+  try {
+    const mr = await openQuads(mrvol, path, cli);
+    const levels = mr.levels;
+    mr.delete();
+    return levels;
+  } catch (e) {
+    if (e instanceof MrvolError) return null;
+    throw e;
+  }
+}
+
 function levelIn(mr, level, path) {
   if (level < mr.lowestLevel || level > mr.levels)
     throw new MrvolError(`level ${level} is out of range: ${path} has levels ${mr.lowestLevel}..${mr.levels}` +

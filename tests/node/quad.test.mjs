@@ -196,6 +196,13 @@ describe('mrvol --scheme catmull-clark', () => {
     assert.ok(faceLines.every((l) => l.split(/\s+/).length === 5), 'every face is a quad');
     const info = json(cli('info', file('pyr2.obj'), '--scheme', 'catmull-clark', '--json'));
     assert.equal(info.levels, 2);
+    // Without --scheme the file's quads are split into triangles, which have no 1-to-4 splits: the
+    // report names the quads' levels and the flag (it sent the user to the remesher).
+    const asTriangles = json(cli('info', file('pyr2.obj'), '--json'));
+    assert.equal(asTriangles.levels, 0);
+    assert.equal(asTriangles.catmullClarkLevels, 2);
+    assert.match(cli('info', file('pyr2.obj')).stdout,
+                 /semi-regular {3}no \(as triangles; its quads have 2 Catmull-Clark levels: mrvol info .*pyr2\.obj --scheme catmull-clark\)/);
     assert.equal(info.baseVertices, textbookCC(pyramid5()).positions.length / 3);
     assert.equal(info.volume, mrvol.quadVolume(mrvol.readObjQuads(written)));
     const rt = json(cli('roundtrip', file('pyr2.obj'), '--scheme', 'catmull-clark', '--json'));
