@@ -3,7 +3,7 @@
 // `mrvol: error: ...`; bad usage: exit 2. `mrvol help [COMMAND]`, `COMMAND --help`, `--version`.
 // Steps over about a second draw a progress bar on stderr when it is a terminal (bin/progress.mjs).
 import { open, readFile } from 'node:fs/promises';
-import { readFileSync, writeFileSync } from 'node:fs';
+import { readFileSync, statSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { parseArgs } from 'node:util';
 import { createMrvol, MrvolError, readObjFile } from '../lib/node.mjs';
@@ -246,6 +246,28 @@ async function readObjWithProgress(mrvol, path) {
   } finally {
     bar.done();
   }
+}
+
+/**
+ * -o checked before any work (a remesh of minutes failed only when it came to write): its folder
+ * must exist and be a folder, the path must not be one. Throws MrvolError naming what is wrong.
+ */
+function checkOutputPath(path) {
+  let stat = null;
+  try {
+    stat = statSync(path);
+  } catch {
+    // Not there yet: its folder must be.
+  }
+  if (stat?.isDirectory()) throw new MrvolError(`cannot write ${path}: it is a directory`);
+  const folder = dirname(path);
+  let folderStat = null;
+  try {
+    folderStat = statSync(folder);
+  } catch {
+    throw new MrvolError(`cannot write ${path}: no such directory ${folder}`);
+  }
+  if (!folderStat.isDirectory()) throw new MrvolError(`cannot write ${path}: ${folder} is not a directory`);
 }
 
 function writeText(path, text) {
@@ -664,6 +686,7 @@ export async function main(argv) {
     if (values.scheme === 'catmull-clark' && !QUAD_COMMANDS[command]) throw new UsageError(`${command} has no --scheme catmull-clark`);
     const threads = values.threads === undefined ? undefined : integer(values.threads, 'threads');
     if (threads !== undefined && (threads < 1 || threads > 16)) throw new UsageError(`--threads must be in 1..16, got ${threads}`);
+    if (values.output !== undefined) checkOutputPath(values.output);
     const mrvol = await createMrvol({ threads });
     if (values.scheme === 'catmull-clark') await QUAD_COMMANDS[command](mrvol, values, rest, QUAD_CLI);
     else await COMMANDS[command](mrvol, values, rest);

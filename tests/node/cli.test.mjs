@@ -182,8 +182,16 @@ describe('errors', () => {
     assert.ok(!existsSync(file('never.obj')));
   });
 
-  test('output that cannot be written: exit 1', () => {
-    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file(join('no', 'such', 'dir.obj'))), /cannot write/);
+  test('output that cannot be written: exit 1, said before any work', () => {
+    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file(join('no', 'such', 'dir.obj'))),
+              new RegExp(`cannot write .*dir\\.obj: no such directory .*${join('no', 'such')}`));
+    // Checked before the work: a remesh, an edit and a theta name the folder, not a file error after minutes.
+    const missing = file(join('missing', 'out.obj'));
+    failsWith(mrvolCli('remesh', file('ico.obj'), '-o', missing), /cannot write .*out\.obj: no such directory/);
+    failsWith(mrvolCli('edit', file('ico.obj'), '--move', '0:0.1,0,0', '-o', missing), /cannot write .*out\.obj: no such directory/);
+    failsWith(mrvolCli('theta', file('ico.obj'), '-o', file(join('missing', 'x.theta'))), /cannot write .*x\.theta: no such directory/);
+    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file('')), /cannot write .*: it is a directory/);
+    failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', join(file('ico.obj'), 'x.obj')), /cannot write .*x\.obj: .*ico\.obj is not a directory/);
   });
 
   test('bad usage: exit 2', () => {
