@@ -605,7 +605,8 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   const result = {
     levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces, vertices: r.vertices, faces: r.faces,
     hausdorff: r.hausdorff, hausdorffToInput: r.hausdorffToInput, hausdorffFromInput: r.hausdorffFromInput,
-    flippedTriangles: r.flippedTriangles, volumeChange: r.volumeChange, ms: round(r.ms, 1), output: values.output,
+    flippedTriangles: r.flippedTriangles, volumeChange: r.volumeChange, volumeChangeFromUnsmoothed: r.volumeChangeFromUnsmoothed,
+    ms: round(r.ms, 1), output: values.output,
     genus: r.input.genus, components: r.components, features: r.features, untangledTriangles: r.untangledTriangles,
     droppedPieces: r.input.droppedPieces, repair: r.repair, fit: r.fit, parametrisedFallback: r.parametrisedFallback,
     baseGrown: r.baseGrown,
@@ -616,10 +617,11 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
     ...(x.baseGrown ? [`base grown       the first fit on --base-faces ${x.baseGrown.asked} folded: the base was made larger (${x.baseFaces} faces)`] : []),
     `flipped          ${x.flippedTriangles} triangles`,
     `fit              ${x.fit}${x.parametrisedFallback ? ` (parametrised fallback ${x.parametrisedFallback.error ?? `${round(100 * x.parametrisedFallback.hausdorff, 3)}%`}, ${x.parametrisedFallback.kept ? 'kept' : 'not kept'})` : ''}`,
-    `volume change    ${round(100 * x.volumeChange, 4)}%`,
+    `volume change    ${round(100 * x.volumeChange, 4)}%${x.volumeChangeFromUnsmoothed === null ? '' : ` (of the smoothed surface fitted; from the input before smoothing ${round(100 * x.volumeChangeFromUnsmoothed, 4)}%)`}`,
+    ...(x.repair?.smoothing ? [`smoothing        ${x.repair.smoothIterations} Taubin steps moved vertices up to ${round(100 * x.repair.smoothing.largestMove, 3)}% of the diagonal (the distances above are to the smoothed surface)`] : []),
     `pieces           ${x.components} component(s), genus ${x.genus}${x.droppedPieces ? `, ${x.droppedPieces} empty piece(s) dropped` : ''}`,
     `features         ${x.features.edges} crease edges, ${x.features.corners} corners (${x.features.cornerVertices} base corners held, ${x.features.creaseVertices} vertices on creases)`,
-    ...(x.repair ? [`repaired         ${Object.entries(x.repair).filter(([, v]) => v).map(([k, v]) => `${k} ${v}`).join(', ') || 'nothing'}`] : []),
+    ...(x.repair ? [`repaired         ${Object.entries(x.repair).filter(([k, v]) => v && k !== 'smoothing').map(([k, v]) => `${k} ${v}`).join(', ') || 'nothing'}`] : []),
     `time             ${x.ms} ms`].join('\n'));
 };
 

@@ -56,7 +56,10 @@ export interface RemeshOptions {
   repair?: boolean;
   /** With repair: the largest hole (in edges) it closes (default 100). */
   maxHoleEdges?: number;
-  /** With repair: Taubin smoothing iterations after it (default 0). */
+  /**
+   * With repair: Taubin smoothing iterations after it (default 0). A smoothing that collapses the
+   * surface (under 1% of its volume left) is refused.
+   */
   smooth?: number;
   /** Tangential relaxation steps per level (default 4). */
   relaxIterations?: number;
@@ -125,7 +128,10 @@ export interface RemeshResult {
   baseGrown: { asked: number; to: number } | null;
   vertices: number;
   faces: number;
-  /** Two-sided sampled Hausdorff distance / bounding-box diagonal of the input. */
+  /**
+   * Two-sided sampled Hausdorff distance / bounding-box diagonal of the input (the surface fitted:
+   * with `smooth`, the smoothed one; repair.smoothing says how far the smoothing moved it).
+   */
   hausdorff: number;
   /** Result samples to the input surface, / diagonal. */
   hausdorffToInput: number;
@@ -147,8 +153,10 @@ export interface RemeshResult {
   features: { edges: number; corners: number; lines: number; ignoredAsNoise: number; cornerVertices: number; creaseVertices: number };
   volumeInput: number;
   volume: number;
-  /** (volume - volumeInput) / volumeInput. */
+  /** (volume - volumeInput) / volumeInput (volumeInput: the surface fitted, smoothed with `smooth`). */
   volumeChange: number;
+  /** With `smooth`: the volume change from the input as repaired, before smoothing; else null. */
+  volumeChangeFromUnsmoothed: number | null;
   /** New vertices placed at the closest point because no ray hit within its cap. */
   rayFallbacks: number;
   /** droppedPieces: closed pieces that enclose no volume (fewer than 4 faces, flat double sheets). */
@@ -202,7 +210,12 @@ export interface RepairReport {
   oneSidedEdges: number;
   /** Components turned outwards (they enclosed a negative volume). */
   reversedComponents: number;
-  [key: string]: number | undefined;
+  /**
+   * With `smooth`: the volume before and after the smoothing, and the largest move of a vertex
+   * (/ the diagonal before it).
+   */
+  smoothing?: { volumeBefore: number; volumeAfter: number; largestMove: number };
+  [key: string]: number | { volumeBefore: number; volumeAfter: number; largestMove: number } | undefined;
 }
 
 /**

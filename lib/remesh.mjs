@@ -1290,6 +1290,12 @@ function prepareInput(mrvol, input, options, progress) {
   const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
                                                    smooth: options.smooth }) : null;
   const welded = repaired ? repaired.mesh : weld(input);
+  // Smoothing that collapsed the surface (Taubin's steps shrink a coarse mesh: a 12-triangle box
+  // went to a point in 1000) would be fitted and reported as kept.
+  const smoothing = repaired?.report.smoothing;
+  if (smoothing && !(smoothing.volumeAfter > 0.01 * Math.abs(smoothing.volumeBefore)))
+    throw new MrvolError(`smoothing collapsed the surface: its volume went from ${smoothing.volumeBefore.toPrecision(4)} to ` +
+                         `${smoothing.volumeAfter.toPrecision(4)} in ${options.smooth} steps; use fewer smoothing steps (--smooth)`);
   // A one-sided surface bounds no solid: cutting it open and filling the cuts would make up a shape.
   if (repaired?.report.oneSidedEdges > 0)
     throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made of it`);
@@ -1877,6 +1883,8 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     volumeInput: inputVolume,
     volume,
     volumeChange: (volume - inputVolume) / inputVolume,
+    // With smoothing the surface fitted is the smoothed one: the change from the input as repaired too.
+    volumeChangeFromUnsmoothed: repaired?.report.smoothing ? (volume - repaired.report.smoothing.volumeBefore) / repaired.report.smoothing.volumeBefore : null,
     rayFallbacks: result.fallbacks,
     features: { edges: features?.edgeCount ?? 0, corners: features?.corners.size ?? 0, lines: features?.lines.length ?? 0,
                 ignoredAsNoise: features?.noisyEdges ?? 0, cornerVertices: constraints?.corners ?? 0,

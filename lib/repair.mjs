@@ -623,6 +623,15 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   }
   report.reversedComponents = orientOutwards(mesh);
   report.smoothIterations = smooth;
-  if (smooth > 0) taubinSmooth(mesh, smooth);
+  if (smooth > 0) {
+    // What the smoothing did, for the remesher's report (its distances are to the smoothed surface).
+    const before = mesh.positions.slice(), volumeBefore = componentVolumes(mesh).volumes.reduce((a, b) => a + b, 0);
+    taubinSmooth(mesh, smooth);
+    let moved = 0;
+    for (let v = 0; v < before.length; v += 3)
+      moved = Math.max(moved, hypot3(mesh.positions[v] - before[v], mesh.positions[v + 1] - before[v + 1], mesh.positions[v + 2] - before[v + 2]));
+    report.smoothing = { volumeBefore, volumeAfter: componentVolumes(mesh).volumes.reduce((a, b) => a + b, 0),
+                         largestMove: moved / (boundingDiagonal(before) || 1) };
+  }
   return { mesh, report };
 }

@@ -283,6 +283,25 @@ describe('remesh (API)', () => {
     await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 9 }), /levels must be an integer in 0..6/);
   });
 
+  test('smoothing: the report says what it did (the volume before it, the largest move); a smoothing that collapses the surface is refused', async () => {
+    // Reported as if kept: the distances and volume change were the smoothed surface's only (a
+    // 12-triangle box smoothed 1000 times came back as a point with "+1.25%").
+    const box = { positions: Float64Array.from([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1]),
+                  faces: Uint32Array.from([0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7]) };
+    await assert.rejects(remesh(mrvol, box, { repair: true, smooth: 1000 }),
+                         (e) => e instanceof MrvolError && /^smoothing collapsed the surface: its volume went from 1\.000 to .* in 1000 steps; use fewer smoothing steps \(--smooth\)$/.test(e.message));
+    const r = await remesh(mrvol, bunnyMesh(), { repair: true, smooth: 5, levels: 1 });
+    const unsmoothed = repair(bunnyMesh()).mesh, smoothed = repair(bunnyMesh(), { smooth: 5 }).mesh;
+    const s = r.repair.smoothing;
+    assert.ok(Math.abs(s.volumeBefore - mrvol.volume(unsmoothed)) <= 1e-9 * Math.abs(s.volumeBefore));
+    assert.ok(Math.abs(s.volumeAfter - mrvol.volume(smoothed)) <= 1e-9 * Math.abs(s.volumeAfter));
+    assert.ok(s.largestMove > 0 && s.largestMove < 0.05, `largest move ${s.largestMove}`);
+    assert.ok(Math.abs(r.volumeChange - (r.volume - r.volumeInput) / r.volumeInput) < 1e-15);
+    assert.ok(Math.abs(r.volumeInput - s.volumeAfter) <= 1e-9 * Math.abs(s.volumeAfter), 'the surface fitted is the smoothed one');
+    assert.ok(Math.abs(r.volumeChangeFromUnsmoothed - (r.volume - s.volumeBefore) / s.volumeBefore) < 1e-15);
+    assert.equal((await remesh(mrvol, bunnyMesh(), { levels: 1 })).volumeChangeFromUnsmoothed, null);
+  });
+
   test('arrays that are not a mesh: remesh rejects, repair and weld throw, naming the index or coordinate', async () => {
     // An index past the last vertex was read as vertex 0 (out of bounds of a typed array) and the
     // remesh went on with a mesh of another shape.
