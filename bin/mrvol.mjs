@@ -190,6 +190,36 @@ function schemeOptions(values) {
   return { scheme, alpha: number(values.alpha, 'alpha'), beta: number(values.beta, 'beta') };
 }
 
+// Options every command takes.
+const GLOBAL_OPTIONS = new Set(['threads', 'help', 'version']);
+
+/**
+ * The options given must be the command's own (an option another command takes was ignored
+ * without a word: `remesh --level 2`, `info --scheme foo`); --scheme must be a scheme the command
+ * takes, and Loop's weights only with Loop. Throws UsageError naming the option.
+ */
+function checkCommandOptions(command, values) {
+  const own = new Set(COMMAND_HELP[command].options);
+  if (own.has('alpha')) own.add('beta');
+  for (const name of Object.keys(values)) {
+    if (GLOBAL_OPTIONS.has(name) || own.has(name)) continue;
+    const list = COMMAND_HELP[command].options.map((o) => (o === 'output' ? '-o' : `--${o}`)).join(', ');
+    throw new UsageError(`${command} has no ${name === 'output' ? '-o' : `--${name}`} option${list ? ` (its options: ${list})` : ''}`);
+  }
+  if (values.scheme === undefined) {
+    if ((values.alpha ?? values.beta) !== undefined && !own.has('alpha')) throw new UsageError(`${command} has no --alpha or --beta option`);
+    return;
+  }
+  if (!['loop', 'butterfly', 'linear', 'catmull-clark'].includes(values.scheme))
+    throw new UsageError(`--scheme must be loop, butterfly or linear (catmull-clark for quad meshes), got '${values.scheme}'`);
+  // info finds the 1-to-4 splits of any triangle scheme alike; remesh makes meshes of linear splits
+  // (the scheme is chosen when they are edited): only catmull-clark (quads) changes what they do.
+  if ((command === 'info' || command === 'remesh') && values.scheme !== 'catmull-clark')
+    throw new UsageError(`${command} takes --scheme catmull-clark only (quad meshes), got '${values.scheme}'`);
+  if ((values.alpha ?? values.beta) !== undefined && values.scheme !== 'loop')
+    throw new UsageError(`--alpha and --beta are Loop's update weights: not with --scheme ${values.scheme}`);
+}
+
 function storageOption(values) {
   const storage = values.storage ?? 'cage';
   if (!['cage', 'full'].includes(storage)) throw new UsageError(`--storage must be cage or full, got '${storage}'`);
@@ -506,6 +536,8 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
   if (keep.some((k) => k !== 'volume' && k !== 'centroid') || !keep.includes('volume'))
     throw new UsageError(`--keep expects volume or volume,centroid, got '${values.keep}'${keep.includes('inertia') ? ' (the inertia tensor is not kept yet)' : ''}`);
   const centroid = keep.includes('centroid');
+  if (detailLevels.length > 0 && (gradientPath === 'tensor' || gradientPath === 'polynomial' || values.theta))
+    throw new UsageError('--free-details runs matrix-free (--path auto or matrix-free, no --theta)');
   if (centroid && (gradientPath === 'tensor' || gradientPath === 'polynomial' || values.theta))
     throw new UsageError('--keep centroid runs matrix-free (--path auto or matrix-free, no --theta)');
   const mr = await openMultires(mrvol, path);
@@ -685,6 +717,7 @@ export async function main(argv) {
     return 0;
   }
   try {
+    checkCommandOptions(command, values);
     if (values.scheme === 'catmull-clark' && !QUAD_COMMANDS[command]) throw new UsageError(`${command} has no --scheme catmull-clark`);
     const threads = values.threads === undefined ? undefined : integer(values.threads, 'threads');
     if (threads !== undefined && (threads < 1 || threads > 16)) throw new UsageError(`--threads must be in 1..16, got ${threads}`);

@@ -206,6 +206,19 @@ describe('errors', () => {
       /--scheme must be loop, butterfly or linear/);
     usageError(mrvolCli('roundtrip', file('ico.obj'), '--level', '1.5'), /--level expects an integer/);
     usageError(mrvolCli('roundtrip', file('ico.obj'), '--level'), /^mrvol: error: /);
+    // Another command's option, a scheme the command does not take, Loop's weights with another
+    // scheme: named (they were ignored without a word, exit 0).
+    usageError(mrvolCli('remesh', file('ico.obj'), '--level', '2', '-o', file('x.obj')),
+      /^mrvol: error: remesh has no --level option \(its options: --levels, --base-faces, .*-o, --json\)/);
+    usageError(mrvolCli('info', file('ico.obj'), '--alpha', '3'), /^mrvol: error: info has no --alpha option/);
+    usageError(mrvolCli('info', file('ico.obj'), '-o', file('x.obj')), /^mrvol: error: info has no -o option/);
+    usageError(mrvolCli('info', file('ico.obj'), '--scheme', 'foo'), /--scheme must be loop, butterfly or linear .*got 'foo'/);
+    usageError(mrvolCli('info', file('ico.obj'), '--scheme', 'butterfly'), /info takes --scheme catmull-clark only \(quad meshes\), got 'butterfly'/);
+    usageError(mrvolCli('remesh', file('ico.obj'), '--scheme', 'loop', '-o', file('x.obj')), /remesh takes --scheme catmull-clark only/);
+    usageError(mrvolCli('volume', file('ico.obj'), '--scheme', 'butterfly', '--alpha', '3'),
+      /--alpha and --beta are Loop's update weights: not with --scheme butterfly/);
+    usageError(mrvolCli('edit', file('ico.obj'), '--move', '0:0.1,0,0', '--free-details', '0', '--path', 'polynomial', '-o', file('x.obj')),
+      /--free-details runs matrix-free \(--path auto or matrix-free, no --theta\)/);
     assert.ok(!existsSync(file('x.obj')));
   });
 
