@@ -472,6 +472,7 @@ const COMMANDS = {
   async subdivide(mrvol, values, positionals) {
     const input = onePath(positionals, 'BASE.obj');
     const levels = integer(values.levels, 'levels');
+    if (levels < 0 || levels > 12) throw new UsageError(`--levels must be in 0..12, got ${levels}`);
     const scheme = schemeOptions(values);
     if (!values.output) throw new UsageError('-o OUT.obj is required');
     const base = await loadMesh(mrvol, input);
@@ -680,12 +681,28 @@ function joinNegativeValues(argv) {
   return out;
 }
 
+/**
+ * parseArgs' refusal in one line of our own words (its text spoke of positionals after '--'), with
+ * where to look: the command's help when the command is known.
+ */
+function argumentError(e, argv) {
+  const command = argv.find((a) => !a.startsWith('-') && Object.hasOwn(COMMAND_HELP, a));
+  const help = command ? `mrvol help ${command}` : 'mrvol help';
+  const option = /'(-[^' ]*)/.exec(e.message)?.[1];
+  switch (e.code) {
+    case 'ERR_PARSE_ARGS_UNKNOWN_OPTION': return `unknown option ${option ?? ''} (${help} lists the options)`;
+    case 'ERR_PARSE_ARGS_INVALID_OPTION_VALUE':
+      return option && /argument missing|ambiguous/.test(e.message) ? `${option} needs a value (${help})` : `${e.message.split('\n')[0]} (${help})`;
+    default: return `${e.message.split('\n')[0]} (${help})`;
+  }
+}
+
 export async function main(argv) {
   let values, positionals;
   try {
     ({ values, positionals } = parseArgs({ args: joinNegativeValues(argv), options: OPTIONS, allowPositionals: true, strict: true }));
   } catch (e) {
-    process.stderr.write(`mrvol: error: ${e.message}\n${usage()}\n`);
+    process.stderr.write(`mrvol: error: ${argumentError(e, argv)}\n`);
     return 2;
   }
   if (values.version) {
