@@ -36,6 +36,8 @@ export function chooseGradientPath(mr, { level = 0, path = 'auto', detailLevels 
   return { path: estimate.fits ? 'tensor' : coarse, estimate };
 }
 const GRADIENT_PATHS = ['polynomial', 'tensor', 'matrix-free'];
+// subdivide(): results past this many faces are refused before any work (beyond 4 GB for certain).
+const MAX_SUBDIVIDED_FACES = 2 ** 25;
 // Levels of details from which the cage polynomial beats a pass over the fine mesh.
 const COARSE_CAGE_LEVELS = 3;
 
@@ -877,11 +879,19 @@ export function wrapModule(module) {
       checkMesh(base);
       const levels = levelArg(options.levels ?? 1, 'levels');
       const scheme = schemeArgs(options);
-      const raw = call(module._subdivideBase, base.positions, base.faces, levels);
+      // The result, not the input, is what may not fit: named as such, at once where it cannot
+      // (4 GB holds about 10 million faces with the hierarchy: 21 million failed after 18 s).
+      const made = (base.faces.length / 3) * 4 ** levels;
+      const tooMany = () => `${levels} levels on ${(base.faces.length / 3).toLocaleString('en-US')} faces make ` +
+        `${made.toLocaleString('en-US')} faces, too many for this WebAssembly module: ask fewer levels`;
+      if (levels <= 12 && made > MAX_SUBDIVIDED_FACES) throw new MrvolError(tooMany());  // (past 12: the core's message)
+      let raw;
       try {
+        raw = call(module._subdivideBase, base.positions, base.faces, levels);
         return new MultiresMesh(raw, call((r) => r.subdivisionPositions(base.positions, scheme), raw));
       } catch (e) {
-        raw.delete();
+        raw?.delete();
+        if (e instanceof MrvolError && e.message.startsWith('out of memory')) throw new MrvolError(`out of memory: ${tooMany()}`);
         throw e;
       }
     },

@@ -328,6 +328,10 @@ describe('errors', () => {
     throwsMrvol(() => mr.analyze(x, { level: '1' }), /^level must be an integer/);
     throwsMrvol(() => mrvol.subdivide(icosahedron(), { levels: -1 }), 'levels must be between 0 and 12, got -1');
     throwsMrvol(() => mrvol.subdivide(icosahedron(), { levels: 13 }), 'levels must be between 0 and 12, got 13');
+    // A result that cannot fit is refused at once, naming the result (not "the input is too large"
+    // after 16 s and 3.4 GB).
+    throwsMrvol(() => mrvol.subdivide(icosahedron(), { levels: 11 }),
+                '11 levels on 20 faces make 83,886,080 faces, too many for this WebAssembly module: ask fewer levels');
     throwsMrvol(() => mrvol.subdivide(icosahedron(), { levels: 0.5 }), 'levels must be an integer, got 0.5');
     mr.delete();
   });
