@@ -511,6 +511,12 @@ function parseMoves(values) {
   });
 }
 
+/** A vertex both moved and listed in --free was let go by the correction: named instead. */
+function checkFreeNotMoved(freeList, moves) {
+  const moved = freeList && moves.find((m) => freeList.includes(m.vertex));
+  if (moved) throw new UsageError(`--free lists vertex ${moved.vertex}, which --move moves: a moved vertex is held where it is put (leave it out of --free)`);
+}
+
 function parseList(text, name) {
   const items = text.split(',').map((x) => x.trim());
   if (items.some((x) => !/^\d+$/.test(x))) throw new UsageError(`--${name} expects a comma-separated list of integers, got '${text}'`);
@@ -530,6 +536,7 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
     throw new UsageError(`--path must be auto, polynomial, tensor or matrix-free, got '${gradientPath}'`);
   const free = values.free ?? 'cage';
   const freeList = free === 'cage' || free === 'all' ? null : parseList(free, 'free');
+  checkFreeNotMoved(freeList, moves);
   const detailLevels = values['free-details'] ? parseList(values['free-details'], 'free-details') : [];
   const surface = values.surface ?? 'mesh';
   if (surface !== 'mesh' && surface !== 'limit') throw new UsageError(`--surface must be mesh or limit, got '${surface}'`);
@@ -664,7 +671,7 @@ COMMANDS.theta = async (mrvol, values, positionals) =>
   print(values, await tensorReport(mrvol, values, positionals, { requireOutput: true }), describeTensor);
 
 // What the catmull-clark commands (bin/quad-commands.mjs) share with the others.
-const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, describeTensor,
+const QUAD_CLI = { UsageError, onePath, integer, number, print, readBytes, writeText, writeBytes, parseMoves, checkFreeNotMoved, describeTensor,
                    loadMesh, parseList };
 
 /**

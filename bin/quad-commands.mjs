@@ -120,6 +120,7 @@ export const QUAD_COMMANDS = {
       throw new cli.UsageError(`--path must be auto, polynomial, tensor or matrix-free, got '${gradientPath}'`);
     const free = values.free ?? 'cage';
     const freeList = free === 'cage' || free === 'all' ? null : cli.parseList(free, 'free');
+    cli.checkFreeNotMoved(freeList, moves);
     const detailLevels = values['free-details'] ? cli.parseList(values['free-details'], 'free-details') : [];
     if (values.surface !== undefined && values.surface !== 'mesh')
       throw new cli.UsageError(`--surface ${values.surface} is not available for catmull-clark (the bilinear patches' volume is kept)`);

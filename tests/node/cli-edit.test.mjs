@@ -265,6 +265,8 @@ describe('edit errors', () => {
       [['--move', '3:0.1,0,0', '--path', 'fast'], /--path must be auto, polynomial, tensor or matrix-free/],
       [['--move', '3:0.1,0,0', '--free', '1,x'], /--free expects a comma-separated list of integers/],
       [['--move', '3:0.1,0,0', '--level', '0.5'], /--level expects an integer/],
+      // A moved vertex in --free was let go by the correction (it ended away from where it was put).
+      [['--move', '3:0.1,0,0', '--free', '1,3,5'], /--free lists vertex 3, which --move moves: a moved vertex is held where it is put \(leave it out of --free\)/],
     ];
     const [noOutput, ...results] = await Promise.all([
       mrvolCli('edit', spiky, '--move', '3:0.1,0,0'),
