@@ -12,7 +12,8 @@ const output = process.argv[3] ?? 'edited.obj';
 
 const mrvol = await createMrvol();
 const mesh = mrvol.readObj(await readFile(input, 'utf8'));
-// Detects the hierarchy of 1-to-4 splits (in any vertex order); throws MrvolError if there is none.
+// Detects the hierarchy of 1-to-4 splits (in any vertex order); a mesh without one opens with 0
+// levels (its only cage is the mesh itself: `mrvol remesh` makes a semi-regular mesh of it).
 const mr = mrvol.openMesh(mesh);
 const info = mr.info();
 console.log(`opened ${input}: ${info.vertices} vertices, ${info.levels} levels, volume ${info.volume}`);
