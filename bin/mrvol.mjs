@@ -466,7 +466,9 @@ const COMMANDS = {
       `semi-regular   ${r.semiRegular ? 'yes' : notSemiRegular(r)}`,
       ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
-      `genus          ${r.genus}`, `volume         ${r.volume}`].join('\n'));
+      // (A genus is a closed surface's: an open one's Euler count says nothing the boundary does not.)
+      `genus          ${r.closed ? r.genus : '- (not a closed surface)'}`,
+      `volume         ${r.volume}${r.closed ? '' : ' (open: the cones from the origin to its faces)'}`].join('\n'));
   },
 
   async subdivide(mrvol, values, positionals) {

@@ -182,6 +182,15 @@ describe('errors', () => {
     assert.ok(!existsSync(file('never.obj')));
   });
 
+  test('info of an open surface: no genus, its volume said to be the cones\' from the origin', () => {
+    writeFileSync(file('open-tet.obj'), 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n');
+    const text = mrvolCli('info', file('open-tet.obj')).stdout;
+    assert.match(text, /^closed {9}false$/m);
+    assert.match(text, /^genus {10}- \(not a closed surface\)$/m);
+    assert.match(text, /^volume {9}0\.1666+7? \(open: the cones from the origin to its faces\)$/m);
+    assert.match(mrvolCli('info', file('ico.obj')).stdout, /^genus {10}0$/m);
+  });
+
   test('output that cannot be written: exit 1, said before any work', () => {
     failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file(join('no', 'such', 'dir.obj'))),
               new RegExp(`cannot write .*dir\\.obj: no such directory .*${join('no', 'such')}`));
