@@ -229,7 +229,7 @@ describe('edit errors', () => {
       [['--move', '100:0.1,0,0'], /vertex 100 is not a vertex of the level-0 cage \(it is born at level 2\)/],
       [['--level', '1', '--move', '3:0,0,0.1', '--move', '641:0.1,0,0'], /vertex 641 is not a vertex of the level-1 cage \(it is born at level 3\)/],
       [['--move', '642:0.1,0,0'], /vertex 642 does not exist \(the mesh has 642 vertices\)/],
-      [['--free', '3,200', '--move', '3:0.1,0,0'], /vertex 200 is not a vertex of the level-0 cage/],
+      [['--free', '4,200', '--move', '3:0.1,0,0'], /vertex 200 is not a vertex of the level-0 cage/],
       [['--free-details', '3', '--move', '3:0.1,0,0'], /free detail level 3 is out of range 0\.\.2/],
       // A move beyond the coordinates a mesh may have (it wrote a file of NaN volume that no reader took back).
       [['--move', '0:1e300,0,0'], /moves\[0\] puts vertex 0 at x = 1e\+300: coordinates must stay within \+-1e\+100/],
