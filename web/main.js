@@ -600,7 +600,7 @@ async function shareLink() {
   const field = document.getElementById('share-url');
   field.value = ''; // never show (or copy) the last link while this one is made
   if (app.model.kind !== 'sample') {
-    notice('A share link can carry a sample model\'s edits only; save a project file to pass on an opened file.');
+    notice('A share link can carry a sample model\'s edits only; save a project file to pass on an opened file.', { reveal: true });
     return;
   }
   const original = app.mrvol.readObj(await fetchSample(app.model.name)).positions;
@@ -614,6 +614,8 @@ async function shareLink() {
   } catch {
     notice('The share link is below the readouts: copy it from there.');
   }
+  // The link itself into the view (the panel's Tools are far below it on a phone).
+  document.getElementById('share').scrollIntoView({ block: 'nearest', inline: 'nearest' });
 }
 
 function saveProject() {

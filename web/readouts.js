@@ -27,8 +27,14 @@ export function errorText() {
   return $('error-text').textContent;
 }
 
-export function notice(message) {
+/**
+ * Shows `message` in the readouts. reveal: the answer to a button of the panel, scrolled into the
+ * view when the panel is scrolled away from it (a phone's sheet showed the share link's answer
+ * 500-1000 px above what was on screen).
+ */
+export function notice(message, { reveal = false } = {}) {
   $('notice').textContent = message ?? '';
+  if (reveal && message) $('notice').scrollIntoView({ block: 'nearest', inline: 'nearest' });
 }
 
 export function noticeText() {

@@ -62,7 +62,14 @@ export function remeshFailureWords(message) {
 
 export function offerRemesh(source, { repair = false, open, notice, auto = false, quads = false }) {
   cancelRemesh();
-  $('remesh-why').textContent = repair ? 'Not a closed 2-manifold: repair and remesh it?' : 'Not semi-regular: remesh it?';
+  // A question while nothing runs; while the worker runs, what it is doing (it was asked while the
+  // work it asked about was already under way).
+  const why = (running) => {
+    $('remesh-why').textContent = repair
+      ? (running ? 'Not a closed 2-manifold: repairing and remeshing it (the fields below run it again).' : 'Not a closed 2-manifold: repair and remesh it?')
+      : (running ? 'Not semi-regular: remeshing it (the fields below run it again).' : 'Not semi-regular: remesh it?');
+  };
+  why(false);
   $('remesh-repair').checked = repair;
   $('remesh-largest').checked = false;
   $('remesh-into').value = quads ? 'quads' : 'triangles';
@@ -86,6 +93,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     const bar = $('remesh-progress');
     bar.removeAttribute('value');
     bar.hidden = false;
+    why(true);
     $('remesh-cancel').hidden = false;
     const started = performance.now();
     const finish = (stage) => {
@@ -96,6 +104,7 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
       $('remesh-cancel').hidden = true;
       $('remesh-go').disabled = false;
       $('remesh-stage').textContent = stage;
+      why(false);
       return true;
     };
     running.onmessage = async ({ data }) => {
@@ -137,6 +146,9 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
     running.postMessage({ text: source.text, mesh, levels: levels > 0 ? levels : undefined, baseFaces: base > 0 ? base : undefined,
       repair: repairing, keepLargest, smooth: repairing && smooth > 0 ? smooth : undefined, quads: intoQuads });
   };
-  $('remesh-cancel').onclick = cancelRemesh;
+  $('remesh-cancel').onclick = () => {
+    cancelRemesh();
+    why(false);
+  };
   if (auto) $('remesh-go').onclick();
 }

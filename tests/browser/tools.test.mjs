@@ -73,6 +73,27 @@ describe('web editor: tools', { timeout: 400_000 }, () => {
     }
   });
 
+  test('phone (390x844): the share link is scrolled into the view when the button far below it is pressed', async () => {
+    // The sheet's Tools are below the readouts: the link box and its notice appeared 500-1000 px above
+    // what was on screen, and the button seemed to do nothing.
+    await page.setViewportSize({ width: 390, height: 844 });
+    try {
+      await page.evaluate(() => {
+        document.getElementById('share').hidden = true;
+        document.querySelector('[data-testid="share-url"]').value = '';
+      });
+      await page.locator('[data-testid="share-link"]').click();
+      await page.waitForFunction(() => document.querySelector('[data-testid="share-url"]').value.includes('edits='));
+      const field = await page.locator('[data-testid="share-url"]').boundingBox();
+      assert.ok(field.y >= 0 && field.y + field.height <= 844, `the link's field at y ${field.y.toFixed(0)}..${(field.y + field.height).toFixed(0)}`);
+      // Not under anything: the element at its centre is the field itself.
+      const top = await page.evaluate(({ x, y }) => document.elementFromPoint(x, y)?.dataset.testid, { x: field.x + field.width / 2, y: field.y + field.height / 2 });
+      assert.equal(top, 'share-url');
+    } finally {
+      await page.setViewportSize({ width: 1280, height: 800 });
+    }
+  });
+
   test('a project file saves and opens again with model, edits and settings', async () => {
     await page.locator('[data-testid="level"]').selectOption('1');
     await page.waitForFunction(() => window.mrvolDebug.cageSize() > 12);
