@@ -358,16 +358,19 @@ export function foldedFaces(mesh, since = null) {
   if (!since) {
     const normals = new Float64Array(faces.length);
     for (let f = 0; f < faceCount; f++) unitFaceNormal(p, faces, f, normals, 3 * f);
-    const twins = connectivity(faces, vertexCount).twins;
+    const twins = connectivity(faces, vertexCount).twins, againstFaces = [0, 0, 0];
     for (let f = 0; f < faceCount; f++) {
       // (No array per face: on a large scan those were most of this step.)
-      let against = 0, first = -1, agree = false;
+      let against = 0, agree = false;
       for (let j = 0; j < 3; j++) {
         const g = twins[3 * f + j];
         if (!(g >= 0 && normals[3 * f] * normals[3 * g] + normals[3 * f + 1] * normals[3 * g + 1] + normals[3 * f + 2] * normals[3 * g + 2] < -0.5)) continue;
-        against++;
-        if (first < 0) first = g;
-        else if (!agree) agree = normals[3 * first] * normals[3 * g] + normals[3 * first + 1] * normals[3 * g + 1] + normals[3 * first + 2] * normals[3 * g + 2] > 0;
+        // Agreeing with an earlier neighbour against the face (each pair once).
+        for (let i = 0; i < against && !agree; i++) {
+          const h = againstFaces[i];
+          agree = normals[3 * h] * normals[3 * g] + normals[3 * h + 1] * normals[3 * g + 1] + normals[3 * h + 2] * normals[3 * g + 2] > 0;
+        }
+        againstFaces[against++] = g;
       }
       if (against < 2 || !agree) continue;
       count++;
@@ -391,7 +394,7 @@ export function foldedFaces(mesh, since = null) {
       if (a + b + c >= 2) look[f] = 1, candidates.push(f);
     }
   }
-  const own = new Float64Array(3), other = new Float64Array(3), firstAgainst = new Float64Array(3), twins = [0, 0, 0];
+  const own = new Float64Array(3), other = new Float64Array(3), againstNormals = new Float64Array(9), twins = [0, 0, 0];
   for (const f of candidates) {
     unitFaceNormal(p, faces, f, own, 0);
     let against = 0, agree = false;
@@ -400,8 +403,9 @@ export function foldedFaces(mesh, since = null) {
       if (g < 0) continue;
       unitFaceNormal(p, faces, g, other, 0);
       if (!(own[0] * other[0] + own[1] * other[1] + own[2] * other[2] < -0.5)) continue;
-      if (against++ === 0) firstAgainst.set(other);
-      else if (!agree) agree = firstAgainst[0] * other[0] + firstAgainst[1] * other[1] + firstAgainst[2] * other[2] > 0;
+      for (let i = 0; i < against && !agree; i++)
+        agree = againstNormals[3 * i] * other[0] + againstNormals[3 * i + 1] * other[1] + againstNormals[3 * i + 2] * other[2] > 0;
+      againstNormals.set(other, 3 * against++);
     }
     if (against < 2 || !agree) continue;
     count++;
