@@ -291,7 +291,7 @@ function checkOutputPath(path) {
   }
   if (stat?.isDirectory()) throw new MrvolError(`cannot write ${path}: it is a directory`);
   const folder = dirname(path);
-  let folderStat = null;
+  let folderStat;
   try {
     folderStat = statSync(folder);
   } catch {
