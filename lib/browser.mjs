@@ -78,13 +78,14 @@ function threadsArg(options) {
   return threads ?? Math.max(1, Math.min(8, globalThis.navigator?.hardwareConcurrency ?? 1));
 }
 
-// Resolves with emscripten's module once instantiated, or rejects with why.
+// Resolves with emscripten's module once instantiated, or rejects with why. extra: more of the
+// module's settings, or a function of `failed` (reject with an error) that makes them.
 async function instantiate(factory, wasmModule, extra = {}) {
   let failed;
   const failure = new Promise((_, reject) => (failed = reject));
   return Promise.race([
     factory({
-      ...extra,
+      ...(typeof extra === 'function' ? extra(failed) : extra),
       // emscripten calls this instead of fetching the file itself: the module is compiled above.
       instantiateWasm(imports, receiveInstance) {
         WebAssembly.instantiate(wasmModule, imports).then((instance) => receiveInstance(instance, wasmModule), failed);
@@ -117,12 +118,20 @@ export async function createMrvol(options = {}) {
     throw new MrvolError(`could not load the threaded WASM module from ${urls.factory}: ${e.message}`);
   }
   const wasmModule = await compile({ wasmUrl: urls.wasm });
-  const raw = await instantiate(factory, wasmModule, {
+  const raw = await instantiate(factory, wasmModule, (failed) => ({
     mrvolThreadPool: threads - 1,  // the pool's workers (the calling thread is one)
     // The pool's workers run the classic script beside the module and import the module's own file.
     locateFile: (path, prefix) => (path.endsWith('.worker.js') ? urls.worker : prefix + path),
     mainScriptUrlOrBlob: urls.factory,
-  });
+    // A pool worker that fails to start (its script served as a module: a bundler's dev server
+    // transforms it) left the module waiting for it for ever: emscripten only logs it. Rejected here.
+    printErr(text) {
+      console.warn(text);
+      if (String(text).startsWith('worker sent an error!'))
+        failed(new MrvolError(`the threaded module's worker ${urls.worker} could not start (${String(text).slice(22)}): serve it ` +
+                              'as a classic script, untransformed (see the README: cross-origin isolated pages), or use createMrvol({ threads: 1 })'));
+    },
+  }));
   if (raw._setThreadCount(threads) !== threads)
     throw new MrvolError(`could not start ${threads} threads: ${raw._takeThreadError()}`);
   return wrapModule(raw);

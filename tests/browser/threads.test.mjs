@@ -67,6 +67,25 @@ describe('the app on its cross-origin isolated server', { timeout: 240_000 }, ()
     for (const step of threaded.steps) assert.ok(step.converged && step.error < 1e-10, JSON.stringify(step));
     assert.deepEqual(threaded.steps, single.steps);
   });
+
+  test('lib/browser.mjs: a pool worker that cannot start rejects with a MrvolError naming it (it never settled)', async () => {
+    // The worker's script as a bundler's dev server may hand it out: here a file that is not one at all.
+    const outcome = await page.evaluate(async (entry) => {
+      const { createMrvol, MrvolError } = await import(entry);
+      const base = new URL(entry, location.href);
+      const urls = {
+        factory: new URL('../build/wasm/mrvol-web-mt.mjs', base).href,
+        wasm: new URL('../build/wasm/mrvol-web-mt.wasm', base).href,
+        worker: new URL('/models/spiky-ball.obj', location.href).href,
+      };
+      const timeout = new Promise((resolve) => setTimeout(() => resolve('still pending after 30 s'), 30_000));
+      return Promise.race([
+        createMrvol({ threads: 2, threadedUrls: urls }).then(() => 'resolved', (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`),
+        timeout,
+      ]);
+    }, `/@fs${root}/lib/browser.mjs`);
+    assert.match(outcome, /^MrvolError: the threaded module's worker .*spiky-ball\.obj could not start \(.*\): serve it as a classic script, untransformed .*or use createMrvol\(\{ threads: 1 \}\)$/);
+  });
 });
 
 describe('lib/browser.mjs without cross-origin isolation', { timeout: 180_000 }, () => {
