@@ -85,6 +85,7 @@ export class VolumeEditControls extends THREE.EventDispatcher<VolumeEditControls
   cancel(): boolean;
   /** [x0, y0, x1, y1, ...]: handles on the element, CSS pixels from its top left. */
   handleScreenPositions(): number[];
+  /** Frees its WASM memory, buffers and listeners; a second call does nothing, any other call after it throws MrvolError. */
   dispose(): void;
 }
 

@@ -41,6 +41,7 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     super();
     const { level = 0, scheme, preserve = true, tolerance = 1e-6, theta = 'matrix-free', pickRadius = 10,
       surfaceColor, cageColor = CAGE_COLOR, handleSize = 'auto', flat = true } = options;
+    this.#MrvolError = mrvol.MrvolError;
     this.camera = camera;
     this.domElement = element?.domElement ?? element;
     if (!this.domElement?.addEventListener) throw new TypeError('VolumeEditControls needs a DOM element or a renderer');
@@ -71,6 +72,14 @@ export class VolumeEditControls extends THREE.EventDispatcher {
   }
 
   #cageStyle;
+  #MrvolError;
+  #disposed = false;
+  // The session after dispose() is gone: a call then says so (it was a TypeError from inside, a
+  // null volume, or an answer about the freed cage).
+  #live() {
+    if (this.#disposed) throw new this.#MrvolError('this VolumeEditControls was disposed');
+    return this.session;
+  }
   #drag = null;    // { pointerId, handle, plane, origin (world), started }
   #hover = -1;
   #screen = null;
@@ -80,12 +89,12 @@ export class VolumeEditControls extends THREE.EventDispatcher {
   #local = new THREE.Vector3();
   #originLocal = new THREE.Vector3();
 
-  get preserve() { return this.session.preserve; }
-  set preserve(value) { this.session.preserve = Boolean(value); }
-  get level() { return this.session.level; }
+  get preserve() { return this.#live().preserve; }
+  set preserve(value) { this.#live().preserve = Boolean(value); }
+  get level() { return this.#live().level; }
   get dragging() { return this.#drag?.started ?? false; }
   /** Handle (cage vertex) count. */
-  get handleCount() { return this.session.cageSize; }
+  get handleCount() { return this.#live().cageSize; }
   /** 'auto' or the fixed handle size (CSS px) given. */
   get handleSize() { return this.cage.handleSize; }
   /**
@@ -97,30 +106,30 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     return this.cage.updateHandleSize(this.camera, rect.width, rect.height);
   }
 
-  volume() { return this.session.volume(); }
-  referenceVolume() { return this.session.referenceVolume(); }
+  volume() { return this.#live().volume(); }
+  referenceVolume() { return this.#live().referenceVolume(); }
   /** Fine positions (caller's vertex order) and cage positions (cage order), copies. */
-  positions() { return this.session.positions(); }
-  cagePositions() { return this.session.cagePositions(); }
+  positions() { return this.#live().positions(); }
+  cagePositions() { return this.#live().cagePositions(); }
   /** The core's report of the last drag step, or null. */
   get lastReport() { return this.session.lastReport; }
 
   /** Another cage level (the shape and the reference volume stay). */
   setLevel(level) {
-    this.session.setLevel(level);
+    this.#live().setLevel(level);
     this.#buildCage();
     this.#changed(null, 'level');
   }
 
   undo() {
-    if (!this.session.undo()) return false;
+    if (!this.#live().undo()) return false;
     this.#sync();
     this.#changed(null, 'undo');
     return true;
   }
 
   redo() {
-    if (!this.session.redo()) return false;
+    if (!this.#live().redo()) return false;
     this.#sync();
     this.#changed(null, 'redo');
     return true;
@@ -143,11 +152,14 @@ export class VolumeEditControls extends THREE.EventDispatcher {
 
   /** Screen positions of the handles ([x0, y0, ...], CSS pixels of the element). */
   handleScreenPositions() {
+    this.#live();
     const rect = this.domElement.getBoundingClientRect();
     return Array.from(this.#project(rect));
   }
 
+  /** Frees what the editor holds (WASM memory, GPU buffers, listeners); later calls throw MrvolError. A second call does nothing. */
   dispose() {
+    if (this.#disposed) return;
     this.cancel();
     this.#listen(false);
     this.session.removeEventListener('error', this.#onError);
@@ -155,6 +167,7 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     this.surface.dispose();
     this.cage?.dispose();
     this.session.dispose();
+    this.#disposed = true;
   }
 
   // ---- drawing ----------------------------------------------------------------------------------------

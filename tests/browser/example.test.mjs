@@ -96,6 +96,33 @@ describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
     await cdp.detach();
   });
 
+  test('after dispose() every call says the editor was disposed; a second dispose() does nothing', async () => {
+    // (setLevel threw a TypeError from inside, volume() gave null, undo() false.)
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const { mrvol, model } = editor.session;
+      const second = new editor.constructor(mrvol, editor.camera, editor.domElement, model.mr, { level: 0 });
+      second.dispose();
+      second.dispose();
+      const calls = { setLevel: () => second.setLevel(1), volume: () => second.volume(), undo: () => second.undo(),
+                      redo: () => second.redo(), positions: () => second.positions(), handleCount: () => second.handleCount,
+                      handleScreenPositions: () => second.handleScreenPositions() };
+      const out = {};
+      for (const [name, call] of Object.entries(calls)) {
+        try {
+          out[name] = `returned ${JSON.stringify(call())?.slice(0, 40)}`;
+        } catch (e) {
+          out[name] = `${e instanceof mrvol.MrvolError ? 'MrvolError' : e.name}: ${e.message}`;
+        }
+      }
+      out.firstStillEdits = editor.volume() > 0 && editor.handleCount === 12;
+      return out;
+    });
+    const { firstStillEdits, ...calls } = result;
+    for (const [name, outcome] of Object.entries(calls)) assert.equal(outcome, 'MrvolError: this VolumeEditControls was disposed', name);
+    assert.equal(firstStillEdits, true, 'the page\'s own editor (sharing the mesh) still works');
+  });
+
   test("theta: 'auto' edits through the tensor; a tensor of another level is refused, nothing left behind", async () => {
     const result = await page.evaluate(() => {
       const editor = window.minimalEditor;
