@@ -42,7 +42,7 @@ export interface VolumeEditControlsEventMap {
   /** The drag ended (cancelled: the cage went back). */
   dragend: { handle?: number; cancelled: boolean };
   /** Something to draw changed (render on it); report: the drag step's, else null. */
-  change: { report: EditReport | null; reason: 'drag' | 'dragend' | 'undo' | 'redo' | 'cancel' | 'hover' | 'level' };
+  change: { report: EditReport | null; reason: 'drag' | 'dragend' | 'move' | 'undo' | 'redo' | 'cancel' | 'hover' | 'level' };
   /** An edit was refused and undone (e.g. a fixed boundary vertex). */
   error: { message: string; error: Error };
 }
@@ -79,6 +79,11 @@ export class VolumeEditControls extends THREE.EventDispatcher<VolumeEditControls
   cagePositions(): Float64Array;
   /** Another cage level; the shape and the reference volume stay, the history is cleared. */
   setLevel(level: number): void;
+  /**
+   * Moves handles (cage vertices, cage order) by `delta` from code, as one drag: the volume restored,
+   * one undo step, the picture redrawn, `change` with reason 'move'. null when refused (`error` event).
+   */
+  moveHandles(handles: number[], delta: [number, number, number] | number[]): EditReport | null;
   undo(): boolean;
   redo(): boolean;
   /** Abandons the drag going on; true if there was one. */

@@ -121,6 +121,20 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     this.#changed(null, 'level');
   }
 
+  /**
+   * Moves handles (cage vertices, cage order) by `delta` from code, as one drag: the volume
+   * restored, one undo step, the picture redrawn and `change` (reason 'move') sent. Returns the
+   * core's report, or null when refused (an `error` event says why). Not during a pointer drag.
+   */
+  moveHandles(handles, delta) {
+    const session = this.#live();
+    if (this.#drag) throw new this.#MrvolError('moveHandles: a pointer drag is going on');
+    const report = session.moveHandles(handles, delta);
+    this.#sync();
+    this.#changed(report, 'move');
+    return report;
+  }
+
   undo() {
     if (!this.#live().undo()) return false;
     this.#sync();

@@ -96,6 +96,34 @@ describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
     await cdp.detach();
   });
 
+  test('moveHandles from code: the volume kept, the picture redrawn, change (move) sent, one undo step', async () => {
+    // (Driving the session directly moved the shape but left the surface and the cage drawn as before.)
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const events = [];
+      const listen = (e) => events.push(e.reason);
+      editor.addEventListener('change', listen);
+      const drawn = () => Array.from(editor.surface.geometry.getAttribute('position').array.slice(0, 30));
+      const drawnCage = () => Array.from(editor.cage.positions.slice(0, 3));
+      const before = { surface: drawn(), cage: drawnCage(), positions: Array.from(editor.positions().slice(0, 30)), undo: editor.session.history.size.undo };
+      const report = editor.moveHandles([0], [0.2, 0, 0]);
+      const after = { surface: drawn(), cage: drawnCage(), positions: Array.from(editor.positions().slice(0, 30)), undo: editor.session.history.size.undo };
+      const volume = editor.volume(), reference = editor.referenceVolume();
+      editor.removeEventListener('change', listen);
+      editor.undo();
+      return { before, after, events, converged: report?.converged, volume, reference, back: Array.from(editor.cagePositions().slice(0, 3)) };
+    });
+    assert.ok(result.converged);
+    assert.ok(Math.abs(result.volume - result.reference) / result.reference < 1e-5);
+    assert.notDeepEqual(result.after.positions, result.before.positions, 'the shape moved');
+    // The drawn surface is float32: it follows the shape to float32.
+    assert.ok(result.after.surface.every((x, i) => Math.abs(x - result.after.positions[i]) < 1e-5), 'the surface drawn is the new shape');
+    assert.notDeepEqual(result.after.cage, result.before.cage, 'the cage drawn moved');
+    assert.deepEqual(result.events, ['move']);
+    assert.equal(result.after.undo, result.before.undo + 1, 'one undo step');
+    assert.ok(result.back.every((x, i) => Math.abs(x - result.before.cage[i]) < 1e-6), 'undo gave the handle back');
+  });
+
   test('after dispose() every call says the editor was disposed; a second dispose() does nothing', async () => {
     // (setLevel threw a TypeError from inside, volume() gave null, undo() false.)
     const result = await page.evaluate(() => {
