@@ -106,6 +106,8 @@ async function instantiate(factory, wasmModule, extra = {}) {
  *   (mrvol-web-mt: its .mjs, .wasm and the classic-script .worker.js of its pool, at threadedUrls
  *   or beside this file) runs them on that many (default: the cores, at most 8); elsewhere, with
  *   threads: 1, and when the single-thread module's .wasm is given, the single-thread build.
+ *   threadStartTimeout: ms the threaded build's pool may take to start (default 30000) before a
+ *   MrvolError says its files were not served as they are.
  */
 export async function createMrvol(options = {}) {
   const threads = threadsArg(options);
@@ -118,7 +120,29 @@ export async function createMrvol(options = {}) {
     throw new MrvolError(`could not load the threaded WASM module from ${urls.factory}: ${e.message}`);
   }
   const wasmModule = await compile({ wasmUrl: urls.wasm });
-  const raw = await instantiate(factory, wasmModule, (failed) => ({
+  // The pool's workers report that they loaded, or the module waits for them for ever (a worker
+  // whose import of the module's file fails, say a build that did not emit it, only logs that in
+  // the worker): past this long, a MrvolError says so.
+  const timeout = options.threadStartTimeout ?? 30_000;
+  let timer;
+  const raw = await instantiate(factory, wasmModule, (failed) => {
+    timer = setTimeout(() => failed(new MrvolError(`the threaded module's workers did not start within ${timeout / 1000} s ` +
+      `(${named(urls.worker)} importing ${named(urls.factory)}): serve both as they are (see the README: cross-origin isolated pages), ` +
+      'or use createMrvol({ threads: 1 })')), timeout);
+    return threadedSettings(threads, urls, failed);
+  }).finally(() => clearTimeout(timer));
+  if (raw._setThreadCount(threads) !== threads)
+    throw new MrvolError(`could not start ${threads} threads: ${raw._takeThreadError()}`);
+  return wrapModule(raw);
+}
+
+// A file's URL for a message: a data: URL (a bundler inlined the file) not spelt out.
+const named = (url) => (String(url).startsWith('data:') ? 'a data: URL (the file inlined by a bundler)' : url);
+
+// The threaded module's settings: its pool, where the pool's files are, and a pool worker that
+// cannot start turned into `failed(error)`.
+function threadedSettings(threads, urls, failed) {
+  return {
     mrvolThreadPool: threads - 1,  // the pool's workers (the calling thread is one)
     // The pool's workers run the classic script beside the module and import the module's own file.
     locateFile: (path, prefix) => (path.endsWith('.worker.js') ? urls.worker : prefix + path),
@@ -128,11 +152,8 @@ export async function createMrvol(options = {}) {
     printErr(text) {
       console.warn(text);
       if (String(text).startsWith('worker sent an error!'))
-        failed(new MrvolError(`the threaded module's worker ${urls.worker} could not start (${String(text).slice(22)}): serve it ` +
+        failed(new MrvolError(`the threaded module's worker ${named(urls.worker)} could not start (${String(text).slice(22)}): serve it ` +
                               'as a classic script, untransformed (see the README: cross-origin isolated pages), or use createMrvol({ threads: 1 })'));
     },
-  }));
-  if (raw._setThreadCount(threads) !== threads)
-    throw new MrvolError(`could not start ${threads} threads: ${raw._takeThreadError()}`);
-  return wrapModule(raw);
+  };
 }

@@ -638,6 +638,11 @@ export interface CreateMrvolOptions {
    * build/wasm/): its factory .mjs, its .wasm and its pool's classic-script worker.
    */
   threadedUrls?: { factory: string; wasm: string; worker: string };
+  /**
+   * Browser entry only: ms the threaded build's pool may take to start (default 30000); past it, or
+   * when a pool worker fails to start, createMrvol rejects with a MrvolError naming the files.
+   */
+  threadStartTimeout?: number;
 }
 
 /** Browser entry only: whether this page or worker can run the threaded build (cross-origin isolated). */

@@ -86,6 +86,26 @@ describe('the app on its cross-origin isolated server', { timeout: 240_000 }, ()
     }, `/@fs${root}/lib/browser.mjs`);
     assert.match(outcome, /^MrvolError: the threaded module's worker .*spiky-ball\.obj could not start \(.*\): serve it as a classic script, untransformed .*or use createMrvol\(\{ threads: 1 \}\)$/);
   });
+
+  test('lib/browser.mjs: a pool worker that starts but never reports (its import of the module failed in it) rejects after threadStartTimeout', async () => {
+    // A build that did not emit the module's file: the worker's import fails inside it, which only the
+    // worker sees. Here a worker that runs and never answers.
+    const outcome = await page.evaluate(async (entry) => {
+      const { createMrvol, MrvolError } = await import(entry);
+      const base = new URL(entry, location.href);
+      const urls = {
+        factory: new URL('../build/wasm/mrvol-web-mt.mjs', base).href,
+        wasm: new URL('../build/wasm/mrvol-web-mt.wasm', base).href,
+        worker: URL.createObjectURL(new Blob(['// a pool worker that never reports'], { type: 'text/javascript' })),
+      };
+      const started = performance.now();
+      const settled = await createMrvol({ threads: 2, threadedUrls: urls, threadStartTimeout: 2000 })
+        .then(() => 'resolved', (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`);
+      return { settled, ms: performance.now() - started };
+    }, `/@fs${root}/lib/browser.mjs`);
+    assert.match(outcome.settled, /^MrvolError: the threaded module's workers did not start within 2 s \(blob:.* importing .*mrvol-web-mt\.mjs\): serve both as they are .*or use createMrvol\(\{ threads: 1 \}\)$/);
+    assert.ok(outcome.ms < 20_000, `settled after ${outcome.ms} ms`);
+  });
 });
 
 describe('lib/browser.mjs without cross-origin isolation', { timeout: 180_000 }, () => {
