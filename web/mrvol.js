@@ -40,10 +40,8 @@ export async function loadMrvol(compiled) {
 export async function loadPageMrvol() {
   if (!canUseThreads()) return loadMrvol();
   try {
-    // A pool worker that never loads would keep the threaded module waiting: bounded.
-    let timer;
-    const late = new Promise((_, reject) => (timer = setTimeout(() => reject(new Error('not ready after 30 s')), 30_000)));
-    return await Promise.race([createMrvol(), late]).finally(() => clearTimeout(timer));
+    // A pool that does not start rejects (lib/browser.mjs: a worker that fails, or 30 s without word).
+    return await createMrvol();
   } catch (e) {
     console.warn(`the threaded core did not load (${e.message}): the single-thread one instead`);
     return loadMrvol();
