@@ -38,6 +38,30 @@ async function editInPage(page, options) {
   }, { entry: `/@fs${root}/lib/browser.mjs`, options });
 }
 
+// In the page: createMrvol({ threads: 2 }) with the real module but a pool worker that is `worker`
+// ('a model file': not a script; 'silent': a script that never answers), raced against 30 s;
+// { settled: 'resolved' | 'ErrorName: message' | 'still pending', ms }.
+async function threadedStart(page, worker, threadStartTimeout) {
+  return page.evaluate(async ({ entry, worker, threadStartTimeout }) => {
+    const { createMrvol, MrvolError } = await import(entry);
+    const base = new URL(entry, location.href);
+    const urls = {
+      factory: new URL('../build/wasm/mrvol-web-mt.mjs', base).href,
+      wasm: new URL('../build/wasm/mrvol-web-mt.wasm', base).href,
+      worker: worker === 'silent' ? URL.createObjectURL(new Blob(['// a pool worker that never reports'], { type: 'text/javascript' }))
+        : new URL('/models/spiky-ball.obj', location.href).href,
+    };
+    const started = performance.now();
+    const pending = new Promise((resolve) => setTimeout(() => resolve('still pending'), 30_000));
+    const settled = await Promise.race([
+      createMrvol({ threads: 2, threadedUrls: urls, ...(threadStartTimeout ? { threadStartTimeout } : {}) })
+        .then(() => 'resolved', (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`),
+      pending,
+    ]);
+    return { settled, ms: performance.now() - started };
+  }, { entry: `/@fs${root}/lib/browser.mjs`, worker, threadStartTimeout });
+}
+
 describe('the app on its cross-origin isolated server', { timeout: 240_000 }, () => {
   let browser, page;
   before(async () => ({ browser, page } = await openApp()));
@@ -70,39 +94,14 @@ describe('the app on its cross-origin isolated server', { timeout: 240_000 }, ()
 
   test('lib/browser.mjs: a pool worker that cannot start rejects with a MrvolError naming it (it never settled)', async () => {
     // The worker's script as a bundler's dev server may hand it out: here a file that is not one at all.
-    const outcome = await page.evaluate(async (entry) => {
-      const { createMrvol, MrvolError } = await import(entry);
-      const base = new URL(entry, location.href);
-      const urls = {
-        factory: new URL('../build/wasm/mrvol-web-mt.mjs', base).href,
-        wasm: new URL('../build/wasm/mrvol-web-mt.wasm', base).href,
-        worker: new URL('/models/spiky-ball.obj', location.href).href,
-      };
-      const timeout = new Promise((resolve) => setTimeout(() => resolve('still pending after 30 s'), 30_000));
-      return Promise.race([
-        createMrvol({ threads: 2, threadedUrls: urls }).then(() => 'resolved', (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`),
-        timeout,
-      ]);
-    }, `/@fs${root}/lib/browser.mjs`);
-    assert.match(outcome, /^MrvolError: the threaded module's worker .*spiky-ball\.obj could not start \(.*\): serve it as a classic script, untransformed .*or use createMrvol\(\{ threads: 1 \}\)$/);
+    const outcome = await threadedStart(page, 'a model file');
+    assert.match(outcome.settled, /^MrvolError: the threaded module's worker .*spiky-ball\.obj could not start \(.*\): serve it as a classic script, untransformed .*or use createMrvol\(\{ threads: 1 \}\)$/);
   });
 
   test('lib/browser.mjs: a pool worker that starts but never reports (its import of the module failed in it) rejects after threadStartTimeout', async () => {
     // A build that did not emit the module's file: the worker's import fails inside it, which only the
     // worker sees. Here a worker that runs and never answers.
-    const outcome = await page.evaluate(async (entry) => {
-      const { createMrvol, MrvolError } = await import(entry);
-      const base = new URL(entry, location.href);
-      const urls = {
-        factory: new URL('../build/wasm/mrvol-web-mt.mjs', base).href,
-        wasm: new URL('../build/wasm/mrvol-web-mt.wasm', base).href,
-        worker: URL.createObjectURL(new Blob(['// a pool worker that never reports'], { type: 'text/javascript' })),
-      };
-      const started = performance.now();
-      const settled = await createMrvol({ threads: 2, threadedUrls: urls, threadStartTimeout: 2000 })
-        .then(() => 'resolved', (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`);
-      return { settled, ms: performance.now() - started };
-    }, `/@fs${root}/lib/browser.mjs`);
+    const outcome = await threadedStart(page, 'silent', 2000);
     assert.match(outcome.settled, /^MrvolError: the threaded module's workers did not start within 2 s \(blob:.* importing .*mrvol-web-mt\.mjs\): serve both as they are .*or use createMrvol\(\{ threads: 1 \}\)$/);
     assert.ok(outcome.ms < 20_000, `settled after ${outcome.ms} ms`);
   });
