@@ -23,6 +23,8 @@ export { SurfaceMesh, CageObject, HIDDEN_HANDLE_OPACITY, AUTO_HANDLE_SIZE, handl
 export { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
 
 const HOVER_COLOR = new THREE.Color(0x3fb950);
+// element -> { count of editors listening on it, its touch-action before the first }
+const touchClaims = new WeakMap();
 const ACTIVE_COLOR = new THREE.Color(0xf0a020);
 
 export class VolumeEditControls extends THREE.EventDispatcher {
@@ -246,14 +248,19 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     this.domElement[method]('pointermove', this.#onPointerMove, { capture: true });
     this.domElement[method]('pointerup', this.#onPointerUp, { capture: true });
     this.domElement[method]('pointercancel', this.#onPointerCancel, { capture: true });
-    if (on) {
-      this.#touchAction = this.domElement.style.touchAction;
-      this.domElement.style.touchAction = 'none';  // touch drags are ours, not the page's scroll
+    // Touch drags are ours, not the page's scroll, while any editor listens on the element: the
+    // element's own touch-action comes back when the last one is disposed, in whatever order.
+    const style = this.domElement.style;
+    const claim = touchClaims.get(this.domElement) ?? { count: 0, original: style.touchAction };
+    claim.count += on ? 1 : -1;
+    if (claim.count > 0) {
+      touchClaims.set(this.domElement, claim);
+      style.touchAction = 'none';
     } else {
-      this.domElement.style.touchAction = this.#touchAction ?? '';
+      touchClaims.delete(this.domElement);
+      style.touchAction = claim.original;
     }
   }
-  #touchAction = null;
 
   #onPointerDown = (e) => {
     if (!this.enabled || this.#drag || (e.pointerType === 'mouse' && e.button !== 0)) return;

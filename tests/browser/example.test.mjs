@@ -151,6 +151,27 @@ describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
     assert.equal(firstStillEdits, true, 'the page\'s own editor (sharing the mesh) still works');
   });
 
+  test("two editors on one canvas: touch-action is none while either listens, the canvas's own back after both, in either order", async () => {
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const { mrvol, model } = editor.session;
+      const canvas = document.createElement('canvas');
+      canvas.style.touchAction = 'pan-y';
+      const make = () => new editor.constructor(mrvol, editor.camera, canvas, model.mr, { level: 0 });
+      const out = [];
+      for (const firstDisposed of [0, 1]) {
+        const pair = [make(), make()];
+        out.push(canvas.style.touchAction);
+        pair[firstDisposed].dispose();
+        out.push(canvas.style.touchAction);
+        pair[1 - firstDisposed].dispose();
+        out.push(canvas.style.touchAction);
+      }
+      return out;
+    });
+    assert.deepEqual(result, ['none', 'none', 'pan-y', 'none', 'none', 'pan-y']);
+  });
+
   test("theta: 'auto' edits through the tensor; a tensor of another level is refused, nothing left behind", async () => {
     const result = await page.evaluate(() => {
       const editor = window.minimalEditor;
