@@ -1290,6 +1290,10 @@ function prepareInput(mrvol, input, options, progress) {
   const repaired = options.repair ? repair(input, { keepLargest: options.keepLargest, maxHoleEdges: options.maxHoleEdges,
                                                    smooth: options.smooth }) : null;
   const welded = repaired ? repaired.mesh : weld(input);
+  // Every triangle gone by the weld or the repair: all of them had corners at one point.
+  if (welded.faces.length === 0 && input.faces.length > 0)
+    throw new MrvolError(`all ${input.faces.length / 3} of the input's triangles are degenerate (zero area: their corners ` +
+                         'fall together), so there is no surface to remesh');
   // Smoothing that collapsed the surface (Taubin's steps shrink a coarse mesh: a 12-triangle box
   // went to a point in 1000) would be fitted and reported as kept.
   const smoothing = repaired?.report.smoothing;

@@ -57,6 +57,7 @@ export function openParsed(mrvol, mesh, { hierarchy = null, opened = null } = {}
     if (info.levels === 0 && !info.closed)
       throw new mrvol.MrvolError(`this mesh has holes (${info.boundaryEdges} boundary edges), so it encloses no volume to keep, ` +
                                  'and it is not semi-regular (no 1-to-4 subdivision levels)');
+    if (info.closed) noVolumeProblem(mrvol, mesh.positions, info);
     if (info.levels === 0 && info.vertices > MAX_FLAT_VERTICES)
       throw new mrvol.MrvolError(
         `this mesh is not semi-regular: no 1-to-4 subdivision levels were found in its ${info.vertices} vertices, ` +
@@ -64,10 +65,28 @@ export function openParsed(mrvol, mesh, { hierarchy = null, opened = null } = {}
     return { mr, info };
   } catch (e) {
     // an open flat mesh is repaired first (its holes closed), as one that does not open at all
-    e.offer = mr !== null && info?.levels === 0 ? (info.closed ? 'remesh' : 'repair') : mr === null ? 'repair' : null;
+    if (!('offer' in e)) e.offer = mr !== null && info?.levels === 0 ? (info.closed ? 'remesh' : 'repair') : mr === null ? 'repair' : null;
     mr?.delete();
     throw e;
   }
+}
+
+/**
+ * Throws when a closed mesh encloses no volume: all its vertices at one point (nothing to see or
+ * drag), or a flat surface (nothing to keep). Its volume is cubic in its size: compared with the
+ * bounding box's diagonal cubed.
+ */
+function noVolumeProblem(mrvol, positions, info) {
+  const low = [Infinity, Infinity, Infinity], high = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < positions.length; i += 3)
+    for (let k = 0; k < 3; k++) low[k] = Math.min(low[k], positions[i + k]), high[k] = Math.max(high[k], positions[i + k]);
+  const diagonal = Math.hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
+  if (diagonal === 0)
+    throw Object.assign(new mrvol.MrvolError(`all ${info.vertices} vertices of this mesh are at one point (${low.join(', ')}): ` +
+                                             'it has no shape to show or edit'), { offer: null });
+  if (Math.abs(info.volume) <= 1e-12 * diagonal ** 3)
+    throw Object.assign(new mrvol.MrvolError(`this mesh encloses no volume (${info.volume}): its surface lies flat, ` +
+                                             'like a sheet folded onto itself, so there is no volume to keep'), { offer: null });
 }
 
 /**

@@ -271,6 +271,18 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
       }
       assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
     }
+    // Closed but enclosing nothing: every vertex at one point, a flat closed sheet (nothing offered).
+    const noVolume = {
+      'point.obj': ['v 1 1 1\nv 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\nf 1 4 2\nf 2 4 3\nf 3 4 1\n', 'all 4 vertices of this mesh are at one point (1, 1, 1)'],
+      'flat.off': ['OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n2 2 0\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 2 3 0\n', 'this mesh encloses no volume (0): its surface lies flat'],
+    };
+    for (const [name, [text, message]] of Object.entries(noVolume)) {
+      await openFile(name, Buffer.from(text));
+      const shown = await page.locator('[data-testid="error-text"]').textContent();
+      assert.ok(shown.startsWith(`Could not open ${name}: ${message}`), shown);
+      assert.equal(await page.locator('[data-testid="remesh-offer"]').isVisible().catch(() => false), false, `${name}: nothing offered`);
+      assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);
+    }
     const { index } = (await visibleHandles(page))[0];
     await dragHandle(page, index, -20, 20);
     assert.ok((await page.evaluate(() => window.mrvolDebug.lastReport())).relativeError <= 1e-5);

@@ -281,6 +281,11 @@ describe('remesh (API)', () => {
                           faces: Uint32Array.of(...t.faces, 0, 1, 4, 1, 0, 5, 0, 4, 5, 1, 5, 4) };
     await assert.rejects(remesh(mrvol, nonManifold), (e) => e instanceof MrvolError && /not a manifold/.test(e.message));
     await assert.rejects(remesh(mrvol, bunnyMesh(), { levels: 9 }), /levels must be an integer in 0..6/);
+    // Every corner at one point: the weld (or the repair) leaves no triangle; said so, not "no triangle".
+    const point = { positions: new Float64Array(12).fill(0.5), faces: tetrahedron().faces };
+    for (const options of [{}, { repair: true }])
+      await assert.rejects(remesh(mrvol, point, options), (e) => e instanceof MrvolError &&
+        e.message === "all 4 of the input's triangles are degenerate (zero area: their corners fall together), so there is no surface to remesh");
   });
 
   test('smoothing: the report says what it did (the volume before it, the largest move); a smoothing that collapses the surface is refused', async () => {

@@ -53,3 +53,17 @@ test('a closed mesh that is not semi-regular is offered remeshing; a non-manifol
   assert.equal(info.closed, true);
   mr.delete();
 });
+
+test('a closed mesh that encloses no volume is refused with nothing offered: all at one point, or flat', () => {
+  const tetrahedron = (positions) => ({ positions: Float64Array.from(positions), faces: Uint32Array.of(0, 1, 2, 0, 3, 1, 1, 3, 2, 2, 3, 0) });
+  const point = refusal(tetrahedron([1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3]));
+  assert.equal(point.offer, null);
+  assert.equal(point.message, 'all 4 vertices of this mesh are at one point (1, 2, 3): it has no shape to show or edit');
+  const flat = refusal(tetrahedron([0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 2, 0]));
+  assert.equal(flat.offer, null);
+  assert.match(flat.message, /^this mesh encloses no volume \(0\): its surface lies flat/);
+  // the same tetrahedron with its fourth corner lifted opens
+  const lifted = openParsed(mrvol, tetrahedron([0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, 1]));
+  assert.ok(Math.abs(lifted.info.volume) > 0.1);
+  lifted.mr.delete();
+});
