@@ -5,20 +5,22 @@
 // fit's farthest vertex before and after the untangling (and how many far vertices the untangling
 // moved), and for the chosen result the farthest points both ways with their positions.
 //
-//   node bench/remesh-diagnose.mjs NAME [--parametrise]
+//   node bench/remesh-diagnose.mjs NAME [--parametrise] [--scale S]
+// --scale: the model scaled by S about the origin first (the poses of bench/remesh-poses.mjs).
 import { readFileSync } from 'node:fs';
 import { createMrvol } from '../lib/node.mjs';
 import { remesh, repair, Surface } from '../lib/remesh.mjs';
 import { CORPUS, makeCorpus } from '../scripts/corpus.mjs';
 
 const args = process.argv.slice(2);
+const scaleAt = args.indexOf('--scale'), scale = scaleAt >= 0 ? Number(args.splice(scaleAt, 2)[1]) : 1;
 const name = args.find((a) => !a.startsWith('--'));
 const c = CORPUS.find((x) => x.name === name);
 if (!c) throw new Error(`not in the corpus: ${name}`);
 await makeCorpus({ big: true, names: [name] });
 const mrvol = await createMrvol();
 const read = mrvol.readMesh(readFileSync(c.file), { name: c.file });
-const input = { positions: read.positions, faces: read.faces };
+const input = { positions: read.positions.map((x) => x * scale), faces: read.faces };
 const repaired = repair(input).mesh;
 const surface = new Surface(repaired);
 const diagonal = surface.diagonal;
