@@ -59,9 +59,9 @@ export async function startExampleServer() {
 
 /**
  * A browser with a fresh profile (IndexedDB and localStorage of its own, kept across reloads and
- * pages of this context) on a server's url. close() stops it and removes the profile.
+ * pages of this context) on a server's url; `touch`: a touch screen. close() stops it and removes the profile.
  */
-export async function launchBrowser(url, { viewport = { width: 1200, height: 800 } } = {}) {
+export async function launchBrowser(url, { viewport = { width: 1200, height: 800 }, touch = false } = {}) {
   if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: apt-get install -y chromium (npm test does it)`);
   const profile = mkdtempSync(join(tmpdir(), 'mrvol-profile-'));
   let context;
@@ -71,6 +71,7 @@ export async function launchBrowser(url, { viewport = { width: 1200, height: 800
       headless: true,
       args: CHROMIUM_ARGS,
       viewport,
+      hasTouch: touch,  // a touch screen: (pointer: coarse) matches, as on a phone
       acceptDownloads: true,
       timeout: 60_000,
     });

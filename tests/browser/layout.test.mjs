@@ -15,8 +15,8 @@ const MODELS = readdirSync(join(root, 'public/models')).filter((f) => f.endsWith
 
 let server;
 
-async function withBrowser(viewport, fn) {
-  const browser = await launchBrowser(server.url, { viewport });
+async function withBrowser(viewport, fn, options = {}) {
+  const browser = await launchBrowser(server.url, { viewport, ...options });
   try {
     await fn(await browser.newPage());
   } finally {
@@ -93,6 +93,29 @@ describe('web editor layout at desktop and phone sizes', { timeout: 1_200_000 },
       });
     });
   }
+
+  test('phone with a touch screen: every control in sight or in the panel is a target of 24 px or more', { timeout: 120_000 }, async () => {
+    // (lil-gui's lists were their native 19 px in its 28 px rows, the recent files and the teaching
+    // views' links 15-17 px.) A checkbox's target is its label, the whole row.
+    await withBrowser(SIZES.phone, async (page) => {
+      await page.goto(server.url);
+      await waitReady(page);
+      const small = await page.evaluate(() => {
+        for (const folder of document.querySelectorAll('.lil-gui.lil-closed')) folder.classList.remove('lil-closed');
+        const out = [];
+        for (const el of document.querySelectorAll('button, a[href], input, select')) {
+          const target = el.type === 'checkbox' ? el.closest('label') ?? el : el;
+          const r = target.getBoundingClientRect();
+          if (r.width === 0 || getComputedStyle(el).visibility === 'hidden') continue;
+          if (r.height < 24 || r.width < 24) out.push(`${el.tagName} "${(el.textContent || el.getAttribute('aria-label') || el.closest('label')?.textContent || '').trim().slice(0, 30)}" ${Math.round(r.width)}x${Math.round(r.height)}`);
+        }
+        return { coarse: matchMedia('(pointer: coarse)').matches, out };
+      });
+      assert.equal(small.coarse, true, 'the page sees a touch screen');
+      assert.deepEqual(small.out, []);
+      await page.screenshot({ path: join(RESULTS_DIR, 'layout-phone-touch-panel.png'), fullPage: true });
+    }, { touch: true });
+  });
 
   test('phone: the sheet folds away and back; touch drags a handle (volume kept) and pinch zooms', { timeout: 120_000 }, async () => {
     await withBrowser(SIZES.phone, async (page) => {
