@@ -83,18 +83,19 @@ bool isOffKeyword(std::string_view t) {
   return prefix.find_first_not_of("STCN4n") == std::string_view::npos;
 }
 
+bool plyStart(std::string_view t) { return t.substr(0, 4) == "ply\n" || t.substr(0, 5) == "ply\r\n"; }
+
+bool asciiStlStart(std::string_view t) {
+  return t.substr(0, 5) == "solid" && t.size() > 5 && std::isspace(static_cast<unsigned char>(t[5])) &&
+         t.substr(0, 4096).find("facet") != std::string_view::npos;
+}
+
 // A format identified from the content alone, or false.
 bool signature(std::string_view b, MeshFormat& format) {
   if (b.substr(0, 4) == "glTF") return format = MeshFormat::Glb, true;
   // Text formats after a UTF-8 byte order mark: PLY's and ASCII STL's signatures as without it.
-  if (io::hasByteOrderMark(b)) {
-    std::string_view text = b.substr(3);
-    if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return format = MeshFormat::Ply, true;
-    if (text.substr(0, 5) == "solid" && text.size() > 5 && std::isspace(static_cast<unsigned char>(text[5])) &&
-        text.substr(0, 4096).find("facet") != std::string_view::npos)
-      return format = MeshFormat::Stl, true;
-  }
-  if (b.substr(0, 4) == "ply\n" || b.substr(0, 5) == "ply\r\n") return format = MeshFormat::Ply, true;
+  const std::string_view text = io::hasByteOrderMark(b) ? b.substr(3) : b;
+  if (plyStart(text)) return format = MeshFormat::Ply, true;
   std::string_view token = firstToken(b);
   if (isOffKeyword(token)) return format = MeshFormat::Off, true;
   if (token.substr(0, 1) == "{" && b.find("\"asset\"") != std::string_view::npos) return format = MeshFormat::Gltf, true;
@@ -102,9 +103,7 @@ bool signature(std::string_view b, MeshFormat& format) {
     uint32_t n = io::load<uint32_t>(b.data() + 80);
     if (b.size() == 84 + 50 * uint64_t(n) && n > 0) return format = MeshFormat::Stl, true;
   }
-  if (b.substr(0, 5) == "solid" && b.size() > 5 && std::isspace(static_cast<unsigned char>(b[5])) &&
-      b.substr(0, 4096).find("facet") != std::string_view::npos)
-    return format = MeshFormat::Stl, true;
+  if (asciiStlStart(text)) return format = MeshFormat::Stl, true;
   return false;
 }
 

@@ -322,7 +322,7 @@ ImportedMesh readStl(std::string_view bytes) {
   if (bytes.empty()) throw Error("empty STL file (0 bytes)");
   // A UTF-8 byte order mark before ASCII STL's "solid" (editors on Windows write one): skipped,
   // unless the file is binary by its size (a binary header may start with any bytes).
-  if (io::hasByteOrderMark(bytes) && looksBinary(bytes) && !looksBinary(bytes.substr(3)) &&
+  if (io::hasByteOrderMark(bytes) && !looksBinary(bytes.substr(3)) &&
       !(bytes.size() >= 84 && bytes.size() == 84 + 50 * uint64_t(io::load<uint32_t>(bytes.data() + 80))))
     bytes.remove_prefix(3);
   if (looksBinary(bytes)) {
