@@ -248,6 +248,26 @@ void expectStlLikeReadThenWeld(const std::vector<float>& corners) {
   EXPECT_EQ(std::memcmp(m.mesh.positions.data(), reference.positions.data(), 8 * reference.positions.size()), 0);
 }
 
+// A count of 0 in the header (a writer that never filled it in): the triangles after it are read;
+// with none after it, the message says so.
+TEST(ReadFormats, StlWithZeroCountReadsTheTrianglesItHolds) {
+  const std::vector<float> corners = {0, 0, 0, 0, 1, 0, 1, 0, 0,  0, 0, 0, 1, 0, 0, 0, 0, 1,
+                                      1, 0, 0, 0, 1, 0, 0, 0, 1,  0, 0, 0, 0, 0, 1, 0, 1, 0};
+  std::string file = binaryStl(corners);
+  const ImportedMesh declared = readStl(file);
+  std::memset(&file[80], 0, 4);
+  const ImportedMesh zero = readStl(file);
+  EXPECT_EQ(zero.mesh.faces, declared.mesh.faces);
+  EXPECT_EQ(zero.mesh.positions, declared.mesh.positions);
+  EXPECT_EQ(zero.sourceFaces, 4u);
+  try {
+    readStl(file.substr(0, 84));
+    FAIL() << "a header alone was read";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "binary STL: the file declares 0 triangles and holds none");
+  }
+}
+
 TEST(ReadFormats, StlWeldedWhileReadMatchesReadThenWeld) {
   // Many more distinct positions than a closed mesh's corners / 6 (the table grows), repeats in
   // any order, -0 and +0 mixed.

@@ -40,7 +40,10 @@ uint64_t binaryTriangles(std::string_view b) {
   if (declared > available)
     throw Error("binary STL: " + count(declared) + " triangles declared, the file holds bytes for " + count(available) +
                 " (" + count(b.size()) + " bytes; each triangle takes 50)");
-  if (declared == 0) throw Error("binary STL: the file declares 0 triangles");
+  // A count of 0 with triangles after it: a writer that streamed the triangles and never came back
+  // to fill the count in; the whole triangles the file holds are read.
+  if (declared == 0 && available > 0) return available;
+  if (declared == 0) throw Error("binary STL: the file declares 0 triangles and holds none");
   return declared;
 }
 
