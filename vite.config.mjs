@@ -1,8 +1,8 @@
 // Vite configuration of the web editor: root web/, sample models from public/ (/models/NAME.obj),
 // the WASM build read from build/wasm/ (made by `node scripts/setup.mjs`).
 // Used by `vite` on the command line and by scripts/serve.mjs (startServer).
-import { readFileSync, readdirSync } from 'node:fs';
-import { dirname, join, resolve, sep } from 'node:path';
+import { readdirSync } from 'node:fs';
+import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { defineConfig } from 'vite';
 
@@ -47,38 +47,12 @@ const isolationHeaders = {
   'Cross-Origin-Embedder-Policy': 'require-corp',
 };
 
-// The threaded module's pool runs build/wasm/*.worker.js as classic worker scripts: the dev server
-// must send them as they are (its module transform would add import statements to them).
-function classicWorkersPlugin() {
-  const wasmDir = join(repo, 'build/wasm') + sep;
-  return {
-    name: 'mrvol-classic-workers',
-    configureServer(server) {
-      server.middlewares.use((req, res, next) => {
-        const path = req.url?.split('?')[0] ?? '';
-        if (!path.startsWith('/@fs/') || !path.endsWith('.worker.js')) return next();
-        const file = resolve(decodeURIComponent(path.slice('/@fs'.length)));
-        if (!file.startsWith(wasmDir)) return next();
-        let text;
-        try {
-          text = readFileSync(file);
-        } catch {
-          return next();
-        }
-        res.setHeader('Content-Type', 'text/javascript');
-        for (const [name, value] of Object.entries(isolationHeaders)) res.setHeader(name, value);
-        res.end(text);
-      });
-    },
-  };
-}
-
 export default defineConfig({
   root: join(repo, 'web'),
   publicDir: join(repo, 'public'),
   // A missing file is a 404 (the sample list and OBJ fetches rely on it), not index.html.
   appType: 'mpa',
-  plugins: [sampleModelsPlugin(), wasmMimePlugin(), classicWorkersPlugin()],
+  plugins: [sampleModelsPlugin(), wasmMimePlugin()],
   server: {
     host: '127.0.0.1',
     port: 5173,
@@ -95,9 +69,6 @@ export default defineConfig({
     outDir: join(repo, 'build/web'),
     emptyOutDir: true,
     target: 'es2022',
-    // Never inline the threaded module's classic worker script as a data: URL (an opaque origin
-    // could not import the module it runs, nor share its memory).
-    assetsInlineLimit: (file) => (file.endsWith('.worker.js') ? false : undefined),
     chunkSizeWarningLimit: 1024, // three.js is most of the 660 kB bundle
   },
 });

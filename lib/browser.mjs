@@ -6,6 +6,7 @@
 // that move assets elsewhere say where it is: `wasmUrl`, `locateFile` (emscripten's hook, as
 // manifold-3d takes it), or the bytes or compiled module themselves.
 import createMrvolModule from '../build/wasm/mrvol-web.mjs';
+import poolWorkerText from '../build/wasm/mrvol-web-mt.worker-text.mjs';
 import { wrapModule, MrvolError } from './api.mjs';
 
 export { MrvolError, wrapModule };
@@ -55,11 +56,15 @@ async function compile(options) {
   }
 }
 
-// The threaded build's files, found as the single-thread ones are (bundlers copy them for these URLs).
+// The threaded build's files, found as the single-thread ones are (bundlers copy them for these
+// URLs); its pool's worker script from a blob: URL of its text (of this page's origin, so that it
+// may import the module under COEP; a file would be inlined as a data: URL by bundlers, or turned
+// into a module by their dev servers), made once.
+let poolWorkerUrl = null;
 const threadedUrls = () => ({
   factory: new URL('../build/wasm/mrvol-web-mt.mjs', import.meta.url).href,
   wasm: new URL('../build/wasm/mrvol-web-mt.wasm', import.meta.url).href,
-  worker: new URL('../build/wasm/mrvol-web-mt.worker.js', import.meta.url).href,
+  worker: (poolWorkerUrl ??= URL.createObjectURL(new Blob([poolWorkerText], { type: 'text/javascript' }))),
 });
 
 /** Whether this page or worker can run the threaded module (SharedArrayBuffer: cross-origin isolated). */
@@ -100,19 +105,33 @@ async function instantiate(factory, wasmModule, extra = {}) {
  * Loads the WASM core and returns the API.
  * @param {{ wasmUrl?: string | URL, locateFile?: (path: string, prefix: string) => string,
  *           wasmBinary?: ArrayBuffer | ArrayBufferView, wasmModule?: WebAssembly.Module,
- *           threads?: number, threadedUrls?: { factory: string, wasm: string, worker: string } }} [options]
+ *           threads?: number, threadedUrls?: { factory: string, wasm: string, worker?: string } }} [options]
  *   threads: how many threads the core's big loops run on. Where the page is cross-origin isolated
  *   (COOP: same-origin and COEP: require-corp; SharedArrayBuffer exists) the threaded build
- *   (mrvol-web-mt: its .mjs, .wasm and the classic-script .worker.js of its pool, at threadedUrls
- *   or beside this file) runs them on that many (default: the cores, at most 8); elsewhere, with
- *   threads: 1, and when the single-thread module's .wasm is given, the single-thread build.
+ *   (mrvol-web-mt: its .mjs and .wasm at threadedUrls or beside this file; its pool's worker
+ *   script from a blob: URL, or the classic script at threadedUrls.worker) runs them on that many
+ *   (default: the cores, at most 8); elsewhere, with threads: 1, and when the single-thread
+ *   module's .wasm is given, the single-thread build. Threads not asked for: if the threaded build
+ *   does not start, a console warning says why and the single-thread build runs.
  *   threadStartTimeout: ms the threaded build's pool may take to start (default 30000) before a
  *   MrvolError says its files were not served as they are.
  */
 export async function createMrvol(options = {}) {
   const threads = threadsArg(options);
-  if (threads === 1) return wrapModule(await instantiate(createMrvolModule, await compile(options)));
-  const urls = options.threadedUrls ?? threadedUrls();
+  const singleThread = async () => wrapModule(await instantiate(createMrvolModule, await compile(options)));
+  if (threads === 1) return singleThread();
+  try {
+    return await createThreaded(options, threads);
+  } catch (e) {
+    // Threads by default, not asked for: one thread rather than no module (the page works, slower).
+    if (options.threads !== undefined || !(e instanceof MrvolError)) throw e;
+    console.warn(`mrvol: running on one thread: ${e.message}`);
+    return singleThread();
+  }
+}
+
+async function createThreaded(options, threads) {
+  const urls = { ...threadedUrls(), ...options.threadedUrls };
   let factory;
   try {
     ({ default: factory } = await import(/* @vite-ignore */ urls.factory));
@@ -136,8 +155,9 @@ export async function createMrvol(options = {}) {
   return wrapModule(raw);
 }
 
-// A file's URL for a message: a data: URL (a bundler inlined the file) not spelt out.
-const named = (url) => (String(url).startsWith('data:') ? 'a data: URL (the file inlined by a bundler)' : url);
+// A file's URL for a message: a data: URL (a bundler inlined the file) not spelt out, nor our blob: one.
+const named = (url) => (String(url).startsWith('data:') ? 'a data: URL (the file inlined by a bundler)'
+  : url === poolWorkerUrl ? 'the pool worker (from mrvol-web-mt.worker-text.mjs)' : url);
 
 // The threaded module's settings: its pool, where the pool's files are, and a pool worker that
 // cannot start turned into `failed(error)`.

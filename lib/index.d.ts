@@ -227,14 +227,19 @@ export interface EditReport {
 /** What an editor keeps: always the volume, optionally the centre of mass. */
 export type KeptQuantity = 'volume' | 'centroid';
 
-/** 'tensor': the cubic polynomial of the cage from theta^e; 'matrix-free': the adjoint of synthesis. */
-/** tensor: theta^e's cage polynomial; polynomial: the same built from the fine mesh (no theta); matrix-free. */
+/**
+ * How an editor's gradient is had: 'tensor', the cage's cubic polynomial from theta^e; 'polynomial',
+ * the same built from the fine mesh (no theta); 'matrix-free', the adjoint of synthesis.
+ */
 export type GradientPath = 'tensor' | 'polynomial' | 'matrix-free';
 
 /** One vertex of a drag (caller's vertex index, a level-e cage vertex): a new position or an offset. */
 export type VertexMove =
-  | { vertex: number; position: [number, number, number] | ArrayLike<number> }
-  | { vertex: number; offset: [number, number, number] | ArrayLike<number> };
+  | { vertex: number; position: Vector3Like }
+  | { vertex: number; offset: Vector3Like };
+
+/** Three numbers: an array or a typed array (checked: length 3, finite). */
+export type Vector3Like = readonly [number, number, number] | readonly number[] | Float64Array | Float32Array;
 
 /** Which coefficients may absorb the volume correction. */
 export interface FreeSetOptions {
@@ -361,9 +366,9 @@ export interface MultiresMesh {
   /** Current positions, caller's vertex order. */
   positions(): Float64Array;
   faces(): Uint32Array;
-  /** Depth (level of birth) of every vertex, caller's order. */
   /** Triangles of the level-l mesh (the level-l cage), caller's vertex indices. */
   levelFaces(level: number): Uint32Array;
+  /** Depth (level of birth) of every vertex, caller's order. */
   depths(): Uint8Array;
   toMesh(): Mesh;
   setPositions(positions: Float64Array): void;
@@ -403,12 +408,12 @@ export interface MultiresMesh {
   fingerprint(): string;
   /** The hierarchy as flat arrays, for openMeshWithHierarchy in another instance of the module. */
   hierarchyArrays(): HierarchyArrays;
-  /** Computes the volume tensor theta^e of this mesh for a scheme and level e. */
   /**
    * What computing theta^e with cage storage would take (sampled patches, no tensor work); `fits`
    * is the policy the CLI and the web editor follow (tensor when it fits, else matrix-free).
    */
   estimateTheta(options?: { level?: number } & SchemeOptions): ThetaEstimate;
+  /** Computes the volume tensor theta^e of this mesh for a scheme and level e. */
   computeTheta(options?: ThetaOptions): Theta;
   /** Volume of the current positions through theta (checks that theta matches mesh, scheme and level; the surface is theta's own). */
   thetaVolume(theta: Theta, options?: TransformOptions): number;
@@ -599,7 +604,7 @@ export const DEFAULT_SCHEME: Readonly<{ scheme: 'loop'; alpha: number; beta: num
  * The gradient path an editor uses (the rule of the CLI and the web editor): a path asked for is
  * taken as is; under 'auto' (default) matrix-free when detail levels are free, else 'polynomial',
  * or with thetaInBackground 'tensor' when theta^e's estimate fits. `estimate` is null unless it was
- * consulted. Exported by lib/api.mjs.
+ * consulted.
  */
 export function chooseGradientPath(mr: MultiresMesh, options?: { level?: number; path?: 'auto' | GradientPath;
   detailLevels?: number[]; thetaInBackground?: boolean } & SchemeOptions): { path: GradientPath; estimate: ThetaEstimate | null };
@@ -612,7 +617,7 @@ export function chooseGradientPath(mr: MultiresMesh, options?: { level?: number;
 export interface CreateMrvolOptions {
   /**
    * URL of the .wasm, a string or a URL (browser: fetched; Node: a path or file: URL, read).
-   * The browser build is `mrvol-web.wasm`, the Node build `mrvol-node.wasm`.
+   * Both entries run `mrvol-web.wasm` (the Node and web builds differ in their JS only).
    */
   wasmUrl?: string | { readonly href: string };
   /** emscripten's hook: the URL (browser) or path (Node) of `path`, the .wasm's file name. */
@@ -627,17 +632,20 @@ export interface CreateMrvolOptions {
   /**
    * Threads for the core's big loops (1..16; the renderer's surface passes, the cage basis table).
    * More than 1 loads the threaded build (`mrvol-node-mt` / `mrvol-web-mt`: WASM pthreads, a pool
-   * of workers running `*.worker.js` beside the module): in Node whenever it is built; in browsers
-   * only where the page is cross-origin isolated (COOP same-origin, COEP require-corp), else the
-   * single-thread build. Default: the cores, at most 8 (and 1 when the single-thread module's
-   * wasmUrl, wasmBinary or wasmModule is given). 1: the single-thread build.
+   * of workers): in Node whenever it is built; in browsers only where the page is cross-origin
+   * isolated (COOP same-origin, COEP require-corp), else the single-thread build. Default: the
+   * cores, at most 8 (and 1 when the single-thread module's wasmUrl, wasmBinary or wasmModule is
+   * given); in a browser, a threaded build that does not start then gives way to the single-thread
+   * one (a console warning says why). 1: the single-thread build. A number given is kept to: the
+   * threaded build not starting rejects.
    */
   threads?: number;
   /**
    * Browser entry only: where the threaded build's files are (default: beside the entry point,
-   * build/wasm/): its factory .mjs, its .wasm and its pool's classic-script worker.
+   * build/wasm/): its factory .mjs and its .wasm; `worker`, a classic script for its pool's workers
+   * (default: the script the package holds as text, started from a blob: URL of the page's origin).
    */
-  threadedUrls?: { factory: string; wasm: string; worker: string };
+  threadedUrls?: { factory: string; wasm: string; worker?: string };
   /**
    * Browser entry only: ms the threaded build's pool may take to start (default 30000); past it, or
    * when a pool worker fails to start, createMrvol rejects with a MrvolError naming the files.
@@ -645,7 +653,10 @@ export interface CreateMrvolOptions {
   threadStartTimeout?: number;
 }
 
-/** Browser entry only: whether this page or worker can run the threaded build (cross-origin isolated). */
+/**
+ * Whether the threaded build can run here: in a browser, whether this page or worker is cross-origin
+ * isolated (SharedArrayBuffer exists); in Node, always.
+ */
 export function canUseThreads(): boolean;
 
 /**
@@ -655,12 +666,6 @@ export function canUseThreads(): boolean;
  */
 export function createMrvol(options?: CreateMrvolOptions): Promise<Mrvol>;
 
-/**
- * Node only: reads an OBJ file from disk in chunks straight into the WASM reader (Node never holds the
- * whole file). Returns what readObj gives; onProgress(fraction) after each chunk.
- */
-export function readObjFile(mrvol: Mrvol, path: string,
-                            options?: { chunkBytes?: number; onProgress?: (fraction: number) => void }): Promise<ObjMesh>;
 
 /** The estimate of MultiresMesh.estimateTheta. */
 export interface ThetaEstimate {

@@ -6,11 +6,19 @@ import { availableParallelism } from 'node:os';
 import { wrapModule, MrvolError } from './api.mjs';
 
 export { MrvolError, wrapModule };
+export { DEFAULT_SCHEME, chooseGradientPath } from './api.mjs';
+
+/** Whether the threaded build can run here: in Node wherever SharedArrayBuffer exists (always, today). */
+export function canUseThreads() {
+  return typeof SharedArrayBuffer === 'function';
+}
 
 const buildDir = new URL('../build/wasm/', import.meta.url);
 
-// The .wasm bytes: given, or read from wasmUrl / locateFile's answer / the build folder.
-async function wasmBytes({ wasmBinary, wasmUrl, locateFile }, file = 'mrvol-node.wasm') {
+// The .wasm bytes: given, or read from wasmUrl / locateFile's answer / the build folder. The Node
+// and web builds differ in their JS only: their .wasm are the same bytes (tests/node/setup.test.mjs
+// checks), so the package holds the web build's, read here too.
+async function wasmBytes({ wasmBinary, wasmUrl, locateFile }, file = 'mrvol-web.wasm') {
   if (wasmBinary !== undefined) {
     if (!(wasmBinary instanceof ArrayBuffer || ArrayBuffer.isView(wasmBinary)))
       throw new MrvolError('wasmBinary must be an ArrayBuffer or a typed array');
@@ -71,7 +79,7 @@ export async function createMrvol(options = {}) {
   // The pool's workers (threads - 1: the calling thread is one) start with the module; each
   // loads mrvol-node-mt.worker.js beside the .mjs.
   const module = await factory({
-    wasmBinary: await wasmBytes(options, 'mrvol-node-mt.wasm'),
+    wasmBinary: await wasmBytes(options, 'mrvol-web-mt.wasm'),
     mrvolThreadPool: threads - 1,
     ...(options.locateFile ? { locateFile: (path, prefix) => options.locateFile(path, prefix) } : {}),
   });

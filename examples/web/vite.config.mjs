@@ -1,6 +1,8 @@
 // Serves the examples with vite (`npx vite --config examples/web/vite.config.mjs`): 'mrvol' and
-// 'mrvol/three' resolve to this checkout's lib/ (an installed package resolves them itself), the
-// sample models come from public/.
+// 'mrvol/three' resolve to this checkout's lib/ (or the installed package's, run from
+// node_modules/mrvol/examples/web), the sample models come from public/ (in the package, from
+// examples/models/).
+import { existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { defineConfig } from 'vite';
@@ -9,7 +11,7 @@ const repo = join(dirname(fileURLToPath(import.meta.url)), '../..');
 
 export default defineConfig({
   root: join(repo, 'examples/web'),
-  publicDir: join(repo, 'public'),
+  publicDir: existsSync(join(repo, 'public/models')) ? join(repo, 'public') : join(repo, 'examples'),
   appType: 'mpa',
   resolve: {
     alias: [

@@ -1,6 +1,6 @@
 // The threaded WASM module in Chromium. The app's server sends COOP/COEP, so the page is
 // cross-origin isolated and its core instance is the threaded build (mrvol-web-mt: a pool of
-// workers running its .worker.js): a real drag there keeps the volume, and lib/browser.mjs's
+// workers, their script from a blob: URL of lib/browser.mjs's): a real drag there keeps the volume, and lib/browser.mjs's
 // threaded and single-thread instances give the same bits for the same edits of a mesh large enough
 // to be cut into blocks. Without isolation (the examples' server sends no such headers)
 // lib/browser.mjs loads the single-thread build, whatever threads are asked for, and edits.
@@ -41,8 +41,8 @@ async function editInPage(page, options) {
 // In the page: createMrvol({ threads: 2 }) with the real module but a pool worker that is `worker`
 // ('a model file': not a script; 'silent': a script that never answers), raced against 30 s;
 // { settled: 'resolved' | 'ErrorName: message' | 'still pending', ms }.
-async function threadedStart(page, worker, threadStartTimeout) {
-  return page.evaluate(async ({ entry, worker, threadStartTimeout }) => {
+async function threadedStart(page, worker, threadStartTimeout, threads = 2) {
+  return page.evaluate(async ({ entry, worker, threadStartTimeout, threads }) => {
     const { createMrvol, MrvolError } = await import(entry);
     const base = new URL(entry, location.href);
     const urls = {
@@ -54,12 +54,12 @@ async function threadedStart(page, worker, threadStartTimeout) {
     const started = performance.now();
     const pending = new Promise((resolve) => setTimeout(() => resolve('still pending'), 30_000));
     const settled = await Promise.race([
-      createMrvol({ threads: 2, threadedUrls: urls, ...(threadStartTimeout ? { threadStartTimeout } : {}) })
-        .then(() => 'resolved', (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`),
+      createMrvol({ ...(threads ? { threads } : {}), threadedUrls: urls, ...(threadStartTimeout ? { threadStartTimeout } : {}) })
+        .then((m) => `resolved (${m.threads} thread${m.threads > 1 ? 's' : ''})`, (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`),
       pending,
     ]);
     return { settled, ms: performance.now() - started };
-  }, { entry: `/@fs${root}/lib/browser.mjs`, worker, threadStartTimeout });
+  }, { entry: `/@fs${root}/lib/browser.mjs`, worker, threadStartTimeout, threads });
 }
 
 describe('the app on its cross-origin isolated server', { timeout: 240_000 }, () => {
@@ -104,6 +104,21 @@ describe('the app on its cross-origin isolated server', { timeout: 240_000 }, ()
     const outcome = await threadedStart(page, 'silent', 2000);
     assert.match(outcome.settled, /^MrvolError: the threaded module's workers did not start within 2 s \(blob:.* importing .*mrvol-web-mt\.mjs\): serve both as they are .*or use createMrvol\(\{ threads: 1 \}\)$/);
     assert.ok(outcome.ms < 20_000, `settled after ${outcome.ms} ms`);
+  });
+});
+
+describe('lib/browser.mjs: threads not asked for', { timeout: 120_000 }, () => {
+  let browser, page;
+  before(async () => ({ browser, page } = await openApp()));
+  after(() => browser?.close());
+
+  test('a pool that cannot start gives way to the single-thread build, a console warning saying why', async () => {
+    const warnings = [];
+    page.on('console', (m) => m.type() === 'warning' && warnings.push(m.text()));
+    const outcome = await threadedStart(page, 'a model file', undefined, null);
+    assert.equal(outcome.settled, 'resolved (1 thread)');
+    assert.ok(warnings.some((w) => /^mrvol: running on one thread: the threaded module's worker .*spiky-ball\.obj could not start/.test(w)),
+              warnings.join('\n'));
   });
 });
 

@@ -473,7 +473,7 @@ describe('errors', () => {
     assert.equal(r.status, 0, r.stderr);
     const [used, check] = r.stdout.trim().split('\n').map((l) => JSON.parse(l));
     assert.ok(Math.abs(used.volume - 1 / 6) < 1e-15);
-    assert.deepEqual(used.nodeExports, ['MrvolError', 'createMrvol', 'readObjFile', 'wrapModule']);
+    assert.deepEqual(used.nodeExports, ['DEFAULT_SCHEME', 'MrvolError', 'canUseThreads', 'chooseGradientPath', 'createMrvol', 'readObjFile', 'wrapModule']);
     assert.deepEqual(used.apiExports, ['DEFAULT_SCHEME', 'MrvolError', 'chooseGradientPath', 'wrapModule']);
     assert.match(check.refused, /the core loaded three/, 'the resolver hook is in force');
   });

@@ -16,8 +16,8 @@ import { launchBrowser } from '../browser/harness.mjs';
 
 const ROOT = fileURLToPath(new URL('../../', import.meta.url));
 const { version } = JSON.parse(readFileSync(join(ROOT, 'package.json'), 'utf8'));
-// At most this size packed: the WASM builds and the JS, no tests, benchmarks, web app or models.
-const MAX_TARBALL_BYTES = 5 * 1024 * 1024;
+// At most this size packed (1.14 MB on 2026-11-29): the two .wasm and the JS, no tests, benchmarks, web app or models.
+const MAX_TARBALL_BYTES = 1.5 * 1024 * 1024;
 
 let scratch, project, installed;
 
@@ -51,19 +51,20 @@ after(() => {
   if (scratch) rmSync(scratch, { recursive: true, force: true });
 });
 
-test('the tarball: the four WASM files, lib, bin, examples, README, LICENSE; nothing else; a few hundred kB', () => {
+test('the tarball: the two WASM files (Node runs the web builds\' bytes), lib, bin, examples, docs, README, LICENSE; nothing else', () => {
   const files = packed.files.map((f) => f.path).sort();
-  for (const f of ['build/wasm/mrvol-node.mjs', 'build/wasm/mrvol-node.wasm', 'build/wasm/mrvol-web.mjs',
-    'build/wasm/mrvol-web.wasm', 'lib/api.mjs', 'lib/node.mjs', 'lib/browser.mjs', 'lib/index.d.ts', 'lib/remesh.mjs',
-    'lib/remesh.d.ts', 'bin/mrvol.mjs', 'bin/progress.mjs', 'examples/node/edit.mjs', 'examples/models/spiky-ball.obj',
-    'README.md', 'LICENSE', 'package.json'])
+  for (const f of ['build/wasm/mrvol-node.mjs', 'build/wasm/mrvol-web.mjs', 'build/wasm/mrvol-web.wasm', 'lib/api.mjs',
+    'lib/node.mjs', 'lib/browser.mjs', 'lib/index.d.ts', 'lib/node.d.ts', 'lib/remesh.mjs', 'lib/remesh.d.ts', 'bin/mrvol.mjs',
+    'bin/progress.mjs', 'examples/node/edit.mjs', 'examples/models/spiky-ball.obj', 'README.md', 'LICENSE', 'package.json'])
     assert.ok(files.includes(f), `${f} is in the tarball`);
-  // The threaded builds (mrvol-*-mt: their pools' .worker.js, and build/wasm/package.json that makes
-  // those CommonJS under Node) beside the single-thread ones.
-  for (const f of ['build/wasm/mrvol-node-mt.mjs', 'build/wasm/mrvol-node-mt.wasm', 'build/wasm/mrvol-node-mt.worker.js',
-    'build/wasm/mrvol-web-mt.mjs', 'build/wasm/mrvol-web-mt.wasm', 'build/wasm/mrvol-web-mt.worker.js', 'build/wasm/package.json'])
+  // The threaded builds (mrvol-*-mt: Node's pool's .worker.js and build/wasm/package.json that makes
+  // it CommonJS; the browser pool's script as the text of a module) beside the single-thread ones.
+  for (const f of ['build/wasm/mrvol-node-mt.mjs', 'build/wasm/mrvol-node-mt.worker.js', 'build/wasm/mrvol-web-mt.mjs',
+    'build/wasm/mrvol-web-mt.wasm', 'build/wasm/mrvol-web-mt.worker-text.mjs', 'build/wasm/package.json'])
     assert.ok(files.includes(f), `${f} is in the tarball`);
-  const allowed = /^(lib\/|bin\/|build\/wasm\/mrvol-(node|web)(-mt)?\.(mjs|wasm)$|build\/wasm\/mrvol-(node|web)-mt\.worker\.js$|build\/wasm\/package\.json$|examples\/|README\.md$|LICENSE$|package\.json$)/;
+  // The docs the README and `mrvol help` point to.
+  for (const f of ['docs/catmull-clark.md', 'docs/limit-volume.md', 'docs/centroid.md']) assert.ok(files.includes(f), `${f} is in the tarball`);
+  const allowed = /^(lib\/|bin\/|build\/wasm\/mrvol-(node|web)(-mt)?\.mjs$|build\/wasm\/mrvol-web(-mt)?\.wasm$|build\/wasm\/mrvol-node-mt\.worker\.js$|build\/wasm\/mrvol-web-mt\.worker-text\.mjs$|build\/wasm\/package\.json$|examples\/|docs\/[\w-]+\.md$|README\.md$|LICENSE$|package\.json$)/;
   assert.deepEqual(files.filter((f) => !allowed.test(f)), [], 'only what the package needs');
   assert.ok(packed.size < MAX_TARBALL_BYTES, `tarball ${packed.size} bytes`);
   const pkg = JSON.parse(readFileSync(join(installed, 'package.json'), 'utf8'));
@@ -135,6 +136,23 @@ test('TypeScript: examples/typescript (core, remesh; mrvol/three with @types/thr
   const wrong = spawnSync(process.execPath, [tsc, '--strict', '--noEmit', '-p', dir], { cwd: dir, encoding: 'utf8' });
   assert.notEqual(wrong.status, 0);
   assert.match(wrong.stdout, /wrong\.ts\(2,\d+\): error TS\d+: .*number/);
+  rmSync(join(dir, 'wrong.ts'));
+  // Each entry's types are its own: Node's have readObjFile and the helpers, and they run; a
+  // bundler's (the browser entry) have no readObjFile.
+  const entryCode = "import { readObjFile, DEFAULT_SCHEME, chooseGradientPath, canUseThreads } from 'mrvol';\n" +
+                    'export const seen = [typeof readObjFile, DEFAULT_SCHEME.scheme, typeof chooseGradientPath, canUseThreads()];\n';
+  writeFileSync(join(dir, 'entry.ts'), entryCode);
+  run(process.execPath, [tsc, '--strict', '--noEmit', '-p', dir], { cwd: dir });
+  const ran = run(process.execPath, ['--input-type=module', '-e', `${entryCode}console.log(seen.join(' '));`], { cwd: project });
+  assert.equal(ran.stdout, 'function loop function true\n');
+  mkdirSync(join(dir, 'bundler'));
+  writeFileSync(join(dir, 'bundler/tsconfig.json'), JSON.stringify({ compilerOptions: { target: 'ES2022', module: 'esnext',
+    moduleResolution: 'bundler', lib: ['ES2022', 'DOM'], types: [], strict: true, noEmit: true }, include: ['*.ts'] }));
+  writeFileSync(join(dir, 'bundler/page.ts'), "import { createMrvol, readObjFile } from 'mrvol';\nexport const p = [createMrvol, readObjFile];\n");
+  const browserTypes = spawnSync(process.execPath, [tsc, '-p', join(dir, 'bundler')], { cwd: dir, encoding: 'utf8' });
+  assert.notEqual(browserTypes.status, 0);
+  assert.match(browserTypes.stdout, /page\.ts\(1,\d+\): error TS\d+: .*readObjFile/);
+  assert.doesNotMatch(browserTypes.stdout, /createMrvol/);
   writeFileSync(join(dir, 'three/wrong.ts'),
                 "import { VolumeEditControls } from 'mrvol/three';\nexport const level = (c: VolumeEditControls) => c.setLevel('one');\n");
   const wrongThree = spawnSync(process.execPath, [tsc, '--strict', '--noEmit', '-p', join(dir, 'three')], { cwd: dir, encoding: 'utf8' });
@@ -142,62 +160,89 @@ test('TypeScript: examples/typescript (core, remesh; mrvol/three with @types/thr
   assert.match(wrongThree.stdout, /wrong\.ts\(2,\d+\): error TS\d+: .*string/);
 });
 
-test('browser: examples/web/minimal.html built by vite against the installed package, dragged in Chromium, keeps the volume', async () => {
+/** The README's three.js example (the js block under "In a three.js scene"), as a user pastes it. */
+function readmeThreeExample(readme) {
+  const section = readme.slice(readme.indexOf('### In a three.js scene'));
+  return section.slice(section.indexOf('```js\n') + 6, section.indexOf('```\n', section.indexOf('```js\n') + 6));
+}
+
+/** Drags a handle well inside the canvas of the page's editor (window[name]); the start and end states. */
+async function dragAHandle(page, name) {
+  const state = () => page.evaluate((n) => {
+    const editor = window[n];
+    return { volume: editor.volume(), reference: editor.referenceVolume(), cage: Array.from(editor.cagePositions()),
+             threads: editor.session.mrvol.threads };
+  }, name);
+  const handle = await page.evaluate((n) => {
+    const editor = window[n];
+    const rect = editor.domElement.getBoundingClientRect();
+    const s = editor.handleScreenPositions();
+    const i = [...Array(s.length / 2).keys()].find((k) =>
+      s[2 * k] > 100 && s[2 * k] < rect.width - 100 && s[2 * k + 1] > 100 && s[2 * k + 1] < rect.height - 100);
+    return { index: i ?? -1, x: rect.left + s[2 * i], y: rect.top + s[2 * i + 1] };
+  }, name);
+  assert.ok(handle.index >= 0, `${name}: a handle inside the canvas`);
+  const start = await state();
+  await page.mouse.move(handle.x, handle.y);
+  await page.mouse.down();
+  for (let i = 1; i <= 10; i++) await page.mouse.move(handle.x + 6 * i, handle.y - 4 * i);
+  await page.mouse.up();
+  const end = await state();
+  const moved = Math.hypot(...[0, 1, 2].map((k) => end.cage[3 * handle.index + k] - start.cage[3 * handle.index + k]));
+  assert.ok(moved > 0.05, `${name}: the handle moved (${moved})`);
+  assert.ok(Math.abs(start.reference - 3.6227887) < 1e-6, `${name}: reference ${start.reference}`);
+  assert.ok(Math.abs(end.volume - end.reference) <= 1e-5 * end.reference, `${name}: volume ${end.volume}, reference ${end.reference}`);
+  return end;
+}
+
+test('browser: examples/web/minimal.html and the README\'s example built by vite (no configuration) against the installed package, dragged in Chromium, keep the volume; served cross-origin isolated, on 2 threads', async () => {
   // The example as a user copies it: 'mrvol', 'mrvol/three' and 'three' come from node_modules.
   const app = join(project, 'app');
   mkdirSync(join(app, 'public/models'), { recursive: true });
   cpSync(join(installed, 'examples/web/minimal.html'), join(app, 'index.html'));
   cpSync(join(installed, 'examples/models/spiky-ball.obj'), join(app, 'public/models/spiky-ball.obj'));
+  const readmeCode = readmeThreeExample(readFileSync(join(installed, 'README.md'), 'utf8'));
+  assert.match(readmeCode, /new VolumeEditControls/);
+  writeFileSync(join(app, 'readme.html'), '<!doctype html><html><head><link rel="icon" href="data:,"></head><body style="margin:0">\n<script type="module">\n' +
+                `${readmeCode}\nwindow.readmeEditor = editor;\n</script>\n</body></html>\n`);
   const { build, preview } = await import('vite');
   const common = { root: app, configFile: false, logLevel: 'warn', clearScreen: false, cacheDir: join(scratch, 'vite-cache') };
-  await build({ ...common, build: { outDir: join(app, 'dist'), emptyOutDir: true, target: 'es2022' } });
+  await build({ ...common, build: { outDir: join(app, 'dist'), emptyOutDir: true, target: 'es2022',
+                                     rollupOptions: { input: { index: join(app, 'index.html'), readme: join(app, 'readme.html') } } } });
   const assets = readdirSync(join(app, 'dist/assets'));
   assert.ok(assets.some((f) => f.endsWith('.wasm')), `vite copied the .wasm: ${assets.join(', ')}`);
-  const server = await preview({ ...common, build: { outDir: join(app, 'dist') }, preview: { host: '127.0.0.1', port: 0 } });
-  const browser = await launchBrowser(null, { viewport: { width: 900, height: 700 } }).catch(async (e) => {
-    await server.close();
-    throw e;
-  });
-  try {
-    const address = server.httpServer.address();
-    const page = await browser.newPage();
-    const wasmTypes = [];
-    const failed = [];
-    page.on('response', (r) => {
-      if (r.url().endsWith('.wasm')) wasmTypes.push(r.headers()['content-type']);
-      if (r.status() >= 400) failed.push(`${r.status()} ${r.url()}`);
+  const isolation = { 'Cross-Origin-Opener-Policy': 'same-origin', 'Cross-Origin-Embedder-Policy': 'require-corp' };
+  for (const isolated of [false, true]) {
+    const server = await preview({ ...common, build: { outDir: join(app, 'dist') },
+                                   preview: { host: '127.0.0.1', port: 0, ...(isolated ? { headers: isolation } : {}) } });
+    const browser = await launchBrowser(null, { viewport: { width: 900, height: 700 } }).catch(async (e) => {
+      await server.close();
+      throw e;
     });
-    await page.goto(`http://127.0.0.1:${address.port}/`);
-    await page.waitForFunction(() => window.minimalEditor !== undefined, null, { timeout: 60_000 });
-    const state = () => page.evaluate(() => {
-      const editor = window.minimalEditor;
-      return { volume: editor.volume(), reference: editor.referenceVolume(), cage: Array.from(editor.cagePositions()) };
-    });
-    // A handle well inside the canvas, in page coordinates.
-    const handle = await page.evaluate(() => {
-      const editor = window.minimalEditor;
-      const rect = editor.domElement.getBoundingClientRect();
-      const s = editor.handleScreenPositions();
-      const i = [...Array(s.length / 2).keys()].find((k) =>
-        s[2 * k] > 100 && s[2 * k] < rect.width - 100 && s[2 * k + 1] > 100 && s[2 * k + 1] < rect.height - 100);
-      return { index: i, x: rect.left + s[2 * i], y: rect.top + s[2 * i + 1] };
-    });
-    assert.ok(handle.index >= 0, 'a handle inside the canvas');
-    const start = await state();
-    await page.mouse.move(handle.x, handle.y);
-    await page.mouse.down();
-    for (let i = 1; i <= 10; i++) await page.mouse.move(handle.x + 6 * i, handle.y - 4 * i);
-    await page.mouse.up();
-    const end = await state();
-    const moved = Math.hypot(...[0, 1, 2].map((k) => end.cage[3 * handle.index + k] - start.cage[3 * handle.index + k]));
-    assert.ok(moved > 0.05, `the handle moved (${moved})`);
-    assert.ok(Math.abs(start.reference - 3.6227887) < 1e-6, `reference ${start.reference}`);
-    assert.ok(Math.abs(end.volume - end.reference) <= 1e-5 * end.reference, `volume ${end.volume}, reference ${end.reference}`);
-    assert.deepEqual(wasmTypes, ['application/wasm'], 'one .wasm fetched, served as application/wasm');
-    assert.deepEqual(failed, [], 'every request served');
-    assert.deepEqual(page.problems, []);
-  } finally {
-    await browser.close();
-    await server.close();
+    try {
+      const address = server.httpServer.address();
+      for (const [path, name] of [['/', 'minimalEditor'], ['/readme.html', 'readmeEditor']]) {
+        const page = await browser.newPage();
+        const wasmTypes = [], failed = [], warnings = [];
+        page.on('response', (r) => {
+          if (r.url().endsWith('.wasm')) wasmTypes.push(r.headers()['content-type']);
+          if (r.status() >= 400) failed.push(`${r.status()} ${r.url()}`);
+        });
+        page.on('console', (m) => m.type() === 'warning' && warnings.push(m.text()));
+        await page.goto(`http://127.0.0.1:${address.port}${path}`);
+        await page.waitForFunction((n) => window[n] !== undefined, name, { timeout: 60_000 });
+        const end = await dragAHandle(page, name);
+        const cores = await page.evaluate(() => navigator.hardwareConcurrency);
+        assert.equal(end.threads, isolated ? Math.min(8, cores) : 1, `${name}, isolated ${isolated}: threads`);
+        assert.deepEqual(wasmTypes, ['application/wasm'], 'one .wasm fetched, served as application/wasm');
+        assert.deepEqual(failed, [], 'every request served');
+        assert.deepEqual(warnings.filter((w) => /mrvol/.test(w)), [], 'no fall-back to one thread');
+        assert.deepEqual(page.problems, []);
+        await page.close();
+      }
+    } finally {
+      await browser.close();
+      await server.close();
+    }
   }
 });
