@@ -6,7 +6,7 @@
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { openApp, settle, RESULTS_DIR } from './harness.mjs';
+import { launch, openApp, settle, RESULTS_DIR } from './harness.mjs';
 
 let browser, page;
 const DESKTOP = { width: 1280, height: 800 }, PHONE = { width: 390, height: 844 };
@@ -83,6 +83,36 @@ async function assertControlsFirst(what) {
   ]);
   assert.ok(controls < text, `${what}: controls (${controls}) above the explanation (${text})`);
 }
+
+describe('teaching views on a touch phone', { timeout: 180_000 }, () => {
+  let touchBrowser;
+  before(async () => (touchBrowser = await launch({ viewport: PHONE, touch: true })));
+  after(() => touchBrowser?.close());
+
+  test('every control of every view is a target of 24 px or more (a checkbox: its row); links in the text excepted', async () => {
+    const touchPage = await touchBrowser.newPage();
+    const small = [];
+    for (const route of ['learn/levels', 'learn/lifting', 'learn/tensor', 'demo/ball', 'demo/bunny', 'demo/skinning', 'demo/balance']) {
+      await touchPage.goto('about:blank');
+      await touchPage.goto(`${touchBrowser.url}#${route}`);
+      await touchPage.waitForFunction((r) => window.mrvolLearn?.route() === r && window.mrvolLearn.ready(), route, { timeout: 30_000 });
+      small.push(...await touchPage.evaluate((r) => {
+        const out = [];
+        for (const e of document.querySelectorAll('#learn button, #learn a[href], #learn input, #learn select')) {
+          if (e.closest('p')) continue; // a link inside a sentence (WCAG's inline exception)
+          const target = e.type === 'checkbox' ? e.closest('label') ?? e : e;
+          const box = target.getBoundingClientRect();
+          if (box.width === 0 || getComputedStyle(e).visibility === 'hidden') continue;
+          if (box.width < 24 || box.height < 24) out.push(`${r}: ${e.tagName} ${e.dataset.testid ?? e.textContent.trim().slice(0, 20)} ${Math.round(box.width)}x${Math.round(box.height)}`);
+        }
+        return out;
+      }, route));
+    }
+    assert.equal(await touchPage.evaluate(() => matchMedia('(pointer: coarse)').matches), true);
+    assert.deepEqual(small, []);
+    assert.deepEqual(touchPage.problems, []);
+  });
+});
 
 describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_000 }, () => {
   before(async () => ({ browser, page } = await openApp({ goto: false, viewport: DESKTOP })));
@@ -268,8 +298,42 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
     assert.ok(keptV.every((v) => Math.abs(v - 1) <= 1.01e-5), 'the preserved one did not');
     assert.ok(s.maxError <= 1.01e-5);
     assertRoundTicks(s.lambdaTicks, 'multiplier chart');
+    // The time chart followed the drag too (paused, nothing else draws it): its axis spans the dragged volume.
+    assert.equal(s.chartLast[0], freeV.at(-1));
+    assert.ok(s.ticks[0] <= freeV.at(-1) && freeV.at(-1) <= s.ticks.at(-1), `time chart ticks ${s.ticks} span ${freeV.at(-1)}`);
     await shot('bunny-drag');
+    // Restart while paused: the shapes, the charts, the extremes and the view of the start, drawn.
+    const picture = () => page.evaluate(() => document.querySelector('.learn-stage canvas').toDataURL());
+    await settle(page);
+    const dragged = await picture();
+    await page.mouse.move(rect.left + 20, rect.top + rect.height / 2);  // an orbit off the handles
+    await page.mouse.down();
+    await page.mouse.move(rect.left + 120, rect.top + rect.height / 2 - 30, { steps: 5 });
+    await page.mouse.up();
+    const turned = (await state()).camera;
+    await page.click('[data-testid="demo-restart"]');
+    await settle(page);
+    s = await state();
+    assert.equal(s.playing, false, 'still paused');
+    assert.ok(Math.abs(s.free / s.reference - 1) < 1e-9, `the free volume back to the reference (${s.free / s.reference})`);
+    assert.equal(s.chartPoints, 1, 'the time chart starts again');
+    assert.ok(Math.abs(s.minRatio - 1) < 1e-9 && Math.abs(s.maxRatio - 1) < 1e-9, `the free range starts again (${s.minRatio}, ${s.maxRatio})`);
+    assert.deepEqual([s.dragSamples, s.lambdas.length], [0, 0], 'the drag charts start empty');
+    assert.ok(s.maxError < 1e-9, `the error over the run starts again (${s.maxError})`);
+    assert.notDeepEqual(s.camera, turned, 'the view back home');
+    assert.notEqual(await picture(), dragged, 'the picture drawn again');
     assert.deepEqual(page.problems, []);
+  });
+
+  test('charts are drawn again at their new width when a paused demo\'s page is resized', async () => {
+    await open('demo/bunny', PHONE);
+    await act('pause');
+    await page.setViewportSize({ width: PHONE.height, height: PHONE.width });
+    await settle(page);
+    const widths = await page.evaluate(() => [...document.querySelectorAll('canvas.learn-chart')].map((c) => [c.width, c.clientWidth]));
+    assert.ok(widths.length === 3, JSON.stringify(widths));
+    for (const [buffer, shown] of widths) assert.equal(buffer, shown, `a chart's buffer (${buffer}) is its width on the page (${shown})`);
+    await page.setViewportSize(DESKTOP);
   });
 
   test('on a 390 x 844 phone: every view stacks stage and panel, nothing runs past the page', async () => {

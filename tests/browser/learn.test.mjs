@@ -287,6 +287,15 @@ describe('teaching views', { timeout: 120_000 }, () => {
     s = await state();
     assert.equal(s.vertex, oddVertex, 'a click picks the vertex under the pointer');
     assert.equal(s.phase, 0, 'a new vertex starts before the first phase');
+    // A click where a vertex lies behind the surface (none in front within 16 px) picks no hidden vertex.
+    const all = await page.evaluate(() => window.mrvolLearn.act('screenOfAll'));
+    const depths = all.map(([, , , z]) => z).sort((a, b) => a - b), median = depths[depths.length >> 1];
+    const hidden = all.filter(([, x, y, z]) => z > median && !all.some(([, x2, y2, z2]) => z2 < z && Math.hypot(x2 - x, y2 - y) < 16))
+      .sort((a, b) => b[3] - a[3]);
+    assert.ok(hidden.length > 0, `a vertex on the far side (of ${all.length})`);
+    const [back, bx, by] = hidden[0];
+    await page.mouse.click(bx, by);
+    assert.notEqual((await state()).vertex, back, `vertex ${back}, behind the surface, is not picked through it`);
     // A detail: U writes the two ends of its edge, reading the odd vertex among others.
     await page.click('[data-testid="lifting-step"]');
     s = await state();

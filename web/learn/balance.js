@@ -19,8 +19,8 @@ export async function mount({ mrvol, layout, el, stale }) {
       'since all it needs is a multi-linear quantity. The first moments V c = (1/24) Σ det(a, b, c)(a + b + c) over the ' +
       'triangles are such a quantity (quadrilinear), so the centre of mass c can be kept like the volume.',
     `The ${isBunny ? "bunny's two ears" : "blob's two most protruding control vertices"} are pulled out and back. ` +
-      '<b>Left</b>: the volume is kept (one constraint); the ears carry mass outwards and the centre of mass (red) drifts. ' +
-      '<b>Right</b>: volume and centre of mass are kept (four constraints, δ = Jᵀ(J Jᵀ)⁻¹ r); the rest of the body ' +
+      '<b>Volume kept</b> (the first panel): the volume is kept (one constraint); the ears carry mass outwards and the centre of mass (red) drifts. ' +
+      '<b>Volume and balance kept</b> (the second): volume and centre of mass are kept (four constraints, δ = Jᵀ(J Jᵀ)⁻¹ r); the rest of the body ' +
       'leans the other way so that the centre (green) stays over the same point of the floor.',
     'The chart: each centre\'s distance from where it started, in % of the bounding-box diagonal.',
   ]);
@@ -130,11 +130,19 @@ export async function mount({ mrvol, layout, el, stale }) {
   // Back to the rest shape, the chart and the worst drifts from there.
   const restart = () => {
     sim.t = 0;
-    for (const series of chart.series) series.values.length = 0;
+    chart.clear();
     stats.maxDrift = [0, 0];
+    stats.volumeError = 0;
     apply();
+    stage.resetView();
+    stage.requestRender();
   };
   const controls = playControls(layout, el, { start: startLoop, stop: stopLoop, restart });
+  // A new pull shows at once, paused too.
+  amplitudeSelect.addEventListener('change', () => {
+    apply();
+    stage.requestRender();
+  });
   apply();
   startLoop();
   return {

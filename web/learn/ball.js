@@ -11,7 +11,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     'The spiky ball (N = 642, n = 3) is analysed to level e = 0: its coarse mesh is an icosahedron and the ' +
       'spikes are details. As in the paper, the coarse mesh is animated by simple physical 1D equations: the ' +
       'centre falls under gravity; while the ball touches the floor a spring squashes it vertically.',
-    '<b>Left</b>: the squashed cage as it is, the volume changes (upper row of Figure 6). <b>Right</b>: every frame ' +
+    '<b>Volume free</b> (red): the squashed cage as it is, the volume changes (upper row of Figure 6). <b>Volume preserved</b> (green): every frame ' +
       'the same target goes through the volume-preserving correction of section 4 (closed form (6), iterated to ' +
       'a relative error of 1e-5) with the vertices on the floor held: the ball bulges sideways, as a soft ' +
       'incompressible ball would (lower row). The details (spikes) are kept by the multiresolution representation.',

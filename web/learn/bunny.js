@@ -1,6 +1,6 @@
 // #demo/bunny: pulling ears, Figure 7 (paper section 5). A few control vertices are pulled out and
 // back (the paper's direct manipulation in an editing tool, here scripted); the fine features ride
-// along through the multiresolution representation. Left without, right with the volume
+// along through the multiresolution representation. One panel without, one with the volume
 // constraint: the pulled ears grow the free mesh, the preserved one keeps its volume and its
 // proportions. The Stanford bunny when public/models has one, otherwise the blob sample.
 import { sampleModels } from 'virtual:mrvol-models';
@@ -43,8 +43,8 @@ export async function mount({ mrvol, layout, el, stale }) {
       'its control mesh; the volume constraint keeps the proportions and the multiresolution keeps the fine features. ' +
       (isBunny ? `Here: the ${name} sample, its two highest control vertices (the ear tips) as the ears.` : 'There is no bunny among the samples yet: here the blob (N = 1026, n = 4) plays its part, ' +
         'its two most protruding control vertices as the ears.'),
-    'The two ears (held) are pulled out and back along their direction from the centre. <b>Left</b>: nothing else moves, ' +
-      'the volume grows with the ears. <b>Right</b>: the rest of the control mesh (the free set F: every cage vertex but ' +
+    'The two ears (held) are pulled out and back along their direction from the centre. <b>Volume free</b> (red): nothing else moves, ' +
+      'the volume grows with the ears. <b>Volume preserved</b> (green): the rest of the control mesh (the free set F: every cage vertex but ' +
       'the held ones, section 4.1) absorbs the minimal correction (6), so the body shrinks a little as the ears grow.',
     'Choose the level e of the control mesh: the coarser, the larger the pulled region.',
     '<b>Drag</b> any control vertex yourself (the animation pauses): the small charts follow the drag, the ' +
@@ -109,6 +109,11 @@ export async function mount({ mrvol, layout, el, stale }) {
         return twins.stage.screenOf([cage[3 * c], cage[3 * c + 1], cage[3 * c + 2]], p);
       },
     },
+  });
+  // A new pull shows at once, paused too.
+  amplitudeSelect.addEventListener('change', () => {
+    apply();
+    twins.stage.requestRender();
   });
   levelSelect.addEventListener('change', () => {
     build();

@@ -130,6 +130,8 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
       dragVolumeChart.draw();
       stats.dragSamples++;
     }
+    // (The animation draws the time chart each frame; a drag of a paused demo does here.)
+    if (dragging) chart.draw();
     labels();
     for (const [p, ghost] of ghosts.entries()) ghost.update(parts[1 - p].editor.positions());
     set('demo-free', `${vFree.toPrecision(8)} (${((vFree / reference - 1) * 100).toFixed(1)} %)`, vFree);
@@ -139,6 +141,13 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
     set('demo-step', `${report.iterations} it, ${report.path}${report.converged ? '' : ' (not converged)'}`);
   }
 
+  /** A restart: the charts, the extremes and the error over the run forgotten. */
+  function resetHistory() {
+    for (const c of [chart, lambdaChart, dragVolumeChart]) c?.clear();
+    Object.assign(stats, { maxError: 0, minRatio: 1, maxRatio: 1, dragSamples: 0 });
+    for (const c of [chart, lambdaChart, dragVolumeChart]) c?.draw();
+  }
+
   /** A new drag: its charts start empty. */
   function startDragCharts() {
     for (const c of [lambdaChart, dragVolumeChart]) if (c) for (const series of c.series) series.values.length = 0;
@@ -146,14 +155,15 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
   }
 
   return {
-    stage, chart, free, kept, reference, stats, drive, cageVertices, parts, startDragCharts,
+    stage, chart, free, kept, reference, stats, drive, cageVertices, parts, startDragCharts, resetHistory,
     lastTarget: () => lastTarget, lastHeld: () => lastHeld,
     debug: () => ({
       steps: stats.steps, reference, free: free.volume(), preserved: kept.volume(), maxError: stats.maxError,
       minRatio: stats.minRatio, maxRatio: stats.maxRatio, failures: stats.failures, frames: stage.frames ?? 0,
       lastIterations: stats.lastReport?.iterations ?? null, lambda: stats.lambda, dragSamples: stats.dragSamples,
       labels: stage.panels.map((p) => p.tag.textContent), ghosts: ghosts.length,
-      ticks: chart.ticks ?? [], lambdaTicks: lambdaChart?.ticks ?? [],
+      ticks: chart.ticks ?? [], lambdaTicks: lambdaChart?.ticks ?? [], chartPoints: chart.series[0].values.length,
+      chartLast: chart.series.map((x) => x.values.at(-1) ?? null), camera: stage.camera.position.toArray(),
       lambdas: lambdaChart?.series[0].values.slice() ?? [], dragVolumes: dragVolumeChart?.series.map((x) => x.values.slice()) ?? [],
     }),
     dispose() {
@@ -172,7 +182,15 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
 export function runDemo({ layout, el, mr, twins, advance, restart, dt, actions = {}, debug }) {
   const start = () => twins().stage.animate(advance);
   const stop = () => twins().stage.stop();
-  const controls = playControls(layout, el, { start, stop, restart });
+  // The start again, whether playing or paused: the model, the charts and readouts, the view.
+  const restartAll = () => {
+    restart();
+    twins().resetHistory();
+    advance(0);
+    twins().stage.resetView();
+    twins().stage.requestRender();
+  };
+  const controls = playControls(layout, el, { start, stop, restart: restartAll });
   start();
   return {
     start,

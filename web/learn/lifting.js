@@ -129,7 +129,8 @@ export async function mount({ mrvol, layout, el, stale }) {
     const levelFaces = quad ? mr.levelQuads(l) : mr.levelFaces(l);
     const corners = quad ? 4 : 3;
     const faces = Uint32Array.from(levelFaces, (u) => index.get(u));
-    scene.add(surface(positions, quad ? trianglesOfQuads(faces) : faces, { color: 0xe8e2d8 }));
+    const body = surface(positions, quad ? trianglesOfQuads(faces) : faces, { color: 0xe8e2d8 });
+    scene.add(body);
     scene.add(wire(positions, quad ? quadEdgesOf(faces) : edgesOf(faces), { color: 0x8c959f, points: false }));
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
@@ -151,7 +152,7 @@ export async function mount({ mrvol, layout, el, stale }) {
         }
     // The core's steps of level l, with each step's row of a target vertex.
     const steps = mr.liftingSteps({ level: l, scheme: s.scheme }).map((step) => ({ ...step, rowOf: new Map([...step.targets].map((t, r) => [t, r])) }));
-    current = { vertices, index, positions, points, lines, ring, steps };
+    current = { vertices, index, positions, points, lines, ring, steps, body };
     vertexInput.max = N - 1;
     stage.panels[0].tag.textContent = `M${sup(l)}: ${vertices.length} vertices (${vertices.filter((u) => depths[u] === l).length} odd)`;
     showWords();
@@ -352,8 +353,12 @@ export async function mount({ mrvol, layout, el, stale }) {
     const ndc = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1, 1 - (e.clientY - rect.top) / rect.height * 2);
     stage.camera.updateMatrixWorld();
     raycaster.setFromCamera(ndc, stage.camera);
-    const hits = raycaster.intersectObject(current.points);
-    if (hits.length) pick(current.vertices[hits[0].index], false);
+    // The vertex nearest the ray among those not behind the surface (a vertex lies on it: a little
+    // slack); a click off the model takes the silhouette's.
+    const front = raycaster.intersectObject(current.body)[0]?.distance ?? Infinity;
+    const seen = raycaster.intersectObject(current.points).filter((h) => h.distance <= front + 0.02 * b.radius);
+    seen.sort((p, q) => p.distanceToRay - q.distanceToRay);
+    if (seen.length) pick(current.vertices[seen[0].index], false);
   });
 
   modelSelect.addEventListener('change', async () => {
@@ -391,6 +396,15 @@ export async function mount({ mrvol, layout, el, stale }) {
         const p = new THREE.Vector3().fromArray(current.positions, 3 * k).project(stage.camera);
         const rect = canvas.getBoundingClientRect();
         return [rect.left + (p.x + 1) / 2 * rect.width, rect.top + (1 - p.y) / 2 * rect.height];
+      },
+      /** Every vertex of M^l on the screen: [vertex, x, y, depth (NDC z)] (tests: a vertex behind the surface). */
+      screenOfAll() {
+        stage.camera.updateMatrixWorld();
+        const rect = canvas.getBoundingClientRect(), p = new THREE.Vector3();
+        return current.vertices.map((u, k) => {
+          p.fromArray(current.positions, 3 * k).project(stage.camera);
+          return [u, rect.left + (p.x + 1) / 2 * rect.width, rect.top + (1 - p.y) / 2 * rect.height, p.z];
+        });
       },
     },
     debug: () => result && { ...result, playing: timer !== null },

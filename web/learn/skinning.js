@@ -70,8 +70,8 @@ export async function mount({ mrvol, layout, el }) {
       'fine mesh. Here a ridged tube (N = 674 vertices, n = 2, control mesh of 44 vertices at e = 0) is moved by ' +
       'three bones in a chain: the middle bone bends, the last one bends and twists.',
     'Each frame, <b>linear blend skinning</b> moves every control vertex by the weighted sum of its bones\' ' +
-      'transforms. <b>Left</b>: that target as it is; linear blend skinning shrinks the tube where it bends ' +
-      'and collapses it where it twists. <b>Right</b>: the same target through the volume-preserving correction ' +
+      'transforms. <b>Volume free</b> (red): that target as it is; linear blend skinning shrinks the tube where it bends ' +
+      'and collapses it where it twists. <b>Volume preserved</b> (green): the same target through the volume-preserving correction ' +
       '(section 4, formula (6), iterated to 1e-5): the control mesh swells a little everywhere instead; the ridges ' +
       '(details) ride along.',
     'The chart plots both volumes over time, divided by the reference volume. The skeleton is the dark line. Each ' +

@@ -97,7 +97,7 @@ export class Stage {
     this.layoutPanels();
     if (this.framed) { // the model fills the new panel shape, seen from where the camera is
       const [center, radius] = this.framed;
-      this.frame(center, radius, this.camera.position.toArray().map((x, k) => x - center[k]));
+      this.frame(center, radius, this.camera.position.toArray().map((x, k) => x - center[k]), { home: false });
     }
     this.requestRender();
   }
@@ -146,11 +146,20 @@ export class Stage {
     this.loop = null;
   }
 
-  /** Camera on a bounding sphere (center [x,y,z], radius), seen from `direction`. */
-  frame(center, radius, direction = [0.45, 0.35, 1]) {
+  /**
+   * Camera on a bounding sphere (center [x,y,z], radius), seen from `direction`; `home`: the view
+   * resetView() goes back to (a resize keeps the view the user turned to, and not as home).
+   */
+  frame(center, radius, direction = [0.45, 0.35, 1], { home = true } = {}) {
     this.framed = [center, radius, direction];
+    if (home) this.home = [center, radius, direction];
     frameSphere(this.camera, { center, radius }, { controls: this.controls, direction, margin: 1.08 });
     this.requestRender();
+  }
+
+  /** Back to the view the view's code framed (a demo's restart). */
+  resetView() {
+    if (this.home) this.frame(...this.home);
   }
 
   dispose() {
@@ -257,6 +266,15 @@ export class Chart {
     this.title = title;
     this.series = [];
     this.maxPoints = maxPoints;
+    // Drawn again at its new width when the page turns or is resized (a paused demo draws nothing else).
+    let width = 0;
+    new ResizeObserver(() => {
+      if (this.canvas.clientWidth > 0 && this.canvas.clientWidth !== width) (width = this.canvas.clientWidth), this.draw();
+    }).observe(this.canvas);
+  }
+  /** Forgets every sample (a demo's restart). */
+  clear() {
+    for (const s of this.series) s.values.length = 0;
   }
   add(name, color) {
     const s = { name, color, values: [] };
