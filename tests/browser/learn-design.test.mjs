@@ -176,6 +176,32 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
     assert.deepEqual(page.problems, []);
   });
 
+  test('#learn/levels: a play reads stop while it runs and stops there; a level chosen by hand stops it', async () => {
+    await open('learn/levels');
+    const analysis = '[data-testid="levels-play-analysis"]';
+    await page.click(analysis);
+    assert.equal(await page.textContent(analysis), '■ stop');
+    await page.click('[data-testid="bank-1"]');
+    assert.equal(await page.textContent(analysis), '▶ analysis (n → 0)', 'stopped by the choice');
+    await page.waitForTimeout(2000); // two ticks of the play, had it gone on
+    assert.equal((await state()).level, 1, 'the level chosen stays');
+    await page.click(analysis);
+    await page.click(analysis);
+    assert.equal(await page.textContent(analysis), '▶ analysis (n → 0)', 'its own button stops it');
+    const level = (await state()).level;
+    await page.waitForTimeout(2000);
+    assert.equal((await state()).level, level);
+  });
+
+  test('#learn/tensor: a new mesh says it is computing before the tensors are made', async () => {
+    await open('learn/tensor');
+    const seen = page.waitForFunction(() => /^Computing θ at \d+ levels for /.test(document.querySelector('[data-testid="learn-status"]').textContent));
+    const options = await page.$$eval('select[data-testid="tensor-mesh"] option', (o) => o.map((x) => x.value));
+    await page.selectOption('select[data-testid="tensor-mesh"]', options.at(-1));
+    await seen;
+    await page.waitForFunction(() => document.querySelector('[data-testid="learn-status"]').textContent === '');
+  });
+
   test('#learn/lifting at 1280 x 800: the controls fit the sidebar and come before the text; the point colours have a legend', async () => {
     await open('learn/lifting');
     await assertControlsFirst('lifting');

@@ -6,7 +6,7 @@ import { Stage, THREE, surface, wire, Chart, readoutTable } from './stage.js';
 
 /**
  * Two sessions on `mr` (the caller's; mrvol its API object) at `level`: panels 'volume free' and 'volume preserved',
- * their fine meshes and cages drawn, a chart of V / V_ref over time. drive(target, held) deforms both.
+ * their fine meshes and cages drawn, a chart of V / V₀ over time (V₀ the reference volume). drive(target, held) deforms both.
  */
 export const FREE_COLOR = 0xe5765a, KEPT_COLOR = 0x4fae68; // the chart's red and green, lighter for shading
 
@@ -53,7 +53,7 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
   const chartRow = document.createElement('div');
   chartRow.className = 'learn-charts';
   layout.bottom.append(chartRow);
-  const chart = new Chart(chartRow, { title: dragCharts ? 'V / V_ref over time' : 'volume / reference volume over time' });
+  const chart = new Chart(chartRow, { title: dragCharts ? 'V / V₀ over time' : 'volume / reference volume over time' });
   chart.add('free', '#cf222e');
   chart.add('preserved', '#1a7f37');
   const set = readoutTable(layout.readouts, [
@@ -68,7 +68,7 @@ export function twinEditors({ mrvol, mr, level = 0, scheme, layout, floor = null
   if (dragCharts) {
     lambdaChart = new Chart(chartRow, { title: 'drag: multiplier λ', height: 150, maxPoints: 300, testid: 'drag-lambda-chart', grow: true, empty: 'drag a control vertex: λ is plotted here' });
     lambdaChart.add('λ', '#8250df');
-    dragVolumeChart = new Chart(chartRow, { title: 'drag: V / V_ref', height: 150, maxPoints: 300, testid: 'drag-volume-chart', grow: true, empty: 'and both volumes here' });
+    dragVolumeChart = new Chart(chartRow, { title: 'drag: V / V₀', height: 150, maxPoints: 300, testid: 'drag-volume-chart', grow: true, empty: 'and both volumes here' });
     dragVolumeChart.add('free', '#cf222e');
     dragVolumeChart.add('preserved', '#1a7f37');
     requestAnimationFrame(() => { lambdaChart.draw(); dragVolumeChart.draw(); }); // once laid out

@@ -23,7 +23,7 @@ export async function mount({ mrvol, layout, el, stale }) {
       'the colour map shows the size of every detail that was zeroed.',
     'Editing at level e moves c<sup>e</sup> and keeps the details: the scale of the edit is the scale of the level. ' +
       'The Loop-based scheme (the paper\'s, with the update step U) smooths; Butterfly interpolates; linear is the baseline.',
-    '<b>Single wavelet</b>: every coefficient 0 but one detail of level l, set to 1; the synthesis of that vector is the ' +
+    '<b>Single wavelet</b>: every coefficient 0 but one detail of d<sup>l</sup> (at the finest level, of d<sup>n−1</sup>), set to 1; the synthesis of that vector is the ' +
       'wavelet (basis function) of the vertex, drawn as a bump over the smooth level-0 surface and coloured by its value. ' +
       'Compare its support and shape across schemes. The faint wires behind the blue one are the coarser meshes M<sup>0</sup> … M<sup>l−1</sup>.',
     'The model list starts with the editor\'s model as you left it (your edits included), then the samples. ' +
@@ -64,7 +64,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   layout.controls.append(play);
   const set = readoutTable(layout.readouts, [
     ['model', 'levels-model-info'], ['level l', 'levels-current'], ['vertices of Mˡ', 'levels-cage-size'],
-    ['details zeroed', 'levels-zeroed'], ['max |d^l|', 'levels-dmax'], ['volume (approx.)', 'levels-volume'],
+    ['details zeroed', 'levels-zeroed'], ['max |dˡ|', 'levels-dmax'], ['volume (approx.)', 'levels-volume'],
     ['volume (fine)', 'levels-volume-fine'], ['wavelet', 'levels-wavelet-info'],
   ]);
   let legend = null;
@@ -136,7 +136,10 @@ export async function mount({ mrvol, layout, el, stale }) {
     bank.replaceChildren();
     for (let l = model.n; l >= 0; l--) {
       const b = el('button', { type: 'button', testid: `bank-${l}`, text: `c${sup(l)}` });
-      b.addEventListener('click', () => setLevel(l));
+      b.addEventListener('click', () => {
+        stopPlaying();
+        setLevel(l);
+      });
       bank.append(b);
       if (l > 0) bank.append(el('span', { text: '→' }), el('span', { class: 'd', text: `d${sup(l - 1)}` }), el('span', { text: '+' }));
     }
@@ -219,7 +222,9 @@ export async function mount({ mrvol, layout, el, stale }) {
     for (const b of bank.querySelectorAll('button')) b.classList.toggle('current', b.dataset.testid === `bank-${l}`);
     set('levels-current', `${l} of ${n}`, l);
     set('levels-cage-size', String(cageVertices.length), cageVertices.length);
-    set('levels-zeroed', l === n ? 'none: the finest level keeps every detail' : `${zeroed} vertices: d${sup(l)}${l < n - 1 ? ` … d${sup(n - 1)}` : ''}`, zeroed);
+    detailSelect.disabled = s.wavelet !== null; // the wavelet is drawn by its own colours
+    if (s.wavelet !== null) set('levels-zeroed', `all but one: the single wavelet's (vertex ${s.wavelet})`, depths.length - 1);
+    else set('levels-zeroed', l === n ? 'none: the finest level keeps every detail' : `${zeroed} vertices: d${sup(l)}${l < n - 1 ? ` … d${sup(n - 1)}` : ''}`, zeroed);
     set('levels-dmax', l < n ? dmax.toPrecision(4) + (s.details === 'arrows' && model.arrowScale > 1 ? ` (arrows ×${model.arrowScale.toFixed(1)})` : '') : '– (finest level)', dmax);
     set('levels-volume', schemes.map((x) => `${x} ${loadScheme(x).levels[l].volume.toFixed(6)}`).join('\n'), main.levels[l].volume);
     set('levels-volume-fine', model.fineVolume.toFixed(6) + (model.quads ? ' (bilinear patches)' : ''), model.fineVolume);
@@ -290,24 +295,37 @@ export async function mount({ mrvol, layout, el, stale }) {
     draw();
   }
 
+  // Playing the levels one way; its button reads "stop" meanwhile. A level chosen by hand stops it.
   function playLevels(direction) {
-    clearInterval(timer);
+    const wasPlaying = playing;
+    stopPlaying();
+    if (wasPlaying === direction) return; // its own button: stop
+    playing = direction;
+    playButtons[direction].textContent = '■ stop';
     let l = direction === 'analysis' ? model.n : 0;
     setLevel(l);
     timer = setInterval(() => {
       l += direction === 'analysis' ? -1 : 1;
-      if (l < 0 || l > model.n) {
-        clearInterval(timer);
-        return;
-      }
+      if (l < 0 || l > model.n) return stopPlaying();
       setLevel(l);
     }, 900);
+  }
+  function stopPlaying() {
+    clearInterval(timer);
+    timer = null;
+    playing = null;
+    for (const [direction, b] of Object.entries(playButtons)) b.textContent = PLAY_LABELS[direction];
   }
 
   play.classList.add('learn-buttons');
   const waveletButton = button('single wavelet', 'levels-wavelet', toggleWavelet);
-  play.append(button('▶ analysis (n → 0)', 'levels-play-analysis', () => playLevels('analysis')),
-    button('▶ synthesis (0 → n)', 'levels-play-synthesis', () => playLevels('synthesis')), waveletButton,
+  const PLAY_LABELS = { analysis: '▶ analysis (n → 0)', synthesis: '▶ synthesis (0 → n)' };
+  let playing = null;
+  const playButtons = {
+    analysis: button(PLAY_LABELS.analysis, 'levels-play-analysis', () => playLevels('analysis')),
+    synthesis: button(PLAY_LABELS.synthesis, 'levels-play-synthesis', () => playLevels('synthesis')),
+  };
+  play.append(playButtons.analysis, playButtons.synthesis, waveletButton,
     button('next wavelet', 'levels-wavelet-next', () => {
       s.wavelet = firstWavelet(s.wavelet ?? -1);
       waveletButton.textContent = 'all details';
@@ -315,7 +333,10 @@ export async function mount({ mrvol, layout, el, stale }) {
       draw();
     }));
   ghosts.addEventListener('change', () => { s.ghosts = ghosts.checked; draw(); });
-  slider.addEventListener('input', () => setLevel(Number(slider.value)));
+  slider.addEventListener('input', () => {
+    stopPlaying();
+    setLevel(Number(slider.value));
+  });
   schemeSelect.addEventListener('change', () => { s.scheme = schemeSelect.value; draw(); });
   compare.addEventListener('change', () => { s.compare = compare.checked; draw(); });
   detailSelect.addEventListener('change', () => { s.details = detailSelect.value; draw(); });

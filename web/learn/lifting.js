@@ -76,7 +76,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   const schemeSelect = control(layout.controls, 'scheme', select([], s.scheme, 'lifting-scheme'));
   /** The level and scheme selects for the model on screen (a quad model: Catmull-Clark alone). */
   function fillSelects() {
-    levelSelect.replaceChildren(...[...Array(n).keys()].map((k) => new Option(`${k + 1}: M${k} → M${k + 1}`, String(k + 1))));
+    levelSelect.replaceChildren(...[...Array(n).keys()].map((k) => new Option(`${k + 1}: M${sup(k)} → M${sup(k + 1)}`, String(k + 1))));
     s.level = Math.min(s.level, n);
     levelSelect.value = String(s.level);
     const schemes = quad ? ['catmull-clark'] : TRIANGLE_SCHEMES;
@@ -85,7 +85,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     schemeSelect.value = s.scheme;
   }
   fillSelects();
-  const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis: the phases in order'], ['analysis', 'analysis: inverse phases, reverse order'], ['transposed', 'transposed: masks outwards, reverse order (Figure 5)']], s.mode, 'lifting-mode'));
+  const modeSelect = control(layout.controls, 'direction', select([['synthesis', 'synthesis'], ['analysis', 'analysis (inverse, reversed)'], ['transposed', 'transposed (Figure 5)']], s.mode, 'lifting-mode'));
   const vertexInput = document.createElement('input');
   vertexInput.type = 'number';
   vertexInput.min = 0;
@@ -268,7 +268,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     set('lifting-phase', `${k} / ${phaseCount()}: ${phase} — ${about}`, k);
     set('lifting-written', `${mask.written.length} vertices near the picked one`, mask.written.length);
     set('lifting-read', `${mask.read.length} vertices`, mask.read.length);
-    set('lifting-touched', `${reached.length} vertices carry the unit coefficient`, reached.length);
+    set('lifting-touched', `${reached.length} ${reached.length === 1 ? 'vertex carries' : 'vertices carry'} the unit coefficient`, reached.length);
     const table = el('table', { class: 'learn-block-table' });
     table.append(el('tr', {}, el('th', { text: 'writes' }), el('th', { text: 'reads' }), el('th', { text: k > 0 && stepOfPhase(k).scaling ? 'factor' : 'weight' })));
     for (const w of mask.weights.slice(0, 40))

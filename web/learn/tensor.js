@@ -156,6 +156,10 @@ export async function mount({ mrvol, layout, el }) {
       shown.groupStart = groupStart;
       grid.replaceChildren();
       tableBox.replaceChildren();
+      // The tensors take a second or more on a bigger mesh: said first, and painted before the work.
+      layout.status.textContent = `Computing θ at ${n + 1} levels for ${s.mesh} (${s.scheme}) …`;
+      set('tensor-ms', 'computing …');
+      await new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve)));
       const started = performance.now();
       const levels = [];
       for (let l = n; l >= 0; l--) {
@@ -173,6 +177,7 @@ export async function mount({ mrvol, layout, el }) {
       set('tensor-info', `${s.mesh}: N = ${N}, levels ${n} → 0, ${s.scheme}`);
       set('tensor-ms', `${result.ms.toFixed(0)} ms for ${n + 1} tensors`, result.ms);
     } finally {
+      layout.status.textContent = '';
       mr.delete();
     }
   }
