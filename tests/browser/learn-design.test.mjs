@@ -193,6 +193,34 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
     assert.equal((await state()).level, level);
   });
 
+  test('#learn/levels and #learn/lifting keep their settings in the address: a reload comes back to them', async () => {
+    await open('learn/levels');
+    await page.click('[data-testid="bank-2"]');
+    await page.selectOption('[data-testid="levels-details"]', 'colour');
+    assert.match(page.url(), /#learn\/levels\?.*l=2.*details=colour/);
+    await page.reload();
+    await page.waitForFunction(() => window.mrvolLearn?.ready());
+    let s = await state();
+    assert.deepEqual([s.level, s.details], [2, 'colour']);
+    assert.equal(await page.inputValue('[data-testid="levels-details"]'), 'colour');
+    await open('learn/lifting');
+    await page.fill('[data-testid="lifting-vertex"]', '12');
+    await page.press('[data-testid="lifting-vertex"]', 'Enter');
+    await page.click('[data-testid="lifting-step"]');
+    assert.match(page.url(), /#learn\/lifting\?.*vertex=12.*phase=1/);
+    await page.reload();
+    await page.waitForFunction(() => window.mrvolLearn?.ready());
+    s = await state();
+    assert.deepEqual([s.vertex, s.phase], [12, 1]);
+    // Nonsense in the address is ignored, not obeyed.
+    await page.goto('about:blank');
+    await page.goto(`${browser.url}#learn/lifting?vertex=99999&phase=x&mode=evil`);
+    await page.waitForFunction(() => window.mrvolLearn?.ready());
+    s = await state();
+    assert.deepEqual([s.vertex, s.phase], [0, 0]);
+    assert.deepEqual(page.problems, []);
+  });
+
   test('#learn/tensor: a new mesh says it is computing before the tensors are made', async () => {
     await open('learn/tensor');
     const seen = page.waitForFunction(() => /^Computing θ at \d+ levels for /.test(document.querySelector('[data-testid="learn-status"]').textContent));

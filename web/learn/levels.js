@@ -5,7 +5,7 @@
 // model (quad-critter, or the editor's quad mesh) shows its Catmull-Clark levels: quad cages, the
 // bilinear-patch volume.
 import { sampleModels } from 'virtual:mrvol-models';
-import { Stage, THREE, surface, wire, arrows, edgesOf, quadEdgesOf, bounds, ramp, diverging, colorbar, fetchSample, editorModel, openText, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, arrows, edgesOf, quadEdgesOf, bounds, ramp, diverging, colorbar, fetchSample, editorModel, openText, explain, control, select, button, readoutTable, viewParams, setViewParams } from './stage.js';
 
 const TRIANGLE_SCHEMES = ['loop', 'butterfly', 'linear'];
 const QUAD_SCHEMES = ['catmull-clark'];
@@ -37,12 +37,20 @@ export async function mount({ mrvol, layout, el, stale }) {
   if (stale()) return null;
   const options = [...(editor ? [[EDITOR, `editor: ${editor.name}`]] : []), ...models.map((m) => [m, m])];
   const s = { model: options[0][0], scheme: 'loop', compare: false, level: 0, details: 'arrows' };
+  // Settings from the address (a reload or a shared link): checked against what there is.
+  const asked = viewParams();
+  if (options.some(([value]) => value === asked.get('model'))) s.model = asked.get('model');
+  if ([...TRIANGLE_SCHEMES, ...QUAD_SCHEMES].includes(asked.get('scheme'))) s.scheme = asked.get('scheme');
+  if (['arrows', 'colour', 'none'].includes(asked.get('details'))) s.details = asked.get('details');
+  if (/^\d$/.test(asked.get('l') ?? '')) s.level = Number(asked.get('l'));
+  s.compare = asked.get('compare') === '1';
   const modelSelect = control(layout.controls, 'model', select(options, s.model, 'levels-model'));
   const schemeSelect = control(layout.controls, 'scheme', select(TRIANGLE_SCHEMES.map((m) => [m, m]), s.scheme, 'levels-scheme'));
   let modelSchemes = TRIANGLE_SCHEMES; // the model's schemes (a quad model: Catmull-Clark alone)
   const compare = document.createElement('input');
   compare.type = 'checkbox';
   compare.dataset.testid = 'levels-compare';
+  compare.checked = s.compare;
   control(layout.controls, 'compare schemes', compare);
   const slider = document.createElement('input');
   slider.type = 'range';
@@ -228,6 +236,7 @@ export async function mount({ mrvol, layout, el, stale }) {
     set('levels-dmax', l < n ? dmax.toPrecision(4) + (s.details === 'arrows' && model.arrowScale > 1 ? ` (arrows ×${model.arrowScale.toFixed(1)})` : '') : '– (finest level)', dmax);
     set('levels-volume', schemes.map((x) => `${x} ${loadScheme(x).levels[l].volume.toFixed(6)}`).join('\n'), main.levels[l].volume);
     set('levels-volume-fine', model.fineVolume.toFixed(6) + (model.quads ? ' (bilinear patches)' : ''), model.fineVolume);
+    setViewParams('learn/levels', { model: s.model, scheme: s.scheme, l: s.level, details: s.details, compare: s.compare });
     stage.requestRender();
   }
 

@@ -12,7 +12,7 @@
 import { sampleModels } from 'virtual:mrvol-models';
 import { trianglesOfQuads } from '../../lib/three/edges.mjs';
 import { SCHEME_WORDS, phaseText, glossaryKeys, phaseLabel } from './lifting-words.js';
-import { Stage, THREE, surface, wire, edgesOf, quadEdgesOf, bounds, fetchSample, openEditorModel, openText, explain, control, select, button, readoutTable } from './stage.js';
+import { Stage, THREE, surface, wire, edgesOf, quadEdgesOf, bounds, fetchSample, openEditorModel, openText, explain, control, select, button, readoutTable, viewParams, setViewParams } from './stage.js';
 
 const WRITTEN = new THREE.Color(0xe36209), READ = new THREE.Color(0x1f6feb), PICKED = new THREE.Color(0x1a7f37);
 const IDLE = new THREE.Color(0x6e7781), REACHED = new THREE.Color(0xb392f0);
@@ -69,9 +69,17 @@ export async function mount({ mrvol, layout, el, stale }) {
     if (n < 1) throw new Error(`${name} has no subdivision level`);
     return true;
   }
-  if (!(await load(modelOptions[0][0]))) return null;
+  // Settings from the address (a reload or a shared link), checked against what there is.
+  const asked = viewParams();
+  const firstModel = modelOptions.some(([value]) => value === asked.get('model')) ? asked.get('model') : modelOptions[0][0];
+  if (!(await load(firstModel))) return null;
   const s = { level: 1, scheme: quad ? 'catmull-clark' : 'loop', mode: 'synthesis', vertex: 0, phase: 0 };
-  const modelSelect = control(layout.controls, 'model', select(modelOptions, modelOptions[0][0], 'lifting-model'));
+  if (/^\d+$/.test(asked.get('l') ?? '')) s.level = Math.max(1, Number(asked.get('l')));
+  if (['loop', 'butterfly', 'linear', 'catmull-clark'].includes(asked.get('scheme'))) s.scheme = asked.get('scheme');
+  if (['synthesis', 'analysis', 'transposed'].includes(asked.get('mode'))) s.mode = asked.get('mode');
+  const askedVertex = /^\d+$/.test(asked.get('vertex') ?? '') ? Number(asked.get('vertex')) : 0;
+  const askedPhase = /^\d+$/.test(asked.get('phase') ?? '') ? Number(asked.get('phase')) : 0;
+  const modelSelect = control(layout.controls, 'model', select(modelOptions, firstModel, 'lifting-model'));
   const levelSelect = control(layout.controls, 'level l', select([], '1', 'lifting-level'));
   const schemeSelect = control(layout.controls, 'scheme', select([], s.scheme, 'lifting-scheme'));
   /** The level and scheme selects for the model on screen (a quad model: Catmull-Clark alone). */
@@ -231,6 +239,7 @@ export async function mount({ mrvol, layout, el, stale }) {
   function show() {
     if (depths[s.vertex] > s.level) s.vertex = 0;
     vertexInput.value = s.vertex;
+    setViewParams('learn/lifting', { model: modelSelect.value, l: s.level, scheme: s.scheme, mode: s.mode, vertex: s.vertex, phase: s.phase });
     const k = s.phase;
     const mask = maskAround(k);
     const reached = unitAfter(k);
@@ -376,7 +385,8 @@ export async function mount({ mrvol, layout, el, stale }) {
   modeSelect.addEventListener('change', () => { s.mode = modeSelect.value; reset(); });
   vertexInput.addEventListener('change', () => { if (!pick(Number(vertexInput.value))) vertexInput.value = s.vertex; });
   buildLevel();
-  pick(s.vertex); // the camera faces it
+  if (!pick(askedVertex)) pick(0); // the camera faces it
+  if (askedPhase) setPhase(askedPhase);
   return {
     dispose() {
       stop();

@@ -405,6 +405,23 @@ export async function openEditorModel(mrvol, fits = () => true, { quads = false 
   return null;
 }
 
+/** The view's settings in the address (#learn/levels?l=2&details=colour): a reload or a shared link keeps them. */
+export function viewParams() {
+  return new URLSearchParams(location.hash.split('?')[1] ?? '');
+}
+
+/**
+ * Writes the settings of the view at `route` into the address (no history entry, no hashchange);
+ * nothing when the address is another view's by now.
+ */
+export function setViewParams(route, values) {
+  const [current] = location.hash.replace(/^#/, '').split('?');
+  if (current !== route) return;
+  const query = new URLSearchParams(Object.entries(values).filter(([, v]) => v !== null && v !== undefined && v !== false)
+    .map(([k, v]) => [k, String(v === true ? 1 : v)])).toString();
+  history.replaceState(history.state, '', `#${route}${query ? `?${query}` : ''}`);
+}
+
 /** A paragraph list from strings (HTML allowed: they are ours). */
 export function explain(box, title, paragraphs) {
   const h = document.createElement('h2');
