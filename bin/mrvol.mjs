@@ -347,9 +347,25 @@ async function openMultires(mrvol, path, mesh = null) {
   try {
     return Object.assign(mrvol.openMesh(mesh), { source: mesh.source });
   } catch (e) {
-    if (e instanceof MrvolError) throw new MrvolError(`${path}: ${e.message}`);
+    // A mesh the repair mends (a stray vertex, a degenerate or non-manifold face): said where to go.
+    const mendable = /is not used by any face|is degenerate|non-manifold/.test(e.message);
+    if (e instanceof MrvolError)
+      throw new MrvolError(`${path}: ${e.message}${mendable ? ` (mrvol remesh ${path} --repair -o OUT.obj mends it)` : ''}`);
     throw e;
   }
+}
+
+/** How many vertices sit at exactly the position of an earlier one (an exporter's split vertices). */
+function duplicatePositions(positions) {
+  const n = positions.length / 3, order = new Uint32Array(n).map((_, i) => i);
+  const p = positions;
+  order.sort((a, b) => p[3 * a] - p[3 * b] || p[3 * a + 1] - p[3 * b + 1] || p[3 * a + 2] - p[3 * b + 2]);
+  let duplicates = 0;
+  for (let k = 1; k < n; k++) {
+    const a = order[k - 1], b = order[k];
+    if (p[3 * a] === p[3 * b] && p[3 * a + 1] === p[3 * b + 1] && p[3 * a + 2] === p[3 * b + 2]) duplicates++;
+  }
+  return duplicates;
 }
 
 // theta^e with a progress bar.
@@ -453,6 +469,9 @@ const COMMANDS = {
       baseVertexIndices: Array.from(i.baseVertexIndices), closed: i.closed, boundaryEdges: i.boundaryEdges,
       genus: i.genus, volume: i.volume, semiRegular: i.levels > 0, polygons: mesh.polygons,
       polygonTriangles: mesh.polygonTriangles,
+      // An open mesh whose vertices repeat positions: a closed one split by its exporter (three.js's
+      // OBJExporter writes a vertex per face corner), which --repair welds.
+      ...(i.closed ? {} : { duplicatePositions: duplicatePositions(mesh.positions) }),
     };
     // A file of quads only, without 1-to-4 splits of its triangles: its quads may have Catmull-Clark
     // levels (--scheme catmull-clark), which the hint names rather than the remesher.
@@ -466,6 +485,8 @@ const COMMANDS = {
       `semi-regular   ${r.semiRegular ? 'yes' : notSemiRegular(r)}`,
       ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
+      ...(r.duplicatePositions > 0 ? [`duplicates     ${r.duplicatePositions} vertices at the position of another (split by the ` +
+        `exporter: mrvol remesh ${path} --repair -o OUT.obj welds them)`] : []),
       // (A genus is a closed surface's: an open one's Euler count says nothing the boundary does not.)
       `genus          ${r.closed ? r.genus : '- (not a closed surface)'}`,
       `volume         ${r.volume}${r.closed ? '' : ' (open: the cones from the origin to its faces)'}`].join('\n'));

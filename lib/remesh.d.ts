@@ -189,6 +189,8 @@ export interface RemeshResult {
 /** What repair() did: counts of each fix. */
 export interface RepairReport {
   weldedVertices: number;
+  /** Vertices no face used (a stray point, an exporter's lines), dropped. */
+  unusedVertices: number;
   degenerateFaces: number;
   /** Faces repeated with the same orientation (one copy kept). */
   duplicateFaces: number;

@@ -31,7 +31,8 @@ export function meshProblem(mesh) {
  * Merges vertices with identical coordinates (after rounding to 1e-9 of the bounding-box
  * diagonal), drops faces that become degenerate and vertices no face uses. Throws RangeError for
  * a mesh meshProblem() finds wrong.
- * @returns {{ positions: Float64Array, faces: Uint32Array, merged: number, droppedFaces: number }}
+ * @returns {{ positions: Float64Array, faces: Uint32Array, merged: number, droppedFaces: number, unusedVertices: number }}
+ *   unusedVertices: positions no kept face uses (dropped)
  */
 export function weld(mesh) {
   const problem = meshProblem(mesh);
@@ -86,7 +87,7 @@ export function weld(mesh) {
   const outPositions = new Float64Array(3 * used);
   for (let u = 0; u < unique; u++)
     if (order[u] >= 0) for (let k = 0; k < 3; k++) outPositions[3 * order[u] + k] = positions[3 * firstOf[u] + k];
-  return { positions: outPositions, faces: outFaces, merged: n - unique, droppedFaces };
+  return { positions: outPositions, faces: outFaces, merged: n - unique, droppedFaces, unusedVertices: unique - used };
 }
 
 /** The mesh with the vertices no face uses dropped, the others in order of first use (as weld() orders them). */
@@ -533,7 +534,7 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
   const problem = meshProblem(input);
   if (problem) throw new RangeError(`repair: ${problem}`);
   const welded = weld(input);
-  const report = { weldedVertices: welded.merged, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
+  const report = { weldedVertices: welded.merged, unusedVertices: welded.unusedVertices, degenerateFaces: welded.droppedFaces, duplicateFaces: 0, finFaces: 0,
                    nonManifoldFaces: 0, droppedComponents: 0, holesFilled: 0, holeEdges: 0, holesLeft: 0 };
   let mesh = welded;
   // The mesh stays welded as faces go: only the vertices no face uses are dropped. Returns a mask

@@ -38,6 +38,7 @@ export function repairWords(report, piecesDropped) {
   const dropped = report.degenerateFaces + report.finFaces + report.duplicateFaces + report.nonManifoldFaces + report.foldedFaces;
   const done = [
     [report.weldedVertices, (n) => `${count(n, 'vertex', 'vertices')} welded`],
+    [report.unusedVertices, (n) => `${count(n, 'unused vertex', 'unused vertices')} dropped`],
     [dropped, (n) => `${count(n, 'face')} dropped`],
     [report.reorientedFaces, (n) => `${count(n, 'face')} turned to agree`],
     [report.reversedComponents, (n) => `${count(n, 'piece')} turned outward`],

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -594,6 +595,77 @@ TEST(ReadFormats, ByteOrderMarkBeforeTextHeaders) {
   ImportedMesh m = readMeshFile(binary, "x.stl", {});
   EXPECT_EQ(m.variant, "binary STL");
   expectSameMesh(reference, m.mesh, "binary STL with a BOM-like header");
+}
+
+// ASCII STL as tools write it: keywords in capitals (SOLID, FACET NORMAL, OUTER LOOP), blank lines
+// before 'solid', a name in UTF-8 or Latin-1. Each was taken for binary ("807,416,096 triangles
+// declared"). A binary STL whose header starts with "solid" (SolidWorks) stays binary, found by
+// content too; text that is not STL says so; "ply " with a blank after it is PLY.
+TEST(ReadFormats, AsciiStlAsToolsWriteIt) {
+  const TriangleMesh reference = octahedronObj();
+  const std::string ascii = fixtures::readFile(kGood + "/octahedron-ascii.stl");
+  std::string upper = ascii;
+  for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+  const std::string body = ascii.substr(ascii.find('\n'));  // after the 'solid NAME' line
+  for (const std::string& bytes : {upper, "\n\n  " + ascii, "solid Teil \xC3\x98" "20 \xE2\x80\x93 Geh\xC3\xA4use" + body,
+                                   "solid Pi\xE8" "ce \xB0" "C" + body}) {
+    SCOPED_TRACE(bytes.substr(0, 30));
+    for (const std::string given : {std::string("x.stl"), std::string()}) {
+      ImportedMesh m = readMeshFile(bytes, given, {});
+      EXPECT_EQ(m.variant, "ASCII STL");
+      expectSameMesh(reference, m.mesh, "ASCII STL");
+    }
+  }
+  std::string solidHeader = fixtures::readFile(kGood + "/octahedron-binary.stl");
+  const std::string header = "solid cube exported by SolidWorks";
+  solidHeader.replace(0, header.size(), header);
+  for (const std::string given : {std::string("x.stl"), std::string()}) {
+    ImportedMesh m = readMeshFile(solidHeader, given, {});
+    EXPECT_EQ(m.variant, "binary STL");
+    expectSameMesh(reference, m.mesh, "binary STL with a 'solid' header");
+  }
+  try {
+    readMeshFile("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "mesh.stl", {});
+    FAIL() << "OBJ text read as STL";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "STL: the file is text but not ASCII STL, which starts with 'solid' (its first line: 'v 0 0 0')");
+  }
+  std::string ply = fixtures::readFile(kGood + "/octahedron-ascii.ply");
+  ply.insert(3, " ");
+  for (const std::string given : {std::string("x.ply"), std::string()}) expectSameMesh(reference, readMeshFile(ply, given, {}).mesh, "'ply '");
+}
+
+// glTF as scenes hold it: a mesh's edges or markers as LINES / POINTS primitives beside its
+// triangles (left out, as an OBJ's l and p lines are: the scene was refused), Draco data beside the
+// uncompressed accessors (extension used, not required: the accessors are read), a required
+// extension that leaves the geometry alone (materials) read, an unknown one refused by name.
+TEST(ReadFormats, GltfScenesAsToolsWriteThem) {
+  const TriangleMesh reference = octahedronObj();
+  const nlohmann::json doc = nlohmann::json::parse(fixtures::readFile(kGood + "/octahedron-embedded.gltf"));
+  auto read = [](const nlohmann::json& d) { return readMeshFile(d.dump(), "x.gltf", {}); };
+  nlohmann::json lines = doc;
+  nlohmann::json edges = doc["meshes"][0]["primitives"][0];
+  edges["mode"] = 1;
+  edges.erase("indices");
+  lines["meshes"][0]["primitives"].push_back(edges);
+  edges["mode"] = 0;
+  lines["meshes"][0]["primitives"].insert(lines["meshes"][0]["primitives"].begin(), edges);
+  expectSameMesh(reference, read(lines).mesh, "triangles beside lines and points");
+  nlohmann::json draco = doc;
+  draco["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  draco["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"] = {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}};
+  expectSameMesh(reference, read(draco).mesh, "Draco beside the accessors");
+  nlohmann::json materials = doc;
+  materials["extensionsRequired"] = {"KHR_materials_unlit"};
+  expectSameMesh(reference, read(materials).mesh, "a required materials extension");
+  nlohmann::json unknown = doc;
+  unknown["extensionsRequired"] = {"EXT_foo_bar"};
+  try {
+    read(unknown);
+    FAIL() << "an unknown required extension was read past";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "glTF file requires the extension 'EXT_foo_bar', which mrvol does not know (export the model without it)");
+  }
 }
 
 TEST(ReadFormats, DetectionByContentAndExtension) {

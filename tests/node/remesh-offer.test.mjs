@@ -28,6 +28,11 @@ test('what the repair did, and only that', () => {
   assert.equal(repairWords(repaired('capsule'), 2), '40 vertices welded, 48 faces dropped, 2 pieces dropped');
   assert.equal(repairWords(repaired('sphere'), 0), '31 vertices welded');  // three's seam and poles, 1e-16 apart
   assert.equal(repairWords(repaired('bunny'), 0), 'nothing needed it');
+  // A vertex no face uses (a stray point): dropped, and said (it read "nothing needed it").
+  const tetrahedron = { positions: Float64Array.of(0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 5, 5, 5), faces: Uint32Array.of(0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2) };
+  const report = repair(tetrahedron).report;
+  assert.equal(report.unusedVertices, 1);
+  assert.equal(repairWords(report, 0), '1 unused vertex dropped');
 });
 
 test('the remesher\'s failures name the app\'s repair box, not the CLI\'s flags', async () => {

@@ -56,6 +56,31 @@ inline bool hasByteOrderMark(std::string_view b) { return b.substr(0, 3) == "\xE
 // Text formats (ASCII STL, PLY, OFF): line by line, tokens split by blanks.
 inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
+// Whether `text` is `word` (ASCII letters, given in lower case) in any case: ASCII STL's keywords
+// are written SOLID, Solid or solid by different tools.
+inline bool equalsWord(std::string_view text, std::string_view word) {
+  if (text.size() != word.size()) return false;
+  for (size_t i = 0; i < word.size(); ++i)
+    if ((text[i] | 0x20) != word[i]) return false;
+  return true;
+}
+
+// Bytes no text holds (NUL, controls other than blanks and line breaks): a binary file's.
+inline bool hasBinaryBytes(std::string_view b) {
+  for (char c : b) {
+    unsigned char u = static_cast<unsigned char>(c);
+    if (u == 0 || (u < 32 && !isBlank(c) && c != '\n')) return true;
+  }
+  return false;
+}
+
+// Whether `text`, after its leading blanks and line breaks, starts with `word` (any case).
+inline bool startsWithWord(std::string_view text, std::string_view word) {
+  size_t i = 0;
+  while (i < text.size() && (isBlank(text[i]) || text[i] == '\n')) ++i;
+  return equalsWord(text.substr(i, word.size()), word);
+}
+
 class LineReader {
  public:
   explicit LineReader(std::string_view text, size_t start = 0, size_t firstLine = 1)

@@ -83,12 +83,23 @@ bool isOffKeyword(std::string_view t) {
   return prefix.find_first_not_of("STCN4n") == std::string_view::npos;
 }
 
-bool plyStart(std::string_view t) { return t.substr(0, 4) == "ply\n" || t.substr(0, 5) == "ply\r\n"; }
-
-bool asciiStlStart(std::string_view t) {
-  return t.substr(0, 5) == "solid" && t.size() > 5 && std::isspace(static_cast<unsigned char>(t[5])) &&
-         t.substr(0, 4096).find("facet") != std::string_view::npos;
+// "ply" and the line's end (blanks before it tolerated).
+bool plyStart(std::string_view t) {
+  if (t.substr(0, 3) != "ply") return false;
+  size_t i = 3;
+  while (i < t.size() && io::isBlank(t[i])) ++i;
+  return i < t.size() && t[i] == '\n';
 }
+
+// "solid" (any case, after blank lines) and a facet soon after it.
+bool asciiStlStart(std::string_view t) {
+  if (!io::startsWithWord(t, "solid")) return false;
+  std::string_view head = t.substr(0, 4096);
+  for (size_t i = 0; i + 5 <= head.size(); ++i)
+    if (io::equalsWord(head.substr(i, 5), "facet")) return true;
+  return false;
+}
+
 
 // A format identified from the content alone, or false.
 bool signature(std::string_view b, MeshFormat& format) {
@@ -99,9 +110,11 @@ bool signature(std::string_view b, MeshFormat& format) {
   std::string_view token = firstToken(b);
   if (isOffKeyword(token)) return format = MeshFormat::Off, true;
   if (token.substr(0, 1) == "{" && b.find("\"asset\"") != std::string_view::npos) return format = MeshFormat::Gltf, true;
-  if (b.size() >= 84 && b.substr(0, 5) != "solid") {
+  // Binary STL by its size (a header may start with "solid": SolidWorks writes one; its triangles are no text).
+  if (b.size() >= 84) {
     uint32_t n = io::load<uint32_t>(b.data() + 80);
-    if (b.size() == 84 + 50 * uint64_t(n) && n > 0) return format = MeshFormat::Stl, true;
+    if (b.size() == 84 + 50 * uint64_t(n) && n > 0 && (!asciiStlStart(b) || io::hasBinaryBytes(b.substr(84, 512))))
+      return format = MeshFormat::Stl, true;
   }
   if (asciiStlStart(text)) return format = MeshFormat::Stl, true;
   return false;

@@ -372,6 +372,18 @@ std::vector<Instance> sceneInstances(const Document& d) {
   return out;
 }
 
+// Extensions a file may require that leave its geometry as mrvol reads it: quantized positions (read),
+// and materials, textures, lights, cameras, animation (not read at all).
+bool geometryUnaffected(const std::string& name) {
+  static const char* const prefixes[] = {"KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_", "EXT_lights_",
+                                         "KHR_animation_", "KHR_xmp", "KHR_mesh_quantization", "EXT_materials_"};
+  for (const char* prefix : prefixes)
+    if (name.rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+// A required extension mrvol cannot honour is refused (the spec: a loader must not read the file
+// without it), naming it.
 void checkExtensions(const Document& d) {
   const json* required = member(d.root, "extensionsRequired");
   if (!required || !required->is_array()) return;
@@ -381,6 +393,8 @@ void checkExtensions(const Document& d) {
     if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" || name == "EXT_mesh_gpu_instancing" ||
         name == "KHR_meshopt_compression")
       fail(d, "file requires the extension " + name + ", which mrvol does not decode (export the model without it)");
+    if (!geometryUnaffected(name))
+      fail(d, "file requires the extension " + io::quoted(name) + ", which mrvol does not know (export the model without it)");
   }
 }
 
@@ -405,6 +419,7 @@ SceneGeometry collectScene(const Document& d) {
   TriangleMesh& m = out.mesh;
   const uint64_t maxTriangles = std::max<uint64_t>(d.totalBytes * 16, uint64_t(1) << 20);
   uint64_t sourceBase = 0;  // running index over the primitives' POSITION accessors
+  uint64_t skippedModes[4] = {0, 0, 0, 0};  // primitives of points and lines, left out
   std::vector<uint32_t>& sourceOfOutput = out.sourceOfVertex;
   for (const Instance& instance : sceneInstances(d)) {
     const json& mesh = entry(d, "meshes", instance.mesh);
@@ -416,14 +431,20 @@ SceneGeometry collectScene(const Document& d) {
       const std::string where = "mesh " + count(instance.mesh) + " primitive " + count(p);
       const json& primitive = (*primitives)[p];
       const uint64_t mode = integer(d, primitive, "mode", where, 4);
-      if (mode <= 3) fail(d, where + " has mode " + std::to_string(mode) + " (" + modeName(mode) + "): mrvol reads triangles only");
       if (mode > 6) fail(d, where + ": unknown mode " + std::to_string(mode));
-      if (const json* ext = member(primitive, "extensions"))
-        if (member(*ext, "KHR_draco_mesh_compression"))
-          fail(d, where + " is Draco-compressed, which mrvol does not decode (export the model without compression)");
+      // Lines and points (a model's edges or markers beside its surface) are not surface: left out,
+      // as an OBJ's l and p lines are.
+      if (mode <= 3) {
+        skippedModes[mode]++;
+        continue;
+      }
       const json* attributes = member(primitive, "attributes");
       if (!attributes || !member(*attributes, "POSITION")) fail(d, where + " has no POSITION attribute");
       const size_t positionAccessor = indexInto(d, *attributes, "POSITION", "accessors", where + " attributes");
+      // Draco data beside uncompressed accessors (the extension used, not required): those are read.
+      if (const json* ext = member(primitive, "extensions"))
+        if (member(*ext, "KHR_draco_mesh_compression") && !member(entry(d, "accessors", positionAccessor), "bufferView"))
+          fail(d, where + " is Draco-compressed, which mrvol does not decode (export the model without compression)");
       // float32 positions (the common case) read as floats: exact, and half the bytes of doubles.
       // (A componentType that is not a valid number is named by readAccessor.)
       const json* positionType = member(entry(d, "accessors", positionAccessor), "componentType");
@@ -535,7 +556,13 @@ SceneGeometry collectScene(const Document& d) {
       out.uses.push_back(std::move(use));
     }
   }
-  if (m.faces.empty()) fail(d, "scene has no triangles (no mesh, or only empty primitives)");
+  if (m.faces.empty()) {
+    std::string others;
+    for (uint64_t mode = 0; mode <= 3; ++mode)
+      if (skippedModes[mode]) others += (others.empty() ? "" : ", ") + count(skippedModes[mode]) + " of mode " + modeName(mode);
+    fail(d, others.empty() ? "scene has no triangles (no mesh, or only empty primitives)"
+                           : "scene has no triangles, only primitives of lines or points (" + others + "): mrvol reads surfaces");
+  }
   return out;
 }
 

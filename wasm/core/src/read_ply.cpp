@@ -99,7 +99,8 @@ Header parseHeader(std::string_view b) {
   std::vector<std::string_view> tokens(8);
   bool haveFormat = false, ended = false;
   auto at = [&] { return "PLY header line " + count(lines.line()) + ": "; };
-  if (!lines.next(line) || (line != "ply" && line != "ply\r"))
+  // "ply", blanks after it tolerated (some writers leave one)
+  if (!lines.next(line) || line.substr(0, 3) != "ply" || line.substr(3).find_first_not_of(" \t\r") != std::string_view::npos)
     throw Error("not a PLY file: the first line must be 'ply'" + io::looksLike(b));
   while (!ended && lines.next(line)) {
     size_t n = io::tokenize(line, tokens.data(), tokens.size());

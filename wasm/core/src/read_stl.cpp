@@ -21,13 +21,10 @@ using io::count;
 // Binary when the size fits the declared count, or when the file does not start like ASCII STL.
 bool looksBinary(std::string_view b) {
   if (b.size() >= 84 && b.size() == 84 + 50 * uint64_t(io::load<uint32_t>(b.data() + 80))) return true;
-  if (b.substr(0, 5) != "solid") return true;
-  // "solid" in a binary header: ASCII STL has only text after it.
-  for (char c : b.substr(0, 512)) {
-    unsigned char u = static_cast<unsigned char>(c);
-    if (u == 0 || (u < 32 && !io::isBlank(c) && c != '\n') || u > 126) return true;
-  }
-  return false;
+  // ASCII STL: "solid" in any case, maybe after blank lines.
+  if (!io::startsWithWord(b, "solid")) return true;
+  // "solid" in a binary header: ASCII STL has only text after it (its name may be UTF-8 or Latin-1).
+  return io::hasBinaryBytes(b.substr(0, 512));
 }
 
 // The 84-byte header's count checked against the file size; the number of triangles.
@@ -276,18 +273,18 @@ void readAscii(std::string_view b, ImportedMesh& out) {
     if (n == 0) continue;
     std::string_view key = tokens[0];
     if (ended) {
-      if (key == "solid") { ended = false; continue; }  // several solids in one file
+      if (io::equalsWord(key, "solid")) { ended = false; continue; }  // several solids in one file
       throw Error(at() + "unexpected " + io::quoted(key) + " after 'endsolid'");
     }
-    if (key == "solid" || key == "facet" || key == "endfacet") {
+    if (io::equalsWord(key, "solid") || io::equalsWord(key, "facet") || io::equalsWord(key, "endfacet")) {
       if (corner >= 0) throw Error(at() + io::quoted(key) + " inside an 'outer loop' (missing 'endloop')");
       continue;
     }
-    if (key == "outer") {
-      if (n < 2 || tokens[1] != "loop") throw Error(at() + "expected 'outer loop'");
+    if (io::equalsWord(key, "outer")) {
+      if (n < 2 || !io::equalsWord(tokens[1], "loop")) throw Error(at() + "expected 'outer loop'");
       if (corner >= 0) throw Error(at() + "'outer loop' inside another (missing 'endloop')");
       corner = 0;
-    } else if (key == "vertex") {
+    } else if (io::equalsWord(key, "vertex")) {
       if (corner < 0) throw Error(at() + "'vertex' outside an 'outer loop'");
       if (n != 4) throw Error(at() + "vertex needs 3 coordinates, found " + std::to_string(n - 1));
       if (corner == 3) throw Error(at() + "a facet with more than 3 vertices (mrvol reads STL triangles)");
@@ -298,13 +295,13 @@ void readAscii(std::string_view b, ImportedMesh& out) {
         m.positions.push_back(x);
       }
       ++corner;
-    } else if (key == "endloop") {
+    } else if (io::equalsWord(key, "endloop")) {
       if (corner != 3)
         throw Error(at() + "a facet with " + std::to_string(std::max(corner, 0)) + " vertices, a triangle needs 3");
       uint32_t v = uint32_t(m.positions.size() / 3);
       m.faces.insert(m.faces.end(), {v - 3, v - 2, v - 1});
       corner = -1;
-    } else if (key == "endsolid") {
+    } else if (io::equalsWord(key, "endsolid")) {
       if (corner >= 0) throw Error(at() + "'endsolid' inside an 'outer loop'");
       ended = true;
     } else {
@@ -329,6 +326,11 @@ ImportedMesh readStl(std::string_view bytes) {
       !(bytes.size() >= 84 && bytes.size() == 84 + 50 * uint64_t(io::load<uint32_t>(bytes.data() + 80))))
     bytes.remove_prefix(3);
   if (looksBinary(bytes)) {
+    // Text that is not ASCII STL (an OBJ named .stl, say): said so, not read as a binary count.
+    const bool exactSize = bytes.size() >= 84 && bytes.size() == 84 + 50 * uint64_t(io::load<uint32_t>(bytes.data() + 80));
+    if (!exactSize && !io::hasBinaryBytes(bytes.substr(0, 4096)))
+      throw Error("STL: the file is text but not ASCII STL, which starts with 'solid' (its first line: " +
+                  io::quoted(bytes.substr(0, bytes.find('\n'))) + ")" + io::looksLike(bytes));
     const uint64_t declared = binaryTriangles(bytes);
     out.variant = "binary STL";
     // Blocks big enough that merging them costs little beside welding them.
