@@ -1,16 +1,18 @@
 // Files in and out of the page: the hidden file input, OBJ files dropped on the window, downloads.
 const $ = (id) => document.getElementById(id);
 
-/** Opens the file dialog of the hidden input; `onFile(file)` gets the chosen file. */
+import { fileToOpen } from './gltf-sidecars.js';
+
+/** Opens the file dialog of the hidden input; `onFile(file)` gets the chosen file (a .gltf with its chosen .bin files folded in). */
 export function setUpFileInput(onFile) {
-  $('open-file').addEventListener('change', (e) => onFile(e.target.files?.[0]));
+  $('open-file').addEventListener('change', async (e) => onFile(await fileToOpen(e.target.files)));
   return () => {
     $('open-file').value = '';
     $('open-file').click();
   };
 }
 
-/** A file dropped anywhere on the window goes to onFile; the hint shows while one is dragged over. */
+/** A file dropped anywhere on the window goes to onFile (several: a .gltf with its .bin files folded in); the hint shows while one is dragged over. */
 export function setUpDrop(onFile) {
   const hint = $('drop-hint');
   let depth = 0;
@@ -31,7 +33,7 @@ export function setUpDrop(onFile) {
     e.preventDefault();
     depth = 0;
     hint.hidden = true;
-    onFile(e.dataTransfer?.files?.[0]);
+    fileToOpen(e.dataTransfer?.files).then(onFile);
   });
 }
 

@@ -21,6 +21,7 @@ import { readMeshFile, cancelFileRead, showFileProgress, keepFileWorkerReady, st
 import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
+import { sidecarHint } from './gltf-sidecars.js';
 import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
 import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
 import { installDebugHook } from './debug-hook.js';
@@ -282,7 +283,7 @@ async function isProjectFile(file) {
 async function openModel(source, restore = null) {
   const generation = ++app.loadGeneration;
   const fail = (e) => {
-    if (generation === app.loadGeneration && !e.cancelled) showError(`Could not open ${source.name}: ${e.message}`);
+    if (generation === app.loadGeneration && !e.cancelled) showError(`Could not open ${source.name}: ${sidecarHint(e.message)}`);
     if (e.cancelled && generation === app.loadGeneration) notice(`Opening ${source.name} was cancelled.`);
     return false;
   };

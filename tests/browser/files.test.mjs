@@ -128,6 +128,28 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 
+  test('a .gltf chosen with its .bin opens (its buffer folded in); alone, the message says to choose them together', async () => {
+    const gltf = { name: 'octahedron-sidecar.gltf', mimeType: 'model/gltf+json', buffer: await readFile(join(GOOD, 'octahedron-sidecar.gltf')) };
+    const bin = { name: 'octahedron-sidecar.bin', mimeType: 'application/octet-stream', buffer: await readFile(join(GOOD, 'octahedron-sidecar.bin')) };
+    const clear = () => page.evaluate(() => {
+      document.querySelector('[data-testid="error"]').hidden = true;
+      document.querySelector('[data-testid="error-text"]').textContent = '';
+    });
+    await clear();
+    await page.locator('[data-testid="open-file"]').setInputFiles([bin, gltf]);
+    await page.waitForFunction(() => (window.mrvolDebug.modelName() === 'octahedron-sidecar.gltf' && window.mrvolDebug.ready()) ||
+      document.querySelector('[data-testid="error-text"]').textContent !== '', null, { timeout: 60_000 });
+    assert.equal(await page.locator('[data-testid="error-text"]').textContent(), '');
+    const expected = mrvol.readMesh(gltf.buffer, { name: gltf.name, resources: [['octahedron-sidecar.bin', bin.buffer]] });
+    assert.ok(Math.abs(await page.evaluate(() => window.mrvolDebug.volume()) - mrvol.volume(expected)) < 1e-12);
+    await clear();
+    await page.locator('[data-testid="open-file"]').setInputFiles([gltf]);
+    await page.waitForFunction(() => document.querySelector('[data-testid="error-text"]').textContent !== '', null, { timeout: 60_000 });
+    assert.match(await page.locator('[data-testid="error-text"]').textContent(),
+                 /^Could not open octahedron-sidecar\.gltf: .*'octahedron-sidecar\.bin'.*\(choose or drop it together with the \.gltf\)$/);
+    assert.deepEqual(page.problems, []);
+  });
+
   test('an OBJ with texture coordinates, normals and groups keeps them on export', async () => {
     const bytes = await readFile(join(GOOD, 'octahedron-slashes.obj'));
     await openFile('octahedron-slashes.obj', bytes);
