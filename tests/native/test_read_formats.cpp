@@ -668,6 +668,38 @@ TEST(ReadFormats, GltfScenesAsToolsWriteThem) {
   }
 }
 
+// Triangles written as quads with a repeated corner ("3 4 a b c c", as some writers pad them), in
+// PLY and OFF: the triangles, not a degenerate one beside each (a 12-triangle octahedron read as 16).
+TEST(ReadFormats, PolygonsWithARepeatedCornerAreTheirTriangles) {
+  const TriangleMesh reference = octahedronObj();
+  std::string ply = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 8\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string off = "OFF\n6 8 0\n";
+  for (size_t v = 0; v < 6; ++v) {
+    std::string line;
+    for (int k = 0; k < 3; ++k) line += (k ? " " : "") + std::to_string(reference.positions[3 * v + k]);
+    ply += line + "\n";
+    off += line + "\n";
+  }
+  for (size_t f = 0; f < 8; ++f) {
+    const uint32_t* c = &reference.faces[3 * f];
+    // the repeat in a different place each time, the wrap-around (a b c a) too
+    const std::array<uint32_t, 4> quad = f % 3 == 0 ? std::array<uint32_t, 4>{c[0], c[1], c[2], c[2]}
+                                       : f % 3 == 1 ? std::array<uint32_t, 4>{c[0], c[0], c[1], c[2]}
+                                                    : std::array<uint32_t, 4>{c[0], c[1], c[2], c[0]};
+    std::string line = "4";
+    for (uint32_t i : quad) line += " " + std::to_string(i);
+    ply += line + "\n";
+    off += line + "\n";
+  }
+  for (const auto& [bytes, name] : {std::pair{ply, "x.ply"}, std::pair{off, "x.off"}}) {
+    SCOPED_TRACE(name);
+    ImportedMesh m = readMeshFile(bytes, name, {});
+    EXPECT_EQ(m.mesh.faceCount(), 8u);
+    expectSameMesh(reference, m.mesh, name);
+  }
+}
+
 TEST(ReadFormats, DetectionByContentAndExtension) {
   auto file = [](const char* name) { return fixtures::readFile(kGood + "/" + name); };
   // Content wins over a misleading or missing name.

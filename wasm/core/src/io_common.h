@@ -65,6 +65,17 @@ inline bool equalsWord(std::string_view text, std::string_view word) {
   return true;
 }
 
+// A polygon's corners with each run of the same vertex (cyclically: the last and the first too)
+// kept once: "a b c c", a triangle some writers pad to a quad, is the triangle a b c. In place.
+template <class Corners>
+void dropRepeatedCorners(Corners& polygon) {
+  size_t n = 0;
+  for (size_t k = 0; k < polygon.size(); ++k)
+    if (n == 0 || polygon[k] != polygon[n - 1]) polygon[n++] = polygon[k];
+  while (n > 1 && polygon[n - 1] == polygon[0]) --n;
+  polygon.resize(n);
+}
+
 // Bytes no text holds (NUL, controls other than blanks and line breaks): a binary file's.
 inline bool hasBinaryBytes(std::string_view b) {
   for (char c : b) {

@@ -105,6 +105,7 @@ ImportedMesh readOff(std::string_view bytes) {
                     " vertices (indices start at 0)");
       polygon.push_back(uint32_t(i));
     }
+    io::dropRepeatedCorners(polygon);  // "a b c c": the triangle a b c (fewer than 3 left: no area, left out)
     for (size_t k = 1; k + 1 < polygon.size(); ++k) m.faces.insert(m.faces.end(), {polygon[0], polygon[k], polygon[k + 1]});
     if (polygon.size() > 3) ++out.triangulated;
   }

@@ -194,6 +194,11 @@ struct Builder {
   void addPolygon(const Where& where) {
     if (polygon.size() < 3)
       throw Error(where() + "has " + std::to_string(polygon.size()) + " vertices, a polygon needs at least 3");
+    io::dropRepeatedCorners(polygon);
+    if (polygon.size() < 3) {  // all its corners one or two vertices: no area, left out
+      ++out.sourceFaces;
+      return;
+    }
     for (size_t k = 1; k + 1 < polygon.size(); ++k) {
       out.mesh.faces.push_back(uint32_t(polygon[0]));
       out.mesh.faces.push_back(uint32_t(polygon[k]));
