@@ -523,8 +523,11 @@ export interface Mrvol {
   /**
    * Reads OBJ, STL (binary, ASCII), PLY (ASCII, binary little/big endian), OFF (COFF, NOFF, ...),
    * glTF 2.0 (.gltf with data: URIs or `resources`) and GLB: all meshes of the default scene with
-   * their node transforms. Polygons become triangle fans; vertices the format splits are welded by
-   * exact position. Throws MrvolError naming the file part and offset or element.
+   * their node transforms (their lines and points left out). Polygons become triangle fans; vertices
+   * the format splits are welded by exact position (STL's corners, PLY's, OFF's and glTF's repeats).
+   * An OBJ keeps one vertex per `v` line (its numbering is the file's, kept on export): one written
+   * with a vertex per face corner (three.js's OBJExporter of a non-indexed geometry) reads open, and
+   * remesh's / repair's weld closes it. Throws MrvolError naming the file part and offset or element.
    */
   readMesh(bytes: Uint8Array | ArrayBuffer, options?: ReadMeshOptions): ImportedMesh;
   /** The format of a file from its name (extension) and content; throws when it is none mrvol reads. */
