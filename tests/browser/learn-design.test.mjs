@@ -382,6 +382,13 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
   test('charts are drawn again at their new width when a paused demo\'s page is resized', async () => {
     await open('demo/bunny', PHONE);
     await act('pause');
+    // On the phone a drag's charts come right under the stage, the λ chart whole in sight.
+    const tops = await page.evaluate(() => Object.fromEntries(['drag-lambda-chart', 'drag-volume-chart', 'volume-chart'].map((id) => {
+      const r = document.querySelector(`[data-testid="${id}"]`).getBoundingClientRect();
+      return [id, [r.top, r.bottom]];
+    })));
+    assert.ok(tops['drag-lambda-chart'][0] < tops['volume-chart'][0] && tops['drag-volume-chart'][0] < tops['volume-chart'][0], JSON.stringify(tops));
+    assert.ok(tops['drag-lambda-chart'][1] <= PHONE.height, `the λ chart in sight: ${tops['drag-lambda-chart']}`);
     await page.setViewportSize({ width: PHONE.height, height: PHONE.width });
     await settle(page);
     const widths = await page.evaluate(() => [...document.querySelectorAll('canvas.learn-chart')].map((c) => [c.width, c.clientWidth]));

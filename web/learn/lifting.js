@@ -143,7 +143,9 @@ export async function mount({ mrvol, layout, el, stale }) {
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(positions), 3));
     geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * vertices.length), 3));
-    const points = new THREE.Points(geometry, new THREE.PointsMaterial({ size: 14, sizeAttenuation: false, vertexColors: true, depthTest: true }));
+    // 14 px dots on a coarse M^l; smaller as it fills (M^3 of a quad model: 3458 would tile the surface).
+    const dot = Math.max(5, Math.min(14, Math.round(14 * Math.sqrt(400 / vertices.length))));
+    const points = new THREE.Points(geometry, new THREE.PointsMaterial({ size: dot, sizeAttenuation: false, vertexColors: true, depthTest: true }));
     scene.add(points);
     const lines = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false, transparent: true, opacity: 0.9 }));
     lines.renderOrder = 2;
