@@ -122,7 +122,13 @@ TEST(ObjPolygons, HostileVariants) {
   EXPECT_EQ(errorOf(square + "f 1 2 3 0\n"), "line 5: face index 0 is not valid (OBJ indices start at 1)");
   EXPECT_EQ(errorOf("f -1 -2 -3 -4\n" + square),
             "line 1: relative face index '-1' reaches before the first vertex (0 vertices so far)");
-  EXPECT_EQ(errorOf(square + "f 1 2 3 4 1\n"), "line 5: polygon with 5 vertices uses vertex 1 more than once");
+  EXPECT_EQ(errorOf(square + "f 1 2 1 3 4\n"), "line 5: polygon with 5 vertices uses vertex 1 more than once");
+  // A repeat of the corner before ("f 1 2 3 3": a triangle padded to a quad; the last closing on the
+  // first) is left out, as PLY and OFF read it: the triangle, the square.
+  EXPECT_EQ(errorOf(square + "f 1 2 3 4 1\n"), "");
+  EXPECT_EQ(errorOf(square + "f 1 2 3 3\nf 1 3 4 4\nf 2 2\n"), "line 7: face has 2 vertices, a triangle needs 3");
+  const TriangleMesh padded = readObj(square + "f 1 2 3 3\nf 1 1 3 4\nf 3 3 3 3\n");
+  EXPECT_EQ(padded.faces, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
   EXPECT_EQ(errorOf(square + "f 1 2 3 4 5\n"), "line 5: face refers to vertex 5 but the file has 4 vertices");
   EXPECT_EQ(errorOf(square + "\xEF\xBB\xBF" "f 1 2 3\n"),
             "line 5: unknown statement '???f': this does not look like an OBJ file");

@@ -181,7 +181,7 @@ describe('errors', () => {
   });
 
   test('invalid OBJ or mesh: exit 1, one line naming the file', () => {
-    writeFileSync(file('quad.obj'), 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 1\n');
+    writeFileSync(file('quad.obj'), 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 1 3\n');
     failsWith(mrvolCli('info', file('quad.obj')), /quad\.obj: line 5: polygon with 4 vertices uses vertex 1 more than once/);
     writeFileSync(file('flip.obj'), 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 4 3\nf 2 3 4\n');
     failsWith(mrvolCli('info', file('flip.obj'), '--json'), /flip\.obj: inconsistent orientation/);

@@ -59,7 +59,9 @@ test('readObj: hostile polygons fail with their line, as MrvolError', () => {
   throwsMrvol(() => mrvol.readObj(square + 'f 1 2\n'), 'line 5: face has 2 vertices, a triangle needs 3');
   throwsMrvol(() => mrvol.readObj(square + 'f 0 1 2 3\n'), 'line 5: face index 0 is not valid (OBJ indices start at 1)');
   throwsMrvol(() => mrvol.readObj('f -1 -2 -3 -4\n' + square), "line 1: relative face index '-1' reaches before the first vertex (0 vertices so far)");
-  throwsMrvol(() => mrvol.readObj(square + 'f 1 2 3 1\n'), 'line 5: polygon with 4 vertices uses vertex 1 more than once');
+  throwsMrvol(() => mrvol.readObj(square + 'f 1 2 1 3\n'), 'line 5: polygon with 4 vertices uses vertex 1 more than once');
+  // (a repeat of the corner before, the last of the first included, is left out: 'f 1 2 3 1' is the triangle)
+  assert.deepEqual(Array.from(mrvol.readObj(square + 'f 1 2 3 1\n').faces), [0, 1, 2]);
   throwsMrvol(() => mrvol.readObj(new Uint8Array([...new TextEncoder().encode(square), 0xef, 0xbb, 0xbf, 0x66, 0x20, 0x31, 0x20, 0x32, 0x20, 0x33])),
               "line 5: unknown statement '???f': this does not look like an OBJ file");
   throwsMrvol(() => mrvol.writeObjLike(square + 'f 1 2 3 4\n', new Float64Array(9)), 'the original OBJ has more vertices than the 3 positions given');

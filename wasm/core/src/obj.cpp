@@ -296,6 +296,7 @@ struct ObjReader::Parser {
   // A polygon waiting for the positions (its vertices may come later in the file).
   struct PendingPolygon {
     size_t cornerStart, cornerCount, firstTriangle, line;
+    size_t written = 0;  // corners on its line (repeats of the one before left out of cornerCount)
   };
   bool keepLines, keepExtras;
   size_t line = 0;  // lines read so far
@@ -527,12 +528,28 @@ struct ObjReader::Parser {
         for (size_t k = 0; k < corners; ++k) {
           uint32_t a, b, c;
           corner(cornerTokens[k], a, b, c);
+          // A corner repeating the one before it ("f a b c c": a triangle padded to a quad, as
+          // PLY and OFF read it too) is left out; the last against the first as well.
+          if (k > 0 && a == polygonCorners.back()) continue;
           polygonCorners.push_back(a);
           if (extras) polygonTex.push_back(b), polygonNormal.push_back(c);
         }
+        size_t kept = polygonCorners.size() - polygon.cornerStart;
+        while (kept > 1 && polygonCorners.back() == polygonCorners[polygon.cornerStart]) {
+          polygonCorners.pop_back();
+          if (extras) polygonTex.pop_back(), polygonNormal.pop_back();
+          --kept;
+        }
+        if (kept < 3) {  // one or two distinct corners: no area, no face
+          polygonCorners.resize(polygon.cornerStart);
+          if (extras) polygonTex.resize(polygon.cornerStart), polygonNormal.resize(polygon.cornerStart);
+          return;
+        }
+        polygon.cornerCount = kept;
+        polygon.written = corners;
         polygons.push_back(polygon);
-        mesh.faces.resize(mesh.faces.size() + 3 * (corners - 2), 0);  // filled once positions are known
-        faceLines.resize(faceLines.size() + corners - 2, uint32_t(line));
+        mesh.faces.resize(mesh.faces.size() + 3 * (kept - 2), 0);  // filled once positions are known
+        faceLines.resize(faceLines.size() + kept - 2, uint32_t(line));
       }
       if (extras && (hasTex || hasNormal || !cornerTex.empty())) {
         // Corner attributes: per triangle corner (polygons get theirs when triangulated).
@@ -581,7 +598,7 @@ struct ObjReader::Parser {
     std::sort(sorted.begin(), sorted.end());
     auto twice = std::adjacent_find(sorted.begin(), sorted.end());
     if (twice != sorted.end())
-      throw Error(at(polygon.line) + "polygon with " + std::to_string(polygon.cornerCount) + " vertices uses vertex " +
+      throw Error(at(polygon.line) + "polygon with " + std::to_string(polygon.written) + " vertices uses vertex " +
                   std::to_string(size_t(*twice) + 1) + " more than once");
     uint32_t* out = &mesh.faces[3 * polygon.firstTriangle];
     triangulatePolygon(c, polygon.cornerCount, mesh.positions, polygon.line, out);
