@@ -700,6 +700,25 @@ TEST(ReadFormats, PolygonsWithARepeatedCornerAreTheirTriangles) {
   }
 }
 
+// Files a user picks by mistake beside a mesh: an OBJ's material library, a .blend.
+TEST(ReadFormats, NotAMeshSaysWhatItIs) {
+  auto messageOf = [](const std::string& bytes, const char* name) {
+    try {
+      readMeshFile(bytes, name, {});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  EXPECT_EQ(messageOf("# Blender MTL File\nnewmtl Material\nKd 0.8 0.8 0.8\n", "model.mtl"),
+            "this is a material library (.mtl) that an OBJ refers to, not a mesh: open the .obj file");
+  EXPECT_EQ(messageOf("newmtl Material\nKd 0.8 0.8 0.8\n", ""),
+            "this is a material library (.mtl) that an OBJ refers to, not a mesh: open the .obj file");
+  EXPECT_EQ(messageOf(std::string("BLENDER-v300REND\0\0\0", 19), "scene.blend"),
+            "unknown mesh format .blend (looks like a Blender file: export the model as OBJ, STL, PLY or glTF); "
+            "mrvol reads obj, stl, ply, off, gltf and glb");
+}
+
 TEST(ReadFormats, DetectionByContentAndExtension) {
   auto file = [](const char* name) { return fixtures::readFile(kGood + "/" + name); };
   // Content wins over a misleading or missing name.

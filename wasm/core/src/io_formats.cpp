@@ -25,6 +25,7 @@ std::string looksLike(std::string_view b) {
   else if (starts("\x7f" "ELF")) what = "an executable (ELF)";
   else if (starts("%PDF")) what = "a PDF document";
   else if (starts("Kaydara FBX Binary")) what = "an FBX file";
+  else if (starts("BLENDER")) what = "a Blender file: export the model as OBJ, STL, PLY or glTF";
   else if (starts("glTF")) what = "a GLB file";
   else if (starts("ply\n") || starts("ply\r\n")) what = "a PLY file";
   else if (starts("solid ") && b.find("facet") != std::string_view::npos) what = "an ASCII STL file";
@@ -174,6 +175,9 @@ MeshFormat detectFormat(std::string_view bytes, std::string_view name) {
     throw Error("empty file (0 bytes)");
   }
   if (signature(bytes, byContent)) return byContent;
+  // A material library (an OBJ's .mtl): not the mesh.
+  if (ext == "mtl" || (!known && io::startsWithWord(bytes, "newmtl")))
+    throw Error("this is a material library (.mtl) that an OBJ refers to, not a mesh: open the .obj file");
   if (!known) {
     // No signature: text is taken for OBJ (its reader says what is wrong), anything else is refused.
     std::string like = io::looksLike(bytes);
