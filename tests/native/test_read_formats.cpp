@@ -698,6 +698,19 @@ TEST(ReadFormats, PolygonsWithARepeatedCornerAreTheirTriangles) {
     EXPECT_EQ(m.mesh.faceCount(), 8u);
     expectSameMesh(reference, m.mesh, name);
   }
+  // Every face collapsing (found by fuzz_off: the reader returned no faces): said so.
+  auto messageOf = [](const std::string& bytes, const char* name) {
+    try {
+      readMeshFile(bytes, name, {});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  EXPECT_EQ(messageOf("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 1 0\n", "x.off"),
+            "OFF: no face has 3 distinct vertices (each of its 1 faces repeats one: no area)");
+  EXPECT_EQ(messageOf("v 0 0 0\nv 1 0 0\nf 1 2 2 1\n", "x.obj"),
+            "no faces: each of its 1 'f' lines repeats its vertices (fewer than 3 distinct: no area)");
 }
 
 // Files a user picks by mistake beside a mesh: an OBJ's material library, a .blend.

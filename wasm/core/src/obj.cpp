@@ -307,6 +307,7 @@ struct ObjReader::Parser {
   size_t vtCount = 0, vnCount = 0, coloredVertices = 0;
   std::vector<uint32_t> polygonCorners, polygonTex, polygonNormal;
   std::vector<PendingPolygon> polygons;
+  size_t collapsedPolygons = 0;  // polygons of fewer than 3 distinct corners, left out
   std::vector<std::string_view> cornerTokens;
 
   Parser(bool lines, bool extras) : keepLines(lines), keepExtras(extras) {}
@@ -541,6 +542,7 @@ struct ObjReader::Parser {
           --kept;
         }
         if (kept < 3) {  // one or two distinct corners: no area, no face
+          ++collapsedPolygons;
           polygonCorners.resize(polygon.cornerStart);
           if (extras) polygonTex.resize(polygon.cornerStart), polygonNormal.resize(polygon.cornerStart);
           return;
@@ -570,6 +572,8 @@ struct ObjReader::Parser {
 
   TriangleMesh finish(SourceLines* lines, ObjExtras* extras) {
   if (mesh.positions.empty() && mesh.faces.empty()) throw Error("empty input: no vertices and no faces");
+  if (mesh.faces.empty() && collapsedPolygons > 0)
+    throw Error("no faces: each of its " + std::to_string(collapsedPolygons) + " 'f' lines repeats its vertices (fewer than 3 distinct: no area)");
   if (mesh.faces.empty())
     throw Error("no faces: the file has " + std::to_string(mesh.vertexCount()) + " vertices but no 'f' lines");
   // Indices may point forwards: checked once every vertex is known, in face order.

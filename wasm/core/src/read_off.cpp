@@ -109,6 +109,8 @@ ImportedMesh readOff(std::string_view bytes) {
     for (size_t k = 1; k + 1 < polygon.size(); ++k) m.faces.insert(m.faces.end(), {polygon[0], polygon[k], polygon[k + 1]});
     if (polygon.size() > 3) ++out.triangulated;
   }
+  if (m.faces.empty())
+    throw Error("OFF: no face has 3 distinct vertices (each of its " + count(nf) + " faces repeats one: no area)");
   out.sourceVertices = nv;
   out.sourceFaces = nf;
   out.welded = weldExactPositions(out.mesh, &out.sourceVertex);

@@ -465,6 +465,8 @@ ImportedMesh readPly(std::string_view bytes) {
     if (out.mesh.faces[i] >= nv)
       throw Error("PLY: face " + count(build.faceOfTriangle(i / 3)) + " refers to vertex " + count(out.mesh.faces[i]) +
                   " but the file has " + count(nv) + " vertices (indices start at 0)");
+  if (out.mesh.faces.empty())
+    throw Error("PLY: no face has 3 distinct vertices (each of its " + count(face->count) + " faces repeats one: no area)");
   out.sourceVertices = nv;
   out.welded = weldExactPositions(out.mesh, &out.sourceVertex);
   return out;
