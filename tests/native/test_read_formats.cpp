@@ -221,6 +221,16 @@ std::string glbOf(const nlohmann::json& doc, const std::string& bin) {
   return glb;
 }
 
+// What readMeshFile says of a file: its error message, or "read".
+std::string messageOf(const std::string& bytes, const char* name) {
+  try {
+    readMeshFile(bytes, name, {});
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "read";
+}
+
 // A binary STL of the given corners (3 per triangle, normals zero).
 std::string binaryStl(const std::vector<float>& corners) {
   const uint32_t n = uint32_t(corners.size() / 9);
@@ -699,14 +709,6 @@ TEST(ReadFormats, PolygonsWithARepeatedCornerAreTheirTriangles) {
     expectSameMesh(reference, m.mesh, name);
   }
   // Every face collapsing (found by fuzz_off: the reader returned no faces): said so.
-  auto messageOf = [](const std::string& bytes, const char* name) {
-    try {
-      readMeshFile(bytes, name, {});
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("read");
-  };
   EXPECT_EQ(messageOf("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 1 0\n", "x.off"),
             "OFF: no face has 3 distinct vertices (each of its 1 faces repeats one: no area)");
   EXPECT_EQ(messageOf("v 0 0 0\nv 1 0 0\nf 1 2 2 1\n", "x.obj"),
@@ -715,14 +717,6 @@ TEST(ReadFormats, PolygonsWithARepeatedCornerAreTheirTriangles) {
 
 // Files a user picks by mistake beside a mesh: an OBJ's material library, a .blend.
 TEST(ReadFormats, NotAMeshSaysWhatItIs) {
-  auto messageOf = [](const std::string& bytes, const char* name) {
-    try {
-      readMeshFile(bytes, name, {});
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("read");
-  };
   EXPECT_EQ(messageOf("# Blender MTL File\nnewmtl Material\nKd 0.8 0.8 0.8\n", "model.mtl"),
             "this is a material library (.mtl) that an OBJ refers to, not a mesh: open the .obj file");
   EXPECT_EQ(messageOf("newmtl Material\nKd 0.8 0.8 0.8\n", ""),
