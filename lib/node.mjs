@@ -16,7 +16,7 @@ export function canUseThreads() {
 const buildDir = new URL('../build/wasm/', import.meta.url);
 
 // The .wasm bytes: given, or read from wasmUrl / locateFile's answer / the build folder. The Node
-// and web builds differ in their JS only: their .wasm are the same bytes (tests/node/setup.test.mjs
+// and web builds differ in their JS only: their .wasm are the same bytes (tests/node/entries.test.mjs
 // checks), so the package holds the web build's, read here too.
 async function wasmBytes({ wasmBinary, wasmUrl, locateFile }, file = 'mrvol-web.wasm') {
   if (wasmBinary !== undefined) {

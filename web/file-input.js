@@ -1,7 +1,7 @@
-// Files in and out of the page: the hidden file input, OBJ files dropped on the window, downloads.
-const $ = (id) => document.getElementById(id);
-
+// Files in and out of the page: the hidden file input, mesh files dropped on the window, downloads.
 import { fileToOpen } from './gltf-sidecars.js';
+
+const $ = (id) => document.getElementById(id);
 
 /** Opens the file dialog of the hidden input; `onFile(file)` gets the chosen file (a .gltf with its chosen .bin files folded in). */
 export function setUpFileInput(onFile) {
