@@ -83,7 +83,7 @@ describe('OBJ text', () => {
   });
 
   test('readObj errors carry the line', () => {
-    throwsMrvol(() => mrvol.readObj('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 1\n'), /^line 4: polygon with 4 vertices uses vertex 1 more than once/);
+    throwsMrvol(() => mrvol.readObj('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1 3\n'), /^line 4: polygon with 4 vertices uses vertex 1 more than once/);
     throwsMrvol(() => mrvol.readObj('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n'),
       'line 4: face refers to vertex 9 but the file has 3 vertices');
     throwsMrvol(() => mrvol.readObj(''), 'empty input: no vertices and no faces');
