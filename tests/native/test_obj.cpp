@@ -205,6 +205,24 @@ TEST(WriteObjLike, KeepsEveryOtherLineAndUnchangedSpellings) {
   }
 }
 
+// A vertex continued over lines ("v 0 0 \\" then "0"): unchanged, its lines are kept; moved, it is
+// written on one line with what followed its coordinates.
+TEST(WriteObjLike, ContinuedVertexLines) {
+  const std::string original =
+      "v 0 \\\r\n0 0 0.5 \\\r\n0.5 0.5\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 \\\n1\nf 1 3 2\nf 1 2 \\\n4\nf 1 4 3\nf 2 3 4";
+  TriangleMesh m = readObj(original);
+  ASSERT_EQ(m.vertexCount(), 4u);
+  EXPECT_EQ(writeObjLike(original, m.positions.data(), m.vertexCount()), original);
+  std::vector<double> moved = m.positions;
+  moved[1] = 0.25;  // vertex 0 y
+  moved[11] = 2;    // vertex 3 z
+  const std::string edited = writeObjLike(original, moved.data(), m.vertexCount());
+  EXPECT_EQ(edited, "v 0 0.25 0 0.5  0.5 0.5\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 2\nf 1 3 2\nf 1 2 \\\n4\nf 1 4 3\nf 2 3 4");
+  TriangleMesh back = readObj(edited);
+  EXPECT_EQ(back.positions, moved);
+  EXPECT_EQ(back.faces, m.faces);
+}
+
 TEST(ObjSize, TooLargeForMemoryIsRefusedBeforeAllocating) {
   EXPECT_NO_THROW(checkMeshSize(2'700'000, 5'400'000));
   try {

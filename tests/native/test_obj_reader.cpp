@@ -109,6 +109,27 @@ TEST(ObjReader, EverySplitOfABadFileGivesTheSameLineInItsError) {
   }
 }
 
+// OBJ's line continuation: a statement whose lines end in '\\' reads as one line (a comment's
+// '\\' continues nothing), wherever the chunks split it; an error names the statement's first line.
+TEST(ObjReader, ContinuedLinesReadAsOneStatement) {
+  const std::string joined =
+      "# C:\\models\\\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const std::string text =
+      "# C:\\models\\\nv 0 0 \\\n0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 \\  \r\n  \\\n4\nf 1 4 3\nf 2\\\n 3 4\n";
+  const Read reference = whole(joined);
+  const Read continued = whole(text);
+  ASSERT_EQ(continued.error, "");
+  EXPECT_EQ(continued.mesh.positions, reference.mesh.positions);
+  EXPECT_EQ(continued.mesh.faces, reference.mesh.faces);
+  EXPECT_EQ(continued.lines.vertex, (std::vector<uint32_t>{2, 4, 5, 6}));
+  EXPECT_EQ(continued.lines.face, (std::vector<uint32_t>{7, 8, 11, 12}));
+  expectSplitsAgree(text);
+  const std::string bad = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n2 \\\n9\n";
+  EXPECT_EQ(whole(bad).error.rfind("line 4: ", 0), 0u) << whole(bad).error;
+  expectSplitsAgree(bad);
+  expectSplitsAgree("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \\");  // the mark ends the file
+}
+
 TEST(ObjReader, ALineLongerThanAnyChunkIsKeptWhole) {
   std::string text = "# " + std::string(5000, 'x') + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   std::vector<size_t> cuts;

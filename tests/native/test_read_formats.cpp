@@ -710,9 +710,30 @@ TEST(ReadFormats, PolygonsWithARepeatedCornerAreTheirTriangles) {
   }
   // Every face collapsing (found by fuzz_off: the reader returned no faces): said so.
   EXPECT_EQ(messageOf("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 1 0\n", "x.off"),
-            "OFF: no face has 3 distinct vertices (each of its 1 faces repeats one: no area)");
+            "OFF: no face has 3 distinct vertices (its one face repeats a vertex: no area)");
+  EXPECT_EQ(messageOf("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 1 0\n3 2 2 1\n", "x.off"),
+            "OFF: no face has 3 distinct vertices (each of its 2 faces repeats a vertex: no area)");
   EXPECT_EQ(messageOf("v 0 0 0\nv 1 0 0\nf 1 2 2 1\n", "x.obj"),
-            "no faces: each of its 1 'f' lines repeats its vertices (fewer than 3 distinct: no area)");
+            "no faces: its one 'f' line repeats a vertex (fewer than 3 distinct: no area)");
+}
+
+// nOFF names its dimension after the keyword (Geomview's OFF): 3 reads as OFF, others are named.
+TEST(ReadFormats, OffOfDimensionThreeReadsAndOthersAreNamed) {
+  const std::string body = "4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const ImportedMesh plain = readMeshFile("OFF\n" + body, "x.off");
+  for (const std::string header : {"nOFF\n3\n", "nOFF 3\n", "CnOFF\n# dimension\n3 ", "nOFF 3 "}) {
+    SCOPED_TRACE(header);
+    std::string bytes = header + body;
+    if (header == "CnOFF\n# dimension\n3 ") {
+      bytes = header + "4 4 6\n0 0 0 1 0 0 1\n1 0 0 1 0 0 1\n0 1 0 1 0 0 1\n0 0 1 1 0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    }
+    const ImportedMesh m = readMeshFile(bytes, "x.off");
+    expectSameMesh(plain.mesh, m.mesh, header);
+  }
+  EXPECT_EQ(messageOf("nOFF\n4\n" + body, "x.off"), "OFF line 2: 'nOFF' of dimension 4: mrvol reads 3D OFF files only");
+  EXPECT_EQ(messageOf("nOFF\nx\n" + body, "x.off"), "OFF line 2: nOFF dimension 'x' is not an integer");
+  EXPECT_EQ(messageOf("nOFF\n", "x.off"), "OFF: the file ends before the dimension of its nOFF vertices");
+  EXPECT_EQ(messageOf("4OFF\n" + body, "x.off"), "OFF line 1: '4OFF': mrvol reads 3D OFF files only (4OFF has 4 coordinates a vertex)");
 }
 
 // Files a user picks by mistake beside a mesh: an OBJ's material library, a .blend.

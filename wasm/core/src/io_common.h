@@ -21,6 +21,13 @@ inline std::string count(uint64_t n) {
   return out;
 }
 
+// "its 1 face repeats" / "each of its 5 faces repeats": why no face of a file has an area.
+inline std::string eachFaceRepeats(uint64_t faces, const char* what = "faces") {
+  std::string noun(what);
+  if (faces == 1) return "its one " + noun.substr(0, noun.size() - 1) + " repeats a vertex";
+  return "each of its " + count(faces) + " " + noun + " repeats a vertex";
+}
+
 // A token quoted for a message: at most 40 characters, control and non-ASCII bytes as '?'.
 inline std::string quoted(std::string_view token) {
   std::string s(token.substr(0, 40));

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "fast_float.h"
+#include "io_common.h"
 #include "mrvol/error.h"
 #include "mrvol/mesh.h"
 #include "mrvol/obj_reader.h"
@@ -169,6 +170,21 @@ struct LineScanner {
   }
 };
 
+// Whether the line [begin, stop) (its newline excluded) ends in OBJ's continuation mark: a '\\' as
+// its last byte but blanks and a CR. Not in a comment ("# C:\\models\\" goes on to the next line).
+bool continuesLine(const char* begin, const char* stop) {
+  while (begin < stop && isSpace(*begin)) ++begin;
+  if (begin == stop || *begin == '#') return false;
+  while (stop > begin && (isSpace(stop[-1]) || stop[-1] == '\r')) --stop;
+  return stop > begin && stop[-1] == '\\';
+}
+
+// The start of the line that ends at `eol` (its '\n'), looking no further back than `lo`.
+const char* lineStart(const char* lo, const char* eol) {
+  while (eol > lo && eol[-1] != '\n') --eol;
+  return eol;
+}
+
 bool isKeyword(std::string_view keyword) {
   return keyword.size() <= 16 && std::all_of(keyword.begin(), keyword.end(), [](char c) {
            return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
@@ -309,6 +325,7 @@ struct ObjReader::Parser {
   std::vector<PendingPolygon> polygons;
   size_t collapsedPolygons = 0;  // polygons of fewer than 3 distinct corners, left out
   std::vector<std::string_view> cornerTokens;
+  std::string joined;  // a statement continued over lines, joined
 
   Parser(bool lines, bool extras) : keepLines(lines), keepExtras(extras) {}
 
@@ -335,9 +352,33 @@ struct ObjReader::Parser {
         continue;
       }
       if (!scanner.next(begin, stop)) break;
+      if (continuesLine(begin, stop)) {
+        continued(scanner, begin, stop);
+        continue;
+      }
       statement(begin, stop, scanner.line);
     }
     line = scanner.line;
+  }
+
+  // A statement continued over several lines ("f 1 2 \\" then "3"): its lines joined, each mark
+  // a blank, and read as one line, numbered by its first. The callers hand over whole statements.
+  void continued(LineScanner& scanner, const char* begin, const char* stop) {
+    const size_t first = scanner.line;
+    joined.clear();
+    for (;;) {
+      const bool more = continuesLine(begin, stop);
+      if (!more) {
+        joined.append(begin, stop);
+        break;
+      }
+      const char* mark = stop;
+      while (*--mark != '\\') {}
+      joined.append(begin, mark);
+      joined.push_back(' ');
+      if (!scanner.next(begin, stop)) break;  // the file's last line ends in the mark
+    }
+    statement(joined.data(), joined.data() + joined.size(), first);
   }
 
   // A "v x y z" or "f a b c" line at p whose bytes are only the statement's (numbers, spaces and
@@ -573,7 +614,7 @@ struct ObjReader::Parser {
   TriangleMesh finish(SourceLines* lines, ObjExtras* extras) {
   if (mesh.positions.empty() && mesh.faces.empty()) throw Error("empty input: no vertices and no faces");
   if (mesh.faces.empty() && collapsedPolygons > 0)
-    throw Error("no faces: each of its " + std::to_string(collapsedPolygons) + " 'f' lines repeats its vertices (fewer than 3 distinct: no area)");
+    throw Error("no faces: " + io::eachFaceRepeats(collapsedPolygons, "'f' lines") + " (fewer than 3 distinct: no area)");
   if (mesh.faces.empty())
     throw Error("no faces: the file has " + std::to_string(mesh.vertexCount()) + " vertices but no 'f' lines");
   // Indices may point forwards: checked once every vertex is known, in face order.
@@ -674,21 +715,28 @@ void ObjReader::take(std::string_view chunk) {
   const char* p = chunk.data();
   const char* end = p + chunk.size();
   // The line the last chunk left unfinished: completed from this one's first line.
+  // (A statement continued over lines, "f 1 2 \\", counts as one line here: it waits whole.)
   if (!partial_.empty()) {
-    const void* eol = std::memchr(p, '\n', chunk.size());
-    if (!eol) {
-      partial_.append(p, chunk.size());
-      return;
+    for (;;) {
+      const void* eol = std::memchr(p, '\n', size_t(end - p));
+      if (!eol) {
+        partial_.append(p, size_t(end - p));
+        return;
+      }
+      const char* after = static_cast<const char*>(eol) + 1;
+      const size_t lineAt = partial_.rfind('\n') == std::string::npos ? 0 : partial_.rfind('\n') + 1;
+      partial_.append(p, size_t(after - p));
+      p = after;
+      const char* text = partial_.data();
+      if (!continuesLine(text + lineAt, text + partial_.size() - 1)) break;
     }
-    const char* after = static_cast<const char*>(eol) + 1;
-    partial_.append(p, size_t(after - p));
     parser_->scan(partial_.data(), partial_.data() + partial_.size());
     partial_.clear();
-    p = after;
   }
   // Whole lines in place; the tail after the last '\n' waits for the next chunk.
   const char* last = end;
   while (last > p && last[-1] != '\n') --last;
+  while (last > p && continuesLine(lineStart(p, last - 1), last - 1)) last = lineStart(p, last - 1);
   if (last > p) {
     const LineCounts counts = countLines(std::string_view(p, size_t(last - p)));
     checkMeshSize(parser_->mesh.vertexCount() + counts.v, parser_->mesh.faceCount() + counts.f);
@@ -756,11 +804,68 @@ std::string writeObjLike(std::string_view original, const double* positions, siz
   const char* p = original.data();
   const char* end = p + original.size();
   size_t vertex = 0;
+  std::string joined;  // a statement continued over lines ("v 1 2 \\" then "3"), joined
   while (p < end) {
     const void* eol = std::memchr(p, '\n', size_t(end - p));
     const char* lineEnd = eol ? static_cast<const char*>(eol) + 1 : end;
-    const char* q = p;
     const char* contentEnd = eol ? static_cast<const char*>(eol) : end;
+    if (continuesLine(p, contentEnd)) {
+      // Its lines as one ("v 1 2 3" after the edit is written on one line); kept as they were if it
+      // is not a vertex or the vertex did not move.
+      joined.clear();
+      const char* line = p;
+      for (;;) {
+        const char* stop = contentEnd;
+        if (!continuesLine(line, stop)) {
+          while (stop > line && stop[-1] == '\r') --stop;
+          joined.append(line, stop);
+          break;
+        }
+        const char* mark = stop;
+        while (*--mark != '\\') {}
+        joined.append(line, mark);
+        joined.push_back(' ');
+        if (lineEnd == end) break;
+        line = lineEnd;
+        eol = std::memchr(line, '\n', size_t(end - line));
+        lineEnd = eol ? static_cast<const char*>(eol) + 1 : end;
+        contentEnd = eol ? static_cast<const char*>(eol) : end;
+      }
+      const char* j = joined.data();
+      const char* jEnd = j + joined.size();
+      std::string_view keyword = nextToken(j, jEnd);
+      std::string_view xyz[3];
+      bool isVertex = keyword == "v" || (p == original.data() && keyword == "\xEF\xBB\xBFv");
+      for (int k = 0; k < 3 && isVertex; ++k) isVertex = !(xyz[k] = nextToken(j, jEnd)).empty();
+      if (isVertex) {
+        if (vertex >= vertexCount)
+          throw Error("the original OBJ has more vertices than the " + std::to_string(vertexCount) + " positions given");
+        const double* x = positions + 3 * vertex++;
+        bool same = true;
+        for (int k = 0; k < 3 && same; ++k) {
+          double value = 0;
+          const char* first = xyz[k].data() + (xyz[k][0] == '+');
+          auto r = fast_float::from_chars(first, xyz[k].data() + xyz[k].size(), value);
+          same = r.ec == std::errc() && value == x[k] && std::signbit(value) == std::signbit(x[k]);
+        }
+        if (!same) {
+          out.append(joined.data(), size_t(xyz[0].data() - joined.data()));
+          for (int k = 0; k < 3; ++k) {
+            if (k) out += ' ';
+            appendShortest(out, x[k]);
+          }
+          const char* rest = xyz[2].data() + xyz[2].size();
+          out.append(rest, size_t(jEnd - rest));
+          out += contentEnd > p && contentEnd[-1] == '\r' ? "\r\n" : "\n";
+          p = lineEnd;
+          continue;
+        }
+      }
+      out.append(p, size_t(lineEnd - p));
+      p = lineEnd;
+      continue;
+    }
+    const char* q = p;
     std::string_view keyword = nextToken(q, contentEnd);
     std::string_view xyz[3];
     bool isVertex = keyword == "v" || (p == original.data() && keyword == "\xEF\xBB\xBFv");

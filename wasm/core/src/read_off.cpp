@@ -1,7 +1,8 @@
 // OFF (Object File Format, Geomview) and its variants COFF (colours), NOFF (normals), CNOFF,
 // STOFF (texture coordinates): header keyword, "vertices faces edges", one vertex per line (x y z
 // first, then the variant's extra values), one face per line ("n i0 ... i(n-1)" then an optional
-// colour). '#' starts a comment. Polygons are split into fans. 4OFF, nOFF and binary OFF are refused.
+// colour). '#' starts a comment. Polygons are split into fans. nOFF of dimension 3 is read; 4OFF, other
+// dimensions and binary OFF are refused.
 #include <string>
 #include <vector>
 
@@ -47,18 +48,30 @@ ImportedMesh readOff(std::string_view bytes) {
     throw Error("not an OFF file: the first keyword is " + io::quoted(keyword) + ", expected OFF, COFF, NOFF, CNOFF or STOFF" +
                 io::looksLike(bytes));
   std::string_view prefix = keyword.substr(0, keyword.size() - 3);
-  if (prefix.find('4') != std::string_view::npos || prefix.find('n') != std::string_view::npos)
-    throw Error(at() + io::quoted(keyword) + ": mrvol reads 3D OFF files only (no 4OFF or nOFF)");
-  if (prefix.find_first_not_of("STCN") != std::string_view::npos)
+  if (prefix.find('4') != std::string_view::npos)
+    throw Error(at() + io::quoted(keyword) + ": mrvol reads 3D OFF files only (4OFF has 4 coordinates a vertex)");
+  if (prefix.find_first_not_of("STCNn") != std::string_view::npos)
     throw Error(at() + "unknown OFF variant " + io::quoted(keyword));
   if (n > 1 && tokens[1] == "BINARY") throw Error(at() + "binary OFF is not supported; write it as text");
   out.variant = std::string(keyword);
-  // The counts may follow the keyword on the same line.
+  // What follows the keyword (its dimension for nOFF, then the counts) may be on its line or the next ones.
   size_t first = 1;
-  if (n == 1) {
-    if (!nextTokens(lines, tokens, n)) throw Error("OFF: the file ends before the vertex and face counts");
+  auto nextHeaderLine = [&](const char* what) {
+    if (first < n) return;
+    if (!nextTokens(lines, tokens, n)) throw Error(std::string("OFF: the file ends before the ") + what);
     first = 0;
+  };
+  if (prefix.find('n') != std::string_view::npos) {
+    // nOFF: "nOFF", then the dimension; mrvol reads 3.
+    nextHeaderLine("dimension of its nOFF vertices");
+    uint64_t dimension;
+    if (!io::parseUnsigned(tokens[first], 1000, dimension))
+      throw Error(at() + "nOFF dimension " + io::quoted(tokens[first]) + " is not an integer");
+    if (dimension != 3)
+      throw Error(at() + io::quoted(keyword) + " of dimension " + count(dimension) + ": mrvol reads 3D OFF files only");
+    ++first;
   }
+  nextHeaderLine("vertex and face counts");
   if (n - first < 2) throw Error(at() + "expected the counts 'vertices faces [edges]'");
   uint64_t nv, nf;
   if (!io::parseUnsigned(tokens[first], 0xfffffff0u, nv))
@@ -110,7 +123,7 @@ ImportedMesh readOff(std::string_view bytes) {
     if (polygon.size() > 3) ++out.triangulated;
   }
   if (m.faces.empty())
-    throw Error("OFF: no face has 3 distinct vertices (each of its " + count(nf) + " faces repeats one: no area)");
+    throw Error("OFF: no face has 3 distinct vertices (" + io::eachFaceRepeats(nf) + ": no area)");
   out.sourceVertices = nv;
   out.sourceFaces = nf;
   out.welded = weldExactPositions(out.mesh, &out.sourceVertex);

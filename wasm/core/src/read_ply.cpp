@@ -466,7 +466,7 @@ ImportedMesh readPly(std::string_view bytes) {
       throw Error("PLY: face " + count(build.faceOfTriangle(i / 3)) + " refers to vertex " + count(out.mesh.faces[i]) +
                   " but the file has " + count(nv) + " vertices (indices start at 0)");
   if (out.mesh.faces.empty())
-    throw Error("PLY: no face has 3 distinct vertices (each of its " + count(face->count) + " faces repeats one: no area)");
+    throw Error("PLY: no face has 3 distinct vertices (" + io::eachFaceRepeats(face->count) + ": no area)");
   out.sourceVertices = nv;
   out.welded = weldExactPositions(out.mesh, &out.sourceVertex);
   return out;
