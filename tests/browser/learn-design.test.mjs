@@ -278,6 +278,20 @@ describe('teaching views: design, at 1280 x 800 and on a phone', { timeout: 180_
     assert.ok(s.hover.k < 6, 'k among the six coarse vertices');
     assert.ok(Math.abs(s.hover.value) > 1e-3 && Math.abs(Math.abs(s.hover.value) - 1 / 6) > 1e-3, `a spread entry: ${s.hover.value}`);
     assert.equal(await page.locator('.tensor-slabs figure [data-testid="tensor-cursor"]').count(), 1, 'a ring marks the cell');
+    // The keyboard: Tab to a picture, the arrows walk its cells and read them out as the pointer does.
+    await page.focus('canvas[data-testid="tensor-slab-0-0"]');
+    await page.keyboard.press('Home');
+    s = await state();
+    assert.deepEqual([s.hover.level, s.hover.i, s.hover.j], [0, 0, 0]);
+    await page.keyboard.press('ArrowRight');
+    await page.keyboard.press('ArrowRight');
+    await page.keyboard.press('ArrowDown');
+    s = await state();
+    assert.deepEqual([s.hover.level, s.hover.i, s.hover.j], [0, 1, 2], 'arrows move the read-out cell');
+    await page.keyboard.press('ArrowUp');
+    await page.keyboard.press('ArrowUp');
+    s = await state();
+    assert.deepEqual([s.hover.i, s.hover.j], [0, 2], 'held at the edge');
     await shot('tensor');
     assert.deepEqual(page.problems, []);
   });

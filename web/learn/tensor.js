@@ -34,7 +34,7 @@ export async function mount({ mrvol, layout, el }) {
     'From θ<sup>n</sup> to θ<sup>e</sup> the tensor fills in (section 3.2). It is alternating, so only i &lt; j &lt; k is ' +
       'stored; and when only coarse vertices move (the free set F of section 4), the green entries (no coarse index) ' +
       'are a constant and need not be stored at all.',
-    '<b>Point at a picture</b> (or touch it): the entry under the pointer, θ<sub>ijk</sub> with the largest |value| among ' +
+    '<b>Point at a picture</b> (touch it, or Tab to it and use the arrow keys): the entry under the pointer, θ<sub>ijk</sub> with the largest |value| among ' +
       'the k of that picture, is read out and its three vertices light up on the mesh (i orange, j blue, k purple). ' +
       'At the fine level every entry is a triangle of the mesh, ±1/6; coarser, the masks spread each one over a patch.',
   ]);
@@ -210,16 +210,33 @@ export async function mount({ mrvol, layout, el }) {
       const canvas = document.createElement('canvas');
       canvas.width = canvas.height = N * scale;
       canvas.dataset.testid = `tensor-slab-${l}-${g}`;
-      const at = (e) => {
-        const rect = canvas.getBoundingClientRect();
-        const a = Math.floor((e.clientY - rect.top) / rect.height * N), b = Math.floor((e.clientX - rect.left) / rect.width * N);
+      let cell = [0, 0]; // (i, j) read out: by the pointer, or the arrow keys once the picture has focus
+      const pointAt = (a, b) => {
         if (a < 0 || a >= N || b < 0 || b >= N) return;
+        cell = [a, b];
+        const rect = canvas.getBoundingClientRect();
         canvas.parentElement.append(cursor);
         Object.assign(cursor.style, { left: `${canvas.offsetLeft + (b + 0.5) * rect.width / N}px`, top: `${canvas.offsetTop + (a + 0.5) * rect.height / N}px` });
         hoverAt(l, g, a, b);
       };
+      const at = (e) => {
+        const rect = canvas.getBoundingClientRect();
+        pointAt(Math.floor((e.clientY - rect.top) / rect.height * N), Math.floor((e.clientX - rect.left) / rect.width * N));
+      };
       canvas.addEventListener('pointermove', at);
       canvas.addEventListener('pointerdown', at);
+      // The keyboard's way in: Tab to a picture, the arrows move the read-out cell (Home: the first).
+      canvas.tabIndex = 0;
+      canvas.setAttribute('role', 'img');
+      canvas.setAttribute('aria-label', `θ${sup(l)} slab ${g}: arrow keys read out its entries`);
+      canvas.addEventListener('focus', () => pointAt(...cell));
+      canvas.addEventListener('keydown', (e) => {
+        const step = { ArrowUp: [-1, 0], ArrowDown: [1, 0], ArrowLeft: [0, -1], ArrowRight: [0, 1] }[e.key];
+        if (e.key === 'Home') pointAt(0, 0);
+        else if (step) pointAt(Math.min(N - 1, Math.max(0, cell[0] + step[0])), Math.min(N - 1, Math.max(0, cell[1] + step[1])));
+        else return;
+        e.preventDefault();
+      });
       const ctx = canvas.getContext('2d');
       ctx.fillStyle = '#ffffff';
       ctx.fillRect(0, 0, N * scale, N * scale);
