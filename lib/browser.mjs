@@ -88,17 +88,20 @@ function threadsArg(options) {
 async function instantiate(factory, wasmModule, extra = {}) {
   let failed;
   const failure = new Promise((_, reject) => (failed = reject));
-  return Promise.race([
-    factory({
-      ...(typeof extra === 'function' ? extra(failed) : extra),
-      // emscripten calls this instead of fetching the file itself: the module is compiled above.
-      instantiateWasm(imports, receiveInstance) {
-        WebAssembly.instantiate(wasmModule, imports).then((instance) => receiveInstance(instance, wasmModule), failed);
-        return {};
-      },
-    }),
-    failure,
-  ]);
+  const settings = {
+    ...(typeof extra === 'function' ? extra(failed) : extra),
+    // emscripten calls this instead of fetching the file itself: the module is compiled above.
+    instantiateWasm(imports, receiveInstance) {
+      WebAssembly.instantiate(wasmModule, imports).then((instance) => receiveInstance(instance, wasmModule), failed);
+      return {};
+    },
+  };
+  return Promise.race([factory(settings), failure]).catch((e) => {
+    // A threaded module that failed to start: its pool's workers (emscripten's PThread, which it
+    // puts on the settings object) stopped, not left running in the page.
+    settings.PThread?.terminateAllThreads?.();
+    throw e;
+  });
 }
 
 /**

@@ -58,7 +58,7 @@ async function threadedStart(page, worker, threadStartTimeout, threads = 2) {
         .then((m) => `resolved (${m.threads} thread${m.threads > 1 ? 's' : ''})`, (e) => `${e instanceof MrvolError ? 'MrvolError' : e?.name}: ${e?.message}`),
       pending,
     ]);
-    return { settled, ms: performance.now() - started };
+    return { settled, ms: performance.now() - started, worker: urls.worker };
   }, { entry: `/@fs${root}/lib/browser.mjs`, worker, threadStartTimeout, threads });
 }
 
@@ -104,6 +104,10 @@ describe('the app on its cross-origin isolated server', { timeout: 240_000 }, ()
     const outcome = await threadedStart(page, 'silent', 2000);
     assert.match(outcome.settled, /^MrvolError: the threaded module's workers did not start within 2 s \(blob:.* importing .*mrvol-web-mt\.mjs\): serve both as they are .*or use createMrvol\(\{ threads: 1 \}\)$/);
     assert.ok(outcome.ms < 20_000, `settled after ${outcome.ms} ms`);
+    // Its pool's worker is stopped, not left running in the page.
+    const running = () => page.workers().filter((w) => w.url() === outcome.worker).length;
+    for (let t = 0; t < 50 && running() > 0; ++t) await new Promise((r) => setTimeout(r, 100));
+    assert.equal(running(), 0, 'the failed pool\'s worker is terminated');
   });
 });
 
