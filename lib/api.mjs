@@ -2,7 +2,7 @@
 // Environment-agnostic: lib/node.mjs and the web app each load the module their own way and wrap
 // it here.
 import { wrapQuad } from './quad.mjs';
-import { cageTargetOf, checkCageTarget, freeSetArgs } from './editor-args.mjs';
+import { cageTargetOf, checkCageTarget, freeSetArgs, keepListOf } from './editor-args.mjs';
 import { createClosestPoints } from './closest-points.mjs';
 
 /** An error reported by mrvol's core, with its message as the core wrote it. */
@@ -65,19 +65,10 @@ function surfaceArg(surface) {
   return s;
 }
 
-// Lifting steps belong to a level l >= 1, which has no default.
-// What an editor keeps: the volume, and optionally the centre of mass ('centroid').
-const KEEPABLE = ['volume', 'centroid'];
-function keepArg(keep) {
-  const list = typeof keep === 'string' ? keep.split(',').map((k) => k.trim()) : (keep ?? ['volume']);
-  if (!Array.isArray(list)) throw new MrvolError(`keep must be a list such as ['volume', 'centroid'], got ${JSON.stringify(keep)}`);
-  for (const k of list)
-    if (!KEEPABLE.includes(k))
-      throw new MrvolError(`keep: unknown quantity ${JSON.stringify(k)} (volume, centroid${k === 'inertia' ? '; the inertia tensor is not kept yet' : ''})`);
-  if (!list.includes('volume')) throw new MrvolError('keep must include volume (the centre of mass is kept with it)');
-  return list;
-}
+// What an editor keeps (editor-args.mjs: the quad editor takes the same).
+const keepArg = (keep) => keepListOf(keep, MrvolError);
 
+// Lifting steps belong to a level l >= 1, which has no default.
 function stepLevelArg(level) {
   if (level === undefined) throw new MrvolError('level is required: level l (1..n) builds M^l from M^(l-1)');
   return levelArg(level);
@@ -86,7 +77,8 @@ function stepLevelArg(level) {
 function checkMesh(mesh) {
   if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a mesh { positions, faces }');
   if (!(mesh.positions instanceof Float64Array)) throw new MrvolError('mesh.positions must be a Float64Array');
-  if (!(mesh.faces instanceof Uint32Array)) throw new MrvolError('mesh.faces must be a Uint32Array');
+  if (!(mesh.faces instanceof Uint32Array))
+    throw new MrvolError(`mesh.faces must be a Uint32Array${mesh.quads && !mesh.faces ? ': this is a quad mesh { positions, quads } (quadVolume gives its volume, openMesh opens it)' : ''}`);
   return mesh;
 }
 

@@ -55,6 +55,20 @@ export function checkCageTarget(target, MrvolError) {
       throw new MrvolError(`target: cage vertex ${(i / 3) | 0} has ${'xyz'[i % 3]} = ${target[i]}: coordinates must stay within +-${COORDINATE_LIMIT}`);
 }
 
+// What an editor keeps: the volume, and optionally the centre of mass ('centroid').
+const KEEPABLE = ['volume', 'centroid'];
+
+/** createEditor's `keep` (a list, or a comma-separated string) checked: the list. */
+export function keepListOf(keep, MrvolError) {
+  const list = typeof keep === 'string' ? keep.split(',').map((k) => k.trim()) : (keep ?? ['volume']);
+  if (!Array.isArray(list)) throw new MrvolError(`keep must be a list such as ['volume', 'centroid'], got ${JSON.stringify(keep)}`);
+  for (const k of list)
+    if (!KEEPABLE.includes(k))
+      throw new MrvolError(`keep: unknown quantity ${JSON.stringify(k)} (volume, centroid${k === 'inertia' ? '; the inertia tensor is not kept yet' : ''})`);
+  if (!list.includes('volume')) throw new MrvolError('keep must include volume (the centre of mass is kept with it)');
+  return list;
+}
+
 const FREE_MODES = { 'minus-held': 'minus-held', cage: 'minus-held', all: 'all' };
 
 /**

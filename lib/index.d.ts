@@ -302,6 +302,7 @@ export interface VolumeEditor {
   /** The volume edits keep: the volume at creation unless set. */
   referenceVolume(): number;
   setReferenceVolume(volume: number): void;
+  /** The volume gradient's path; while the centre of mass is kept a step runs matrix-free (its report's path). */
   path(): GradientPath;
   /** Uses theta^e (cage storage, this mesh, scheme and level); the editor keeps its own copy. */
   useTheta(theta: Theta): void;
@@ -712,7 +713,8 @@ export interface QuadMultiresMesh {
   readonly vertexCount: number;
   readonly faceCount: number;
   readonly baseVertexIndices: Uint32Array;
-  info(): QuadMeshInfo;
+  /** surface: 'mesh' only (a quad mesh's volume is its bilinear patches'; 'limit' is refused). */
+  info(options?: { surface?: 'mesh' }): QuadMeshInfo;
   positions(): Float64Array;
   quads(): Uint32Array;
   levelQuads(level: number): Uint32Array;
@@ -732,11 +734,16 @@ export interface QuadMultiresMesh {
   transposeSteps(covector: Float64Array, options: { level: number; steps?: number }): Float64Array;
   /** The level-l approximation: analysis at l, the details of vertices born after l zeroed, synthesis. */
   approximation(positions: Float64Array, options: { level: number }): Float64Array;
-  computeTheta(options?: { level?: number; storage?: 'cage' | 'full' }): Theta;
+  computeTheta(options?: { level?: number; storage?: 'cage' | 'full'; surface?: 'mesh' }): Theta;
   thetaVolume(theta: Theta, options?: { level?: number }): number;
   fingerprint(): string;
   /** path 'auto' (default): the cage polynomial when the cage is 3 or more levels below the mesh, else matrix-free. */
-  createEditor(options?: { level?: number; path?: 'auto' | 'polynomial' | 'tensor' | 'matrix-free'; theta?: Theta }): QuadVolumeEditor;
+  /**
+   * keep ['volume', 'centroid']: the centre of mass too (matrix-free). surface: 'mesh' (the bilinear
+   * patches' volume); 'limit' is refused (the limit surface is Loop's, for triangle meshes).
+   */
+  createEditor(options?: { level?: number; path?: 'auto' | 'polynomial' | 'tensor' | 'matrix-free'; theta?: Theta;
+                           keep?: KeptQuantity[] | string; surface?: 'mesh' }): QuadVolumeEditor;
   delete(): void;
 }
 
@@ -753,6 +760,7 @@ export interface QuadVolumeEditor {
   referenceVolume(): number;
   setReferenceVolume(volume: number): void;
   coefficients(): Float64Array;
+  /** The volume gradient's path; while the centre of mass is kept a step runs matrix-free (its report's path). */
   path(): 'tensor' | 'polynomial' | 'matrix-free';
   useTheta(theta: Theta): void;
   /** The cage polynomial built from the fine quads; returns the path in use ('matrix-free' on a cage too fine for it). */

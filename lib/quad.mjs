@@ -3,13 +3,23 @@
 // quads: Uint32Array (4 per face, counter-clockwise) }. wrapModule (lib/api.mjs) mixes these
 // calls into its API and sends openMesh / subdivide with scheme 'catmull-clark' here.
 import { applyQuadSteps } from './quad-steps.mjs';
-import { cageTargetOf, checkCageTarget, freeSetArgs } from './editor-args.mjs';
+import { cageTargetOf, checkCageTarget, freeSetArgs, keepListOf } from './editor-args.mjs';
 
 function checkQuadMesh(mesh, MrvolError) {
   if (!mesh || typeof mesh !== 'object') throw new MrvolError('expected a quad mesh { positions, quads }');
   if (!(mesh.positions instanceof Float64Array)) throw new MrvolError('mesh.positions must be a Float64Array');
-  if (!(mesh.quads instanceof Uint32Array)) throw new MrvolError('mesh.quads must be a Uint32Array (4 indices per quad)');
+  if (!(mesh.quads instanceof Uint32Array))
+    throw new MrvolError(`mesh.quads must be a Uint32Array (4 indices per quad)${mesh.faces && !mesh.quads ? ': this mesh has triangles (faces); readObjQuads reads an OBJ file\'s quads' : ''}`);
   return mesh;
+}
+
+// surface: the quad calls take the triangle calls' option and keep the one volume they have (the
+// bilinear patches'): 'mesh'; 'limit' is refused by name rather than ignored.
+function quadSurfaceArg(surface, MrvolError) {
+  if (surface === undefined || surface === 'mesh') return 'mesh';
+  if (surface === 'limit')
+    throw new MrvolError("surface 'limit' is the Loop limit surface of triangle meshes; a quad mesh keeps the volume of its bilinear patches (surface 'mesh')");
+  throw new MrvolError(`surface must be 'mesh' or 'limit', got ${JSON.stringify(surface)}`);
 }
 
 /**
@@ -142,7 +152,10 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
       return this.#raw;
     }
     /** Counts, levels (and lowestLevel analysis reaches), base vertices, topology, bilinear volume. */
-    info() { return call((r) => r.info(this.#positions), this.#live()); }
+    info(options = {}) {
+      quadSurfaceArg(options.surface, MrvolError);
+      return call((r) => r.info(this.#positions), this.#live());
+    }
     positions() {
       this.#live();
       return this.#positions.slice();
@@ -209,6 +222,7 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     #depths = null;
     /** theta^e of the bilinear volume: { level, storage: 'cage' | 'full' }. */
     computeTheta(options = {}) {
+      quadSurfaceArg(options.surface, MrvolError);
       const started = performance.now();
       const raw = call((r) => r.computeTheta(levelArg(options.level), options.storage ?? 'cage'), this.#live());
       return new Theta(raw, Math.round((performance.now() - started) * 1000) / 1000);
@@ -219,18 +233,25 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     }
     fingerprint() { return call((r) => r.fingerprint(), this.#live()); }
     /**
-     * { level, path: 'auto' (default) | 'polynomial' | 'tensor' | 'matrix-free', theta } as
-     * MultiresMesh.createEditor: a theta is used as given; 'tensor' computes theta^e; 'auto' builds
-     * the cage polynomial when the cage is coarse against the mesh (quadGradientPath).
+     * { level, path: 'auto' (default) | 'polynomial' | 'tensor' | 'matrix-free', theta, keep,
+     * surface } as MultiresMesh.createEditor: a theta is used as given; 'tensor' computes theta^e;
+     * 'auto' builds the cage polynomial when the cage is coarse against the mesh (quadGradientPath);
+     * keep ['volume', 'centroid'] keeps the centre of mass too (matrix-free); surface 'mesh' only.
      */
     createEditor(options = {}) {
       const path = options.path ?? 'auto';
       if (!['auto', 'polynomial', 'tensor', 'matrix-free'].includes(path))
         throw new MrvolError(`gradient path must be auto, polynomial, tensor or matrix-free, got '${path}'`);
+      quadSurfaceArg(options.surface, MrvolError);
+      const centroid = keepListOf(options.keep, MrvolError).includes('centroid');
+      if (centroid && path === 'polynomial')
+        throw new MrvolError("the polynomial path sums the quads for the volume alone: with the centroid kept use 'auto' or 'matrix-free'");
       const raw = call((r) => r.createEditor(levelArg(options.level), this.#positions), this.#live());
       const editor = new QuadVolumeEditor(raw, this.#live());
       try {
+        if (centroid) editor.keepCentroid(true);
         if (options.theta) editor.useTheta(options.theta);
+        else if (centroid) editor.useMatrixFree();
         else if (path === 'tensor') {
           const theta = this.computeTheta({ level: editor.level });
           try {

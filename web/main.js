@@ -233,6 +233,8 @@ function openModelMesh(model, mesh, restore = null, found = null) {
     if (e.offer) offerRemesh({ name, mesh }, { repair: e.offer === 'repair', open: openModel, notice, auto: true, quads });
     return false;
   }
+  // what the app had, put back if the session cannot open this one (it keeps its model then)
+  const kept = { model: app.model, ready: app.ready, settings: { ...app.settings } };
   clearError();
   hideRemeshOffer();
   notice('');
@@ -250,7 +252,16 @@ function openModelMesh(model, mesh, restore = null, found = null) {
   session.preserve = app.settings.preserve;
   session.surface = app.settings.surface === 'limit' ? 'limit' : 'mesh';
   session.keepCentroid = app.settings.keepBalance;
-  pageStage('session and view set up', () => session.open(mr, { name, own: true, restore: fits ? restore : null }));  // emits model, editor
+  try {
+    pageStage('session and view set up', () => session.open(mr, { name, own: true, restore: fits ? restore : null }));  // emits model, editor
+  } catch (e) {
+    Object.assign(app, { model: kept.model, ready: kept.ready });
+    Object.assign(app.settings, kept.settings);
+    Object.assign(session, { level: kept.settings.level, scheme: kept.settings.scheme, preserve: kept.settings.preserve,
+                             surface: kept.settings.surface === 'limit' ? 'limit' : 'mesh', keepCentroid: kept.settings.keepBalance });
+    showError(`Could not open ${name}: ${e.message}`);
+    return false;
+  }
   app.settings.level = session.level;
   app.settings.surface = session.surface;        // the mesh's own when it has no limit volume
   app.settings.keepBalance = session.keepCentroid;
@@ -350,7 +361,7 @@ function followSessionInView(session) {
     });
     applyViewLayers();
     app.panel.setQuad(session.quad);
-    app.panel.setLevels(session.model.info.levels);
+    app.panel.setLevels(session.model.info.levels, session.lowestLevel);
     app.panel.update();
   });
   session.addEventListener('editor', () => {

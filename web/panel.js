@@ -164,9 +164,9 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
 
   return {
     gui,
-    /** The levels this model offers: 0..n. */
-    setLevels(n) {
-      level.options(Array.from({ length: n + 1 }, (_, i) => i));
+    /** The levels this model offers: lowest..n (lowest: 1 for a quad mesh on a cube's base). */
+    setLevels(n, lowest = 0) {
+      level.options(Array.from({ length: n + 1 - lowest }, (_, i) => lowest + i));
       tag(level, 'level');
       level.updateDisplay();
       approxLevel.max(Math.max(n, 1));

@@ -126,8 +126,9 @@ export class EditingSession extends EventTarget {
   /**
    * Opens a model and makes it current (the previous one is freed). `source` is a mesh
    * ({ positions, faces }, opened here and owned by the session) or a MultiresMesh the caller opened
-   * (the caller keeps it unless `own`: the session then deletes it with the model). Throws
-   * MrvolError when it does not open; the current model stays then.
+   * (the caller keeps it unless `own`: the session then deletes it with the model, or at once when
+   * it does not open). Throws MrvolError when it does not open; the current model stays then, as it
+   * was (its editor, tensors, level and scheme).
    * options: { name, restore: { positions, reference } (a stored shape of this mesh), own }
    */
   open(source, { name = 'mesh', restore = null, own = false } = {}) {
@@ -142,11 +143,17 @@ export class EditingSession extends EventTarget {
       if (opened) mr.delete();
       throw e;
     }
-    this.#closeModel();
-    this.history.clear(); // a new model, a new history
+    // The new model is tried with the old one still open: if its editor cannot be made, the old one
+    // stays current, as it was (its editor, tensors and settings).
+    this.cancelDrag();
+    const before = { model: this.model, editor: this.editor, ownsMesh: this.#ownsMesh, thetas: this.#thetas,
+                     level: this.level, scheme: this.scheme, surface: this.surface, keepCentroid: this.keepCentroid };
     this.model = model;
+    this.editor = null;
+    this.#thetas = new Map();
     this.#ownsMesh = opened || own;
-    this.level = Math.max(0, Math.min(this.level, model.info.levels));
+    // a level analysis reaches (a quad mesh on a cube's base stops at 1)
+    this.level = Math.max(this.lowestLevel, Math.min(this.level, model.info.levels));
     // A quad model has one scheme; a triangle model opened after one goes back to the default.
     if (model.quads) {
       this.scheme = QUAD_SCHEME;
@@ -163,18 +170,36 @@ export class EditingSession extends EventTarget {
     // model first (views replace the mesh), then the new cage.
     if (this.surface === 'limit') this.keepCentroid = false;
     try {
-      this.#buildEditor(reference, { announce: false });
+      try {
+        this.#buildEditor(reference, { announce: false });
+      } catch (error) {
+        // a stored 'limit' setting on a mesh without a limit volume (an open one): the mesh's volume
+        if (this.surface !== 'limit') throw error;
+        this.surface = 'mesh';
+        this.#buildEditor(null, { announce: false });
+      }
     } catch (error) {
-      // a stored 'limit' setting on a mesh without a limit volume (an open one): the mesh's volume
-      if (this.surface !== 'limit') throw error;
-      this.surface = 'mesh';
-      this.#buildEditor(null, { announce: false });
+      this.model = before.model;
+      this.editor = before.editor;
+      this.#thetas = before.thetas;
+      this.#ownsMesh = before.ownsMesh;
+      Object.assign(this, { level: before.level, scheme: before.scheme, surface: before.surface, keepCentroid: before.keepCentroid });
+      if (opened || own) mr.delete(); // handed over (own): not the caller's to free any more
+      throw error;
     }
+    // the model before, closed now
+    for (const { theta } of before.thetas.values()) theta?.delete();
+    before.editor?.delete();
+    if (before.model && before.ownsMesh) before.model.mr.delete();
+    this.history.clear(); // a new model, a new history
     this.#emit('model', { model });
     this.#announceEditor();
     this.#emit('change', { reason: 'model' });
     return model;
   }
+
+  /** The lowest level e the model's analysis reaches (0 but for a quad mesh on a cube's base: 1). */
+  get lowestLevel() { return this.model?.mr.lowestLevel ?? 0; }
 
   #closeModel() {
     this.cancelDrag();
@@ -191,8 +216,9 @@ export class EditingSession extends EventTarget {
   /** Level e of the cage; the editor is rebuilt from the current shape, reference volume kept. */
   setLevel(level) {
     if (!Number.isInteger(level)) throw new this.#mrvol.MrvolError(`level must be an integer, got ${level}`);
-    if (this.model && (level < 0 || level > this.model.info.levels))
-      throw new this.#mrvol.MrvolError(`level ${level} is outside 0..${this.model.info.levels}`);
+    if (this.model && (level < this.lowestLevel || level > this.model.info.levels))
+      throw new this.#mrvol.MrvolError(`level ${level} is outside ${this.lowestLevel}..${this.model.info.levels}` +
+        (level < this.lowestLevel ? ` (this mesh's analysis stops at level ${this.lowestLevel}: its base is a cube, whose first split is not invertible)` : ''));
     this.#changeCage({ level, scheme: this.scheme });
   }
 
@@ -256,7 +282,14 @@ export class EditingSession extends EventTarget {
     this.level = after.level;
     this.scheme = after.scheme;
     if (!this.editor) return;
-    this.#buildEditor();
+    try {
+      this.#buildEditor();
+    } catch (error) {
+      // the editor before stays (#buildEditor makes the new one first), and so do its level and scheme
+      this.level = before.level;
+      this.scheme = before.scheme;
+      throw error;
+    }
     if (record && (before.level !== after.level || before.scheme !== after.scheme)) this.history.push(before, after, 'editor');
   }
 
@@ -289,9 +322,9 @@ export class EditingSession extends EventTarget {
     try {
       this.#buildEditor();
     } catch (error) {
+      // the editor before stays (#buildEditor makes the new one first)
       this.surface = before.surface;
       this.keepCentroid = before.keepCentroid;
-      this.#buildEditor(before.reference);
       throw error;
     }
     this.history.push(before, this.#surfaceState(), 'surface');
@@ -345,8 +378,6 @@ export class EditingSession extends EventTarget {
       mr.setPositions(this.editor.positions());
       // Another surface has another volume: its reference is its volume now.
       if ((this.editor.surface?.() ?? 'mesh') === this.surface) reference ??= this.editor.referenceVolume();
-      this.editor.delete();
-      this.editor = null;
     }
     // 'matrix-free': until theta^e arrives (a theta source decides); 'auto': the cage polynomial
     // where the cage is coarse (no tensor needed), else matrix-free until theta^e arrives.
@@ -354,10 +385,17 @@ export class EditingSession extends EventTarget {
     // created matrix-free, then the polynomial: the same editor, measured faster than createEditor's own path
     // keep: as an editor made in a worker was (lib/api.mjs hands it over for the same options)
     const keep = this.keepCentroid && !this.quad ? ['volume', 'centroid'] : undefined;
+    // made before the editor before is let go: if this one cannot be made, that one stays
     const editor = mr.createEditor({ level: this.level, ...this.schemeOptions, path: 'matrix-free', surface: this.surface, keep });
-    if (path === 'polynomial' && typeof editor.usePolynomial === 'function') editor.usePolynomial();
-    if (reference !== null) editor.setReferenceVolume(reference);
-    if (this.keepCentroid && typeof editor.keepCentroid === 'function') editor.keepCentroid(true);
+    try {
+      if (path === 'polynomial' && typeof editor.usePolynomial === 'function') editor.usePolynomial();
+      if (reference !== null) editor.setReferenceVolume(reference);
+      if (this.keepCentroid && typeof editor.keepCentroid === 'function') editor.keepCentroid(true);
+    } catch (error) {
+      editor.delete();
+      throw error;
+    }
+    this.editor?.delete();
     this.editor = editor;
     this.#freeSetModes = this.quad ? quadFreeSetModes(editor) : FREE_SET_MODES;
     this.#volume = null;

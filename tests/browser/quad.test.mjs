@@ -192,6 +192,28 @@ describe('quad models in the app', { timeout: 240_000 }, () => {
     await shot('remeshed-quads');
   });
 
+  test('a quad OBJ on a cube\'s base opens at level 1 (analysis stops there), its level select from 1; it drags', async () => {
+    const base = join(scratch, 'cube.obj'), out = join(scratch, 'cube-cc.obj');
+    writeFileSync(base, 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n' +
+                        'f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n');
+    execFileSync(process.execPath, [join(root, 'bin/mrvol.mjs'), 'subdivide', base, '--scheme', 'catmull-clark', '--levels', '3', '-o', out]);
+    await openSample('spiky-ball');
+    assert.equal((await debug(() => window.mrvolDebug.settings())).level, 0, 'a triangle model at level 0 first');
+    await openFile('cube-cc.obj', readFileSync(out));
+    await page.waitForFunction(() => window.mrvolDebug.modelName() === 'cube-cc.obj' && window.mrvolDebug.ready(), null, { timeout: 30_000 });
+    assert.equal(await page.locator('[data-testid="error-text"]').isVisible(), false, 'no error');
+    const settings = await debug(() => window.mrvolDebug.settings());
+    assert.deepEqual([settings.scheme, settings.level], ['catmull-clark', 1]);
+    assert.equal(await debug(() => window.mrvolDebug.cageSize()), 26);
+    const levels = await page.$$eval('[data-testid="level"] option', (o) => o.map((x) => x.textContent.trim()));
+    assert.deepEqual(levels, ['1', '2', '3'], 'level 0 is not offered');
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 30, 25);
+    const r = await readouts(page);
+    assert.ok(r.error <= 1e-8, `relative error ${r.error}`);
+    await shot('file-cube');
+  });
+
   test('#learn/levels shows the quad levels; #learn/lifting the Catmull-Clark steps', async () => {
     await page.goto(`${browser.url}#learn/levels`);
     await page.waitForFunction(() => window.mrvolLearn?.route() === 'learn/levels' && window.mrvolLearn.ready(), null, { timeout: 30_000 });

@@ -193,6 +193,23 @@ describe('quad editor: the cage polynomial', () => {
     assert.equal(qe.partVolumes().length, 0);
     qe.setParts([]);
     throwsMrvol(() => qe.setParts([[0]]), /parts\) is not available for quad meshes/);
+    // createEditor's options as the triangle editor takes them: keep the centroid, or name what quads lack
+    for (const keep of [['volume', 'centroid'], 'volume,centroid']) {
+      const kept = quad.createEditor({ level: 0, keep });
+      assert.equal(kept.keepsCentroid(), true, `keep ${JSON.stringify(keep)}`);
+      const report = kept.moveVertices([{ vertex: kept.cageVertices()[0], offset: [0.1, 0, 0] }]);
+      assert.ok(report.converged && report.centroidResult.length === 3, report.message);
+      kept.delete();
+    }
+    throwsMrvol(() => quad.createEditor({ level: 0, keep: ['volume', 'inertia'] }), /keep: unknown quantity "inertia"/);
+    throwsMrvol(() => quad.createEditor({ level: 0, keep: ['volume', 'centroid'], path: 'polynomial' }), /with the centroid kept use 'auto' or 'matrix-free'/);
+    for (const call of [() => quad.createEditor({ level: 0, surface: 'limit' }), () => quad.info({ surface: 'limit' }),
+                        () => quad.computeTheta({ level: 0, surface: 'limit' })])
+      throwsMrvol(call, /surface 'limit' is the Loop limit surface of triangle meshes; a quad mesh keeps the volume of its bilinear patches/);
+    assert.equal(quad.createEditor({ level: 0, surface: 'mesh' }).surface(), 'mesh');
+    // a quad mesh handed to a triangle call, and triangles to a quad call: the other call named
+    throwsMrvol(() => mrvol.volume(detailedQuads(0, 1)), /this is a quad mesh \{ positions, quads \} \(quadVolume gives its volume/);
+    throwsMrvol(() => mrvol.openMesh({ positions: tri.positions(), faces: tri.faces() }, { scheme: 'catmull-clark' }), /readObjQuads reads an OBJ file's quads/);
     te.delete();
     qe.delete();
     tri.delete();

@@ -154,6 +154,30 @@ test('what a quad model refuses, with a message; a triangle model after it goes 
   session.dispose();
 });
 
+test('a quad mesh on a cube\'s base opens at level 1, the lowest its analysis reaches; level 0 refused, the editor kept', () => {
+  const cubeBase = { positions: Float64Array.from([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1]),
+                    quads: Uint32Array.from([0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7]) };
+  const cube = mrvol.subdivide(cubeBase, { levels: 3, scheme: 'catmull-clark' });
+  const cubeMesh = cube.toMesh();
+  cube.delete();
+  const session = new EditingSession(mrvol, { tolerance: 1e-12 });
+  session.open(mrvol.readObj(text('spiky-ball')), { name: 'spiky-ball' });
+  assert.equal(session.level, 0);
+  const opened = session.open(cubeMesh, { name: 'cube-l3' });
+  assert.equal(opened.mr.lowestLevel, 1);
+  assert.equal(session.lowestLevel, 1);
+  assert.equal(session.level, 1, 'level 0 is below what the analysis reaches: level 1');
+  assert.equal(session.cageSize, 26);
+  assert.ok(session.moveHandles([0], [0.1, 0, 0]));
+  assert.ok(Math.abs(session.editor.volume() - mrvol.quadVolume(cubeMesh)) < 1e-9);
+  // level 0 refused by name; the editor and its level stay
+  const editor = session.editor;
+  assert.throws(() => session.setLevel(0), /level 0 is outside 1\.\.3 \(this mesh's analysis stops at level 1/);
+  assert.equal(session.level, 1);
+  assert.equal(session.editor, editor);
+  session.dispose();
+});
+
 test('the JS lifting steps of a quad level: synthesis, analysis, transposition agree with the core', () => {
   const mr = mrvol.openQuadMesh(mrvol.readObjQuads(text(QUAD_SAMPLE)));
   const positions = mr.positions();
