@@ -342,10 +342,19 @@ function writeMesh(mrvol, path, mesh, source) {
   writeText(path, mrvol.writeObj(mesh));
 }
 
-async function openMultires(mrvol, path, mesh = null) {
+async function openMultires(mrvol, path, mesh = null, { quadNote = false } = {}) {
   mesh ??= await loadMesh(mrvol, path);
   try {
-    return Object.assign(mrvol.openMesh(mesh), { source: mesh.source });
+    const mr = Object.assign(mrvol.openMesh(mesh), { source: mesh.source });
+    // A file of quads read as triangles has no levels (every vertex a cage vertex) where its quads
+    // may have Catmull-Clark ones: said on stderr, the command going on as asked.
+    if (quadNote && mr.levels === 0 && isAllQuads(mesh, mr.info().faces)) {
+      const levels = await catmullClarkLevels(mrvol, path, QUAD_CLI);
+      if (levels > 0)
+        process.stderr.write(`mrvol: note: ${path} is read as triangles, which have no levels here (every vertex is a cage vertex); ` +
+                             `its quads have ${levels} Catmull-Clark levels: add --scheme catmull-clark to edit them as quads\n`);
+    }
+    return mr;
   } catch (e) {
     // A mesh the repair mends (a stray vertex, a degenerate or non-manifold face): said where to go.
     const mendable = /is not used by any face|is degenerate|non-manifold/.test(e.message);
@@ -354,6 +363,9 @@ async function openMultires(mrvol, path, mesh = null) {
     throw e;
   }
 }
+
+/** Whether every face of the file was a quad (each split into 2 of the mesh's `faces` triangles). */
+const isAllQuads = (mesh, faces) => mesh.polygons > 0 && 2 * mesh.polygons === mesh.polygonTriangles && mesh.polygonTriangles === faces;
 
 /** How many vertices sit at exactly the position of an earlier one (an exporter's split vertices). */
 function duplicatePositions(positions) {
@@ -399,7 +411,7 @@ async function tensorReport(mrvol, values, positionals, { requireOutput }) {
   if (surface !== 'mesh' && surface !== 'limit') throw new UsageError(`--surface must be mesh or limit, got '${surface}'`);
   if (requireOutput && !values.output) throw new UsageError('-o FILE.theta is required');
   if (values.theta && values.storage) throw new UsageError('--storage applies when computing, not with --theta');
-  const mr = await openMultires(mrvol, path);
+  const mr = await openMultires(mrvol, path, null, { quadNote: true });
   let theta;
   try {
     if (level < 0 || level > mr.levels)
@@ -475,7 +487,7 @@ const COMMANDS = {
     };
     // A file of quads only, without 1-to-4 splits of its triangles: its quads may have Catmull-Clark
     // levels (--scheme catmull-clark), which the hint names rather than the remesher.
-    const allQuads = mesh.polygons > 0 && 2 * mesh.polygons === mesh.polygonTriangles && mesh.polygonTriangles === i.faces;
+    const allQuads = isAllQuads(mesh, i.faces);
     if (allQuads && !result.semiRegular) result.catmullClarkLevels = await catmullClarkLevels(mrvol, path, QUAD_CLI);
     const notSemiRegular = (r) => r.catmullClarkLevels > 0
       ? `no (as triangles; its quads have ${r.catmullClarkLevels} Catmull-Clark levels: mrvol info ${path} --scheme catmull-clark)`
@@ -513,7 +525,7 @@ const COMMANDS = {
     const path = onePath(positionals, 'MESH.obj');
     const level = integer(values.level, 'level', 0);
     const scheme = schemeOptions(values);
-    const mr = await openMultires(mrvol, path);
+    const mr = await openMultires(mrvol, path, null, { quadNote: true });
     const maxError = mr.roundtripError({ level, ...scheme });
     const positions = mr.positions();
     mr.delete();
@@ -571,7 +583,11 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
     throw new UsageError('--free-details runs matrix-free (--path auto or matrix-free, no --theta)');
   if (centroid && (gradientPath === 'tensor' || gradientPath === 'polynomial' || values.theta))
     throw new UsageError('--keep centroid runs matrix-free (--path auto or matrix-free, no --theta)');
-  const mr = await openMultires(mrvol, path);
+  if (centroid && surface === 'limit')
+    throw new UsageError('--keep centroid keeps the mesh surface\'s centre of mass: not with --surface limit (keep the volume only there)');
+  if (surface === 'limit' && gradientPath === 'polynomial')
+    throw new UsageError('--path polynomial sums the mesh\'s triangles: with --surface limit use --path auto or matrix-free (or --theta of the limit surface)');
+  const mr = await openMultires(mrvol, path, null, { quadNote: true });
   let theta;
   try {
     if (level < 0 || level > mr.levels)

@@ -9,7 +9,10 @@ async function loadQuads(mrvol, path, cli) {
   try {
     return mrvol.readObjQuads(cli.readBytes(path));
   } catch (e) {
-    throw e instanceof MrvolError && !e.message.startsWith('cannot read') ? new MrvolError(`${path}: ${e.message}`) : e;
+    if (!(e instanceof MrvolError) || e.message.startsWith('cannot read')) throw e;
+    // triangles or n-gons among the quads: the quad remesher makes a quad mesh of it
+    const notQuads = /a face with \d+ corners/.test(e.message);
+    throw new MrvolError(`${path}: ${e.message}${notQuads ? ` (mrvol remesh ${path} --scheme catmull-clark -o OUT.obj makes one of it)` : ''}`);
   }
 }
 
@@ -63,7 +66,7 @@ export const QUAD_COMMANDS = {
       `semi-regular   ${r.semiRegular ? 'yes' : 'no (no Catmull-Clark 1-to-4 splits found)'}`,
       ...(r.lowestLevel > 0 ? [`lowest level   ${r.lowestLevel} (the base is a cube: its first split cannot be analysed)`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
-      `genus          ${r.genus}`, `volume         ${r.volume} (bilinear patches)`].join('\n'));
+      `genus          ${r.closed ? r.genus : '- (not a closed surface)'}`, `volume         ${r.volume} (bilinear patches)`].join('\n'));
   },
 
   async subdivide(mrvol, values, positionals, cli) {
@@ -158,13 +161,14 @@ export const QUAD_COMMANDS = {
       if (!/\.obj$/i.test(values.output)) throw new cli.UsageError(`cannot write ${values.output}: quad meshes are written as .obj`);
       cli.writeText(values.output, mrvol.writeObjLike(cli.readBytes(path), editor.positions()));
       const result = {
-        scheme: 'catmull-clark', volumeReference: report.volumeReference, volumeTarget: report.volumeTarget,
+        scheme: 'catmull-clark', level, cageVertices: editor.cageSize, volumeReference: report.volumeReference, volumeTarget: report.volumeTarget,
         volumeResult: report.volumeResult, relativeError: report.relativeError, iterations: report.iterations,
         substeps: report.substeps, stepMs: Math.round(stepMs * 1000) / 1000, path: preserve ? report.path : 'none',
         keep, centroidBefore, centroidAfter: Array.from(editor.centroid()), output: values.output,
       };
       const drift = Math.hypot(...result.centroidAfter.map((x, k) => x - centroidBefore[k]));
       cli.print(values, result, (r) => [
+        `cage             level ${r.level}, ${r.cageVertices} vertices${values.level === undefined && mr.lowestLevel > 0 ? ' (the lowest level: the base is a cube)' : ''}`,
         `reference volume ${r.volumeReference}`, `target volume    ${r.volumeTarget}`,
         `result volume    ${r.volumeResult} (relative error ${r.relativeError})`,
         `centre of mass   ${r.centroidBefore.join(' ')} -> ${r.centroidAfter.join(' ')} (moved ${drift}${centroid ? ', kept' : ''})`,
@@ -211,7 +215,8 @@ export const QUAD_COMMANDS = {
 async function tensorReport(mrvol, values, positionals, cli, requireOutput) {
   const path = cli.onePath(positionals, 'MESH.obj');
   if (requireOutput && !values.output) throw new cli.UsageError('-o FILE.theta is required');
-  if (values.surface && values.surface !== 'mesh') throw new cli.UsageError('--surface limit is for the Loop scheme only');
+  if (values.surface && values.surface !== 'mesh')
+    throw new cli.UsageError(`--surface ${values.surface} is not available for catmull-clark (the bilinear patches' volume is kept)`);
   const storage = values.storage ?? 'cage';
   if (!['cage', 'full'].includes(storage)) throw new cli.UsageError(`--storage must be cage or full, got '${storage}'`);
   const mr = await openQuads(mrvol, path, cli);

@@ -344,7 +344,7 @@ export class EditingSession extends EventTarget {
     if (on && this.surface === 'limit')
       throw new this.#mrvol.MrvolError('the centre of mass is kept for the mesh surface only: switch the surface to mesh first');
     if (on && this.editor && !this.canKeepCentroid)
-      throw new this.#mrvol.MrvolError('the quad editor keeps the volume only, not the centre of mass');
+      throw new this.#mrvol.MrvolError('this editor keeps the volume only, not the centre of mass');
     if (on === this.keepCentroid) return;
     if (this.editor) this.history.push(this.keepCentroid, on, 'keep');
     this.keepCentroid = on;

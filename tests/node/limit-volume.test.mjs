@@ -118,5 +118,10 @@ describe('limit volume (CLI)', () => {
     const open = file('open.obj');
     writeFileSync(open, mrvol.writeObj(openPatch()));
     failsWith(mrvolCli('volume', open, '--surface', 'limit', '--json'), /closed mesh/);
+    // options the limit surface does not go with: usage errors (exit 2), before any reading
+    usageError(mrvolCli('edit', model('torus'), '--surface', 'limit', '--keep', 'volume,centroid', '--move', '0:0.1,0,0', '-o', file('x.obj')),
+      /--keep centroid keeps the mesh surface's centre of mass: not with --surface limit/);
+    usageError(mrvolCli('edit', model('torus'), '--surface', 'limit', '--path', 'polynomial', '--move', '0:0.1,0,0', '-o', file('x.obj')),
+      /--path polynomial sums the mesh's triangles: with --surface limit use --path auto or matrix-free/);
   });
 });

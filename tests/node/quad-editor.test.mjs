@@ -6,7 +6,7 @@ import { test, describe, before } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync, readFileSync } from 'node:fs';
 import { createMrvol } from '../../lib/node.mjs';
-import { tempFolder, runCliSync, json, usageError, rng, relErr, maxAbs, throwsMrvol, icosahedron } from './helpers.mjs';
+import { tempFolder, runCliSync, json, usageError, rng, relErr, maxAbs, throwsMrvol, icosahedron, model } from './helpers.mjs';
 
 let mrvol;
 const file = tempFolder('mrvol-quad-editor-test-');
@@ -249,5 +249,31 @@ describe('mrvol edit --scheme catmull-clark --path', () => {
       '--move', '5:0,0,1', '-o', file('x.obj')), /--keep centroid runs matrix-free/);
     usageError(cli('edit', file('bi3.obj'), '--scheme', 'catmull-clark', '--keep', 'volume,inertia', '--move', '5:0,0,1', '-o', file('x.obj')),
       /--keep expects volume or volume,centroid/);
+  });
+
+  test('a quad file edited as triangles says on stderr that its quads have levels; the limit surface refused as usage', () => {
+    writeFileSync(file('bi2.obj'), mrvol.writeObjQuads(detailedQuads(2, 17)));
+    for (const args of [['edit', file('bi2.obj'), '--move', '0:0,0,0.1', '-o', file('tri.obj')], ['volume', file('bi2.obj')],
+                        ['roundtrip', file('bi2.obj')]]) {
+      const r = cli(...args);
+      assert.equal(r.status, 0, r.stderr);
+      assert.match(r.stderr, /^mrvol: note: .*bi2\.obj is read as triangles, which have no levels here .*its quads have 2 Catmull-Clark levels: add --scheme catmull-clark/, args[0]);
+    }
+    // with the scheme, or on a file of triangles: no note
+    assert.equal(cli('volume', file('bi2.obj'), '--scheme', 'catmull-clark').stderr, '');
+    assert.doesNotMatch(cli('volume', model('spiky-ball')).stderr, /note/);
+    // an open quad mesh has no genus to give (as for triangles)
+    writeFileSync(file('grid.obj'), 'v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 3 6 5\n');
+    assert.match(cli('info', file('grid.obj'), '--scheme', 'catmull-clark').stdout, /^genus {10}- \(not a closed surface\)$/m);
+    // the cage's level said, the lowest a cube's base allows by default
+    const cubeFile = file('cube.obj');
+    writeFileSync(cubeFile, 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n' +
+                            'f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n');
+    assert.equal(cli('subdivide', cubeFile, '--scheme', 'catmull-clark', '--levels', '2', '-o', file('cube2.obj')).status, 0);
+    assert.match(cli('edit', file('cube2.obj'), '--scheme', 'catmull-clark', '--move', '0:0.1,0,0', '-o', file('cube2e.obj')).stdout,
+      /^cage {13}level 1, 26 vertices \(the lowest level: the base is a cube\)$/m);
+    for (const command of ['volume', 'theta'])
+      usageError(cli(command, file('bi2.obj'), '--scheme', 'catmull-clark', '--surface', 'limit', ...(command === 'theta' ? ['-o', file('x.theta')] : [])),
+        /--surface limit is not available for catmull-clark \(the bilinear patches' volume is kept\)/);
   });
 });

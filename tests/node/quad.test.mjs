@@ -231,7 +231,7 @@ describe('mrvol --scheme catmull-clark', () => {
     assert.ok(json(cli('roundtrip', file('cube2.obj'), '--scheme', 'catmull-clark', '--json')).maxError < 1e-12);
     failsWith(cli('roundtrip', file('cube2.obj'), '--scheme', 'catmull-clark', '--level', '0', '--json'), /cube/);
     writeFileSync(file('tri.obj'), 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n');
-    failsWith(cli('info', file('tri.obj'), '--scheme', 'catmull-clark'), /line 5: a face with 3 corners/);
+    failsWith(cli('info', file('tri.obj'), '--scheme', 'catmull-clark'), /line 5: a face with 3 corners: the catmull-clark scheme needs a mesh made of quads only \(mrvol remesh .*tri\.obj --scheme catmull-clark -o OUT\.obj makes one of it\)/);
     usageError(cli('remesh', file('tri.obj'), '--scheme', 'catmull-clark', '-o', file('x.stl')), /\.obj/);
     usageError(cli('subdivide', file('cube.obj'), '--scheme', 'catmull-clark', '--levels', '1', '-o', file('x.stl')), /\.obj/);
   });
