@@ -2,6 +2,7 @@
 // reads the app's state (the editing session, the view, the settings); none changes it.
 
 import { openStages } from './open-stages.js';
+import { sessionId } from './session-store.js';
 
 /** Installs window.mrvolDebug over the app object of web/main.js. */
 export function installDebugHook(app) {
@@ -40,6 +41,10 @@ export function installDebugHook(app) {
     /** Threads of the page's core instance (1: the single-thread module; more where the page is cross-origin isolated). */
     coreThreads: () => app.mrvol?.threads ?? null,
     historySize: () => app.session?.history.size ?? { undo: 0, redo: 0 },
+    /** The stored session's record id of the current model (a copy's has its own). */
+    storedSessionId: () => (app.model ? sessionId(app.model) : null),
+    /** The stored record of an id (its settings and undo history; not its arrays), or null. */
+    storedSession: async (id) => (await app.store?.recent())?.find((r) => r.id === id) ?? null,
     /** The core's report of the last drag step (volumes, iterations, path), or null. */
     lastReport: () => {
       const report = app.session?.lastReport;

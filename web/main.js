@@ -22,7 +22,7 @@ import { pageStage, addStage, openStages } from './open-stages.js';
 import { rebuildsInWorker, rebuildInWorker, WORKER_THETA_BYTES } from './editor-rebuild.js';
 import { setUpFileInput, setUpDrop, download } from './file-input.js';
 import { sidecarHint } from './gltf-sidecars.js';
-import { offerRemesh, hideRemeshOffer } from './remesh-offer.js';
+import { offerRemesh, hideRemeshOffer, cancelRemesh } from './remesh-offer.js';
 import { showError, clearError, errorText, notice, showCacheStatus, showStorageProblem, followSession } from './readouts.js';
 import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
@@ -116,6 +116,26 @@ function pushStat(list, value) {
 // ---- the stored session ---------------------------------------------------------------------------
 
 let saveTimer = null, savePending = false;
+
+// Tabs of the app: each says which record it wrote (BroadcastChannel). A tab whose model's record
+// another tab wrote keeps its own edits apart from then on (a copy, its own record) rather than
+// writing over the other's; and a reload opens the record this tab wrote (sessionStorage), not the
+// newest of all tabs.
+const TAB_ID = globalThis.crypto?.randomUUID?.() ?? `${Date.now()}-${Math.random()}`;
+const TAB_RECORD = 'mrvol-tab-record';
+const otherTabs = typeof BroadcastChannel === 'function' ? new BroadcastChannel('mrvol-sessions') : null;
+let otherTabWrote = false, persistAsked = false;
+otherTabs?.addEventListener('message', ({ data }) => {
+  if (data?.tab !== TAB_ID && app.model && data?.id === sessionId(app.model)) otherTabWrote = true;
+});
+function tabRecord() {
+  try {
+    return sessionStorage.getItem(TAB_RECORD);
+  } catch {
+    return null;
+  }
+}
+
 function saveSoon() {
   clearTimeout(saveTimer);
   savePending = true;
@@ -130,6 +150,15 @@ function saveNow() {
   // the first save of a big file: a stage of its opening (not of a rebuild begun meanwhile)
   const started = performance.now(), timed = app.timeNextSave, what = openStages().what;
   app.timeNextSave = false;
+  if (otherTabWrote) {
+    otherTabWrote = false;
+    const copy = `this tab, ${new Date().toLocaleTimeString()}`;
+    app.model = { ...app.model, copy };
+    const url = new URL(location.href); // a reload finds the copy as this tab's record, not by the sample's name
+    url.searchParams.delete('model');
+    window.history.replaceState(null, '', url);
+    notice(`${app.model.name} was saved from another tab too: this tab's edits are kept apart, as "${app.model.name} (${copy})" in recent models.`);
+  }
   const stored = {
     model: app.model,
     settings: { ...app.settings },
@@ -144,7 +173,19 @@ function saveNow() {
   const history = { level: session.level, scheme: session.scheme, steps: session.history.steps() };
   const saving = app.store.save({ ...stored, history });
   if (timed) addStage('session saved: the page\'s part', 'page', performance.now() - started);
-  saving.then(() => {
+  const id = sessionId(app.model);
+  saving.then((ok) => {
+    if (ok) {
+      // edits worth keeping: the browser asked once not to evict this site's storage under disk pressure
+      if (!persistAsked && history.steps.undo.length > 0 && navigator.storage?.persist) {
+        persistAsked = true;
+        navigator.storage.persist().catch(() => {});
+      }
+      otherTabs?.postMessage({ id, tab: TAB_ID });
+      try {
+        sessionStorage.setItem(TAB_RECORD, id);
+      } catch { /* storage off */ }
+    }
     if (timed && app.store.lastWorkerMs !== null && openStages().what === what) {
       const read = app.store.lastFileRead; // the file read (from its File) or encoded there, not copied here
       if (read) addStage(`session saved: the file ${read.from === 'file' ? 'read from disk' : read.from === 'text' ? 'encoded' : 'taken'} for IndexedDB`, 'worker', read.ms, { bytes: read.bytes });
@@ -158,7 +199,7 @@ function saveNow() {
 async function refreshRecent() {
   if (!app.store) return;
   const entries = await app.store.recent();
-  app.panel.showRecent(entries.map(({ id, name, kind, saved }) => ({ id, name, kind, saved, current: app.model && id === sessionId(app.model) })));
+  app.panel.showRecent(entries.map(({ id, name, kind, saved, copy }) => ({ id, name, kind, saved, copy, current: app.model && id === sessionId(app.model) })));
 }
 
 /** Reopens a model of the recent list with its stored edits. */
@@ -180,10 +221,26 @@ function applyStoredSettings(settings) {
     if (typeof settings[key] === typeof DEFAULT_SETTINGS[key]) app.settings[key] = settings[key];
 }
 
+/**
+ * The stored session of a sample, or of a file of the same name and size (what its record's id
+ * says), when it holds edits (undo history); else null.
+ */
+async function storedEditsOf(source) {
+  if (!app.store?.available) return null;
+  const size = source.kind === 'sample' ? null
+    : source.file?.size ?? source.bytes?.byteLength ?? (typeof source.text === 'string' ? new TextEncoder().encode(source.text).byteLength : null);
+  const record = (await app.store.recent()).find((r) => r.kind === source.kind && r.name === source.name && !r.copy &&
+    (source.kind === 'sample' || (size !== null && r.textBytes === size)));
+  const steps = record?.history?.steps;
+  if (!record || !((steps?.undo?.length ?? 0) + (steps?.redo?.length ?? 0) > 0)) return null;
+  return app.store.load(record.id);
+}
+
 function sourceOfStored(stored) {
+  const copy = stored.model.copy ? { copy: stored.model.copy } : {};
   return stored.model.kind === 'sample'
-    ? { kind: 'sample', name: stored.model.name }
-    : { kind: 'file', name: stored.model.name, text: stored.model.text, bytes: stored.model.bytes };
+    ? { kind: 'sample', name: stored.model.name, ...copy }
+    : { kind: 'file', name: stored.model.name, text: stored.model.text, bytes: stored.model.bytes, ...copy };
 }
 
 function restoreOfStored(stored) {
@@ -195,7 +252,7 @@ function restoreOfStored(stored) {
 /**
  * Opens an OBJ text (samples, remeshed results, project files, older stored sessions); see openModelMesh.
  */
-function openModelText({ name, kind, text }, restore = null) {
+function openModelText({ name, kind, text, copy }, restore = null) {
   let mesh;
   try {
     mesh = app.mrvol.readObj(text);
@@ -203,7 +260,7 @@ function openModelText({ name, kind, text }, restore = null) {
     showError(`Could not open ${name}: ${e.message}`);
     return false;
   }
-  return openModelMesh({ name, kind, text, format: 'obj' }, mesh, restore);
+  return openModelMesh({ name, kind, text, format: 'obj', ...(copy ? { copy } : {}) }, mesh, restore);
 }
 
 /**
@@ -292,7 +349,25 @@ async function isProjectFile(file) {
  * worker with progress and cancel) or a stored file's bytes; false when it could not be read or opened.
  */
 async function openModel(source, restore = null) {
+  // the model before: its last edit stored now (a save waiting for the next idle moment would be
+  // dropped when this model's first save replaces it)
+  if (savePending) saveNow();
+  otherTabWrote = false;
   const generation = ++app.loadGeneration;
+  // A sample or file opened afresh that has stored edits (the same sample, or a file of the same name
+  // and size): they come back with their undo history, rather than the fresh model's first save
+  // writing over them. ("reset (forget edits)" starts over.)
+  let restoredSteps = 0;
+  if (!restore && !source.copy && (source.kind === 'sample' || source.kind === 'file')) {
+    const stored = await storedEditsOf(source);
+    if (generation !== app.loadGeneration) return false;
+    if (stored) {
+      applyStoredSettings(stored.settings);
+      app.panel.update();
+      restore = restoreOfStored(stored);
+      restoredSteps = (stored.history?.steps?.undo?.length ?? 0) + (stored.history?.steps?.redo?.length ?? 0);
+    }
+  }
   const fail = (e) => {
     if (generation === app.loadGeneration && !e.cancelled) showError(`Could not open ${source.name}: ${sidecarHint(e.message)}`);
     if (e.cancelled && generation === app.loadGeneration) notice(`Opening ${source.name} was cancelled.`);
@@ -318,7 +393,8 @@ async function openModel(source, restore = null) {
       }
       try {
         // the File too: the first save hands it to the store's worker, which reads it there (no copy here)
-        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes, file: source.file }, read.mesh, restore, read);
+        opened = openModelMesh({ name: source.name, kind: 'file', format: read.format, bytes: read.bytes, file: source.file,
+                                 ...(source.copy ? { copy: source.copy } : {}) }, read.mesh, restore, read);
       } finally {
         if (big) showFileProgress(null);
       }
@@ -333,11 +409,14 @@ async function openModel(source, restore = null) {
       return fail(e);
     }
     if (generation !== app.loadGeneration) return false;
-    opened = openModelText({ name: source.name, kind: source.kind, text }, restore);
+    opened = openModelText({ name: source.name, kind: source.kind, text, copy: source.copy }, restore);
   }
+  if (opened && restoredSteps > 0 && app.session.history.size.undo + app.session.history.size.redo > 0)
+    notice(`Your edits of ${source.name} are back (${restoredSteps} step${restoredSteps === 1 ? '' : 's'} of undo history); "reset (forget edits)" starts over.`);
   if (opened) {
     const url = new URL(location.href);
-    if (source.kind === 'sample') url.searchParams.set('model', source.name);
+    // (a copy is not the sample's own session: a reload finds it as this tab's, not by the sample's name)
+    if (source.kind === 'sample' && !source.copy) url.searchParams.set('model', source.name);
     else url.searchParams.delete('model');
     history.replaceState(null, '', url);
   } else {
@@ -695,6 +774,8 @@ function exportGlb() {
   }
   glb ??= app.mrvol.writeGlb(mesh);
   download(new Blob([glb], { type: 'model/gltf-binary' }), `${baseName()}-edited.glb`, 'export-glb-link');
+  // what a GLB cannot hold of this model, said rather than dropped unseen
+  if (session.quad) notice('The GLB holds the quads as triangles (glTF has no quads): export OBJ keeps the quads and their Catmull-Clark levels.');
 }
 
 /** The level-e cage as its own OBJ: cage positions in cage order, the level-e triangles (or quads). */
@@ -708,6 +789,11 @@ function exportCage() {
 }
 
 async function reset() {
+  const { undo, redo } = app.session.history.size;
+  const steps = undo + redo;
+  // edits are forgotten for good (no undo): asked first when there are any
+  if (steps > 0 && !window.confirm(`Forget the edits of ${app.model?.name ?? 'this model'} (${steps} step${steps === 1 ? '' : 's'} of undo history)? ` +
+                                   'They cannot be brought back.')) return;
   clearSession();
   if (app.model) await app.store?.remove(sessionId(app.model));
   Object.assign(app.settings, DEFAULT_SETTINGS, { model: app.model?.name ?? DEFAULT_MODEL });
@@ -767,11 +853,22 @@ const actions = {
 
 function onKeyDown(e) {
   const target = e.target;
-  if (target instanceof HTMLElement && (target.isContentEditable || /^(INPUT|TEXTAREA|SELECT)$/.test(target.tagName)) &&
-      target.type !== 'checkbox')
-    return;
   const ctrl = e.ctrlKey || e.metaKey;
+  // text fields keep their own keys; a select has no Ctrl keys of its own: Ctrl+Z, Y, O, S there are the app's
+  if (target instanceof HTMLElement && (target.isContentEditable || /^(INPUT|TEXTAREA|SELECT)$/.test(target.tagName)) &&
+      target.type !== 'checkbox' && !(target.tagName === 'SELECT' && ctrl && /^[zZyYoOsS]$/.test(e.key)))
+    return;
   if (document.querySelector('dialog[open]')) return; // a dialog has the keys
+  if (ctrl && !e.altKey && !e.shiftKey && (e.key === 'o' || e.key === 'O')) {
+    e.preventDefault();
+    app.pickFile();
+    return;
+  }
+  if (ctrl && !e.altKey && !e.shiftKey && (e.key === 's' || e.key === 'S')) {
+    e.preventDefault();
+    saveProject();
+    return;
+  }
   if (e.key === '?' && !ctrl) {
     e.preventDefault();
     showKeyboardHelp();
@@ -841,11 +938,15 @@ async function start() {
   app.store = await SessionStore.open();
   app.store.writeInWorker(); // big files and positions are cloned into IndexedDB off the page's thread
   // The newest session in IndexedDB (or, with ?model=NAME, that sample's); else the localStorage copy.
-  let stored = await app.store.load(urlModel === null ? null : `sample:${urlModel}`);
+  // (This tab's own record first, after a reload: another tab may have saved a newer one.)
+  const ownRecord = tabRecord();
+  const ownFits = ownRecord && (urlModel === null || ownRecord === `sample:${urlModel}` || ownRecord.startsWith(`sample:${urlModel}#`));
+  let stored = ownFits ? await app.store.load(ownRecord) : null;
+  stored ??= await app.store.load(urlModel === null ? null : `sample:${urlModel}`);
   // The localStorage copy is written at once; the IndexedDB write can be cut short by a reload. The
   // newer of the two wins (the copy without the undo history, which may not reach its state).
   const small = loadSession();
-  const sameModel = (a, b) => a.model.kind === b.model.kind && a.model.name === b.model.name;
+  const sameModel = (a, b) => a.model.kind === b.model.kind && a.model.name === b.model.name && (a.model.copy ?? null) === (b.model.copy ?? null);
   if (small && (!stored || (small.saved > (stored.saved ?? 0) && sameModel(small, stored)))) {
     let positions = null;
     try {
@@ -868,7 +969,12 @@ async function start() {
   app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions, learnViews: VIEWS });
   app.viewer.setFlat(app.settings.flat);
   app.viewer.precompile(); // while the core, the cache and the model load
-  document.getElementById('error-close').addEventListener('click', clearError);
+  // Dismissing the message dismisses what runs under it: a remesh would otherwise open its result later, unseen.
+  document.getElementById('error-close').addEventListener('click', () => {
+    if (cancelRemesh()) notice('Remeshing cancelled.');
+    hideRemeshOffer();
+    clearError();
+  });
   setUpSheet();
   document.getElementById('theta-cancel').addEventListener('click', () => app.theta?.cancelJob());
   document.getElementById('busy-cancel').addEventListener('click', cancelFileRead);
@@ -950,7 +1056,8 @@ async function start() {
       const text = await sourceText({ ...source, prefetch: source.prefetch });
       const positions = await decodeEdits(shared.edits, app.mrvol.readObj(text).positions);
       restore = { fingerprint: null, positions, reference: shared.reference };
-      source = { ...source, text, prefetch: undefined };
+      // a record of its own: the sample's own stored edits stay as they are (recent models has both)
+      source = { ...source, text, prefetch: undefined, copy: 'shared link' };
     } catch (e) {
       showError(`The share link's edits could not be applied: ${e.message}`);
     }

@@ -20,7 +20,7 @@ const TITLES = {
   'model-select': 'Open one of the sample models',
   'open-button': 'Open a mesh file from this computer: OBJ, STL, PLY, OFF, glTF or GLB (or drop one on the page)',
   export: 'Download the edited fine mesh as an OBJ file (an OBJ file keeps its own texture coordinates, normals and groups)',
-  'export-glb': 'Download the edited fine mesh as a GLB (binary glTF) file (a glTF file keeps its materials and attributes)',
+  'export-glb': 'Download the edited fine mesh as a GLB (binary glTF) file (a glTF or GLB file opened as it came keeps its materials and attributes; a remeshed one is written plain; quads are written as triangles: export OBJ keeps them)',
   'export-cage': 'Download the cage (the coarse mesh you drag) at level e as an OBJ file',
   reset: 'Forget the edits and settings of this model and open it as it was',
   glossary: 'What the words in this panel mean',
@@ -87,7 +87,7 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
 
   const model = gui.addFolder('Model');
   const modelChoice = tag(model.add(settings, 'model', samples).name('sample').onChange((name) => actions.openSample(name)), 'model-select');
-  tag(model.add({ open: () => actions.openFile() }, 'open').name('open mesh file…'), 'open-button');
+  tag(model.add({ open: () => actions.openFile() }, 'open').name('open mesh file… (Ctrl+O)'), 'open-button');
   tag(model.add({ exportObj: () => actions.exportObj() }, 'exportObj').name('export OBJ'), 'export');
   tag(model.add({ exportGlb: () => actions.exportGlb() }, 'exportGlb').name('export GLB'), 'export-glb');
   tag(model.add({ exportCage: () => actions.exportCage() }, 'exportCage').name('export cage OBJ'), 'export-cage');
@@ -131,7 +131,7 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
   tag(tools.add({ frame: () => actions.frame() }, 'frame').name('frame the model (F)'), 'frame');
   tag(tools.add({ screenshot: () => actions.screenshot() }, 'screenshot').name('screenshot (PNG)'), 'screenshot');
   tag(tools.add({ share: () => actions.shareLink() }, 'share').name('share link'), 'share-link');
-  tag(tools.add({ save: () => actions.saveProject() }, 'save').name('save project file'), 'save-project');
+  tag(tools.add({ save: () => actions.saveProject() }, 'save').name('save project file (Ctrl+S)'), 'save-project');
   tag(tools.add({ open: () => actions.openFile() }, 'open').name('open project or OBJ…'), 'open-project');
   tag(tools.add({ keys: () => actions.showKeyboardHelp() }, 'keys').name('keyboard help (?)'), 'keys-help');
 
@@ -220,12 +220,12 @@ export function createPanel({ settings, samples, actions, learnViews = [] }) {
     },
     /** The recent models' sessions: [{ id, name, kind, saved, current }], a button each. */
     showRecent(entries) {
-      recentList.replaceChildren(...entries.map(({ id, name, kind, saved, current }) => {
+      recentList.replaceChildren(...entries.map(({ id, name, kind, saved, copy, current }) => {
         const button = document.createElement('button');
         button.type = 'button';
         button.dataset.testid = 'recent-item';
         button.dataset.id = id;
-        button.textContent = `${name}${kind === 'file' ? ' (file)' : ''}${current ? ' ·' : ''}`;
+        button.textContent = `${name}${kind === 'file' ? ' (file)' : ''}${copy ? ` (${copy})` : ''}${current ? ' ·' : ''}`;
         button.title = `Reopen ${name} with its edits (last saved ${new Date(saved).toLocaleString()})`;
         button.addEventListener('click', () => actions.openRecent(id));
         return button;

@@ -12,9 +12,13 @@ const DB_VERSION = 1;
 const OPEN_TIMEOUT_MS = 5000;
 const MAX_RECENT = 12;
 
-/** The record id of a model: samples by name, files by name and size. */
+/**
+ * The record id of a model: samples by name, files by name and size; a copy (model.copy: a share
+ * link's edits, opened beside the model's own stored ones) has a record of its own.
+ */
 export function sessionId(model) {
-  return model.kind === 'sample' ? `sample:${model.name}` : `file:${model.name}:${model.bytes?.byteLength ?? model.text.length}`;
+  const id = model.kind === 'sample' ? `sample:${model.name}` : `file:${model.name}:${model.bytes?.byteLength ?? model.text.length}`;
+  return model.copy ? `${id}#${model.copy}` : id;
 }
 
 export class SessionStore {
@@ -26,6 +30,14 @@ export class SessionStore {
 
   static async open() {
     const store = new SessionStore();
+    await store.#open();
+    return store;
+  }
+
+  // The database opened (again: after the browser closed the connection, as clearing the site's data
+  // does, the next write opens it anew rather than failing for the rest of the page's life).
+  async #open() {
+    const store = this;
     try {
       if (typeof indexedDB === 'undefined') throw new Error('IndexedDB is not available in this browser');
       let timer;
@@ -41,13 +53,16 @@ export class SessionStore {
           db.createObjectStore('sessions', { keyPath: 'id' });
           db.createObjectStore('chunks');
         },
+        terminated() { store.#closed = true; },
       }), timeout]).finally(() => clearTimeout(timer));
+      store.#closed = false;
     } catch (e) {
       store.#db = null;
       store.problem = `sessions are not kept: ${storageProblem(e)}`;
     }
-    return store;
   }
+
+  #closed = false; // the browser closed the connection: reopened before the next write
 
   /**
    * From now on save() writes in a worker (web/store-worker.js: IndexedDB's cloning of big values
@@ -88,8 +103,8 @@ export class SessionStore {
     const sendText = model.kind === 'file' && !(this.#textStored.has(id) && this.#textBytes.has(id));
     const file = sendText ? SessionStore.#fileForWorker(model) : undefined;
     const record = {
-      model: { kind: model.kind, name: model.name, format: model.format, file, textStored: !sendText, textBytes: this.#textBytes.get(id) ?? 0,
-               binary: Boolean(model.bytes) },
+      model: { kind: model.kind, name: model.name, copy: model.copy ?? null, format: model.format, file, textStored: !sendText,
+               textBytes: this.#textBytes.get(id) ?? 0, binary: Boolean(model.bytes) },
       settings, fingerprint, positions, reference, history, id,
     };
     const transfer = [file instanceof Uint8Array ? file.buffer : null, positions?.buffer].filter((b) => b instanceof ArrayBuffer);
@@ -120,16 +135,29 @@ export class SessionStore {
    * reference, history: { level, scheme, steps } }. Resolves true or false (then `problem` says why).
    * (From the page's worker: the record's id, and model.textStored with textBytes when the file is stored already.)
    */
-  async save({ model, settings, fingerprint, positions, reference, history, id: given = null }) {
+  async save(session, retried = false) {
+    const { model, settings, fingerprint, positions, reference, history, id: given = null } = session;
     if (!this.#db) return false;
     const id = given ?? sessionId(model);
     if (this.#writer) return this.#saveInWorker(id, { model, settings, fingerprint, positions, reference, history });
-    const tx = this.#db.transaction(['sessions', 'chunks'], 'readwrite');
+    if (this.#closed) await this.#open();
+    let tx;
+    try {
+      tx = this.#db.transaction(['sessions', 'chunks'], 'readwrite');
+    } catch (e) {
+      // a connection the browser is closing (the site's data cleared): opened again, written once more
+      if (!retried && e?.name === 'InvalidStateError') {
+        await this.#open();
+        if (this.#db) return this.save(session, true);
+      }
+      this.problem = `this session is not kept: ${storageProblem(e)}`;
+      return false;
+    }
     try {
       const done = tx.done;
       const chunks = tx.objectStore('chunks');
       const record = {
-        id, kind: model.kind, name: model.name, settings, fingerprint, reference, history, saved: Date.now(),
+        id, kind: model.kind, name: model.name, copy: model.copy ?? null, settings, fingerprint, reference, history, saved: Date.now(),
         textBytes: null, textChunks: 0, positionCount: 0, positionChunks: 0,
       };
       if (model.kind === 'file' && model.textStored) {
@@ -164,7 +192,13 @@ export class SessionStore {
       return true;
     } catch (e) {
       try { tx.abort(); } catch { /* already finished */ }
-      this.problem = `this session is not kept: ${storageProblem(tx.error ?? e)}`;
+      // the connection closed under this write (the site's data cleared): opened again, written once more
+      const error = tx.error ?? e;
+      if (!retried && (this.#closed || /closing|closed/i.test(String(error?.message)))) {
+        await this.#open();
+        if (this.#db) return this.save(session, true);
+      }
+      this.problem = `this session is not kept: ${storageProblem(error)}`;
       return false;
     }
   }
@@ -192,7 +226,8 @@ export class SessionStore {
         if (bytes && bytes.byteLength === 8 * record.positionCount) positions = new Float64Array(bytes.buffer, 0, record.positionCount);
       }
       return {
-        model: { kind: record.kind, name: record.name, text, bytes: file, format: record.format }, settings: record.settings, fingerprint: record.fingerprint,
+        model: { kind: record.kind, name: record.name, copy: record.copy ?? null, text, bytes: file, format: record.format },
+        settings: record.settings, fingerprint: record.fingerprint, id: record.id,
         positions, reference: record.reference, history: record.history ?? null, saved: record.saved,
       };
     } catch (e) {

@@ -42,7 +42,7 @@ export function loadSession() {
 export function saveSession({ model, settings, fingerprint, positions, reference }) {
   const stored = {
     version: 1,
-    model: { kind: model.kind, name: model.name },
+    model: { kind: model.kind, name: model.name, ...(model.copy ? { copy: model.copy } : {}) },
     settings,
     fingerprint,
     positions: positions && positions.length <= MAX_POSITIONS ? encodeFloat64(positions) : null,

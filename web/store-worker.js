@@ -33,7 +33,13 @@ self.onmessage = async ({ data: { id, record } }) => {
     return;
   }
   // binary as the page said: a text file's bytes are stored as text (decoded when loaded)
-  const ok = await store.save({ ...record, model: bytes ? { ...model, bytes } : model });
+  let ok = false;
+  try {
+    ok = await store.save({ ...record, model: bytes ? { ...model, bytes } : model });
+  } catch (e) {
+    // never left without a reply: the page says what went wrong instead of waiting for ever
+    store.problem = `this session is not kept: ${storageProblem(e)}`;
+  }
   const textBytes = bytes?.byteLength ?? (model.textStored ? model.textBytes : undefined);
   self.postMessage({ id, ok, problem: store.problem, ms: performance.now() - started, textBytes, fileRead });
 };

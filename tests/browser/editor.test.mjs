@@ -295,7 +295,17 @@ describe('web editor', { timeout: 240_000 }, () => {
     await shot('07-blob-level1-butterfly');
   });
 
-  test('reset forgets the edits; a sample chosen in the panel replaces the model', { timeout: 120_000 }, async () => {
+  test('reset forgets the edits (asked first); a sample chosen in the panel replaces the model', { timeout: 120_000 }, async () => {
+    // edits to forget: the question names them; declined, nothing changes
+    const undoSteps = (await page.evaluate(() => window.mrvolDebug.historySize())).undo;
+    assert.ok(undoSteps > 0);
+    const asked = [];
+    page.once('dialog', (d) => { asked.push(d.message()); d.dismiss(); });
+    await page.locator('[data-testid="reset"]').click();
+    await page.waitForTimeout(300);
+    assert.match(asked[0] ?? '', /^Forget the edits of my-blob\.obj \(\d+ steps? of undo history\)\? They cannot be brought back\.$/);
+    assert.equal((await page.evaluate(() => window.mrvolDebug.historySize())).undo, undoSteps, 'declined: the edits stay');
+    page.once('dialog', (d) => { asked.push(d.message()); d.accept(); });
     await page.locator('[data-testid="reset"]').click();
     await page.waitForFunction(() => window.mrvolDebug.ready() && window.mrvolDebug.settings().level === 0);
     const r = await readouts(page);

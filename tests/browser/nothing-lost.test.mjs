@@ -1,0 +1,206 @@
+// Nothing the user made is lost to the usual ways of working (real IndexedDB, real tabs of one
+// browser profile): a sample or file opened again brings its stored edits back (rather than its
+// fresh copy writing over them), an edit made just before another model is opened is stored, a
+// share link opens beside the model's own stored edits, two tabs editing one model keep their edits
+// apart, a reload opens the tab's own model, storage cleared under the page is written again, the
+// message's × stops the remesh running under it, and the keys: Ctrl+Z from a select, Ctrl+O, Ctrl+S.
+import { after, before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { startTestServer, launchBrowser, waitReady, visibleHandles, dragHandle, settle, root } from './harness.mjs';
+
+const debug = (page, name) => page.evaluate((n) => window.mrvolDebug[n](), name);
+const undoSteps = async (page) => (await debug(page, 'historySize')).undo;
+const recent = (page) => page.$$eval('[data-testid="recent-item"]', (items) => items.map((b) => b.textContent));
+const notice = (page) => page.locator('[data-testid="notice"]').textContent();
+
+async function dragFirst(page, dx = 30, dy = -20) {
+  const { index } = (await visibleHandles(page))[0];
+  await dragHandle(page, index, dx, dy, { steps: 3 });
+  await settle(page);
+}
+
+async function openSample(page, name) {
+  await page.locator('[data-testid="model-select"]').selectOption(name);
+  await page.waitForFunction((n) => window.mrvolDebug.modelName() === n && window.mrvolDebug.ready(), name);
+}
+
+/**
+ * Waits until the store holds the current model with `steps` undo steps, saved after `since` (ms
+ * since the epoch: another tab's record of the same model may have those steps already); the save
+ * is debounced and written in a worker. Returns the record's time.
+ */
+async function stored(page, steps, since = 0) {
+  const handle = await page.waitForFunction(async ([n, t]) => {
+    const id = window.mrvolDebug.storedSessionId?.();
+    const record = id ? await window.mrvolDebug.storedSession(id) : null;
+    return (record?.history?.steps?.undo?.length ?? -1) === n && record.saved > t ? record.saved : false;
+  }, [steps, since], { timeout: 30_000, polling: 200 });
+  return handle.jsonValue();
+}
+
+describe('nothing lost: stored edits, tabs, share links, storage, remesh, keys', { timeout: 600_000 }, () => {
+  let server, browser;
+  before(async () => {
+    server = await startTestServer();
+    browser = await launchBrowser(server.url, { viewport: { width: 1280, height: 800 } });
+  });
+  after(async () => {
+    await browser?.close();
+    await server?.close();
+  });
+
+  test('a sample opened again has its edits back; an edit made just before another model opens is stored', async () => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}?model=spiky-ball`);
+    await waitReady(page);
+    await dragFirst(page);
+    await stored(page, 1);
+    await openSample(page, 'torus');
+    await openSample(page, 'spiky-ball');
+    assert.equal(await undoSteps(page), 1, 'the edit and its undo step are back');
+    assert.match(await notice(page), /^Your edits of spiky-ball are back \(1 step of undo history\); "reset \(forget edits\)" starts over\.$/);
+    // a second edit, and another model at once (its save still waiting): stored all the same
+    await dragFirst(page, -25, 15);
+    await openSample(page, 'torus');
+    await openSample(page, 'spiky-ball');
+    assert.equal(await undoSteps(page), 2, 'the edit made just before switching is kept');
+    assert.deepEqual(page.problems, []);
+    await page.close();
+  });
+
+  test('a file dropped again has its edits back', async () => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}?model=torus`);
+    await waitReady(page);
+    const blob = readFileSync(join(root, 'public/models/blob.obj'));
+    const drop = async () => {
+      await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'my-blob.obj', mimeType: 'text/plain', buffer: blob });
+      await page.waitForFunction(() => window.mrvolDebug.modelName() === 'my-blob.obj' && window.mrvolDebug.ready());
+    };
+    await drop();
+    assert.equal(await undoSteps(page), 0);
+    await dragFirst(page);
+    await stored(page, 1);
+    const cage = await debug(page, 'cagePositions');
+    await drop();
+    // (the name was already the current one: done once the notice says so)
+    await page.waitForFunction(() => /^Your edits of my-blob\.obj are back/.test(document.querySelector('[data-testid="notice"]').textContent) &&
+                                     window.mrvolDebug.ready());
+    assert.equal(await undoSteps(page), 1);
+    const back = await debug(page, 'cagePositions');
+    assert.ok(back.every((x, i) => Math.abs(x - cage[i]) < 1e-9 * (1 + Math.abs(x))), 'the edited shape is back');
+    assert.match(await notice(page), /^Your edits of my-blob\.obj are back/);
+    await page.close();
+  });
+
+  test('a share link opens beside the model\'s own stored edits: both in recent models', async () => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}?model=spiky-ball`);
+    await waitReady(page);
+    const own = await undoSteps(page);
+    assert.ok(own >= 2, 'spiky-ball\'s edits from the first test');
+    await dragFirst(page, 10, 30);
+    await stored(page, own + 1);
+    await page.locator('[data-testid="share-link"]').click();
+    await page.waitForFunction(() => document.querySelector('[data-testid="share-url"]').value.includes('edits='));
+    const url = await page.locator('[data-testid="share-url"]').inputValue();
+    await page.locator('#share-close').click();
+    await page.close();
+
+    const shared = await browser.newPage();
+    await shared.goto(url);
+    await waitReady(shared);
+    await dragFirst(shared, -40, 0); // an edit of the shared copy: saved in its own record
+    await stored(shared, 1);
+    await shared.waitForFunction(() => [...document.querySelectorAll('[data-testid="recent-item"]')].some((b) => /spiky-ball \(shared link\)/.test(b.textContent)));
+    await openSample(shared, 'torus');
+    await openSample(shared, 'spiky-ball');
+    assert.equal(await undoSteps(shared), own + 1, 'the sample\'s own edits are as they were');
+    const items = await recent(shared);
+    assert.ok(items.some((t) => /^spiky-ball \(shared link\)/.test(t)) && items.some((t) => /^spiky-ball( ·)?$/.test(t)), items.join(' | '));
+    await shared.close();
+  });
+
+  test('two tabs editing one model keep their edits apart; a reload opens the tab\'s own', async () => {
+    const a = await browser.newPage();
+    await a.goto(`${server.url}?model=blob`);
+    await waitReady(a);
+    const b = await browser.newPage();
+    await b.goto(`${server.url}?model=blob`);
+    await waitReady(b);
+    await dragFirst(a, 30, 0);
+    const savedByA = await stored(a, 1);
+    await dragFirst(b, 0, 30);
+    await stored(b, 1, savedByA);
+    // a's next save: b wrote blob's record since, so a's edits go to a record of their own
+    await dragFirst(a, -30, 0);
+    await a.waitForFunction(() => /blob was saved from another tab too: this tab's edits are kept apart/.test(document.querySelector('[data-testid="notice"]').textContent));
+    await stored(a, 2);
+    const aCage = await debug(a, 'cagePositions');
+    await a.reload();
+    await a.waitForFunction(() => window.mrvolDebug.modelName() === 'blob' && window.mrvolDebug.ready());
+    assert.equal(await undoSteps(a), 2, 'tab a reopens its own edits');
+    const again = await debug(a, 'cagePositions');
+    assert.ok(again.every((x, i) => Math.abs(x - aCage[i]) < 1e-9 * (1 + Math.abs(x))));
+    await b.reload();
+    await b.waitForFunction(() => window.mrvolDebug.modelName() === 'blob' && window.mrvolDebug.ready());
+    assert.equal(await undoSteps(b), 1, 'tab b reopens its own edit');
+    assert.deepEqual([...a.problems, ...b.problems], []);
+    await a.close();
+    await b.close();
+  });
+
+  test('the site\'s storage cleared under the page: the next save opens the database again', async () => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}?model=torus`);
+    await waitReady(page);
+    const cdp = await browser.context.newCDPSession(page);
+    await cdp.send('Storage.clearDataForOrigin', { origin: new URL(server.url).origin, storageTypes: 'indexeddb' });
+    await dragFirst(page);
+    await stored(page, 1);
+    assert.equal(await page.locator('[data-testid="storage-problem"]').textContent(), '');
+    await page.close();
+  });
+
+  test('the message\'s × stops the remesh running under it', async () => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}?model=torus`);
+    await waitReady(page);
+    // a file that opens but is not semi-regular (a 25 x 11 torus grid: odd, so no 1-to-4 split): remeshed by itself, in a worker
+    const grid = [], nu = 25, nv = 11;
+    for (let i = 0; i < nu; i++) for (let j = 0; j < nv; j++) {
+      const u = 2 * Math.PI * i / nu, v = 2 * Math.PI * j / nv;
+      grid.push(`v ${(2 + Math.cos(v)) * Math.cos(u)} ${(2 + Math.cos(v)) * Math.sin(u)} ${Math.sin(v)}`);
+    }
+    const id = (i, j) => ((i + nu) % nu) * nv + ((j + nv) % nv) + 1;
+    for (let i = 0; i < nu; i++) for (let j = 0; j < nv; j++) grid.push(`f ${id(i, j)} ${id(i + 1, j)} ${id(i + 1, j + 1)}`, `f ${id(i, j)} ${id(i + 1, j + 1)} ${id(i, j + 1)}`);
+    await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'grid.obj', mimeType: 'text/plain', buffer: Buffer.from(grid.join('\n')) });
+    await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
+    await page.locator('#error-close').click();
+    assert.equal(await notice(page), 'Remeshing cancelled.');
+    await page.waitForTimeout(4000); // long enough for the remesh of this small grid to have finished
+    assert.equal(await debug(page, 'modelName'), 'torus', 'no result replaced the model');
+    await page.close();
+  });
+
+  test('keys: Ctrl+Z with a select focused undoes, Ctrl+O opens the file picker, Ctrl+S saves the project', async () => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}?model=torus`);
+    await waitReady(page);
+    const before = await undoSteps(page);
+    await dragFirst(page);
+    assert.equal(await undoSteps(page), before + 1);
+    await page.focus('[data-testid="scheme"]');
+    await page.keyboard.press('Control+z');
+    assert.equal(await undoSteps(page), before, 'undone from the select');
+    const [chooser] = await Promise.all([page.waitForEvent('filechooser'), page.keyboard.press('Control+o')]);
+    assert.equal(chooser.isMultiple(), true);
+    await page.focus('#view canvas');
+    const [download] = await Promise.all([page.waitForEvent('download'), page.keyboard.press('Control+s')]);
+    assert.match(download.suggestedFilename(), /^torus\.mrvol\.json$/);
+    assert.deepEqual(page.problems, []);
+    await page.close();
+  });
+});
