@@ -785,6 +785,9 @@ export async function main(argv) {
     const threads = values.threads === undefined ? undefined : integer(values.threads, 'threads');
     if (threads !== undefined && (threads < 1 || threads > 16)) throw new UsageError(`--threads must be in 1..16, got ${threads}`);
     if (values.output !== undefined) checkOutputPath(values.output);
+    // a format mrvol does not write, refused before the work (an edit or remesh of minutes failed only at the end)
+    if (values.output !== undefined && ['subdivide', 'edit', 'remesh'].includes(command) && /\.(stl|ply|off|gltf)$/i.test(values.output))
+      throw new UsageError(`cannot write ${values.output}: mrvol writes .obj and .glb${values.scheme === 'catmull-clark' ? ' (quad meshes: .obj)' : ''}`);
     const mrvol = await createMrvol({ threads });
     if (values.scheme === 'catmull-clark') await QUAD_COMMANDS[command](mrvol, values, rest, QUAD_CLI);
     else await COMMANDS[command](mrvol, values, rest);

@@ -215,6 +215,13 @@ describe('errors', () => {
     failsWith(mrvolCli('theta', file('ico.obj'), '-o', file(join('missing', 'x.theta'))), /cannot write .*x\.theta: no such directory/);
     failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', file('')), /cannot write .*: it is a directory/);
     failsWith(mrvolCli('subdivide', file('ico.obj'), '--levels', '1', '-o', join(file('ico.obj'), 'x.obj')), /cannot write .*x\.obj: .*ico\.obj is not a directory/);
+    // a format mrvol does not write: usage, before any work (and nothing written)
+    for (const [command, ...args] of [['edit', '--move', '0:0.1,0,0'], ['remesh'], ['subdivide', '--levels', '1']])
+      for (const ext of ['ply', 'stl', 'off', 'gltf']) {
+        const out = file(`out-${command}.${ext}`);
+        usageError(mrvolCli(command, file('ico.obj'), ...args, '-o', out), new RegExp(`cannot write .*out-${command}\\.${ext}: mrvol writes \\.obj and \\.glb`));
+        assert.equal(existsSync(out), false);
+      }
   });
 
   test('bad usage: exit 2', () => {

@@ -6,6 +6,9 @@
 #include <cstring>
 #include <string>
 #include <string_view>
+#include <system_error>
+
+#include "fast_float.h"
 
 #include "mrvol/error.h"
 
@@ -139,15 +142,16 @@ inline size_t tokenize(std::string_view line, std::string_view* tokens, size_t m
   return n;
 }
 
-// Decimal number (strtod's syntax, C locale); false when the token is not one number.
+// Decimal number (as the OBJ reader reads them: fast_float, in place, a leading '+' allowed; inf
+// and nan read as such for the callers to refuse by name); false when the token is not one number.
+// strtod was 10-20 times slower here (ASCII PLY, OFF and STL read at ~12 MB/s).
 inline bool parseDouble(std::string_view token, double& value) {
-  char buffer[64];
-  if (token.empty() || token.size() >= sizeof buffer) return false;
-  std::memcpy(buffer, token.data(), token.size());
-  buffer[token.size()] = '\0';
-  char* end = nullptr;
-  value = std::strtod(buffer, &end);
-  return end == buffer + token.size();
+  if (token.empty() || token.size() >= 64) return false;
+  const char* first = token.data();
+  const char* last = first + token.size();
+  if (*first == '+' && last - first > 1 && first[1] != '-' && first[1] != '+') ++first;
+  const auto result = fast_float::from_chars(first, last, value);
+  return result.ec == std::errc() && result.ptr == last;
 }
 
 // Non-negative decimal integer up to `max`; false otherwise.
