@@ -1,7 +1,7 @@
 #!/usr/bin/env node
-// Reading speed of the binary mesh formats through the WASM module (Node): a Loop-subdivided
+// Reading speed of the mesh formats through the WASM module (Node): a Loop-subdivided
 // icosahedron (7 levels: 163,842 vertices, 327,680 triangles) as binary STL, binary PLY and GLB,
-// and as OBJ text for comparison. readMesh copies the bytes into the heap, parses, welds (STL),
+// as OBJ, ASCII PLY, OFF and ASCII STL text; and the OBJ export's speed. readMesh copies the bytes into the heap, parses, welds (STL),
 // and copies the arrays out. Best of 15 runs per file (the machine is shared and noisy). A reference row: the
 // file's bytes copied into the heap and nothing else, the time a reader at memory speed would take.
 // Side by side in the same run, the peer a three.js page would use: three.js's loader parsing the
@@ -49,11 +49,41 @@ function binaryPly() {
   return new Uint8Array(Buffer.concat([header, body]));
 }
 
+// The text formats: float32 positions as the binary files hold them, spelt as JS spells them (shortest).
+const float32 = Float32Array.from(mesh.positions);
+const xyz = (v) => `${float32[3 * v]} ${float32[3 * v + 1]} ${float32[3 * v + 2]}`;
+function asciiPly() {
+  const lines = ['ply', 'format ascii 1.0', `element vertex ${nv}`, 'property float x', 'property float y', 'property float z',
+    `element face ${nf}`, 'property list uchar int vertex_indices', 'end_header'];
+  for (let v = 0; v < nv; v++) lines.push(xyz(v));
+  for (let f = 0; f < nf; f++) lines.push(`3 ${mesh.faces[3 * f]} ${mesh.faces[3 * f + 1]} ${mesh.faces[3 * f + 2]}`);
+  return new TextEncoder().encode(lines.join('\n') + '\n');
+}
+function off() {
+  const lines = ['OFF', `${nv} ${nf} 0`];
+  for (let v = 0; v < nv; v++) lines.push(xyz(v));
+  for (let f = 0; f < nf; f++) lines.push(`3 ${mesh.faces[3 * f]} ${mesh.faces[3 * f + 1]} ${mesh.faces[3 * f + 2]}`);
+  return new TextEncoder().encode(lines.join('\n') + '\n');
+}
+function asciiStl() {
+  const lines = ['solid a'];
+  for (let f = 0; f < nf; f++) {
+    lines.push('  facet normal 0 0 0', '    outer loop');
+    for (let c = 0; c < 3; c++) lines.push(`      vertex ${xyz(mesh.faces[3 * f + c])}`);
+    lines.push('    endloop', '  endfacet');
+  }
+  lines.push('endsolid a');
+  return new TextEncoder().encode(lines.join('\n') + '\n');
+}
+
 const files = {
   'binary STL': binaryStl(),
   'binary PLY (little-endian)': binaryPly(),
   GLB: mrvol.writeGlb(mesh),
   OBJ: new TextEncoder().encode(mrvol.writeObj(mesh)),
+  'ASCII PLY': asciiPly(),
+  OFF: off(),
+  'ASCII STL': asciiStl(),
 };
 
 // The peers: each returns the position count it made (checked: the file's corners, or the welded vertices).
@@ -69,6 +99,9 @@ const peers = {
   'binary PLY (little-endian)': [['three.js PLYLoader.parse', async (b) => positionCount(new PLYLoader().parse(arrayBuffer(b))), nv]],
   GLB: [['three.js GLTFLoader.parseAsync', async (b) => positionCount((await new GLTFLoader().parseAsync(arrayBuffer(b), '')).scene.children[0].geometry), nv]],
   OBJ: [['three.js OBJLoader.parse (text decoded first)', async (b) => positionCount(new OBJLoader().parse(new TextDecoder().decode(b)).children[0].geometry), 3 * nf]],
+  'ASCII PLY': [['three.js PLYLoader.parse', async (b) => positionCount(new PLYLoader().parse(arrayBuffer(b))), nv]],
+  OFF: [],
+  'ASCII STL': [['three.js STLLoader.parse', async (b) => positionCount(new STLLoader().parse(arrayBuffer(b))), 3 * nf]],
 };
 const bestOf = async (run) => {
   let best = Infinity, result;
@@ -82,7 +115,8 @@ const bestOf = async (run) => {
 
 const rows = [];
 for (const [what, bytes] of Object.entries(files)) {
-  const name = { 'binary STL': 'a.stl', 'binary PLY (little-endian)': 'a.ply', GLB: 'a.glb', OBJ: 'a.obj' }[what];
+  const name = { 'binary STL': 'a.stl', 'binary PLY (little-endian)': 'a.ply', GLB: 'a.glb', OBJ: 'a.obj', 'ASCII PLY': 'a.ply', OFF: 'a.off',
+                 'ASCII STL': 'a.stl' }[what];
   const { best, result } = await bestOf(async () => mrvol.readMesh(bytes, { name }));
   if (result.positions.length !== 3 * nv || result.faces.length !== 3 * nf) throw new Error(`${what}: wrong mesh`);
   const peerRows = [];
@@ -107,10 +141,30 @@ for (const [what, bytes] of Object.entries(files)) {
               mbs: bytes.length / 1e6 / (best / 1000), peers: '' });
 }
 
+// Writing: the OBJ export (writeObj: the shortest spelling of each double that reads back as it)
+// beside three.js's OBJExporter on the same mesh (float32 positions, as three.js holds them).
+const exportRows = [];
+{
+  const ours = await bestOf(async () => mrvol.writeObj(mesh));
+  const back = mrvol.readObj(ours.result);
+  if (back.positions.some((x, i) => x !== mesh.positions[i])) throw new Error('writeObj: the positions do not read back exactly');
+  const { BufferGeometry, BufferAttribute, Mesh } = await import('three');
+  const { OBJExporter } = await import('three/examples/jsm/exporters/OBJExporter.js');
+  const geometry = new BufferGeometry();
+  geometry.setAttribute('position', new BufferAttribute(float32, 3));
+  geometry.setIndex(new BufferAttribute(mesh.faces, 1));
+  const peer = await bestOf(async () => new OBJExporter().parse(new Mesh(geometry)));
+  exportRows.push(`| OBJ (writeObj) | ${(ours.result.length / 1e6).toFixed(1)} MB | ${ours.best.toFixed(1)} ms | ` +
+    `${(ours.result.length / 1e6 / (ours.best / 1000)).toFixed(0)} MB/s | three.js OBJExporter.parse (float32): ${peer.best.toFixed(1)} ms ` +
+    `(${(peer.best / ours.best).toFixed(1)}x), ${(peer.result.length / 1e6).toFixed(1)} MB |`);
+}
+
 const table = [`| file | size | readMesh (best of ${RUNS}) | throughput | the peer in the same run (best of ${RUNS}; its time over readMesh's) |`, '| --- | --- | --- | --- | --- |',
   ...rows.map((r) => `| ${r.what} | ${r.mb.toFixed(1)} MB | ${r.ms.toFixed(1)} ms | ${r.mbs.toFixed(0)} MB/s | ${r.peers} |`)].join('\n');
 const text = `# Mesh file reading (bench/formats.mjs)\n\n${nv.toLocaleString('en')} vertices, ${nf.toLocaleString('en')} triangles ` +
   `(Loop-subdivided icosahedron, 7 levels), WASM under Node ${process.version}, ${new Date().toISOString().slice(0, 10)}:\n\n${table}\n\n` +
+  `Writing (best of ${RUNS}; the positions read back bit for bit):\n\n| file | size | time | throughput | the peer in the same run |\n| --- | --- | --- | --- | --- |\n` +
+  `${exportRows.join('\n')}\n\n` +
   `The binary STL is welded on reading (3 corners per triangle: 983,040 source vertices, welded through a hash table of positions; ` +
   `with ${mrvol.threads} threads here, in one block of triangles per thread, the blocks merged after). ` +
   'The reference row is the one copy of the file into the WASM heap that every read starts with: a reader at memory speed would take about that. ' +

@@ -12,10 +12,10 @@ import { fileURLToPath } from 'node:url';
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 
 // Debian packages: the toolchain (emscripten, Eigen, fast_float, acorn for emcc's optimizer), the native test
-// build (cmake, ninja, g++, GoogleTest), nlohmann/json for the glTF reader, clang for the fuzzers, chromium for the
+// build (cmake, ninja, g++, GoogleTest), nlohmann/json for the glTF reader, {fmt} for OBJ export's numbers, clang for the fuzzers, chromium for the
 // browser tests.
 const CORE_PACKAGES = ['cmake', 'ninja-build', 'g++', 'libgtest-dev', 'libeigen3-dev', 'libfast-float-dev', 'emscripten',
-                       'node-acorn', 'nlohmann-json3-dev'];
+                       'node-acorn', 'nlohmann-json3-dev', 'libfmt-dev'];
 const BROWSER_PACKAGES = ['chromium'];
 const FUZZ_PACKAGES = ['clang', 'libclang-rt-14-dev'];
 

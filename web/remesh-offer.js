@@ -65,10 +65,11 @@ export function offerRemesh(source, { repair = false, open, notice, auto = false
   cancelRemesh();
   // A question while nothing runs; while the worker runs, what it is doing (it was asked while the
   // work it asked about was already under way).
+  // (named: another file's message may come to stand above it while it runs)
   const why = (running) => {
-    $('remesh-why').textContent = repair
-      ? (running ? 'Not a closed 2-manifold: repairing and remeshing it (the fields below run it again).' : 'Not a closed 2-manifold: repair and remesh it?')
-      : (running ? 'Not semi-regular: remeshing it (the fields below run it again).' : 'Not semi-regular: remesh it?');
+    $('remesh-why').textContent = `${source.name} is ` + (repair
+      ? (running ? 'not a closed 2-manifold: repairing and remeshing it (the fields below run it again).' : 'not a closed 2-manifold: repair and remesh it?')
+      : (running ? 'not semi-regular: remeshing it (the fields below run it again).' : 'not semi-regular: remesh it?'));
   };
   why(false);
   $('remesh-repair').checked = repair;

@@ -80,6 +80,7 @@ export class SessionStore {
   #writer = null;
   #replies = new Map(); // request number -> resolve
   #requests = 0;
+  #lastKept = 0; // the newest request the worker kept
   /** ms of the last write in the worker (for the open stages), or null. */
   lastWorkerMs = null;
   /** How the last save's file reached the worker ({ from: 'file' | 'text' | 'bytes', ms, bytes }), or null. */
@@ -115,7 +116,9 @@ export class SessionStore {
           this.#textStored.add(id);
           if (Number.isInteger(textBytes)) this.#textBytes.set(id, textBytes);
         }
-        this.problem = problem;
+        // a write that failed before a later one was kept says nothing of the store now
+        if (ok || request > this.#lastKept) this.problem = problem;
+        if (ok) this.#lastKept = Math.max(this.#lastKept, request);
         this.lastWorkerMs = ms;
         this.lastFileRead = fileRead ?? null;
         resolve(ok);

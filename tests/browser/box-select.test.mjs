@@ -99,7 +99,7 @@ describe('web editor: box selection, cage export, remeshing offer', { timeout: 1
     await page.waitForSelector('[data-testid="remesh-offer"]:not([hidden])');
     // The reason, with the lines of the OBJ file it is about.
     assert.match(await page.textContent('[data-testid="error-text"]'), /face \d+ \(line \d+\) and face \d+ \(line \d+\) are duplicates/);
-    assert.match(await page.textContent('[data-testid="remesh-why"]'), /Not a closed 2-manifold: (repairing and remeshing it \(the fields below run it again\)\.|repair and remesh it\?)$/);
+    assert.match(await page.textContent('[data-testid="remesh-why"]'), /^dragon\.obj is not a closed 2-manifold: (repairing and remeshing it \(the fields below run it again\)\.|repair and remesh it\?)$/);
     assert.equal(await page.isChecked('[data-testid="remesh-repair"]'), true);
     assert.equal(await page.isEnabled('[data-testid="remesh-smooth"]'), true);
     assert.equal(await page.inputValue('[data-testid="remesh-smooth"]'), '0', 'no smoothing unless asked, as in the CLI');

@@ -183,7 +183,7 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await openFile('open-cap.stl', await readFile(CORPUS.find((c) => c.name === 'sphere-open-cap').file));
     await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
     assert.match(await page.locator('[data-testid="error-text"]').textContent(), /open-cap\.stl: this mesh has holes \(\d+ boundary edges\)/);
-    assert.match(await page.textContent('[data-testid="remesh-why"]'), /Not a closed 2-manifold: (repairing and remeshing it \(the fields below run it again\)\.|repair and remesh it\?)$/);
+    assert.match(await page.textContent('[data-testid="remesh-why"]'), /^open-cap\.stl is not a closed 2-manifold: (repairing and remeshing it \(the fields below run it again\)\.|repair and remesh it\?)$/);
     assert.equal(await page.isChecked('[data-testid="remesh-repair"]'), true);
     await page.waitForFunction(() => window.mrvolDebug.modelName() === 'open-cap-remeshed' && window.mrvolDebug.ready(), null, { timeout: 120_000 });
     assert.match(await page.locator('[data-testid="notice"]').textContent(), /^Repaired \(\d+ vertices welded, 1 hole closed\), then remeshed in /);
@@ -198,9 +198,9 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });
     // While the worker runs the offer says what it is doing (it asked "remesh it?" of work under way);
     // stopped, it asks again.
-    assert.equal(await page.textContent('[data-testid="remesh-why"]'), 'Not semi-regular: remeshing it (the fields below run it again).');
+    assert.equal(await page.textContent('[data-testid="remesh-why"]'), 'globe-2.stl is not semi-regular: remeshing it (the fields below run it again).');
     await page.locator('[data-testid="remesh-cancel"]').click();
-    assert.equal(await page.textContent('[data-testid="remesh-why"]'), 'Not semi-regular: remesh it?');
+    assert.equal(await page.textContent('[data-testid="remesh-why"]'), 'globe-2.stl is not semi-regular: remesh it?');
     assert.equal(await page.locator('[data-testid="remesh-stage"]').textContent(), 'cancelled');
     assert.equal(await page.locator('[data-testid="remesh-progress"]').isVisible(), false);
     assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), current);

@@ -154,8 +154,10 @@ describe('nothing lost: stored edits, tabs, share links, storage, remesh, keys',
 
   test('the site\'s storage cleared under the page: the next save opens the database again', async () => {
     const page = await browser.newPage();
+    const opened = Date.now();
     await page.goto(`${server.url}?model=torus`);
     await waitReady(page);
+    await stored(page, await undoSteps(page), opened); // the opening's own save written first
     const cdp = await browser.context.newCDPSession(page);
     await cdp.send('Storage.clearDataForOrigin', { origin: new URL(server.url).origin, storageTypes: 'indexeddb' });
     await dragFirst(page);

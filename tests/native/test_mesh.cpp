@@ -137,7 +137,12 @@ TEST(WriteObj, Format) {
   TriangleMesh m;
   m.positions = {0.1, -2, 3e-20, 1, 0, 0, 0, 1, 0};
   m.faces = {0, 1, 2};
-  EXPECT_EQ(writeObj(m), "v 0.10000000000000001 -2 3.0000000000000003e-20\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  // the shortest spelling that reads back as the same double
+  EXPECT_EQ(writeObj(m), "v 0.1 -2 3e-20\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  m.positions = {0.1 + 0.2, -0.0, 1e300, 5e-324, 123456789012345680, 1.0 / 3, 0, 1, 0};
+  m.faces = {0, 1, 2, 4294967294u, 9, 10};
+  EXPECT_EQ(writeObj(m), "v 0.30000000000000004 -0 1e+300\nv 5e-324 1.2345678901234568e+17 0.3333333333333333\nv 0 1 0\n"
+                         "f 1 2 3\nf 4294967295 10 11\n");
 }
 
 TEST(WriteObj, RoundTripKeepsVertexOrderAndExactCoordinates) {

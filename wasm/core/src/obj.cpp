@@ -10,6 +10,7 @@
 
 #include "fast_float.h"
 #include "io_common.h"
+#include "number_text.h"
 #include "mrvol/error.h"
 #include "mrvol/mesh.h"
 #include "mrvol/obj_reader.h"
@@ -763,40 +764,41 @@ TriangleMesh ObjReader::finish(SourceLines* lines, ObjExtras* extras) {
   return parser_->finish(lines, extras);
 }
 
-std::string writeObj(const TriangleMesh& mesh) {
-  std::string out;
-  out.reserve(mesh.positions.size() * 24 + mesh.faces.size() * 8);
-  char buffer[128];
-  for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-    int n = std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n", mesh.positions[3 * v],
-                          mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
-    out.append(buffer, size_t(n));
-  }
-  for (size_t f = 0; f < mesh.faceCount(); ++f) {
-    int n = std::snprintf(buffer, sizeof buffer, "f %u %u %u\n", mesh.faces[3 * f] + 1, mesh.faces[3 * f + 1] + 1,
-                          mesh.faces[3 * f + 2] + 1);
-    out.append(buffer, size_t(n));
-  }
-  return out;
-}
-
 namespace {
 
-// The shortest of %.15g, %.16g, %.17g that reads back as x.
+using text::writeShortest;
+
 void appendShortest(std::string& out, double x) {
-  char buffer[40];
-  for (int digits = 15; digits <= 17; ++digits) {
-    const int n = std::snprintf(buffer, sizeof buffer, "%.*g", digits, x);
-    double back = 0;
-    fast_float::from_chars(buffer, buffer + n, back);
-    if (back == x || digits == 17) {
-      out.append(buffer, size_t(n));
-      return;
-    }
-  }
+  char buffer[32];
+  out.append(buffer, size_t(writeShortest(buffer, x) - buffer));
 }
 
 }  // namespace
+
+std::string writeObj(const TriangleMesh& mesh) {
+  std::string out;
+  // a line at most: "v " + 3 x 24 characters + "\n"; "f " + 3 x 11
+  out.resize(mesh.vertexCount() * 80 + mesh.faceCount() * 40);
+  char* at = out.data();
+  for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+    *at++ = 'v';
+    for (int k = 0; k < 3; ++k) {
+      *at++ = ' ';
+      at = writeShortest(at, mesh.positions[3 * v + k]);
+    }
+    *at++ = '\n';
+  }
+  for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    *at++ = 'f';
+    for (int k = 0; k < 3; ++k) {
+      *at++ = ' ';
+      at = text::writeUnsigned(at, mesh.faces[3 * f + k] + 1);
+    }
+    *at++ = '\n';
+  }
+  out.resize(size_t(at - out.data()));
+  return out;
+}
 
 std::string writeObjLike(std::string_view original, const double* positions, size_t vertexCount) {
   std::string out;

@@ -5,6 +5,7 @@
 
 #include "mrvol/error.h"
 #include "mrvol/mesh.h"
+#include "number_text.h"
 
 namespace mrvol {
 
@@ -62,18 +63,26 @@ QuadMesh readObjQuads(std::string_view text) {
 
 std::string writeObjQuads(const QuadMesh& mesh) {
   std::string out;
-  out.reserve(mesh.positions.size() * 24 + mesh.quads.size() * 8);
-  char buf[128];
+  // a line at most: "v " + 3 x 24 characters + "\n"; "f " + 4 x 11
+  out.resize(mesh.vertexCount() * 80 + mesh.quads.size() / 4 * 50);
+  char* at = out.data();
   for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-    int n = std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                          mesh.positions[3 * v + 2]);
-    out.append(buf, size_t(n));
+    *at++ = 'v';
+    for (int k = 0; k < 3; ++k) {
+      *at++ = ' ';
+      at = text::writeShortest(at, mesh.positions[3 * v + k]);
+    }
+    *at++ = '\n';
   }
   for (size_t f = 0; f < mesh.quads.size(); f += 4) {
-    int n = std::snprintf(buf, sizeof buf, "f %u %u %u %u\n", mesh.quads[f] + 1, mesh.quads[f + 1] + 1,
-                          mesh.quads[f + 2] + 1, mesh.quads[f + 3] + 1);
-    out.append(buf, size_t(n));
+    *at++ = 'f';
+    for (int k = 0; k < 4; ++k) {
+      *at++ = ' ';
+      at = text::writeUnsigned(at, mesh.quads[f + k] + 1);
+    }
+    *at++ = '\n';
   }
+  out.resize(size_t(at - out.data()));
   return out;
 }
 
