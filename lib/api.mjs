@@ -707,7 +707,7 @@ export function wrapModule(module) {
     },
     writeObj(mesh) {
       checkMesh(mesh);
-      return call(module._writeObj, mesh.positions, mesh.faces);
+      return new TextDecoder().decode(call(module._writeObj, mesh.positions, mesh.faces));
     },
     /**
      * Closest points on the mesh's triangles (a tree built once in the core, or `tree`: one built

@@ -284,7 +284,7 @@ export function wrapQuad(module, { MrvolError, Theta, levelArg }) {
     /** { positions, quads } to OBJ text with `f a b c d` lines. */
     writeObjQuads(mesh) {
       checkQuadMesh(mesh, MrvolError);
-      return call(module._writeObjQuads, mesh.positions, mesh.quads);
+      return new TextDecoder().decode(call(module._writeObjQuads, mesh.positions, mesh.quads));
     },
     /** The volume enclosed by the bilinear patches of a valid quad mesh. */
     quadVolume(mesh) {

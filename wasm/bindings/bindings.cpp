@@ -127,8 +127,13 @@ val js_writeObjLike(val original, val positions) {
     return val(emscripten::typed_memory_view(out.size(), reinterpret_cast<const uint8_t*>(out.data()))).call<val>("slice");
   });
 }
+// OBJ text as a Uint8Array (lib/api.mjs decodes it): val(std::string) scanned the text byte by byte
+// in JS, 2-3 times the core's writing, more on the threaded module's shared memory.
 val js_writeObj(val positions, val faces) {
-  return guarded([&] { return val(mrvol::writeObj(toMesh(positions, faces))); });
+  return guarded([&] {
+    const std::string out = mrvol::writeObj(toMesh(positions, faces));
+    return val(emscripten::typed_memory_view(out.size(), reinterpret_cast<const uint8_t*>(out.data()))).call<val>("slice");
+  });
 }
 val js_validate(val positions, val faces, val lines) {
   return guarded([&] { return topologyToJs(validateMesh(toMesh(positions, faces), toLines(lines).get())); });

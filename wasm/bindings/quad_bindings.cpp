@@ -55,8 +55,12 @@ val q_readObjQuads(val bytes) {
     return out;
   });
 }
+// OBJ text as a Uint8Array (lib/quad.mjs decodes it), as js_writeObj.
 val q_writeObjQuads(val positions, val quads) {
-  return guarded([&] { return val(writeObjQuads(quadMesh(positions, quads))); });
+  return guarded([&] {
+    const std::string out = writeObjQuads(quadMesh(positions, quads));
+    return val(emscripten::typed_memory_view(out.size(), reinterpret_cast<const uint8_t*>(out.data()))).call<val>("slice");
+  });
 }
 val q_volume(val positions, val quads) {
   return guarded([&] {
