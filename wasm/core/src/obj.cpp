@@ -773,6 +773,28 @@ void appendShortest(std::string& out, double x) {
   out.append(buffer, size_t(writeShortest(buffer, x) - buffer));
 }
 
+// Whether a v line's three coordinate tokens read back as x exactly (its spelling is then kept).
+bool readsAs(const std::string_view (&xyz)[3], const double* x) {
+  for (int k = 0; k < 3; ++k) {
+    double value = 0;
+    const char* first = xyz[k].data() + (xyz[k][0] == '+');
+    auto r = fast_float::from_chars(first, xyz[k].data() + xyz[k].size(), value);
+    if (r.ec != std::errc() || value != x[k] || std::signbit(value) != std::signbit(x[k])) return false;
+  }
+  return true;
+}
+
+// [begin, end) with its three coordinate tokens (inside it) spelt anew from x.
+void appendReplaced(std::string& out, const char* begin, const std::string_view (&xyz)[3], const double* x, const char* end) {
+  out.append(begin, size_t(xyz[0].data() - begin));
+  for (int k = 0; k < 3; ++k) {
+    if (k) out += ' ';
+    appendShortest(out, x[k]);
+  }
+  const char* rest = xyz[2].data() + xyz[2].size();
+  out.append(rest, size_t(end - rest));
+}
+
 }  // namespace
 
 std::string writeObj(const TriangleMesh& mesh) {
@@ -843,21 +865,8 @@ std::string writeObjLike(std::string_view original, const double* positions, siz
         if (vertex >= vertexCount)
           throw Error("the original OBJ has more vertices than the " + std::to_string(vertexCount) + " positions given");
         const double* x = positions + 3 * vertex++;
-        bool same = true;
-        for (int k = 0; k < 3 && same; ++k) {
-          double value = 0;
-          const char* first = xyz[k].data() + (xyz[k][0] == '+');
-          auto r = fast_float::from_chars(first, xyz[k].data() + xyz[k].size(), value);
-          same = r.ec == std::errc() && value == x[k] && std::signbit(value) == std::signbit(x[k]);
-        }
-        if (!same) {
-          out.append(joined.data(), size_t(xyz[0].data() - joined.data()));
-          for (int k = 0; k < 3; ++k) {
-            if (k) out += ' ';
-            appendShortest(out, x[k]);
-          }
-          const char* rest = xyz[2].data() + xyz[2].size();
-          out.append(rest, size_t(jEnd - rest));
+        if (!readsAs(xyz, x)) {
+          appendReplaced(out, joined.data(), xyz, x, jEnd);
           out += contentEnd > p && contentEnd[-1] == '\r' ? "\r\n" : "\n";
           p = lineEnd;
           continue;
@@ -880,24 +889,8 @@ std::string writeObjLike(std::string_view original, const double* positions, siz
     if (vertex >= vertexCount)
       throw Error("the original OBJ has more vertices than the " + std::to_string(vertexCount) + " positions given");
     const double* x = positions + 3 * vertex++;
-    bool same = true;
-    for (int k = 0; k < 3 && same; ++k) {
-      double value = 0;
-      const char* first = xyz[k].data() + (xyz[k][0] == '+');
-      auto r = fast_float::from_chars(first, xyz[k].data() + xyz[k].size(), value);
-      same = r.ec == std::errc() && value == x[k] && std::signbit(value) == std::signbit(x[k]);
-    }
-    if (same) {
-      out.append(p, size_t(lineEnd - p));
-    } else {
-      out.append(p, size_t(xyz[0].data() - p));
-      for (int k = 0; k < 3; ++k) {
-        if (k) out += ' ';
-        appendShortest(out, x[k]);
-      }
-      const char* rest = xyz[2].data() + xyz[2].size();
-      out.append(rest, size_t(lineEnd - rest));
-    }
+    if (readsAs(xyz, x)) out.append(p, size_t(lineEnd - p));
+    else appendReplaced(out, p, xyz, x, lineEnd);
     p = lineEnd;
   }
   if (vertex != vertexCount)
