@@ -234,10 +234,25 @@ function readBytes(path) {
   }
 }
 
-// Progress of one step (see bin/progress.mjs); MRVOL_PROGRESS_DELAY_MS overrides the delay.
+// Progress of one step (see bin/progress.mjs); MRVOL_PROGRESS_DELAY_MS overrides the delay. The
+// delay counts from the command's start: once a command has run that long (a big file read), every
+// later step shows at once, the ones that run without reporting (opening, the editor) too.
+const commandStarted = performance.now();
 function progress(label) {
-  const delay = Number(process.env.MRVOL_PROGRESS_DELAY_MS);
-  return new Progress(label, Number.isFinite(delay) && delay >= 0 ? { delayMs: delay } : {});
+  const given = Number(process.env.MRVOL_PROGRESS_DELAY_MS);
+  const delay = Number.isFinite(given) && given >= 0 ? given : 1000;
+  return new Progress(label, { delayMs: Math.max(0, delay - (performance.now() - commandStarted)) });
+}
+
+/** `work()` under a progress line `label` (drawn before it starts when the command has run past the delay). */
+function during(label, work) {
+  const bar = progress(label);
+  bar.update(null);
+  try {
+    return work();
+  } finally {
+    bar.done();
+  }
 }
 
 const READ_CHUNK = 4 << 20;
@@ -345,7 +360,7 @@ function writeMesh(mrvol, path, mesh, source) {
 async function openMultires(mrvol, path, mesh = null, { quadNote = false } = {}) {
   mesh ??= await loadMesh(mrvol, path);
   try {
-    const mr = Object.assign(mrvol.openMesh(mesh), { source: mesh.source });
+    const mr = Object.assign(during(`finding the levels of ${path}`, () => mrvol.openMesh(mesh)), { source: mesh.source });
     // A file of quads read as triangles has no levels (every vertex a cage vertex) where its quads
     // may have Catmull-Clark ones: said on stderr, the command going on as asked.
     if (quadNote && mr.levels === 0 && isAllQuads(mesh, mr.info().faces)) {
@@ -511,11 +526,11 @@ const COMMANDS = {
     const scheme = schemeOptions(values);
     if (!values.output) throw new UsageError('-o OUT.obj is required');
     const base = await loadMesh(mrvol, input);
-    const mr = mrvol.subdivide(base, { levels, ...scheme });
+    const mr = during(`subdividing ${input} (${levels} level${levels === 1 ? "" : "s"})`, () => mrvol.subdivide(base, { levels, ...scheme }));
     const mesh = mr.toMesh();
     const info = mr.info();
     mr.delete();
-    writeMesh(mrvol, values.output, mesh);
+    during(`writing ${values.output}`, () => writeMesh(mrvol, values.output, mesh));
     const result = { vertices: info.vertices, faces: info.faces, levels, scheme: values.scheme ?? 'loop',
                      volume: info.volume, output: values.output };
     print(values, result, (r) => `wrote ${r.output}: ${r.vertices} vertices, ${r.faces} faces (${r.scheme}, ${r.levels} levels)`);
@@ -598,8 +613,9 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
       : (surface === 'limit' || centroid) && gradientPath === 'auto' ? 'matrix-free'
       : chooseGradientPath(mr, { level, path: gradientPath, detailLevels, ...scheme }).path;
     const preserve = values['no-preserve'] === undefined;
-    const editor = mr.createEditor({ level, ...scheme, surface, keep,
-                                     path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' });
+    const editor = during(`making the editor of ${path} (level ${level}, ${mr.vertexCount} vertices)`,
+                          () => mr.createEditor({ level, ...scheme, surface, keep,
+                                                  path: chosen === 'polynomial' && preserve ? 'polynomial' : 'matrix-free' }));
     // The centre of mass before and after (null where it is undefined: a solid of zero volume).
     const centroidOf = () => {
       try {
@@ -626,13 +642,15 @@ COMMANDS.edit = async (mrvol, values, positionals) => {
       }
     }
     const started = performance.now();
-    const report = editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] });
+    const report = during('moving the cage', () => editor.moveVertices(moves, { tolerance, preserve: !values['no-preserve'] }));
     const stepMs = performance.now() - started;
     if (!report.converged) throw new MrvolError(`the volume correction did not converge: ${report.message}`);
     // An OBJ written as OBJ keeps every other line of the input (vt, vn, groups, materials).
-    if (/\.obj$/i.test(path) && !/\.glb$/i.test(values.output))
-      writeText(values.output, mrvol.writeObjLike(readBytes(path), editor.positions()));
-    else writeMesh(mrvol, values.output, { positions: editor.positions(), faces: mr.faces() }, mr.source);
+    during(`writing ${values.output}`, () => {
+      if (/\.obj$/i.test(path) && !/\.glb$/i.test(values.output))
+        writeText(values.output, mrvol.writeObjLike(readBytes(path), editor.positions()));
+      else writeMesh(mrvol, values.output, { positions: editor.positions(), faces: mr.faces() }, mr.source);
+    });
     const result = {
       volumeReference: report.volumeReference, volumeTarget: report.volumeTarget, volumeResult: report.volumeResult,
       relativeError: report.relativeError, iterations: report.iterations, substeps: report.substeps,
@@ -679,7 +697,7 @@ COMMANDS.remesh = async (mrvol, values, positionals) => {
   } finally {
     bar.done();
   }
-  writeMesh(mrvol, values.output, r.mesh);
+  during(`writing ${values.output}`, () => writeMesh(mrvol, values.output, r.mesh));
   const round = (x, d) => Math.round(x * 10 ** d) / 10 ** d;
   const result = {
     levels: r.levels, baseVertices: r.baseVertices, baseFaces: r.baseFaces, vertices: r.vertices, faces: r.faces,

@@ -1303,12 +1303,14 @@ function prepareInput(mrvol, input, options, progress) {
   // A one-sided surface bounds no solid: cutting it open and filling the cuts would make up a shape.
   if (repaired?.report.oneSidedEdges > 0)
     throw new MrvolError(`the surface is one-sided (not orientable, like a Klein bottle): ${repaired.report.oneSidedEdges} edges join faces that no orientation can make agree, so no closed 2-manifold with an inside can be made of it`);
+  progress(0, 'finding the pieces');
   const { pieces, genus, droppedComponents, droppedPieces } = inputPieces(mrvol, welded, options.keepLargest, !!repaired);
   const mesh = pieces.length === 1 ? pieces[0].mesh : concatenate(pieces.map((p) => p.mesh));
   const inputVolume = mrvol.volume(mesh);
   const diagonal = boundingDiagonal(mesh.positions);
   const inputFaces = mesh.faces.length / 3, inputVertices = mesh.positions.length / 3;
 
+  progress(0, 'building the search tree');
   const surface = new Surface(mesh);
   const pieceSurfaces = new Map();
   const surfaceOf = (i) => {
@@ -1316,6 +1318,7 @@ function prepareInput(mrvol, input, options, progress) {
     if (!pieceSurfaces.has(i)) pieceSurfaces.set(i, new Surface(pieces[i].mesh));
     return pieceSurfaces.get(i);
   };
+  if (options.features !== false) progress(0, 'finding sharp features');
   const features = options.features === false ? null : findFeatures(mesh, { angle: options.featureAngle });
   const featureKeys = { corners: new Set([...(features?.corners ?? [])].map((v) => positionKey(mesh.positions, v))),
                         features: new Set([...(features?.linesAt.keys() ?? [])].map((v) => positionKey(mesh.positions, v))) };

@@ -374,6 +374,19 @@ describe('progress bar', () => {
     assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: welding \[/);
     assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: fitting level 1 of 1 \[/);
     assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: measuring the Hausdorff distance \[/);
+    assert.match(remesh.stdout, /\rremeshing \S*sphere\.obj: building the search tree \[/);
+
+    // The steps that report nothing while they run (opening, the editor, the move, the writing) say
+    // what runs; each line erased, the result printed after them.
+    const edit = inTerminal('edit', model('spiky-ball'), '--move', '0:0.01,0,0', '-o', file('tty-edit.obj'));
+    assert.equal(edit.status, 0, edit.stdout);
+    for (const label of [/finding the levels of \S*spiky-ball\.obj/, /making the editor of \S*spiky-ball\.obj \(level 0, 642 vertices\)/,
+                         /moving the cage/, /writing \S*tty-edit\.obj/])
+      assert.match(edit.stdout, new RegExp(`\\r${label.source} \\[working\\]  \\d+\\.\\d s\x1b\\[K`));
+    assert.match(edit.stdout.slice(edit.stdout.lastIndexOf('\r\x1b[K') + 4), /^reference volume/);
+    const subdivide = inTerminal('subdivide', model('spiky-ball'), '--levels', '1', '-o', file('tty-sub.obj'));
+    assert.equal(subdivide.status, 0, subdivide.stdout);
+    assert.match(subdivide.stdout, /\rsubdividing \S*spiky-ball\.obj \(1 level\) \[working\]/);
   });
 
   test('piped: no progress output, even with no delay', () => {
