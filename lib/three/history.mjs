@@ -3,17 +3,21 @@
 // gives the shape back), a level or scheme change ('editor': { level, scheme }), a reference volume
 // ('reference': numbers), a preservation toggle ('preserve': booleans), a keep-balance toggle ('keep':
 // booleans) or a surface change ('surface': { surface, keepCentroid, reference }).
+// It keeps the last `limit` steps; the oldest is let go as a new one comes, and `onDrop` is told so
+// (the step let go), since an undo that stops short of where the user started is work lost.
 export class History {
   #undo = [];
   #redo = [];
-  constructor(limit = 200) {
+  #onDrop;
+  constructor(limit = 200, { onDrop = null } = {}) {
     this.limit = limit;
+    this.#onDrop = onDrop;
   }
   /** Records one finished edit (see above for what before/after are per label). */
   push(before, after, label = 'drag') {
     this.#undo.push({ before, after, label });
-    if (this.#undo.length > this.limit) this.#undo.shift();
     this.#redo.length = 0;
+    if (this.#undo.length > this.limit) this.#onDrop?.(this.#undo.shift());
   }
   /** The step to undo (its `before` is the cage to go back to), or null. */
   undo() {

@@ -113,7 +113,8 @@ export interface FreeSet {
  * The DOM-free editing session (no three.js either) the component and the web editor are built
  * on: model, editor, undo history, free set and parts, the tensor in use. Events (CustomEvent
  * detail): model, editor ({ level, scheme }), step ({ report, ms }), change ({ reason }), theta
- * ({ source, path }), dragend, error ({ message, error }).
+ * ({ source, path }), dragend, error ({ message, error }), history-full ({ limit }: the undo history held
+ * historyLimit steps, 200 by default, and let the oldest go).
  */
 export class EditingSession extends EventTarget {
   constructor(mrvol: Mrvol, options?: { level?: number; scheme?: string; alpha?: number; beta?: number;

@@ -17,6 +17,7 @@
 // earlier drags undo at the level they were made). Opening a model starts a new history.
 //   theta   the gradient path or the tensor in use changed: { source, path }
 //   dragend a drag ended (its undo step recorded when the cage moved)
+//   history-full  the history held `historyLimit` steps and let the oldest go: { limit }
 //   error   an edit was refused and undone: { message, error }
 //
 // Quad models (a QuadMultiresMesh, or a mesh { positions, quads }: lib/quad.mjs) edit the same way
@@ -104,7 +105,7 @@ export class EditingSession extends EventTarget {
     this.preserve = preserve;
     this.tolerance = tolerance;
     this.path = path;
-    this.history = new History(historyLimit);
+    this.history = new History(historyLimit, { onDrop: () => this.#emit('history-full', { limit: historyLimit }) });
   }
 
   get mrvol() { return this.#mrvol; }

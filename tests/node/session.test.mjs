@@ -111,6 +111,25 @@ test('undo and redo give the cage and the volume back', () => {
   session.dispose();
 });
 
+test('a full history lets its oldest step go and says so (history-full), once per step let go', () => {
+  const { session } = openBall({ historyLimit: 3 });
+  const full = [];
+  session.addEventListener('history-full', (e) => full.push(e.detail));
+  const cages = [session.cagePositions()];
+  for (let k = 0; k < 3; k++) {
+    session.moveHandles([k], [0.01, 0, 0]);
+    cages.push(session.cagePositions());
+  }
+  assert.deepEqual(full, [], 'three steps fit');
+  session.moveHandles([3], [0.01, 0, 0]);
+  assert.deepEqual(full, [{ limit: 3 }]);
+  assert.deepEqual(session.history.size, { undo: 3, redo: 0 });
+  for (let k = 0; k < 3; k++) assert.ok(session.undo());
+  assert.equal(session.undo(), false);
+  assert.deepEqual(session.cagePositions(), cages[1], 'undo stops at the oldest step kept');
+  session.dispose();
+});
+
 test('a cancelled drag puts the cage back and records nothing', () => {
   const { session } = openBall();
   const before = session.cagePositions();
