@@ -76,7 +76,8 @@ export function showVolumes(session) {
   const editor = session.editor;
   if (!editor) return;
   const reference = editor.referenceVolume();
-  const current = session.volume();
+  // (during a drag the step's own volume, the mesh's once it ends: session.volumeNow)
+  const current = session.volumeNow();
   const error = Math.abs(current - reference) / Math.max(Math.abs(reference), 1e-300);
   set('volume-reference', formatVolume(reference), reference);
   set('volume-current', formatVolume(current), current);
@@ -169,6 +170,7 @@ export function showModel(session) {
 /** Subscribes the readouts to a session: volumes on every change, the model line on model and editor. */
 export function followSession(session) {
   session.addEventListener('change', () => showVolumes(session));
+  session.addEventListener('dragend', () => showVolumes(session));
   const model = () => showModel(session);
   session.addEventListener('model', model);
   session.addEventListener('editor', model);

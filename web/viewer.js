@@ -7,7 +7,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { CageObject, CAGE_COLOR, frameSphere } from '../lib/three/objects.mjs';
 import { FloorShadow } from './floor-shadow.js';
 import { projectPoints, nearestOnScreen, rayThrough } from '../lib/three/pointer.mjs';
-import { SurfaceUpload } from './surface-upload.js';
+import { SurfaceUpload } from '../lib/three/surface-upload.mjs';
 import { roomLightProbe } from './room-light.js';
 import { softwareWebGL } from './software-webgl.js';
 
@@ -352,7 +352,7 @@ export class Viewer {
 
   /**
    * The editor's current surface (its float32 positions and, unless flat, normals, computed in
-   * WASM): only the vertices the last edit changed are copied and uploaded (surface-upload.js).
+   * WASM): only the vertices the last edit changed are copied and uploaded (lib/three/surface-upload.mjs).
    * `opened`: a model just opened (setMesh drew its positions); `unmoved`: nothing moved since the
    * last call (a free set chosen): see #surfaceWhenIdle.
    */

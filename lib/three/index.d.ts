@@ -13,8 +13,10 @@ export interface VolumeEditControlsOptions {
   /** Relative volume error the correction stops at (default 1e-6). */
   tolerance?: number;
   /**
-   * Gradients: 'matrix-free' (default), 'auto' (compute theta^e now, synchronously, when its
-   * estimate fits), or a Theta of this mesh, scheme and level (the component owns it then: dispose() deletes it).
+   * Gradients: unset (default: the cage polynomial where the cage is coarse against the mesh, as
+   * createEditor's 'auto' picks it, else matrix-free), 'matrix-free' (a pass over the fine mesh at
+   * every step), 'auto' (compute theta^e now, synchronously, when its estimate fits), or a Theta of
+   * this mesh, scheme and level (the component owns it then: dispose() deletes it).
    */
   theta?: 'matrix-free' | 'auto' | Theta;
   /** How near (CSS pixels) the pointer must press to a handle to grab it (default 10). */
@@ -185,7 +187,10 @@ export class EditingSession extends EventTarget {
   undo(): boolean;
   redo(): boolean;
   setReferenceVolume(volume?: number): void;
+  /** The volume now: the core's pass over the fine mesh, asked once per shape. */
   volume(): number | null;
+  /** For readouts: during a drag the last step's own volume (equal to volume() to round-off, without a pass over the mesh); else volume(). */
+  volumeNow(): number | null;
   referenceVolume(): number | null;
   positions(): Float64Array;
   cagePositions(): Float64Array;

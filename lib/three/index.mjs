@@ -16,6 +16,7 @@
 import * as THREE from 'three';
 import { EditingSession } from './session.mjs';
 import { SurfaceMesh, CageObject, CAGE_COLOR } from './objects.mjs';
+import { SurfaceUpload } from './surface-upload.mjs';
 import { projectPoints, nearestOnScreen, rayThrough, DragPlane } from './pointer.mjs';
 
 export { EditingSession, FREE_SET_MODES, MAX_PARTS, QUAD_SCHEME } from './session.mjs';
@@ -35,13 +36,15 @@ export class VolumeEditControls extends THREE.EventDispatcher {
    * @param {{ positions: Float64Array, faces: Uint32Array } | { positions: Float64Array, quads: Uint32Array } | object} mesh
    *   a triangle or quad mesh, or a MultiresMesh / QuadMultiresMesh (stays the caller's)
    * @param {object} [options] { level = 0, scheme = 'loop', preserve = true, tolerance = 1e-6,
-   *   theta: 'matrix-free' (default) | 'auto' (compute theta^e now when it fits) | a Theta,
+   *   theta: unset (default: the cage polynomial where the cage is coarse against the mesh, as
+   *   createEditor's 'auto' picks it, else matrix-free) | 'matrix-free' | 'auto' (compute theta^e now
+   *   when it fits) | a Theta,
    *   pickRadius = 10 (CSS px), surfaceColor, cageColor, flat = true,
    *   handleSize = 'auto' (sized to the cage's spacing on the screen, 6..13 CSS px) | CSS px }
    */
   constructor(mrvol, camera, element, mesh, options = {}) {
     super();
-    const { level = 0, scheme, preserve = true, tolerance = 1e-6, theta = 'matrix-free', pickRadius = 10,
+    const { level = 0, scheme, preserve = true, tolerance = 1e-6, theta = null, pickRadius = 10,
       surfaceColor, cageColor = CAGE_COLOR, handleSize = 'auto', flat = true } = options;
     this.#MrvolError = mrvol.MrvolError;
     this.camera = camera;
@@ -49,18 +52,23 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     if (!this.domElement?.addEventListener) throw new TypeError('VolumeEditControls needs a DOM element or a renderer');
     this.enabled = true;
     this.pickRadius = pickRadius;
-    this.session = new EditingSession(mrvol, { level, scheme, preserve, tolerance });
+    // (unset: the session's 'auto' path, O(cage) per step where it takes the polynomial, where
+    // matrix-free is a pass over the fine mesh: 16 ms against 0.02 at 163k vertices)
+    this.session = new EditingSession(mrvol, { level, scheme, preserve, tolerance, path: theta === null ? 'auto' : 'matrix-free' });
     this.session.open(mesh, { name: 'mesh' });
     this.object = new THREE.Group();
     this.object.name = 'mrvol';
     this.surface = new SurfaceMesh(this.session.positions(), this.session.model.faces, { color: surfaceColor, flat });
+    this.surface.frustumCulled = false; // (its bounding sphere is not kept up to date: #sync)
+    // drawn from the editor's own positions: the first move copies only what it moved
+    if (typeof this.session.editor.positionsView === 'function') this.#upload.takeInStep(this.surface.geometry, this.session.editor);
     this.object.add(this.surface);
     this.#cageStyle = { color: cageColor, handleSize };
     this.cage = null;
     this.#buildCage();
     if (theta === 'auto') {
       if (this.session.gradientChoice().path === 'tensor') this.session.computeTheta();
-    } else if (theta && theta !== 'matrix-free') {
+    } else if (theta !== null && theta !== 'matrix-free') {
       const used = this.session.useTheta(theta, 'given');
       if (!used.ok) {
         this.surface.dispose();
@@ -200,8 +208,19 @@ export class VolumeEditControls extends THREE.EventDispatcher {
     this.#depths = new Float64Array(this.session.cageSize);
   }
 
+  // The surface from the editor's float32 buffers in WASM memory where it has them (positions and
+  // normals written by the core, only the vertices an edit rewrote copied and uploaded), else from
+  // its positions. No bounding sphere per move (a pass over the mesh): the surface is not culled,
+  // and a raycast computes the sphere when it needs it.
+  #upload = new SurfaceUpload();
   #sync() {
-    this.surface.setPositions(this.session.positions());
+    const editor = this.session.editor;
+    if (typeof editor.positionsView === 'function') {
+      this.#upload.draw(this.surface.geometry, editor, { normals: !this.surface.material.flatShading });
+      this.surface.geometry.boundingSphere = null;
+    } else {
+      this.surface.setPositions(this.session.positions());
+    }
     this.cage.setPositions(this.session.cagePositions());
   }
 

@@ -527,6 +527,8 @@ export class EditingSession extends EventTarget {
       return null;
     }
     this.#volume = null; // asked once per step (the report's volumeResult may come from the cage polynomial)
+    // ...but a drag's readouts take the step's own (volumeNow)
+    if (this.#drag && this.parts.length === 0 && Number.isFinite(report.volumeResult)) this.#drag.volume = report.volumeResult;
     this.lastReport = report;
     this.lastStepMs = globalThis.performance.now() - started;
     this.#emit('step', { report, ms: this.lastStepMs });
@@ -622,6 +624,15 @@ export class EditingSession extends EventTarget {
     if (!this.editor) return null;
     this.#volume ??= this.editor.volume();
     return this.#volume;
+  }
+  /**
+   * The volume now, for readouts: during a drag, the last step's own (the correction's value, equal
+   * to the mesh's to round-off: on the polynomial path the cage cubic's), which spares a pass over
+   * the fine mesh at every step (46 ms at 655k vertices); else volume(). A `dragend` listener asks
+   * volume() once the drag is over.
+   */
+  volumeNow() {
+    return this.#drag?.volume ?? this.volume();
   }
   referenceVolume() { return this.editor?.referenceVolume() ?? null; }
   /** Fine positions (caller's order) and cage positions (cage order), copies. */

@@ -124,6 +124,62 @@ describe('examples/web/minimal.html', { timeout: 180_000 }, () => {
     assert.ok(result.back.every((x, i) => Math.abs(x - result.before.cage[i]) < 1e-6), 'undo gave the handle back');
   });
 
+  test('a 163k-vertex mesh: the cage polynomial by default, the surface from the editor\'s float32 buffers, the rewritten range uploaded', async () => {
+    // (It was matrix-free, a pass over the mesh at every step, and the whole surface copied, its
+    // normals and bounding sphere computed in JS at every move.)
+    const result = await page.evaluate(() => {
+      const editor = window.minimalEditor;
+      const { mrvol, model } = editor.session;
+      const Controls = editor.constructor;
+      const fine = mrvol.subdivide({ positions: model.mr.positions(), faces: model.faces }, { levels: 4 });
+      const mesh = fine.toMesh();
+      fine.delete();
+      const out = { vertices: mesh.positions.length / 3 };
+      for (const flat of [true, false]) {
+        const big = new Controls(mrvol, editor.camera, editor.domElement, mesh, { level: 0, flat });
+        const geometry = big.surface.geometry;
+        const worstDrawn = () => {
+          const drawn = geometry.getAttribute('position').array, positions = big.positions();
+          let worst = 0;
+          for (let i = 0; i < positions.length; i++) worst = Math.max(worst, Math.abs(drawn[i] - positions[i]));
+          return worst;
+        };
+        // without the correction one handle's move changes its stencil's vertices only
+        big.preserve = false;
+        big.moveHandles([0], [0.05, 0.02, 0]);
+        const ranges = geometry.getAttribute('position').updateRanges.map((r) => r.count / 3);
+        const normals = geometry.getAttribute('normal');
+        const normalRanges = normals ? normals.updateRanges.map((r) => r.count / 3) : [];
+        const worstUnpreserved = worstDrawn();
+        big.preserve = true;
+        const report = big.moveHandles([1], [0.05, 0.02, 0]);
+        out[flat ? 'flat' : 'smooth'] = { path: big.session.editor.path(), converged: report.converged, worst: Math.max(worstUnpreserved, worstDrawn()),
+          ranges, normalRanges, sphere: geometry.boundingSphere, culled: big.surface.frustumCulled };
+        big.dispose();
+      }
+      const forced = new Controls(mrvol, editor.camera, editor.domElement, model.mr, { level: 0, theta: 'matrix-free' });
+      out.forced = forced.session.editor.path();
+      forced.dispose();
+      return out;
+    });
+    assert.equal(result.vertices, 163842);
+    for (const shading of ['flat', 'smooth']) {
+      const r = result[shading];
+      assert.equal(r.path, 'polynomial', shading);
+      assert.ok(r.converged);
+      assert.ok(r.worst < 1e-5, `${shading}: the surface drawn is the editor's (to float32): ${r.worst}`);
+      // the range the core rewrote, marked for upload (one handle's stencil: its first to last vertex)
+      assert.equal(r.ranges.length, 1);
+      assert.ok(r.ranges[0] > 0 && r.ranges[0] <= result.vertices, `${shading}: ${r.ranges[0]} of ${result.vertices} vertices copied`);
+      assert.equal(r.sphere, null, 'no bounding sphere computed per move');
+      assert.equal(r.culled, false);
+    }
+    assert.deepEqual(result.flat.normalRanges, [], 'flat: no normals copied');
+    assert.equal(result.smooth.normalRanges.length, 1, 'smooth: the normals the core wrote, copied');
+    assert.equal(result.forced, 'matrix-free');
+    assert.deepEqual(page.problems, []);
+  });
+
   test('after dispose() every call says the editor was disposed; a second dispose() does nothing', async () => {
     // (setLevel threw a TypeError from inside, volume() gave null, undo() false.)
     const result = await page.evaluate(() => {

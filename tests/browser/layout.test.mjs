@@ -113,6 +113,9 @@ describe('web editor layout at desktop and phone sizes', { timeout: 1_200_000 },
       });
       assert.equal(small.coarse, true, 'the page sees a touch screen');
       assert.deepEqual(small.out, []);
+      // The keep-balance box itself, not only its row, large enough to see under a finger (it was 13 px).
+      const check = await page.locator('[data-testid="keep-balance"]').boundingBox();
+      assert.ok(check.width >= 20 && check.height >= 20, `the keep-balance box is ${check.width}x${check.height}`);
       await page.screenshot({ path: join(RESULTS_DIR, 'layout-phone-touch-panel.png'), fullPage: true });
     }, { touch: true });
   });

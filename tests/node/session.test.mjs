@@ -130,6 +130,26 @@ test('a full history lets its oldest step go and says so (history-full), once pe
   session.dispose();
 });
 
+test('volumeNow: during a drag the step\'s own volume (no pass over the mesh), the mesh\'s after it', () => {
+  const { session } = openBall();
+  const before = session.volumeNow();
+  assert.equal(before, session.volume());
+  session.beginDrag([4]);
+  assert.equal(session.volumeNow(), before, 'no step yet: the volume as it was');
+  const report = session.dragBy(outward(session, 4, 0.3));
+  assert.equal(session.volumeNow(), report.volumeResult);
+  assert.ok(relative(session.volumeNow(), session.volume()) < 1e-12, 'the step\'s volume is the mesh\'s to round-off');
+  session.endDrag();
+  assert.equal(session.volumeNow(), session.volume(), 'after the drag: the mesh\'s own');
+  // without preservation the step's volume is the moved shape's
+  session.setPreserve(false);
+  session.beginDrag([4]);
+  session.dragBy([0.2, 0, 0]);
+  assert.ok(relative(session.volumeNow(), session.volume()) < 1e-12);
+  session.endDrag();
+  session.dispose();
+});
+
 test('a cancelled drag puts the cage back and records nothing', () => {
   const { session } = openBall();
   const before = session.cagePositions();
