@@ -116,6 +116,9 @@ function pushStat(list, value) {
 // ---- the stored session ---------------------------------------------------------------------------
 
 let saveTimer = null, savePending = false;
+// record id -> its saves sent to the store and not answered yet (one promise for all of them): what
+// reads a record back waits for these first, or it reads the record as it was before the last edit
+const savesUnderWay = new Map();
 
 // Tabs of the app: each says which record it wrote (BroadcastChannel). A tab whose model's record
 // another tab wrote keeps its own edits apart from then on (a copy, its own record) rather than
@@ -174,6 +177,11 @@ function saveNow() {
   const saving = app.store.save({ ...stored, history });
   if (timed) addStage('session saved: the page\'s part', 'page', performance.now() - started);
   const id = sessionId(app.model);
+  const written = Promise.all([savesUnderWay.get(id), saving]).then(() => {}, () => {});
+  savesUnderWay.set(id, written);
+  written.then(() => {
+    if (savesUnderWay.get(id) === written) savesUnderWay.delete(id);
+  });
   saving.then((ok) => {
     if (ok) {
       // edits worth keeping: the browser asked once not to evict this site's storage under disk pressure
@@ -202,8 +210,18 @@ async function refreshRecent() {
   app.panel.showRecent(entries.map(({ id, name, kind, saved, copy }) => ({ id, name, kind, saved, copy, current: app.model && id === sessionId(app.model) })));
 }
 
+/**
+ * Resolves once the records whose ids pass `which` hold the latest edits: a save waiting for its
+ * moment is sent now, and those under way (written in the store's worker) are answered.
+ */
+async function savesWritten(which) {
+  if (savePending) saveNow();
+  await Promise.all([...savesUnderWay].filter(([id]) => which(id)).map(([, written]) => written));
+}
+
 /** Reopens a model of the recent list with its stored edits. */
 async function openRecent(id) {
+  await savesWritten((saving) => saving === id); // the current model's own entry: as last edited
   const stored = await app.store?.load(id);
   if (!stored) {
     showError('That session is no longer stored in this browser.');
@@ -227,6 +245,10 @@ function applyStoredSettings(settings) {
  */
 async function storedEditsOf(source) {
   if (!app.store?.available) return null;
+  // its last edits stored first (the same model opened again just after an edit): read before, the
+  // record has the edits before them, and the fresh model's first save would write over them
+  const own = source.kind === 'sample' ? `sample:${source.name}` : `file:${source.name}:`;
+  await savesWritten((id) => (source.kind === 'sample' ? id === own : id.startsWith(own) && !id.includes('#')));
   const size = source.kind === 'sample' ? null
     : source.file?.size ?? source.bytes?.byteLength ?? (typeof source.text === 'string' ? new TextEncoder().encode(source.text).byteLength : null);
   const record = (await app.store.recent()).find((r) => r.kind === source.kind && r.name === source.name && !r.copy &&
@@ -1039,7 +1061,7 @@ async function start() {
   const chart = new VolumeChart(document.getElementById('chart'));
   app.chart = chart;
   session.addEventListener('model', () => chart.reset());
-  session.addEventListener('change', () => chart.push(session.volume(), session.referenceVolume()));
+  session.addEventListener('change', () => chart.push(session.volumeNow(), session.referenceVolume()));
   followSessionInView(session);
   app.balance = setUpBalance({ session, viewer: app.viewer, onChanged: () => { syncSettings(); saveSoon(); }, changeSurface });
   const cache = await cacheOpening;

@@ -62,7 +62,16 @@ export class SessionStore {
     }
   }
 
-  #closed = false; // the browser closed the connection: reopened before the next write
+  #closed = false; // the browser closed the connection: reopened before the next write or read
+  #reopening = null;
+
+  // Reads after the browser closed the connection (the site's data cleared): the database opened
+  // again first, else the recent list stays empty and a model opened again finds none of its edits.
+  async #reopened() {
+    if (!this.#closed) return;
+    this.#reopening ??= this.#open().finally(() => { this.#reopening = null; });
+    await this.#reopening;
+  }
 
   /**
    * From now on save() writes in a worker (web/store-worker.js: IndexedDB's cloning of big values
@@ -208,6 +217,7 @@ export class SessionStore {
 
   /** The newest session (or the one of `id`): { model: { kind, name, text? }, settings, fingerprint, positions, reference, history }, or null. */
   async load(id = null) {
+    await this.#reopened();
     if (!this.#db) return null;
     try {
       const record = id ? await this.#db.get('sessions', id) : (await this.recent())[0];
@@ -241,6 +251,7 @@ export class SessionStore {
 
   /** [{ id, kind, name, saved }], newest first. */
   async recent() {
+    await this.#reopened();
     if (!this.#db) return [];
     try {
       const records = await this.#db.getAll('sessions');
@@ -251,6 +262,7 @@ export class SessionStore {
   }
 
   async remove(id) {
+    await this.#reopened();
     if (!this.#db) return;
     try {
       const tx = this.#db.transaction(['sessions', 'chunks'], 'readwrite');

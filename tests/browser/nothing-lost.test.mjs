@@ -30,14 +30,21 @@ async function openSample(page, name) {
  * Waits until the store holds the current model with `steps` undo steps, saved after `since` (ms
  * since the epoch: another tab's record of the same model may have those steps already); the save
  * is debounced and written in a worker. Returns the record's time.
+ * (Polled from here: page.waitForFunction takes an async predicate's promise for a truthy value and
+ * returns at once.)
  */
-async function stored(page, steps, since = 0) {
-  const handle = await page.waitForFunction(async ([n, t]) => {
-    const id = window.mrvolDebug.storedSessionId?.();
-    const record = id ? await window.mrvolDebug.storedSession(id) : null;
-    return (record?.history?.steps?.undo?.length ?? -1) === n && record.saved > t ? record.saved : false;
-  }, [steps, since], { timeout: 30_000, polling: 200 });
-  return handle.jsonValue();
+async function stored(page, steps, since = 0, timeout = 30_000) {
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const { saved, undo } = await page.evaluate(async () => {
+      const id = window.mrvolDebug.storedSessionId?.();
+      const record = id ? await window.mrvolDebug.storedSession(id) : null;
+      return { saved: record?.saved ?? 0, undo: record?.history?.steps?.undo?.length ?? -1 };
+    });
+    if (undo === steps && saved > since) return saved;
+    if (Date.now() > deadline) throw new Error(`the store holds ${undo} undo steps (saved at ${saved}), not ${steps} saved after ${since}`);
+    await page.waitForTimeout(200);
+  }
 }
 
 describe('nothing lost: stored edits, tabs, share links, storage, remesh, keys', { timeout: 600_000 }, () => {
@@ -70,9 +77,7 @@ describe('nothing lost: stored edits, tabs, share links, storage, remesh, keys',
     await page.close();
   });
 
-  // Skipped: in CI's run (and alone here) the second setInputFiles of the same file opened it fresh, though
-  // by hand the same steps bring the edits back; not diagnosed yet (the lead's closing note of 2026-11-29).
-  test('a file dropped again has its edits back', { skip: 'flaky under playwright: not diagnosed yet' }, async () => {
+  test('a file dropped again has its edits back; an edit made just before it is dropped again too', async () => {
     const page = await browser.newPage();
     await page.goto(`${server.url}?model=torus`);
     await waitReady(page);
@@ -81,19 +86,38 @@ describe('nothing lost: stored edits, tabs, share links, storage, remesh, keys',
       await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'my-blob.obj', mimeType: 'text/plain', buffer: blob });
       await page.waitForFunction(() => window.mrvolDebug.modelName() === 'my-blob.obj' && window.mrvolDebug.ready());
     };
+    // (the name was already the current one: opened again once the notice, cleared here, says so)
+    const dropAgain = async (steps) => {
+      await page.evaluate(() => { document.querySelector('[data-testid="notice"]').textContent = ''; });
+      await page.locator('[data-testid="open-file"]').setInputFiles({ name: 'my-blob.obj', mimeType: 'text/plain', buffer: blob });
+      await page.waitForFunction(() => /^Your edits of my-blob\.obj are back/.test(document.querySelector('[data-testid="notice"]').textContent) &&
+                                       window.mrvolDebug.ready());
+      assert.equal(await undoSteps(page), steps);
+      assert.match(await notice(page), new RegExp(`^Your edits of my-blob\\.obj are back \\(${steps} steps? of undo history\\)`));
+    };
+    const sameShape = (a, b) => a.length === b.length && a.every((x, i) => Math.abs(x - b[i]) < 1e-9 * (1 + Math.abs(x)));
     await drop();
     assert.equal(await undoSteps(page), 0);
     await dragFirst(page);
     await stored(page, 1);
     const cage = await debug(page, 'cagePositions');
-    await drop();
-    // (the name was already the current one: done once the notice says so)
-    await page.waitForFunction(() => /^Your edits of my-blob\.obj are back/.test(document.querySelector('[data-testid="notice"]').textContent) &&
-                                     window.mrvolDebug.ready());
-    assert.equal(await undoSteps(page), 1);
-    const back = await debug(page, 'cagePositions');
-    assert.ok(back.every((x, i) => Math.abs(x - cage[i]) < 1e-9 * (1 + Math.abs(x))), 'the edited shape is back');
-    assert.match(await notice(page), /^Your edits of my-blob\.obj are back/);
+    await dropAgain(1);
+    assert.ok(sameShape(await debug(page, 'cagePositions'), cage), 'the edited shape is back');
+    // more edits, each with the file dropped again at once (its save still waiting): back all the same,
+    // and the fresh copy's first save did not write over them; the last with the store's worker busy
+    // (as while it writes a big file), so the edit's save is answered only after the file is read again
+    const storeWorker = page.workers().find((w) => /store-worker/.test(w.url()));
+    assert.ok(storeWorker, page.workers().map((w) => w.url()).join(' | '));
+    for (let steps = 2; steps <= 4; steps++) {
+      const { index } = (await visibleHandles(page))[0];
+      await dragHandle(page, index, steps % 2 ? 25 : -25, 15, { steps: 3 });
+      const edited = await debug(page, 'cagePositions');
+      if (steps === 4) await storeWorker.evaluate(() => { setTimeout(() => { for (const end = Date.now() + 1500; Date.now() < end;); }); });
+      await dropAgain(steps);
+      assert.ok(sameShape(await debug(page, 'cagePositions'), edited), `the shape of edit ${steps} is back`);
+    }
+    await stored(page, 4);
+    assert.deepEqual(page.problems, []);
     await page.close();
   });
 
