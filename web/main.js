@@ -484,6 +484,15 @@ function followSessionInView(session) {
     if (detail.reason === 'undo' || detail.reason === 'redo') syncSettings();
   });
   session.addEventListener('error', ({ detail }) => showError(detail.message));
+  // The undo history keeps its last steps: said once per model when it first lets one go.
+  let historyFullSaid = false;
+  session.addEventListener('model', () => { historyFullSaid = false; });
+  session.addEventListener('history-full', ({ detail }) => {
+    if (historyFullSaid) return;
+    historyFullSaid = true;
+    notice(`Undo keeps the last ${detail.limit} steps: from now on the oldest edit of ${app.model?.name ?? 'this model'} ` +
+           'cannot be undone when a new one is made (the shape keeps it).');
+  });
   session.addEventListener('change', (event) => {
     if (event.detail.reason !== 'step' || !session.dragging) checkSelfIntersection(event);
   });

@@ -97,4 +97,25 @@ describe('web editor: undo and redo over everything', { timeout: 300_000 }, () =
     await page.keyboard.press('Control+z');
     assert.equal(await debug('referenceVolume'), reference);
   });
+
+  test('a full history says so once: the 201st step lets the oldest go, undo stops at the oldest kept', { timeout: 180_000 }, async () => {
+    const noticeText = () => page.locator('[data-testid="notice"]').textContent();
+    await page.evaluate(() => { document.querySelector('[data-testid="notice"]').textContent = ''; });
+    const canvas = page.locator('#view canvas');
+    await canvas.focus();
+    await page.keyboard.press('Escape');
+    await page.keyboard.press('Tab'); // handle 0, nudged by the arrow keys: one step each
+    let { undo } = await debug('historySize');
+    const keys = ['ArrowLeft', 'ArrowUp', 'ArrowRight', 'ArrowDown'];
+    for (let k = 0; undo < 200; k++, undo++) await page.keyboard.press(keys[k % 4]);
+    assert.deepEqual(await debug('historySize'), { undo: 200, redo: 0 });
+    assert.doesNotMatch(await noticeText(), /Undo keeps/, 'not yet: nothing let go');
+    await page.keyboard.press('ArrowLeft');
+    assert.deepEqual(await debug('historySize'), { undo: 200, redo: 0 });
+    assert.match(await noticeText(), /^Undo keeps the last 200 steps: from now on the oldest edit of spiky-ball cannot be undone/);
+    await page.evaluate(() => { document.querySelector('[data-testid="notice"]').textContent = ''; });
+    await page.keyboard.press('ArrowUp');
+    assert.equal(await noticeText(), '', 'said once');
+    assert.ok((await readouts(page)).error <= 1e-5, 'the volume kept');
+  });
 });
