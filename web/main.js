@@ -433,8 +433,11 @@ async function openModel(source, restore = null) {
     if (generation !== app.loadGeneration) return false;
     opened = openModelText({ name: source.name, kind: source.kind, text, copy: source.copy }, restore);
   }
+  // (or a fresh copy of its own beside them, the stored edits left as they are)
   if (opened && restoredSteps > 0 && app.session.history.size.undo + app.session.history.size.redo > 0)
-    notice(`Your edits of ${source.name} are back (${restoredSteps} step${restoredSteps === 1 ? '' : 's'} of undo history); "reset (forget edits)" starts over.`);
+    notice(`Your edits of ${source.name} are back (${restoredSteps} step${restoredSteps === 1 ? '' : 's'} of undo history); "reset (forget edits)" starts over.`,
+           { action: { label: 'open a fresh copy instead', testid: 'open-fresh-copy',
+                       run: () => openModel({ ...source, copy: `fresh copy, ${new Date().toLocaleTimeString()}` }) } });
   if (opened) {
     const url = new URL(location.href);
     // (a copy is not the sample's own session: a reload finds it as this tab's, not by the sample's name)

@@ -32,9 +32,26 @@ export function errorText() {
  * view when the panel is scrolled away from it (a phone's sheet showed the share link's answer
  * 500-1000 px above what was on screen).
  */
-export function notice(message, { reveal = false } = {}) {
-  $('notice').textContent = message ?? '';
-  if (reveal && message) $('notice').scrollIntoView({ block: 'nearest', inline: 'nearest' });
+/**
+ * The notice line: `message`, and with `action` ({ label, run, testid }) a link-like button after it
+ * that runs it (once: the notice is cleared first).
+ */
+export function notice(message, { reveal = false, action = null } = {}) {
+  const box = $('notice');
+  box.textContent = message ?? '';
+  if (message && action) {
+    const button = document.createElement('button');
+    button.type = 'button';
+    button.className = 'notice-action';
+    button.textContent = action.label;
+    if (action.testid) button.dataset.testid = action.testid;
+    button.addEventListener('click', () => {
+      box.textContent = '';
+      action.run();
+    });
+    box.append(' ', button);
+  }
+  if (reveal && message) box.scrollIntoView({ block: 'nearest', inline: 'nearest' });
 }
 
 export function noticeText() {

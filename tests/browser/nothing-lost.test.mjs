@@ -67,12 +67,26 @@ describe('nothing lost: stored edits, tabs, share links, storage, remesh, keys',
     await openSample(page, 'torus');
     await openSample(page, 'spiky-ball');
     assert.equal(await undoSteps(page), 1, 'the edit and its undo step are back');
-    assert.match(await notice(page), /^Your edits of spiky-ball are back \(1 step of undo history\); "reset \(forget edits\)" starts over\.$/);
+    assert.match(await notice(page), /^Your edits of spiky-ball are back \(1 step of undo history\); "reset \(forget edits\)" starts over\. open a fresh copy instead$/);
     // a second edit, and another model at once (its save still waiting): stored all the same
     await dragFirst(page, -25, 15);
     await openSample(page, 'torus');
     await openSample(page, 'spiky-ball');
     assert.equal(await undoSteps(page), 2, 'the edit made just before switching is kept');
+    // "open a fresh copy instead": the sample as it comes, in a record of its own; its own edits stay
+    const edited = await debug(page, 'cagePositions');
+    await page.locator('[data-testid="open-fresh-copy"]').click();
+    await page.waitForFunction(() => window.mrvolDebug.ready() && window.mrvolDebug.historySize().undo === 0 &&
+                                     /#fresh copy/.test(window.mrvolDebug.storedSessionId()));
+    assert.notDeepEqual(await debug(page, 'cagePositions'), edited, 'the shape as the sample comes');
+    assert.equal(new URL(page.url()).searchParams.get('model'), null, 'a reload does not take the copy for the sample');
+    await dragFirst(page, 15, 15);
+    await stored(page, 1);
+    await page.waitForFunction(() => [...document.querySelectorAll('[data-testid="recent-item"]')].some((b) => /^spiky-ball \(fresh copy, /.test(b.textContent)));
+    await openSample(page, 'torus');
+    await openSample(page, 'spiky-ball');
+    assert.equal(await undoSteps(page), 2, 'the sample\'s own edits as they were');
+    assert.ok((await debug(page, 'cagePositions')).every((x, i) => Math.abs(x - edited[i]) < 1e-9 * (1 + Math.abs(x))));
     assert.deepEqual(page.problems, []);
     await page.close();
   });
