@@ -496,6 +496,8 @@ const COMMANDS = {
       baseVertexIndices: Array.from(i.baseVertexIndices), closed: i.closed, boundaryEdges: i.boundaryEdges,
       genus: i.genus, volume: i.volume, semiRegular: i.levels > 0, polygons: mesh.polygons,
       polygonTriangles: mesh.polygonTriangles,
+      // (an OBJ whose faces refer to vt / vn lines it does not have: those attributes are not read)
+      ...(mesh.dropped ? { leftOut: mesh.dropped } : {}),
       // An open mesh whose vertices repeat positions: a closed one split by its exporter (three.js's
       // OBJExporter writes a vertex per face corner), which --repair welds.
       ...(i.closed ? {} : { duplicatePositions: duplicatePositions(mesh.positions) }),
@@ -511,6 +513,7 @@ const COMMANDS = {
       `vertices       ${r.vertices}`, `faces          ${r.faces}`, `levels         ${r.levels}`,
       `semi-regular   ${r.semiRegular ? 'yes' : notSemiRegular(r)}`,
       ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
+      ...(r.leftOut ? [`left out       ${r.leftOut}`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
       ...(r.duplicatePositions > 0 ? [`duplicates     ${r.duplicatePositions} vertices at the position of another (split by the ` +
         `exporter: mrvol remesh ${path} --repair -o OUT.obj welds them)`] : []),

@@ -684,7 +684,8 @@ export function wrapModule(module) {
      * openMesh use to name the line of a vertex or face in their errors; polygons (how many faces
      * had more than 3 corners) and polygonTriangles; and when the file has them texCoords (2 per vt),
      * normals (3 per vn), colors (3 per vertex), cornerTexCoords / cornerNormals (per triangle
-     * corner, 0xffffffff where none).
+     * corner, 0xffffffff where none); dropped: what was left out, in words, when face corners
+     * refer to vt or vn lines the file does not have (the mesh is read, those attributes not).
      */
     readObj(input) {
       const bytes = objBytes(input, 'readObj');

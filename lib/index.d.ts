@@ -31,6 +31,8 @@ export interface ObjMesh extends Mesh {
   /** Per triangle corner, the vt / vn index (0xffffffff: none), when faces refer to them. */
   cornerTexCoords?: Uint32Array;
   cornerNormals?: Uint32Array;
+  /** What was left out, in words, when face corners refer to vt / vn lines the file does not have (those attributes dropped; the mesh read). */
+  dropped?: string;
 }
 
 /** The wavelet scheme's name. */

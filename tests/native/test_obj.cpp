@@ -173,6 +173,15 @@ TEST(ObjAttributes, ReferencesToNoTexCoordAreDroppedNotRefused) {
   EXPECT_EQ(m.faceCount(), 1u);
   EXPECT_TRUE(extras.cornerTexCoords.empty());  // 7 is beyond the one vt line
   EXPECT_EQ(extras.texCoords.size(), 2u);
+  EXPECT_EQ(extras.dropped, "texture coordinates left out: face corners refer to vt 7, and the file has 1 vt line");
+  // both, said in one sentence; nothing said when nothing is left out
+  ObjExtras both;
+  readObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nvn 0 0 1\nf 1/2/3 2/1/1 3/1/1\n", nullptr, &both);
+  EXPECT_EQ(both.dropped, "texture coordinates left out: face corners refer to vt 2, and the file has 1 vt line; "
+                          "normals left out: face corners refer to vn 3, and the file has 2 vn lines");
+  ObjExtras none;
+  readObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", nullptr, &none);
+  EXPECT_EQ(none.dropped, "");
   // Colours on some vertices only: none kept.
   readObj("v 0 0 0 1 1 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", nullptr, &extras);
   EXPECT_TRUE(extras.colors.empty());

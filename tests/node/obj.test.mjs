@@ -54,6 +54,28 @@ test('readObj: a cube of quads (every face form, CRLF, colours) is triangulated 
   }
 });
 
+test('readObj: faces referring to vt / vn lines the file lacks: the mesh read, those attributes left out and said (dropped)', () => {
+  const text = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvn 0 0 1\nf 1/1/1 3/1/1 2/1/1\nf 1/9/1 2/1/1 4/1/1\nf 1 4 3\nf 2 3 4\n';
+  for (const input of [text, new TextEncoder().encode(text)]) {
+    const mesh = mrvol.readObj(input);
+    assert.equal(mesh.faces.length, 12);
+    assert.equal(mesh.cornerTexCoords, undefined);
+    assert.equal(mesh.cornerNormals.length, 12, 'the normals are consistent: kept');
+    assert.equal(mesh.dropped, 'texture coordinates left out: face corners refer to vt 9, and the file has 1 vt line');
+  }
+  // the chunked reader (a file over one chunk) says the same
+  const reader = mrvol.createObjReader();
+  reader.push(new TextEncoder().encode(text));
+  assert.equal(reader.finish().dropped, 'texture coordinates left out: face corners refer to vt 9, and the file has 1 vt line');
+  assert.equal(mrvol.readObj(CUBE).dropped, undefined);
+  // mrvol info names it
+  writeFileSync(file('bad-vt.obj'), text);
+  const info = mrvolCli('info', file('bad-vt.obj'));
+  assert.equal(info.status, 0, info.stderr);
+  assert.equal(json(mrvolCli('info', file('bad-vt.obj'), '--json')).leftOut, mrvol.readObj(text).dropped);
+  assert.match(info.stdout, /^left out {7}texture coordinates left out: face corners refer to vt 9, and the file has 1 vt line$/m);
+});
+
 test('readObj: hostile polygons fail with their line, as MrvolError', () => {
   const square = 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n';
   throwsMrvol(() => mrvol.readObj(square + 'f 1 2\n'), 'line 5: face has 2 vertices, a triangle needs 3');

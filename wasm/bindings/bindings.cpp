@@ -115,6 +115,7 @@ val js_readObj(val bytes) {
     if (!extras.colors.empty()) out.set("colors", toTyped(extras.colors));
     if (!extras.cornerTexCoords.empty()) out.set("cornerTexCoords", toTyped(extras.cornerTexCoords));
     if (!extras.cornerNormals.empty()) out.set("cornerNormals", toTyped(extras.cornerNormals));
+    if (!extras.dropped.empty()) out.set("dropped", extras.dropped);
     return out;
   });
 }

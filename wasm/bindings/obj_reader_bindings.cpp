@@ -71,6 +71,7 @@ class JsObjReader {
       if (!extras.colors.empty()) out.set("colors", moveToTyped(extras.colors));
       if (!extras.cornerTexCoords.empty()) out.set("cornerTexCoords", moveToTyped(extras.cornerTexCoords));
       if (!extras.cornerNormals.empty()) out.set("cornerNormals", moveToTyped(extras.cornerNormals));
+      if (!extras.dropped.empty()) out.set("dropped", extras.dropped);
       return out;
     });
   }

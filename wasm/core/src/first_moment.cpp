@@ -1,8 +1,10 @@
 // The first moments of the enclosed solid (FirstMoment, volume_function.h).
 #include <algorithm>
+#include <array>
 #include <string>
 
 #include "mrvol/error.h"
+#include "mrvol/thread_pool.h"
 #include "mrvol/vector3.h"
 #include "mrvol/volume_function.h"
 
@@ -37,6 +39,32 @@ double FirstMoment::value(const double* p, double* grad) const {
     grad[ia + k] += e, grad[ib + k] += e, grad[ic + k] += e;
   }
   return sum;
+}
+
+double FirstMoment::volumeAndMoments(const std::vector<uint32_t>& faces, const double* p, const double centre[3],
+                                     double moments[3]) {
+  // Per triangle det(a, b, c), and det (a_k + b_k + c_k) per axis: M_k - q_k V = S_k / 24 - q_k D / 6.
+  constexpr size_t kTrianglesPerBlock = size_t(1) << 15;
+  const size_t triangles = faces.size() / 3, blocks = (triangles + kTrianglesPerBlock - 1) / kTrianglesPerBlock;
+  std::vector<std::array<double, 4>> partial(blocks);
+  parallelFor(0, blocks, 1, [&](size_t first, size_t end) {
+    for (size_t block = first; block < end; ++block) {
+      double d = 0, s0 = 0, s1 = 0, s2 = 0, bc[3];
+      const size_t last = 3 * std::min(triangles, (block + 1) * kTrianglesPerBlock);
+      for (size_t f = 3 * block * kTrianglesPerBlock; f < last; f += 3) {
+        const double *a = p + 3 * size_t(faces[f]), *b = p + 3 * size_t(faces[f + 1]), *c = p + 3 * size_t(faces[f + 2]);
+        cross(b, c, bc);
+        const double det = dot(a, bc);
+        d += det, s0 += det * (a[0] + b[0] + c[0]), s1 += det * (a[1] + b[1] + c[1]), s2 += det * (a[2] + b[2] + c[2]);
+      }
+      partial[block] = {d, s0, s1, s2};
+    }
+  });
+  double sum[4] = {0, 0, 0, 0};
+  for (const auto& block : partial)
+    for (int k = 0; k < 4; ++k) sum[k] += block[k];
+  for (int k = 0; k < 3; ++k) moments[k] = sum[k + 1] / 24.0 - centre[k] * sum[0] / 6.0;
+  return sum[0] / 6.0;
 }
 
 }  // namespace mrvol

@@ -661,12 +661,20 @@ struct ObjReader::Parser {
     }
   }
   if (extras) {
-    // References beyond the file's vt / vn lines: the attributes are inconsistent, drop them.
-    auto outside = [](const std::vector<uint32_t>& refs, size_t count) {
-      return std::any_of(refs.begin(), refs.end(), [&](uint32_t r) { return r != kNoIndex && r >= count; });
+    // References beyond the file's vt / vn lines: the attributes are inconsistent, drop them (and say so).
+    auto dropOutside = [&](std::vector<uint32_t>& refs, size_t count, const char* what, const char* statement) {
+      uint32_t largest = 0;
+      bool outside = false;
+      for (uint32_t r : refs)
+        if (r != kNoIndex && r >= count) outside = true, largest = std::max(largest, r);
+      if (!outside) return;
+      refs.clear();
+      extras->dropped += std::string(extras->dropped.empty() ? "" : "; ") + what + " left out: face corners refer to " + statement +
+                         " " + std::to_string(size_t(largest) + 1) + ", and the file has " + std::to_string(count) + " " + statement +
+                         (count == 1 ? " line" : " lines");
     };
-    if (outside(cornerTex, vtCount)) cornerTex.clear();
-    if (outside(cornerNormal, vnCount)) cornerNormal.clear();
+    dropOutside(cornerTex, vtCount, "texture coordinates", "vt");
+    dropOutside(cornerNormal, vnCount, "normals", "vn");
     extras->polygons = polygons.size();
     extras->polygonTriangles = 0;
     for (const PendingPolygon& polygon : polygons) extras->polygonTriangles += polygon.cornerCount - 2;

@@ -43,6 +43,11 @@ double VolumeEditor::volume() const {
   return fineVolume_.value(session_.fine.of(session_.x).data(), nullptr);
 }
 
+double VolumeEditor::meshMoments(double moments[3]) const {
+  const double centre[3] = {moments_[0]->centre(), moments_[1]->centre(), moments_[2]->centre()};
+  return FirstMoment::volumeAndMoments(hierarchy_->fineFaces(), session_.fine.of(session_.x).data(), centre, moments);
+}
+
 const VolumeFunction& VolumeEditor::surfaceVolume() const {
   if (limitVolume_) return *limitVolume_;
   return fineVolume_;

@@ -110,7 +110,8 @@ class CageEditor {
   virtual bool rowIsVolume() const { return true; }
   // The relative change a move of the cage made, for the sub-step count.
   double rawChange(double volumeTarget) const;
-  double meshMoments(double moments[3]) const;  // the mesh volume, and its first moments about the moments' centre
+  // The mesh volume, and its first moments about the moments' centre (a pass of each by default).
+  virtual double meshMoments(double moments[3]) const;
   double momentChange() const;                  // the moments' largest relative deviation now
   // The report's error and whatever else the editor keeps (part volumes, centres of mass).
   virtual void finishReport(EditReport& report) const;

@@ -39,6 +39,9 @@ struct ObjExtras {
   size_t polygons = 0, polygonTriangles = 0;
   std::vector<double> texCoords, normals, colors;
   std::vector<uint32_t> cornerTexCoords, cornerNormals;
+  // What was left out, in words (empty: nothing): face corners that refer to vt or vn lines the
+  // file does not have make those attributes inconsistent, so they are dropped (the mesh is read).
+  std::string dropped;
 };
 
 // Reads OBJ text (bytes; UTF-8 or ASCII): `v x y z [w]` and `v x y z r g b`, `vt`, `vn`, and `f`

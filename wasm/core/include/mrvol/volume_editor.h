@@ -61,6 +61,7 @@ class VolumeEditor final : public CageEditor {
 
  private:
   const VolumeFunction& meshVolume() const override { return fineVolume_; }
+  double meshMoments(double moments[3]) const override;  // one pass over the triangles for all four
   void checkCentroidKept() const override;
   bool needsFineRows() const override { return !parts_.empty() || keepCentroid_; }
   void configureFineRows() override;  // the matrix-free rows for the current parts and free details

@@ -114,6 +114,11 @@ class FirstMoment final : public MomentFunction {
   size_t size() const override { return 3 * (size_t(vertexCount_) + 1); }
   double value(const double* x, double* gradient) const override;
 
+  // The enclosed volume (sum det / 6) and the three first moments about `centre` in one pass over
+  // the triangles, where the volume's pass and three value() calls make four: what a centre of mass
+  // needs. Summed per fixed block of triangles, the blocks in order: the same sums at any thread count.
+  static double volumeAndMoments(const std::vector<uint32_t>& faces, const double* x, const double centre[3], double moments[3]);
+
  private:
   const std::vector<uint32_t>* faces_;
   uint32_t vertexCount_;
