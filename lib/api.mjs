@@ -65,6 +65,18 @@ function surfaceArg(surface) {
   return s;
 }
 
+// The Loop limit surface's volume form takes about this many bytes per triangle at its peak (the
+// 163,842-vertex sphere: 1.1 GB); a form past LIMIT_FORM_MAX_BYTES is refused before it is made
+// (at 655k vertices it ran 40 s into the 4 GB a WebAssembly module can address, then out of memory).
+const LIMIT_FORM_BYTES_PER_TRIANGLE = 3400, LIMIT_FORM_MAX_BYTES = 2.5e9;
+function checkLimitFormSize(triangles) {
+  const bytes = LIMIT_FORM_BYTES_PER_TRIANGLE * triangles;
+  if (bytes > LIMIT_FORM_MAX_BYTES)
+    throw new MrvolError(`the limit surface's volume of ${triangles} triangles needs about ${(bytes / 1e9).toFixed(1)} GB ` +
+                         `(about ${LIMIT_FORM_BYTES_PER_TRIANGLE} bytes a triangle), more than a WebAssembly module can give it ` +
+                         `(up to ${Math.floor(LIMIT_FORM_MAX_BYTES / LIMIT_FORM_BYTES_PER_TRIANGLE)} triangles): keep the mesh's volume, or edit a coarser level of the model`);
+}
+
 // What an editor keeps (editor-args.mjs: the quad editor takes the same).
 const keepArg = (keep) => keepListOf(keep, MrvolError);
 
@@ -379,7 +391,10 @@ export function wrapModule(module) {
       const raw = this.#live();
       this.#info ??= call((r) => r.info(this.#positions), raw);
       const info = { ...this.#info, baseVertexIndices: this.#info.baseVertexIndices.slice() };
-      if (surface === 'limit') info.volume = call((r) => r.limitVolume(this.#positions), this.#live());
+      if (surface === 'limit') {
+        checkLimitFormSize(this.faceCount);
+        info.volume = call((r) => r.limitVolume(this.#positions), this.#live());
+      }
       info.surface = surface;
       return info;
     }
@@ -498,6 +513,7 @@ export function wrapModule(module) {
     computeTheta(options = {}) {
       const storage = options.storage ?? 'cage';
       if (surfaceArg(options.surface) === 'limit') {  // theta^e of the Loop limit surface's volume
+        checkLimitFormSize(this.faceCount);
         const started = globalThis.performance?.now() ?? Date.now();
         const raw = call((r) => r.computeLimitTheta(levelArg(options.level), schemeArgs(options), storage), this.#live());
         return new Theta(raw, (globalThis.performance?.now() ?? Date.now()) - started);
@@ -532,6 +548,7 @@ export function wrapModule(module) {
         throw new MrvolError(`createEditor path must be auto, polynomial or matrix-free (tensor with a theta), got '${path}'`);
       if (path === 'polynomial' && (surface === 'limit' || centroid))
         throw new MrvolError(`the polynomial path sums the mesh's triangles for the volume alone: with ${surface === 'limit' ? "surface 'limit'" : 'the centroid kept'} use 'auto' or 'matrix-free'${surface === 'limit' ? " (or a theta computed with surface 'limit')" : ''}`);
+      if (surface === 'limit') checkLimitFormSize(this.faceCount);
       const raw = call((r) => r.createEditor(levelArg(options.level), scheme, this.#positions), this.#live());
       const editor = new VolumeEditor(raw, this.#live(), scheme);
       this.#editors.add(editor);
@@ -741,7 +758,9 @@ export function wrapModule(module) {
     /** Signed enclosed volume of a valid mesh; surface 'limit': of its Loop limit surface (closed only). */
     volume(mesh, options = {}) {
       checkMesh(mesh);
-      const fn = surfaceArg(options.surface) === 'limit' ? module._limitVolume : module._volume;
+      const limit = surfaceArg(options.surface) === 'limit';
+      if (limit) checkLimitFormSize(mesh.faces.length / 3);
+      const fn = limit ? module._limitVolume : module._volume;
       return call(fn, mesh.positions, mesh.faces, linesOf(mesh));
     },
     /** Validates the mesh and recovers its semi-regular hierarchy (any vertex order). */

@@ -131,6 +131,8 @@ export function installDebugHook(app) {
      * attribute from normals three.js computes from those positions; the vertices the last upload
      * copied; whether drawing again now copies anything (it should not without an edit).
      */
+    /** Whether a new editor's surface buffers still wait for an idle moment (the view draws the shape as it was). */
+    surfacePending: () => Boolean(app.viewer.surfaceLater),
     drawnSurface: () => {
       const geometry = app.viewer.mesh?.geometry;
       if (!geometry || !editor()) return null;

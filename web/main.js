@@ -28,7 +28,7 @@ import { installDebugHook } from './debug-hook.js';
 import { VolumeChart } from './volume-chart.js';
 import { stepMultiplier } from './multiplier.js';
 import { setUpKeyboardHandles } from './keyboard-handles.js';
-import { SelfIntersectionChecker } from './self-intersection.js';
+import { SelfIntersectionChecker, MAX_FACES } from './self-intersection.js';
 import { setUpBalance } from './balance.js';
 import { shadowFaces } from './shadow-caster.js';
 import { shareUrl, sharedState, decodeEdits, projectText, isProject, readProject, SHARE_PARAMS } from './share.js';
@@ -93,7 +93,8 @@ function checkSelfIntersection({ detail } = {}) {
     const { session } = app;
     const warning = document.getElementById('self-intersection');
     if (!session.editor || session.dragging) return;
-    const found = await intersections.check(session.positions(), session.model.faces);
+    // (a mesh over the check's limit is not copied: the positions are asked only when checked)
+    const found = session.model.faces.length / 3 > MAX_FACES ? null : await intersections.check(session.positions(), session.model.faces);
     if (found === undefined) return; // a later check replaced it
     if (opening) crossedAtOpen = !!found?.intersects;
     const triangles = (pair) => `triangles ${pair[0]} and ${pair[1]}`;
@@ -471,7 +472,9 @@ function followSessionInView(session) {
   session.addEventListener('editor', () => {
     app.selection.clear();
     app.viewer.setCage(session.cagePositions(), session.cageEdges());
-    app.viewer.updateMeshFrom(session.editor, { opened: frameNext }); // a model just opened: what setMesh drew
+    // a new editor of the shape the view draws: a model just opened (what setMesh drew), or a level,
+    // scheme or surface change (the shape as it was): a big one's buffers are made when the page is idle
+    app.viewer.updateMeshFrom(session.editor, { opened: true });
     app.freeSet.keepCageMarks();
     app.layers.update();
     if (frameNext) app.viewer.frameAll();
@@ -831,7 +834,7 @@ async function reset() {
   clearSession();
   if (app.model) await app.store?.remove(sessionId(app.model));
   Object.assign(app.settings, DEFAULT_SETTINGS, { model: app.model?.name ?? DEFAULT_MODEL });
-  app.viewer.setFlat(app.settings.flat);
+  app.viewer.setFlat(app.settings.flat, app.session?.editor);
   applyViewLayers();
   if (app.model) await openModel({ kind: app.model.kind, name: app.model.name, text: app.model.kind === 'file' ? app.model.text : undefined, bytes: app.model.bytes });
   app.panel.update();
@@ -866,7 +869,7 @@ const actions = {
   clearPainted: () => { app.freeSet.clearPainted(); saveSoon(); },
   clearParts: () => { app.freeSet.clearParts(); saveSoon(); },
   changeView: () => {
-    app.viewer.setFlat(app.settings.flat);
+    app.viewer.setFlat(app.settings.flat, app.session?.editor);
     applyViewLayers();
     saveSoon();
   },
@@ -1001,7 +1004,7 @@ async function start() {
     (stored.model.kind === 'sample' || typeof stored.model.text === 'string' || stored.model.bytes instanceof Uint8Array);
 
   app.panel = createPanel({ settings: app.settings, samples: sampleModels, actions, learnViews: VIEWS });
-  app.viewer.setFlat(app.settings.flat);
+  app.viewer.setFlat(app.settings.flat, app.session?.editor);
   app.viewer.precompile(); // while the core, the cache and the model load
   // Dismissing the message dismisses what runs under it: a remesh would otherwise open its result later, unseen.
   document.getElementById('error-close').addEventListener('click', () => {

@@ -353,7 +353,8 @@ export class Viewer {
   /**
    * The editor's current surface (its float32 positions and, unless flat, normals, computed in
    * WASM): only the vertices the last edit changed are copied and uploaded (lib/three/surface-upload.mjs).
-   * `opened`: a model just opened (setMesh drew its positions); `unmoved`: nothing moved since the
+   * `opened`: a new editor of the shape drawn (a model just opened: setMesh drew its positions; a
+   * level, scheme or surface change: the shape as it was drawn); `unmoved`: nothing moved since the
    * last call (a free set chosen): see #surfaceWhenIdle.
    */
   updateMeshFrom(editor, { opened = false, unmoved = false } = {}) {
@@ -388,11 +389,22 @@ export class Viewer {
     }, { timeout: 2000 });
   }
 
-  setFlat(flat) {
+  /**
+   * Flat or smooth shading. Smooth: the normals from `editor` (computed in WASM: normalsView) where
+   * it has them, else three.js's computeVertexNormals (167 ms at 655k vertices on the page).
+   */
+  setFlat(flat, editor = null) {
     this.flat = flat;
     this.meshMaterial.flatShading = flat;
     this.meshMaterial.needsUpdate = true;
-    if (!flat && this.mesh) this.mesh.geometry.computeVertexNormals();
+    if (!flat && this.mesh) {
+      if (typeof editor?.normalsView === 'function') {
+        this.surfaceLater = null; // (a new editor's buffers made now: the normals need them)
+        this.updateMeshFrom(editor);
+      } else {
+        this.mesh.geometry.computeVertexNormals();
+      }
+    }
     this.requestRender();
   }
 

@@ -85,6 +85,7 @@ export class EditingSession extends EventTarget {
   #heldAll = null;
   #thetas = new Map(); // `${scheme}/${level}` -> { theta, source }, this model's
   #volume = null;      // the volume of the current shape, once known (null: ask the core)
+  #centroid = null;    // its centre of mass likewise (a pass over the fine mesh)
   #freeSetModes = FREE_SET_MODES;
 
   /**
@@ -208,7 +209,7 @@ export class EditingSession extends EventTarget {
     this.#thetas.clear();
     this.editor?.delete();
     this.editor = null;
-    this.#volume = null;
+    this.#shapeChanged();
     if (this.model && this.#ownsMesh) this.model.mr.delete();
     this.model = null;
     this.thetaSource = null;
@@ -353,8 +354,20 @@ export class EditingSession extends EventTarget {
     this.#emit('change', { reason: 'keep' });
   }
 
-  /** The mesh solid's centre of mass now, and the one kept (the current one when it is not kept). */
-  centroid() { return this.canKeepCentroid ? this.editor.centroid() : null; }
+  #shapeChanged() {
+    this.#volume = null;
+    this.#centroid = null;
+  }
+
+  /**
+   * The mesh solid's centre of mass now (asked once per shape and kept: a pass over the fine mesh),
+   * and the one kept (the current one when it is not kept).
+   */
+  centroid() {
+    if (!this.canKeepCentroid) return null;
+    this.#centroid ??= this.editor.centroid();
+    return this.#centroid.slice();
+  }
   referenceCentroid() { return this.canKeepCentroid ? this.editor.referenceCentroid() : null; }
 
   /**
@@ -399,7 +412,7 @@ export class EditingSession extends EventTarget {
     this.editor?.delete();
     this.editor = editor;
     this.#freeSetModes = this.quad ? quadFreeSetModes(editor) : FREE_SET_MODES;
-    this.#volume = null;
+    this.#shapeChanged();
     this.cageSize = editor.cageSize;
     this.cageVertices = editor.cageVertices();
     this.cageIndex = new Map(Array.from(this.cageVertices, (v, i) => [v, i]));
@@ -522,11 +535,11 @@ export class EditingSession extends EventTarget {
     try {
       report = this.editor.deformCage(target, held, { tolerance: this.tolerance, preserve });
     } catch (error) {
-      this.#volume = null;
+      this.#shapeChanged();
       this.#emit('error', { message: `This edit is not possible: ${error.message}`, error });
       return null;
     }
-    this.#volume = null; // asked once per step (the report's volumeResult may come from the cage polynomial)
+    this.#shapeChanged(); // asked once per step (the report's volumeResult may come from the cage polynomial)
     // ...but a drag's readouts take the step's own (volumeNow)
     if (this.#drag && this.parts.length === 0 && Number.isFinite(report.volumeResult)) this.#drag.volume = report.volumeResult;
     this.lastReport = report;
@@ -605,7 +618,7 @@ export class EditingSession extends EventTarget {
   /** Puts the cage where a snapshot had it (details unchanged: the shape comes back). */
   #restoreCage(cage, reason) {
     this.editor.deformCage(cage, this.#heldAll, { preserve: false });
-    this.#volume = null;
+    this.#shapeChanged();
     this.lastReport = null;
     this.#emit('change', { reason });
   }

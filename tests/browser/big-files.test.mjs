@@ -219,6 +219,8 @@ describe('big models', () => {
     assert.ok(Math.abs(changed.volume - before.volume) <= 1e-12 * Math.abs(before.volume), 'the shape stays');
     assert.deepEqual(changed.history, { undo: before.history.undo + 1, redo: 0 }, 'the level change is one more undo step');
     assert.equal(changed.path, 'polynomial');
+    // the new editor's buffers are made when the page is idle (the view draws the same shape meanwhile)
+    await page.waitForFunction(() => !window.mrvolDebug.surfacePending(), null, { timeout: 30_000 });
     await drawnMatches(`655k at level ${to}`);
     await page.screenshot({ path: join(RESULTS_DIR, 'big-files-655k-phone.png') });
     await page.evaluate(() => document.activeElement?.blur()); // the level select has the keys otherwise
@@ -227,6 +229,7 @@ describe('big models', () => {
       window.mrvolDebug.openStages().what === `editor at level ${from}, loop`, from, { timeout: 540_000 });
     await stagesRanWhere(`editor at level ${from}, loop`, { worker: ['editor made'], page: ['memory taken over (in slices)'] });
     assert.deepEqual(await page.evaluate(() => window.mrvolDebug.historySize()), { undo: before.history.undo, redo: 1 });
+    await page.waitForFunction(() => !window.mrvolDebug.surfacePending(), null, { timeout: 30_000 });
     await drawnMatches(`655k back at level ${from}`);
     await page.setViewportSize({ width: 1280, height: 800 });
   });

@@ -83,6 +83,21 @@ describe('limit volume (API)', () => {
     open.delete();
     assert.ok(mrvol.volume(icosahedron(), { surface: 'limit' }) > 0);
   });
+
+  test('a mesh too big for the limit form is refused at once, in words, before any of it is made', () => {
+    // 1,310,720 triangles (the icosahedron at 8 levels): about 4.5 GB of form (it ran out of memory after 40 s)
+    const big = mrvol.subdivide(icosahedron(), { levels: 8 });
+    const triangles = big.faceCount;
+    assert.equal(triangles, 1310720);
+    const said = new RegExp(`the limit surface's volume of ${triangles} triangles needs about 4\\.5 GB .*keep the mesh's volume`);
+    for (const call of [() => big.createEditor({ level: 0, surface: 'limit' }), () => big.info({ surface: 'limit' }),
+                        () => big.computeTheta({ level: 0, surface: 'limit' }), () => mrvol.volume(big.toMesh(), { surface: 'limit' })])
+      throwsMrvol(call, said);
+    const editor = big.createEditor({ level: 0 });  // the mesh's volume: fine
+    assert.ok(editor.volume() > 0);
+    editor.delete();
+    big.delete();
+  });
 });
 
 describe('limit volume (CLI)', () => {

@@ -150,6 +150,36 @@ test('volumeNow: during a drag the step\'s own volume (no pass over the mesh), t
   session.dispose();
 });
 
+test('the centre of mass is asked of the core once per shape: not again for a free set, a keep toggle or preservation', () => {
+  const { session } = openBall();
+  let asked = 0;
+  const count = (editor) => {
+    const centroid = editor.centroid.bind(editor);
+    editor.centroid = () => (asked++, centroid());
+  };
+  count(session.editor);
+  const first = session.centroid();
+  assert.deepEqual(session.centroid(), first);
+  session.setFreeSet({ mode: 'all' });
+  session.setPreserve(false);
+  session.setPreserve(true);
+  assert.deepEqual(session.centroid(), first);
+  assert.equal(asked, 1);
+  session.moveHandles([3], [0.2, 0, 0]);
+  const moved = session.centroid();
+  assert.equal(asked, 2, 'a new shape: asked again');
+  assert.notDeepEqual(moved, first);
+  session.undo();
+  const near = (a, b) => a.every((x, k) => Math.abs(x - b[k]) < 1e-12);
+  assert.ok(near(session.centroid(), first), 'undo: the first shape\'s centre (to round-off)');
+  assert.equal(asked, 3);
+  const again = session.centroid();
+  session.setKeepCentroid(true); // (the editor keeps it now: the same shape, the same centre)
+  assert.deepEqual(session.centroid(), again);
+  assert.equal(asked, 3);
+  session.dispose();
+});
+
 test('a cancelled drag puts the cage back and records nothing', () => {
   const { session } = openBall();
   const before = session.cagePositions();
