@@ -683,8 +683,15 @@ export class EditingSession extends EventTarget {
       return coarse ? { path: 'polynomial', estimate: null }
         : { path: 'matrix-free', estimate: null, reason: 'not used: a quad mesh edits matrix-free (the bilinear-patch volume of the fine quads)' };
     }
-    return triangleGradientChoice(this.model.mr, { level: this.level, ...this.schemeOptions, surface: this.surface, path: this.path });
+    // asked more than once per editor (the editor's build, the theta source): theta^e's estimate is a
+    // pass over the hierarchy (0.7 s at 655k vertices, level 6), kept per model, level, scheme, surface, path
+    if (this.#choices.model !== this.model.fingerprint) this.#choices = { model: this.model.fingerprint, map: new Map() };
+    const key = `${this.#thetaSlot()}/${this.surface}/${this.path}`;
+    if (!this.#choices.map.has(key))
+      this.#choices.map.set(key, triangleGradientChoice(this.model.mr, { level: this.level, ...this.schemeOptions, surface: this.surface, path: this.path }));
+    return { ...this.#choices.map.get(key) };
   }
+  #choices = { model: null, map: new Map() };
 
   /**
    * The tensor kept for the current level and scheme, or null: { theta, source }, or { theta: null,

@@ -180,6 +180,26 @@ test('the centre of mass is asked of the core once per shape: not again for a fr
   session.dispose();
 });
 
+test('gradientChoice: theta^e\'s estimate asked once per model, level, scheme and surface', () => {
+  const { session } = openBall({ path: 'auto' });
+  let asked = 0;
+  const { mr } = session.model;
+  const estimate = mr.estimateTheta.bind(mr);
+  mr.estimateTheta = (options) => (asked++, estimate(options));
+  session.setLevel(2);  // a fine cage: the estimate decides between the tensor and matrix-free
+  const first = session.gradientChoice();
+  assert.deepEqual(session.gradientChoice(), first);
+  assert.ok(first.estimate, 'an estimate was made');
+  assert.equal(asked, 1, 'once for the editor and the later asks');
+  session.setLevel(1);
+  session.gradientChoice();
+  const afterOne = asked;
+  session.setLevel(2);
+  assert.deepEqual(session.gradientChoice(), first);
+  assert.equal(asked, afterOne, 'level 2 again: kept');
+  session.dispose();
+});
+
 test('a cancelled drag puts the cage back and records nothing', () => {
   const { session } = openBall();
   const before = session.cagePositions();
