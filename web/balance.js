@@ -45,7 +45,7 @@ export function setUpBalance({ session, viewer, onChanged = () => {}, changeSurf
   viewer.scene.add(marker);
 
   let baseline = null, diagonal = 1, pending = false;
-  // What the last centroid() took: a pass over the fine mesh (138 ms at 655k vertices). Costlier than
+  // What the last centroid() took: a pass over the fine mesh (tens of ms at 655k vertices). Costlier than
   // DRAG_BUDGET_MS, it is not asked at every drag step but when the drag ends (a kept centre does
   // not move meanwhile; a free one follows on release).
   let centroidMs = 0, skipped = false;

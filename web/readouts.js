@@ -30,11 +30,8 @@ export function errorText() {
 /**
  * Shows `message` in the readouts. reveal: the answer to a button of the panel, scrolled into the
  * view when the panel is scrolled away from it (a phone's sheet showed the share link's answer
- * 500-1000 px above what was on screen).
- */
-/**
- * The notice line: `message`, and with `action` ({ label, run, testid }) a link-like button after it
- * that runs it (once: the notice is cleared first).
+ * 500-1000 px above what was on screen). action ({ label, run, testid }): a link-like button after
+ * the message that runs it (once: the notice is cleared first).
  */
 export function notice(message, { reveal = false, action = null } = {}) {
   const box = $('notice');
