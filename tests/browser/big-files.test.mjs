@@ -8,6 +8,7 @@ import assert from 'node:assert/strict';
 import { readFile } from 'node:fs/promises';
 import { join } from 'node:path';
 import { createMrvol } from '../../lib/node.mjs';
+import { readProject } from '../../web/share.js';
 import { openApp, visibleHandles, dragHandle, settle, root, RESULTS_DIR } from './harness.mjs';
 
 let browser, page, mrvol;
@@ -195,6 +196,31 @@ describe('big models', () => {
     assert.ok(s.lastCopied.positions > 0);
     await page.screenshot({ path: join(RESULTS_DIR, 'big-files-655k.png') });
     await page.unroute('**/test-files/big.obj');
+
+    // The project file: the dropped file's bytes and the edited positions, made of parts (a 114 MB
+    // JSON; the one string took seconds to build), read back bit for bit; opened again through the
+    // file's worker, the progress said while the JSON is read.
+    const cage = await page.evaluate(() => window.mrvolDebug.cagePositions());
+    const [download] = await Promise.all([page.waitForEvent('download'), page.locator('[data-testid="save-project"]').click()]);
+    const projectPath = await download.path();
+    const project = readProject(await readFile(projectPath, 'utf8'), 'spiky-655k.mrvol.json');
+    assert.equal(project.model.format, 'obj');
+    assert.ok(Buffer.from(project.model.bytes).equals(text), 'the file as dropped');
+    assert.equal(project.positions.length, 3 * vertices);
+    await watchProgress();
+    const chosenAt = await page.evaluate(() => performance.now());
+    // (a path: Playwright takes no buffer over 50 MB)
+    await page.locator('[data-testid="open-file"]').setInputFiles(projectPath);
+    await page.waitForFunction((chosenAt) => {
+      const { what, since, stages } = window.mrvolDebug.openStages();
+      return what === 'opening spiky-655k.obj' && performance.now() - since > chosenAt && window.mrvolDebug.ready() &&
+        stages.some((s) => s.stage === 'session and view set up');
+    }, chosenAt, { timeout: 540_000 });
+    const reopened = await stopProgress();
+    assert.ok(reopened.some((p) => /^Reading the project \S+ \(\d+\.\d MB\)/.test(p.text)), JSON.stringify(reopened));
+    await stagesRanWhere('opening spiky-655k.obj', { worker: ['file parsed', 'editor made'] });
+    const again = await page.evaluate(() => window.mrvolDebug.cagePositions());
+    assert.ok(again.every((x, i) => Math.abs(x - cage[i]) <= 1e-12), 'the edited cage back (from the fine positions, to round-off)');
 
     // A level change (to 1, or to 0 when the earlier test left level 1): that editor made in a
     // worker and swapped in; shape, reference and undo history kept. Undo: the first level's, the same way.
