@@ -45,11 +45,11 @@ export function base64UrlBytes(bytes) {
     }
   }
   if (n > whole) {
-    let o = 4 * groups;
+    const o = 4 * groups;
     const v = bytes[whole] << 16 | (n - whole === 2 ? bytes[whole + 1] << 8 : 0);
-    out[o++] = CODE_OF[v >>> 18];
-    out[o++] = CODE_OF[v >>> 12 & 63];
-    if (n - whole === 2) out[o++] = CODE_OF[v >>> 6 & 63];
+    out[o] = CODE_OF[v >>> 18];
+    out[o + 1] = CODE_OF[v >>> 12 & 63];
+    if (n - whole === 2) out[o + 2] = CODE_OF[v >>> 6 & 63];
   }
   return out;
 }
