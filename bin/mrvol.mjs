@@ -382,19 +382,6 @@ async function openMultires(mrvol, path, mesh = null, { quadNote = false } = {})
 /** Whether every face of the file was a quad (each split into 2 of the mesh's `faces` triangles). */
 const isAllQuads = (mesh, faces) => mesh.polygons > 0 && 2 * mesh.polygons === mesh.polygonTriangles && mesh.polygonTriangles === faces;
 
-/** How many vertices sit at exactly the position of an earlier one (an exporter's split vertices). */
-function duplicatePositions(positions) {
-  const n = positions.length / 3, order = new Uint32Array(n).map((_, i) => i);
-  const p = positions;
-  order.sort((a, b) => p[3 * a] - p[3 * b] || p[3 * a + 1] - p[3 * b + 1] || p[3 * a + 2] - p[3 * b + 2]);
-  let duplicates = 0;
-  for (let k = 1; k < n; k++) {
-    const a = order[k - 1], b = order[k];
-    if (p[3 * a] === p[3 * b] && p[3 * a + 1] === p[3 * b + 1] && p[3 * a + 2] === p[3 * b + 2]) duplicates++;
-  }
-  return duplicates;
-}
-
 // theta^e with a progress bar.
 function computeTheta(mr, options) {
   const bar = progress(`theta^${options.level} (${options.scheme} scheme)`);
@@ -498,9 +485,9 @@ const COMMANDS = {
       polygonTriangles: mesh.polygonTriangles,
       // (an OBJ whose faces refer to vt / vn lines it does not have: those attributes are not read)
       ...(mesh.dropped ? { leftOut: mesh.dropped } : {}),
-      // An open mesh whose vertices repeat positions: a closed one split by its exporter (three.js's
-      // OBJExporter writes a vertex per face corner), which --repair welds.
-      ...(i.closed ? {} : { duplicatePositions: duplicatePositions(mesh.positions) }),
+      // Vertices at one position, welded on reading: a mesh split by its exporter (three.js's
+      // OBJExporter writes a vertex per face corner; every STL does).
+      ...(mesh.welded > 0 ? { welded: mesh.welded } : {}),
     };
     // A file of quads only, without 1-to-4 splits of its triangles: its quads may have Catmull-Clark
     // levels (--scheme catmull-clark), which the hint names rather than the remesher.
@@ -515,8 +502,7 @@ const COMMANDS = {
       ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       ...(r.leftOut ? [`left out       ${r.leftOut}`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
-      ...(r.duplicatePositions > 0 ? [`duplicates     ${r.duplicatePositions} vertices at the position of another (split by the ` +
-        `exporter: mrvol remesh ${path} --repair -o OUT.obj welds them)`] : []),
+      ...(r.welded > 0 ? [`welded         ${r.welded} vertices at the position of another (split by the exporter)`] : []),
       // (A genus is a closed surface's: an open one's Euler count says nothing the boundary does not.)
       `genus          ${r.closed ? r.genus : '- (not a closed surface)'}`,
       `volume         ${r.volume}${r.closed ? '' : ' (open: the cones from the origin to its faces)'}`].join('\n'));

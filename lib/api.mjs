@@ -696,7 +696,8 @@ export function wrapModule(module) {
     ...quad,
     /**
      * Parses an OBJ file (a Uint8Array of its bytes, e.g. a Node Buffer, or a string) into
-     * { positions: Float64Array, faces: Uint32Array } (0-based, polygons triangulated), with
+     * { positions: Float64Array, faces: Uint32Array } (0-based, polygons triangulated; vertices at
+     * exactly one position welded into one, `welded` of them, as an exporter's split ones), with
      * lines: { vertex, face } (Uint32Array: the OBJ line of each), which validate, volume and
      * openMesh use to name the line of a vertex or face in their errors; polygons (how many faces
      * had more than 3 corners) and polygonTriangles; and when the file has them texCoords (2 per vt),
@@ -715,7 +716,8 @@ export function wrapModule(module) {
     createObjReader,
     /**
      * The original OBJ file (Uint8Array or string, as given to readObj) with its vertex positions
-     * replaced (Float64Array, 3 per vertex, the same count): every other line and byte kept
+     * replaced (Float64Array, 3 per vertex as readObj read them: a welded vertex's position written
+     * into each of its v lines; or 3 per v line): every other line and byte kept
      * (vt, vn, faces, groups, materials, comments, colours). Returns the same type as `original`.
      */
     writeObjLike(original, positions) {

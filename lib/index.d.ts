@@ -19,6 +19,12 @@ export interface Mesh {
 /** What readObj returns: the mesh and what else the OBJ file carried. */
 export interface ObjMesh extends Mesh {
   lines: { vertex: Uint32Array; face: Uint32Array };
+  /**
+   * Vertices welded away: v lines at exactly the position of an earlier one (an exporter's split
+   * vertices, e.g. three.js's OBJExporter) are one vertex, as in STL and glTF files. `lines.vertex`
+   * and `colors` are each vertex's first v line's; writeObjLike writes every v line back.
+   */
+  welded: number;
   /** Faces with more than 3 corners (triangulated: a fan if convex, else ear clipping), and their triangles. */
   polygons: number;
   polygonTriangles: number;

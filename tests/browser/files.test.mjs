@@ -162,6 +162,30 @@ describe('mesh files in the app', { timeout: 600_000 }, () => {
     assert.notDeepEqual(Array.from(exported.positions), Array.from(original.positions), 'the edit is in the file');
   });
 
+  // three.js's OBJExporter writes a non-indexed geometry with a v line per triangle corner: the app
+  // welds them as it reads, so the icosphere opens as the semi-regular mesh it is (no remeshing), and
+  // its export keeps every line, each v line of a welded vertex moved alike.
+  test('an OBJ from three.js\'s OBJExporter (a vertex per corner) opens as it is and exports line for line', async () => {
+    const THREE = await import('three');
+    const { OBJExporter } = await import('three/examples/jsm/exporters/OBJExporter.js');
+    const text = new OBJExporter().parse(new THREE.Mesh(new THREE.IcosahedronGeometry(1, 3)));
+    await openFile('icosphere-three.obj', Buffer.from(text));
+    assert.equal(await page.evaluate(() => window.mrvolDebug.modelName()), 'icosphere-three.obj', 'opened under its own name, not remeshed');
+    assert.equal((await page.evaluate(() => window.mrvolDebug.modelFile())).vertices, 162);
+    const { level } = await page.evaluate(() => window.mrvolDebug.settings());
+    assert.equal(await page.evaluate(() => window.mrvolDebug.cageSize()), [12, 42, 162][level], `two levels over the icosahedron (level ${level})`);
+    const { index } = (await visibleHandles(page))[0];
+    await dragHandle(page, index, 25, -25);
+    const out = (await download('export')).bytes.toString('utf8');
+    const before = text.split('\n'), after = out.split('\n');
+    assert.equal(after.length, before.length);
+    assert.ok(before.every((line, i) => line.startsWith('v ') || after[i] === line), 'every other line kept');
+    const exported = mrvol.readObj(out);
+    assert.equal(exported.welded, 798, 'the v lines of each vertex moved alike');
+    assert.ok(exported.positions.some((x, i) => x !== mrvol.readObj(text).positions[i]), 'the edit is in the file');
+    assert.deepEqual(page.problems, []);
+  });
+
   test('a file that is not semi-regular (an STL sphere) is remeshed in a worker by itself, under its own name', async () => {
     await openFile('globe.stl', Buffer.from(uvSphereStl()));
     await page.locator('[data-testid="remesh-offer"]').waitFor({ state: 'visible' });

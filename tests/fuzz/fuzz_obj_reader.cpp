@@ -90,6 +90,34 @@ void run(std::string_view text) {
   // With its own positions, writeObjLike gives the file back byte for byte (every coordinate
   // reads back as the value it holds, so none is respelled).
   check(mrvol::writeObjLike(text, mesh.positions.data(), mesh.vertexCount()) == text);
+  // Welded as the readers users call weld it (weldObjVertices): each face's corners stay distinct,
+  // lines and colours one per vertex, and writeObjLike of the welded positions gives the file back
+  // too (each v line gets its own position: those of a vertex are equal).
+  {
+    mrvol::TriangleMesh welded = mesh;
+    mrvol::SourceLines weldedLines = lines;
+    mrvol::ObjExtras weldedExtras = extras;
+    std::vector<uint32_t> first;
+    const size_t merged = mrvol::weldObjVertices(welded, &weldedLines, &weldedExtras, &first);
+    check(welded.vertexCount() + merged == mesh.vertexCount() && welded.faces.size() == mesh.faces.size());
+    check(weldedLines.vertex.size() == welded.vertexCount() && first.size() == welded.vertexCount());
+    check(weldedExtras.colors.empty() || weldedExtras.colors.size() == welded.positions.size());
+    for (size_t v = 0; v < first.size(); ++v) {
+      check(first[v] < mesh.vertexCount() && weldedLines.vertex[v] == lines.vertex[first[v]]);
+      for (int k = 0; k < 3; ++k) check(welded.positions[3 * v + k] == mesh.positions[3 * size_t(first[v]) + k]);
+    }
+    for (size_t i = 0; i < welded.faces.size(); ++i) check(welded.faces[i] < welded.vertexCount());
+    if (merged > 0) {
+      for (size_t f = 0; f < welded.faceCount(); ++f) {
+        const uint32_t* c = &welded.faces[3 * f];
+        check(c[0] != c[1] && c[1] != c[2] && c[0] != c[2]);
+      }
+      std::string back = mrvol::writeObjLike(text, welded.positions.data(), welded.vertexCount());
+      // -0 and +0 weld: the first's sign is written into the others' lines (the only respelling).
+      mrvol::TriangleMesh reread = mrvol::readObj(back);
+      check(reread.faces == mesh.faces && reread.positions == mesh.positions);
+    }
+  }
   // What readObj returns is well formed even when it is no valid mesh.
   check(mesh.positions.size() % 3 == 0 && mesh.faces.size() % 3 == 0 && !mesh.faces.empty());
   for (uint32_t i : mesh.faces) check(i < mesh.vertexCount());

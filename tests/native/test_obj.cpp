@@ -210,8 +210,68 @@ TEST(WriteObjLike, KeepsEveryOtherLineAndUnchangedSpellings) {
     writeObjLike(original, moved.data(), 3);
     FAIL() << "a count mismatch was accepted";
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "the original OBJ has more vertices than the 3 positions given");
+    EXPECT_STREQ(e.what(), "the original OBJ has 4 vertices but 3 positions were given");
   }
+}
+
+// An exporter's split vertices (three.js's OBJExporter: three v lines per triangle, with vt / vn):
+// welded by position, lines and colours kept from each vertex's first v line; writeObjLike writes
+// every v line of a welded vertex with its position, every other byte as it was.
+TEST(WeldObjVertices, WeldsSplitVerticesAndWriteObjLikeMapsThemBack) {
+  const std::string original =
+      "# two triangles, each with its own three vertices\n"
+      "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\n"
+      "v 1 0 0 0.5 0.5 0.5\nv 1 1 0 1 1 1\nv 0 1 0 0 0 0\n"
+      "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+      "f 1/1 2/2 3/3\nf 4/2 5/4 6/3\n";
+  SourceLines lines;
+  ObjExtras extras;
+  TriangleMesh m = readObj(original, &lines, &extras);
+  ASSERT_EQ(m.vertexCount(), 6u);
+  std::vector<uint32_t> first;
+  EXPECT_EQ(weldObjVertices(m, &lines, &extras, &first), 2u);
+  EXPECT_EQ(m.positions, (std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0}));
+  EXPECT_EQ(m.faces, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
+  EXPECT_EQ(first, (std::vector<uint32_t>{0, 1, 2, 4}));
+  EXPECT_EQ(lines.vertex, (std::vector<uint32_t>{2, 3, 4, 6}));  // 1-based lines of the first v of each
+  EXPECT_EQ(lines.face, (std::vector<uint32_t>{12, 13}));
+  EXPECT_EQ(extras.colors, (std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(extras.cornerTexCoords, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));  // per corner: unchanged
+
+  // The welded positions moved, written back into the file's six v lines.
+  std::vector<double> moved = m.positions;
+  moved[3] = 2;  // vertex 1 (v lines 2 and 4)
+  const std::string written = writeObjLike(original, moved.data(), 4);
+  EXPECT_EQ(written,
+            "# two triangles, each with its own three vertices\n"
+            "v 0 0 0 1 0 0\nv 2 0 0 0 1 0\nv 0 1 0 0 0 1\n"
+            "v 2 0 0 0.5 0.5 0.5\nv 1 1 0 1 1 1\nv 0 1 0 0 0 0\n"
+            "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+            "f 1/1 2/2 3/3\nf 4/2 5/4 6/3\n");
+  // Six positions (one per v line) still write as before; a count that is neither is refused in words.
+  TriangleMesh asRead = readObj(original);
+  EXPECT_EQ(writeObjLike(original, asRead.positions.data(), 6), original);
+  try {
+    writeObjLike(original, moved.data(), 3);
+    FAIL() << "a count mismatch was accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "the original OBJ has 6 vertices (4 once those at one position are welded) but 3 positions were given");
+  }
+  // A weld that would give a triangle two equal corners is not made: the mesh stays as read, and its
+  // checks name its own problem (every vertex at one point).
+  TriangleMesh point = readObj("v 1 1 1\nv 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\nf 1 4 2\nf 2 4 3\nf 3 4 1\n");
+  const TriangleMesh pointAsRead = point;
+  EXPECT_EQ(weldObjVertices(point, nullptr, nullptr, &first), 0u);
+  EXPECT_EQ(point.faces, pointAsRead.faces);
+  EXPECT_EQ(point.vertexCount(), 4u);
+  EXPECT_EQ(first, (std::vector<uint32_t>{0, 1, 2, 3}));
+  // Nothing at one position: nothing changes (0 welded, first = identity).
+  TriangleMesh tetra = readObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+  const TriangleMesh before = tetra;
+  EXPECT_EQ(weldObjVertices(tetra, nullptr, nullptr, &first), 0u);
+  EXPECT_EQ(tetra.positions, before.positions);
+  EXPECT_EQ(tetra.faces, before.faces);
+  EXPECT_EQ(first, (std::vector<uint32_t>{0, 1, 2, 3}));
 }
 
 // A vertex continued over lines ("v 0 0 \\" then "0"): unchanged, its lines are kept; moved, it is

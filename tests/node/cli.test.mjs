@@ -76,16 +76,15 @@ describe('info', () => {
     assert.match(text.stdout, /^genus\s+0$/m);
   });
 
-  test('an open mesh whose vertices repeat positions (split by its exporter) says so; a stray vertex names the repair', () => {
+  test('a mesh whose vertices repeat positions (split by its exporter) is welded and says so; a stray vertex names the repair', () => {
     // The icosahedron as three.js's OBJExporter writes a non-indexed geometry: three vertices per face.
     const m = icosahedron();
     const positions = Float64Array.from(Array.from(m.faces).flatMap((v) => Array.from(m.positions.subarray(3 * v, 3 * v + 3))));
     writeFileSync(file('split.obj'), mrvol.writeObj({ positions, faces: Uint32Array.from({ length: 60 }, (_, i) => i) }));
     const r = json(mrvolCli('info', '--json', file('split.obj')));
-    assert.deepEqual([r.vertices, r.closed, r.duplicatePositions], [60, false, 48]);
-    assert.match(mrvolCli('info', file('split.obj')).stdout,
-                 /^duplicates\s+48 vertices at the position of another \(split by the exporter: mrvol remesh .*split\.obj --repair -o OUT\.obj welds them\)$/m);
-    assert.equal(json(mrvolCli('info', '--json', file('ico.obj'))).duplicatePositions, undefined, 'a closed mesh: not counted');
+    assert.deepEqual([r.vertices, r.closed, r.genus, r.welded], [12, true, 0, 48]);
+    assert.match(mrvolCli('info', file('split.obj')).stdout, /^welded\s+48 vertices at the position of another \(split by the exporter\)$/m);
+    assert.equal(json(mrvolCli('info', '--json', file('ico.obj'))).welded, undefined, 'nothing welded: not said');
     writeFileSync(file('stray.obj'), `${mrvol.writeObj(m)}v 5 5 5\n`);
     failsWith(mrvolCli('info', file('stray.obj')), /vertex 12 \(line \d+\) is not used by any face \(mrvol remesh .*stray\.obj --repair -o OUT\.obj mends it\)$/);
   });

@@ -86,7 +86,7 @@ test('readObj: hostile polygons fail with their line, as MrvolError', () => {
   assert.deepEqual(Array.from(mrvol.readObj(square + 'f 1 2 3 1\n').faces), [0, 1, 2]);
   throwsMrvol(() => mrvol.readObj(new Uint8Array([...new TextEncoder().encode(square), 0xef, 0xbb, 0xbf, 0x66, 0x20, 0x31, 0x20, 0x32, 0x20, 0x33])),
               "line 5: unknown statement '???f': this does not look like an OBJ file");
-  throwsMrvol(() => mrvol.writeObjLike(square + 'f 1 2 3 4\n', new Float64Array(9)), 'the original OBJ has more vertices than the 3 positions given');
+  throwsMrvol(() => mrvol.writeObjLike(square + 'f 1 2 3 4\n', new Float64Array(9)), 'the original OBJ has 4 vertices but 3 positions were given');
   throwsMrvol(() => mrvol.writeObjLike(square + 'f 1 2 3 4\n', [0, 0, 0]), 'positions must be a Float64Array');
 });
 
@@ -147,4 +147,54 @@ test('mrvol edit writes the original file with the new positions (comments and o
 
 test('a MrvolError, not a crash, for a non-OBJ argument', () => {
   assert.throws(() => mrvol.readObj({}), MrvolError);
+});
+
+// three.js's OBJExporter writes a non-indexed geometry (its polyhedra, for one) with three v lines per
+// triangle, and vt / vn per corner. The vertices are welded on reading, so the icosphere opens as the
+// semi-regular mesh it is (a 4x4 split of each face: two levels); an edit written with writeObjLike
+// keeps every line of the file and moves each v line of a welded vertex alike; the CLI says so.
+test('an OBJ from three.js\'s OBJExporter (a vertex per corner): welded, opens semi-regular, written back line for line', async () => {
+  const THREE = await import('three');
+  const { OBJExporter } = await import('three/examples/jsm/exporters/OBJExporter.js');
+  const geometry = new THREE.IcosahedronGeometry(1, 3);
+  assert.equal(geometry.index, null, 'three.js gives it non-indexed');
+  const text = new OBJExporter().parse(new THREE.Mesh(geometry));
+  const vLines = text.split('\n').filter((l) => l.startsWith('v ')).length;
+  assert.equal(vLines, 960);
+  const mesh = mrvol.readObj(text);
+  assert.equal(mesh.positions.length / 3, 162);
+  assert.equal(mesh.welded, 960 - 162);
+  assert.equal(mesh.lines.vertex.length, 162);
+  assert.equal(mesh.texCoords.length, 2 * 960, 'vt lines as the file has them');
+  // the same from bytes, and through readMesh (whose sourceVertex gives each vertex's first v line)
+  assert.deepEqual(mrvol.readObj(new TextEncoder().encode(text)).faces, mesh.faces);
+  const imported = mrvol.readMesh(new TextEncoder().encode(text), { name: 'ico.obj' });
+  assert.deepEqual([imported.welded, imported.sourceVertex.length, imported.sourceVertices], [798, 162, 960]);
+  assert.deepEqual(imported.positions, mesh.positions);
+  const mr = mrvol.openMesh(mesh);
+  const info = mr.info();
+  assert.deepEqual([info.levels, info.baseVertices, info.closed, info.genus], [2, 12, true, 0]);
+  const editor = mr.createEditor({ level: 0 });
+  const volume = editor.volume();
+  const report = editor.moveVertices([{ vertex: editor.cageVertices()[0], offset: [0.2, 0, 0] }]);
+  assert.ok(Math.abs(editor.volume() - volume) <= 1e-5 * volume, JSON.stringify(report));
+  const edited = editor.positions();
+  mr.delete();
+  const written = mrvol.writeObjLike(text, edited);
+  const before = text.split('\n'), after = written.split('\n');
+  assert.equal(after.length, before.length);
+  let changed = 0;
+  for (let i = 0; i < before.length; i++) {
+    if (before[i].startsWith('v ')) changed += before[i] !== after[i];
+    else assert.equal(after[i], before[i], `line ${i + 1} is not a vertex and is kept`);
+  }
+  assert.ok(changed > 0);
+  const back = mrvol.readObj(written);
+  assert.equal(back.welded, 798, 'the v lines of one vertex moved alike: still welded the same way');
+  assert.deepEqual(back.positions, edited);
+  assert.deepEqual(back.faces, mesh.faces);
+  // one position per v line still writes as before
+  assert.equal(mrvol.writeObjLike(text, mrvol.readObj(text).positions), text);
+  throwsMrvol(() => mrvol.writeObjLike(text, edited.subarray(0, 3 * 100)),
+              /the original OBJ has 960 vertices \(162 once those at one position are welded\) but 100 positions were given/);
 });

@@ -102,7 +102,9 @@ val js_readObj(val bytes) {
     SourceLines lines;
     ObjExtras extras;
     TriangleMesh mesh = mrvol::readObj(bytesToHeap(bytes, "the OBJ file"), &lines, &extras);
+    const size_t welded = weldObjVertices(mesh, &lines, &extras);
     val out = meshToJs(mesh);
+    out.set("welded", double(welded));
     mesh = TriangleMesh();
     val l = val::object();
     l.set("vertex", toTyped(lines.vertex));

@@ -57,7 +57,9 @@ class JsObjReader {
       SourceLines lines;
       ObjExtras extras;
       TriangleMesh mesh = reader_.finish(&lines, &extras);
+      const size_t welded = weldObjVertices(mesh, &lines, &extras);
       val out = val::object();
+      out.set("welded", double(welded));
       out.set("positions", moveToTyped(mesh.positions));
       out.set("faces", moveToTyped(mesh.faces));
       val l = val::object();

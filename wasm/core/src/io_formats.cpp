@@ -217,8 +217,7 @@ ImportedMesh readMeshFile(std::string_view bytes, MeshFormat format, const GltfR
   out.mesh = readObj(bytes, &out.objLines);
   out.sourceVertices = out.mesh.vertexCount();
   out.sourceFaces = out.mesh.faceCount();
-  out.sourceVertex.resize(out.mesh.vertexCount());
-  std::iota(out.sourceVertex.begin(), out.sourceVertex.end(), 0u);
+  out.welded = weldObjVertices(out.mesh, &out.objLines, nullptr, &out.sourceVertex);
   return out;
 }
 
@@ -366,14 +365,11 @@ bool duplicatesHashed(const double* p, size_t n, std::vector<std::pair<uint32_t,
 
 }  // namespace
 
-size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource) {
+size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource, std::vector<uint32_t>* outputOfSource,
+                          bool unlessAFaceCollapses) {
   const size_t n = mesh.vertexCount();
   const double* p = mesh.positions.data();
-  std::vector<uint32_t> representative;
-  std::vector<std::pair<uint32_t, uint32_t>> duplicates;
-  if (!duplicatesHashed(p, n, duplicates)) {
-    representative = firstAtPositionSorted(p, n);
-  } else if (duplicates.empty()) {  // every vertex is its own output vertex: nothing to renumber
+  auto unchanged = [&] {  // every vertex is its own output vertex: nothing to renumber
     if (firstSource) {
       firstSource->resize(n);
       std::iota(firstSource->begin(), firstSource->end(), 0u);
@@ -382,13 +378,26 @@ size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource
       outputOfSource->resize(n);
       std::iota(outputOfSource->begin(), outputOfSource->end(), 0u);
     }
-    return 0;
+    return size_t(0);
+  };
+  std::vector<uint32_t> representative;
+  std::vector<std::pair<uint32_t, uint32_t>> duplicates;
+  if (!duplicatesHashed(p, n, duplicates)) {
+    representative = firstAtPositionSorted(p, n);
+  } else if (duplicates.empty()) {
+    return unchanged();
   } else {
     representative.resize(n);
     std::iota(representative.begin(), representative.end(), 0u);
     for (const auto& [v, u] : duplicates) representative[v] = u;
     duplicates = {};
   }
+  // (the representative is the first vertex at each position: equal ones, equal positions)
+  if (unlessAFaceCollapses)
+    for (size_t i = 0; i + 2 < mesh.faces.size(); i += 3) {
+      const uint32_t a = representative[mesh.faces[i]], b = representative[mesh.faces[i + 1]], c = representative[mesh.faces[i + 2]];
+      if (a == b || b == c || a == c) return unchanged();
+    }
   // Output numbering in the order of first occurrence.
   std::vector<uint32_t> output(n);
   std::vector<uint32_t> first;

@@ -12,6 +12,7 @@
 #include "io_common.h"
 #include "number_text.h"
 #include "mrvol/error.h"
+#include "mrvol/io_formats.h"
 #include "mrvol/mesh.h"
 #include "mrvol/obj_reader.h"
 
@@ -830,8 +831,14 @@ std::string writeObj(const TriangleMesh& mesh) {
   return out;
 }
 
-std::string writeObjLike(std::string_view original, const double* positions, size_t vertexCount) {
-  std::string out;
+namespace {
+
+// The writer: v line i takes positions[map ? map[i] : i]. False when the file has more v lines
+// than `lines` (positions, or the map's entries), before writing them all.
+bool writeReplaced(std::string& out, std::string_view original, const double* positions, size_t vertexCount,
+                   const std::vector<uint32_t>* map) {
+  const size_t lines = map ? map->size() : vertexCount;
+  out.clear();
   out.reserve(original.size() + original.size() / 4);
   const char* p = original.data();
   const char* end = p + original.size();
@@ -870,9 +877,9 @@ std::string writeObjLike(std::string_view original, const double* positions, siz
       bool isVertex = keyword == "v" || (p == original.data() && keyword == "\xEF\xBB\xBFv");
       for (int k = 0; k < 3 && isVertex; ++k) isVertex = !(xyz[k] = nextToken(j, jEnd)).empty();
       if (isVertex) {
-        if (vertex >= vertexCount)
-          throw Error("the original OBJ has more vertices than the " + std::to_string(vertexCount) + " positions given");
-        const double* x = positions + 3 * vertex++;
+        if (vertex >= lines) return false;
+        const double* x = positions + 3 * size_t(map ? (*map)[vertex] : vertex);
+        ++vertex;
         if (!readsAs(xyz, x)) {
           appendReplaced(out, joined.data(), xyz, x, jEnd);
           out += contentEnd > p && contentEnd[-1] == '\r' ? "\r\n" : "\n";
@@ -894,17 +901,56 @@ std::string writeObjLike(std::string_view original, const double* positions, siz
       p = lineEnd;
       continue;
     }
-    if (vertex >= vertexCount)
-      throw Error("the original OBJ has more vertices than the " + std::to_string(vertexCount) + " positions given");
-    const double* x = positions + 3 * vertex++;
+    if (vertex >= lines) return false;
+    const double* x = positions + 3 * size_t(map ? (*map)[vertex] : vertex);
+    ++vertex;
     if (readsAs(xyz, x)) out.append(p, size_t(lineEnd - p));
     else appendReplaced(out, p, xyz, x, lineEnd);
     p = lineEnd;
   }
-  if (vertex != vertexCount)
-    throw Error("the original OBJ has " + std::to_string(vertex) + " vertices but " + std::to_string(vertexCount) +
+  if (vertex != lines)
+    throw Error("the original OBJ has " + std::to_string(vertex) + " vertices but " + std::to_string(lines) +
                 " positions were given");
+  return true;
+}
+
+}  // namespace
+
+std::string writeObjLike(std::string_view original, const double* positions, size_t vertexCount) {
+  std::string out;
+  if (writeReplaced(out, original, positions, vertexCount, nullptr)) return out;
+  // More v lines than positions: the positions may be those of the file's vertices welded, as the
+  // readers give them (weldObjVertices). Each v line then takes its welded vertex's position.
+  TriangleMesh read = readObj(original);
+  const size_t lines = read.vertexCount();
+  std::vector<uint32_t> outputOf;
+  weldExactPositions(read, nullptr, &outputOf, /*unlessAFaceCollapses=*/true);
+  if (read.vertexCount() != vertexCount)
+    throw Error("the original OBJ has " + std::to_string(lines) + " vertices" +
+                (read.vertexCount() < lines ? " (" + std::to_string(read.vertexCount()) + " once those at one position are welded)" : "") +
+                " but " + std::to_string(vertexCount) + " positions were given");
+  writeReplaced(out, original, positions, vertexCount, &outputOf);
   return out;
 }
+
+size_t weldObjVertices(TriangleMesh& mesh, SourceLines* lines, ObjExtras* extras, std::vector<uint32_t>* firstSource) {
+  std::vector<uint32_t> first;
+  const size_t welded = weldExactPositions(mesh, &first, nullptr, /*unlessAFaceCollapses=*/true);
+  if (welded > 0) {
+    // A welded vertex keeps its first v line's line number and colour (first[v] >= v: copied
+    // forwards in place).
+    auto keepFirst = [&](auto& perVertex, size_t width) {
+      if (perVertex.empty()) return;
+      for (size_t v = 0; v < first.size(); ++v)
+        for (size_t k = 0; k < width; ++k) perVertex[width * v + k] = perVertex[width * size_t(first[v]) + k];
+      perVertex.resize(width * first.size());
+    };
+    if (lines) keepFirst(lines->vertex, 1);
+    if (extras) keepFirst(extras->colors, 3);
+  }
+  if (firstSource) *firstSource = std::move(first);
+  return welded;
+}
+
 
 }  // namespace mrvol

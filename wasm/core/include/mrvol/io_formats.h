@@ -64,9 +64,10 @@ ImportedMesh readMeshFile(std::string_view bytes, MeshFormat format, const GltfR
 // hash) and renumbers the faces. Output
 // vertices keep the order of their first source vertex; `firstSource` (optional) receives it,
 // `outputOfSource` (optional) the output vertex of every source vertex.
-// Returns the number of vertices merged away.
+// Returns the number of vertices merged away. With `unlessAFaceCollapses`, a weld that would give a
+// face two equal corners (a triangle with coincident corners) is not made: nothing changes, 0.
 size_t weldExactPositions(TriangleMesh& mesh, std::vector<uint32_t>* firstSource = nullptr,
-                          std::vector<uint32_t>* outputOfSource = nullptr);
+                          std::vector<uint32_t>* outputOfSource = nullptr, bool unlessAFaceCollapses = false);
 
 // A GLB file (glTF 2.0 binary) of the mesh: one node, one triangle primitive with float32
 // POSITION (the doubles rounded), area-weighted vertex NORMAL, uint32 indices.

@@ -52,7 +52,19 @@ struct ObjExtras {
 // Throws Error("line L: ...") for malformed numbers, bad indices, NaN/Inf, empty input, and before
 // allocating anything large, for a file too big to open (checkObjSize).
 // With `lines`, also records the line of every vertex and face; with `extras`, what else it had.
+// One vertex per v line: the file's own numbering (readObjQuads' quads index it); the readers users
+// call (readMeshFile, the API's readObj and ObjReader's chunks) then weld with weldObjVertices.
 TriangleMesh readObj(std::string_view text, SourceLines* lines = nullptr, ObjExtras* extras = nullptr);
+
+// Vertices at exactly the same position welded into one (numbered in the order of their first v
+// line), as STL's and glTF's readers do: exporters split vertices where their attributes differ
+// (three.js's OBJExporter writes three per triangle of a non-indexed geometry). `lines->vertex` and
+// `extras->colors` keep the first v line's; `firstSource` (when given) gets each vertex's first v
+// line index. Not made where it would give a triangle two equal corners (coincident ones: the
+// checks then name that mesh's own problem, e.g. "all 4 vertices at one point"). Returns how many
+// vertices were welded away (0: the mesh is unchanged).
+size_t weldObjVertices(TriangleMesh& mesh, SourceLines* lines = nullptr, ObjExtras* extras = nullptr,
+                       std::vector<uint32_t>* firstSource = nullptr);
 
 // The largest mesh mrvol opens: what opening it needs (positions, faces, validation, hierarchy
 // detection, the caller's copies) must fit the 4 GB a WebAssembly module can address.
@@ -63,7 +75,8 @@ void checkMeshSize(size_t vertices, size_t triangles, size_t inputBytes = 0);
 std::string writeObj(const TriangleMesh& mesh);
 
 // Writes `original` (the OBJ text readObj read) with its vertex positions replaced by `positions`
-// (3 per vertex, same count): every other line (vt, vn, f, groups, materials, comments) and every
+// (3 per vertex: one per v line, or one per vertex of the file welded as weldObjVertices welds it,
+// each v line then taking its vertex's): every other line (vt, vn, f, groups, materials, comments) and every
 // other byte of the v lines (w, colours, spacing, line endings) is kept; a coordinate whose value
 // is unchanged keeps its original spelling. For edits that keep the connectivity.
 std::string writeObjLike(std::string_view original, const double* positions, size_t vertexCount);
