@@ -269,8 +269,13 @@ export async function readMeshFile(mrvol, { file = null, bytes = null, name, edi
       finish();
       reject(new Error(e.message || 'the file reader could not start'));
     };
-    // a stored session's bytes are the app's: the worker gets a copy
+    // a stored session's bytes are the app's: the worker gets a copy, handed over (posted without the
+    // transfer, it was copied a second time)
     const posted = performance.timeOrigin + performance.now(); // the worker's clock has another origin
-    worker.postMessage(file ? { file, name, editor, posted } : { bytes: bytes.slice().buffer, name, editor, posted });
+    if (file) worker.postMessage({ file, name, editor, posted });
+    else {
+      const copy = bytes.slice().buffer;
+      worker.postMessage({ bytes: copy, name, editor, posted }, [copy]);
+    }
   });
 }

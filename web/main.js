@@ -776,7 +776,11 @@ function openProjectText(text, fileName) {
   applyStoredSettings(project.settings);
   app.panel.update();
   const restore = { fingerprint: null, positions: project.positions, reference: project.reference };
-  return project.model.bytes ? openModel(project.model, restore) : openModelText(project.model, restore);
+  // a big OBJ text (a project of an earlier version) as bytes: read in the file's worker, with progress
+  const { model } = project;
+  if (!model.bytes && model.text.length > BIG_FILE_BYTES)
+    return openModel({ name: model.name, kind: model.kind, format: 'obj', bytes: new TextEncoder().encode(model.text) }, restore);
+  return model.bytes ? openModel(model, restore) : openModelText(model, restore);
 }
 
 function showKeyboardHelp() {

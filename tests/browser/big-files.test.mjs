@@ -5,7 +5,7 @@
 // real OBJ over the vertex limit) refused in words about their size while the page keeps drawing.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { readFile } from 'node:fs/promises';
+import { readFile, rm, writeFile } from 'node:fs/promises';
 import { join } from 'node:path';
 import { createMrvol } from '../../lib/node.mjs';
 import { readProject } from '../../web/share.js';
@@ -221,6 +221,21 @@ describe('big models', () => {
     await stagesRanWhere('opening spiky-655k.obj', { worker: ['file parsed', 'editor made'] });
     const again = await page.evaluate(() => window.mrvolDebug.cagePositions());
     assert.ok(again.every((x, i) => Math.abs(x - cage[i]) <= 1e-12), 'the edited cage back (from the fine positions, to round-off)');
+    // A project of the earlier kind (the OBJ as JSON text): its model read in the worker too, not on the page.
+    const saved = JSON.parse(await readFile(projectPath, 'utf8'));
+    const textProject = join(RESULTS_DIR, 'spiky-655k-text.mrvol.json');
+    await writeFile(textProject, JSON.stringify({ ...saved, model: { name: saved.model.name, kind: 'file', text: text.toString('utf8') } }));
+    const textChosenAt = await page.evaluate(() => performance.now());
+    await page.locator('[data-testid="open-file"]').setInputFiles(textProject);
+    await page.waitForFunction((chosenAt) => {
+      const { what, since, stages } = window.mrvolDebug.openStages();
+      return what === 'opening spiky-655k.obj' && performance.now() - since > chosenAt && window.mrvolDebug.ready() &&
+        stages.some((s) => s.stage === 'session and view set up');
+    }, textChosenAt, { timeout: 540_000 });
+    await stagesRanWhere('opening spiky-655k.obj', { worker: ['file parsed', 'editor made'] });
+    const fromText = await page.evaluate(() => window.mrvolDebug.cagePositions());
+    assert.ok(fromText.every((x, i) => Math.abs(x - cage[i]) <= 1e-12), 'the edited cage back from the text project');
+    await rm(textProject);
 
     // A level change (to 1, or to 0 when the earlier test left level 1): that editor made in a
     // worker and swapped in; shape, reference and undo history kept. Undo: the first level's, the same way.
