@@ -488,6 +488,7 @@ const COMMANDS = {
       // Vertices at one position, welded on reading: a mesh split by its exporter (three.js's
       // OBJExporter writes a vertex per face corner; every STL does).
       ...(mesh.welded > 0 ? { welded: mesh.welded } : {}),
+      ...(mesh.format ? { format: mesh.format } : {}),
     };
     // A file of quads only, without 1-to-4 splits of its triangles: its quads may have Catmull-Clark
     // levels (--scheme catmull-clark), which the hint names rather than the remesher.
@@ -502,7 +503,8 @@ const COMMANDS = {
       ...(r.polygons > 0 ? [`polygons       ${r.polygons} (triangulated into ${r.polygonTriangles} triangles)`] : []),
       ...(r.leftOut ? [`left out       ${r.leftOut}`] : []),
       `base vertices  ${r.baseVertices}`, `closed         ${r.closed}`, `boundary edges ${r.boundaryEdges}`,
-      ...(r.welded > 0 ? [`welded         ${r.welded} vertices at the position of another (split by the exporter)`] : []),
+      ...(r.welded > 0 ? [`welded         ${r.welded} vertices at the position of another (${r.format === 'stl'
+        ? 'an STL gives each triangle its own three' : 'split by the exporter'})`] : []),
       // (A genus is a closed surface's: an open one's Euler count says nothing the boundary does not.)
       `genus          ${r.closed ? r.genus : '- (not a closed surface)'}`,
       `volume         ${r.volume}${r.closed ? '' : ' (open: the cones from the origin to its faces)'}`].join('\n'));

@@ -85,6 +85,12 @@ describe('info', () => {
     assert.deepEqual([r.vertices, r.closed, r.genus, r.welded], [12, true, 0, 48]);
     assert.match(mrvolCli('info', file('split.obj')).stdout, /^welded\s+48 vertices at the position of another \(split by the exporter\)$/m);
     assert.equal(json(mrvolCli('info', '--json', file('ico.obj'))).welded, undefined, 'nothing welded: not said');
+    // the same triangles as a binary STL: welded because the format splits them
+    const stl = Buffer.alloc(84 + 50 * 20);
+    stl.writeUInt32LE(20, 80);
+    positions.forEach((x, i) => stl.writeFloatLE(x, 84 + 50 * Math.floor(i / 9) + 12 + 4 * (i % 9)));
+    writeFileSync(file('split.stl'), stl);
+    assert.match(mrvolCli('info', file('split.stl')).stdout, /^welded\s+48 vertices at the position of another \(an STL gives each triangle its own three\)$/m);
     writeFileSync(file('stray.obj'), `${mrvol.writeObj(m)}v 5 5 5\n`);
     failsWith(mrvolCli('info', file('stray.obj')), /vertex 12 \(line \d+\) is not used by any face \(mrvol remesh .*stray\.obj --repair -o OUT\.obj mends it\)$/);
   });
