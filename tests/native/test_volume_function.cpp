@@ -242,6 +242,36 @@ TEST(VolumeFunction, VolumeAndMomentsInOnePassAreTheSeparatePasses) {
   }
 }
 
+// The centre of mass's three rows in one pass (what the editor's constraints evaluate): the values
+// and gradients of three value() calls, bit for bit; not taken for moments of other axes or faces.
+TEST(VolumeFunction, ThreeMomentsWithGradientsInOnePassAreTheSeparateCalls) {
+  for (const auto& fx : fixtures::baseFixtures()) {
+    Hierarchy h = Hierarchy::subdivide(fx.base, 2);
+    const uint32_t n = uint32_t(h.fineVertexCount());
+    std::vector<double> p = fixtures::randomVector(3 * (size_t(n) + 1), 37, 1.0);
+    p[3 * n] = p[3 * n + 1] = p[3 * n + 2] = 0.0;
+    const double centre[3] = {0.25, -0.5, 0.125};
+    FirstMoment m0(h.fineFaces(), n, 0), m1(h.fineFaces(), n, 1), m2(h.fineFaces(), n, 2);
+    FirstMoment* all[3] = {&m0, &m1, &m2};
+    for (int k = 0; k < 3; ++k) all[k]->setCentre(centre[k]);
+    std::vector<double> together(3 * p.size(), -1.0), separate;  // overwritten, not added to
+    double values[3];
+    const FineFunction* const rows[3] = {&m0, &m1, &m2};
+    ASSERT_TRUE(FirstMoment::valuesWithGradients(rows, p.data(), values, together.data())) << fx.name;
+    for (int k = 0; k < 3; ++k) {
+      separate.assign(p.size(), 0.0);
+      EXPECT_EQ(values[k], all[k]->value(p.data(), separate.data())) << fx.name << " axis " << k;
+      for (size_t v = 0; v < p.size() / 3; ++v)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(together[9 * v + 3 * k + c], separate[3 * v + c]) << fx.name << " axis " << k << " vertex " << v;
+    }
+    const FineFunction* const swapped[3] = {&m1, &m0, &m2};
+    EXPECT_FALSE(FirstMoment::valuesWithGradients(swapped, p.data(), values, together.data()));
+    FineEdgeVolume volume(h.fineFaces(), n);
+    const FineFunction* const other[3] = {&m0, &m1, &volume};
+    EXPECT_FALSE(FirstMoment::valuesWithGradients(other, p.data(), values, together.data()));
+  }
+}
+
 // The edge table's order is part of the value's bits (a sum in edge order): edges by (smaller end,
 // larger end), the half from the smaller end first. A plain sort of the half-edges gives the same sum,
 // bit for bit, on a closed and an open mesh with vertices in shuffled order.

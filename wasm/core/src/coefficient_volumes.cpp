@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "mrvol/vector3.h"
+#include "mrvol/volume_function.h"
 
 namespace mrvol {
 
@@ -99,7 +100,15 @@ void FineVolumeConstraints::evaluate(double* values) {
   const std::vector<double>& p = session_->fine.of(session_->x);
   values[0] = valueWithGradient();
   rowGradients_.resize(rows_.size() - 1);
-  for (size_t r = 1; r < rows_.size(); ++r) {
+  // The centre of mass's three moments in one pass (they share each triangle's cross products).
+  size_t r = 1;
+  momentsTogether_ = false;
+  if (rows_.size() >= 4) {
+    momentGradients_.resize(3 * p.size());
+    momentsTogether_ = FirstMoment::valuesWithGradients(&rows_[1], p.data(), values + 1, momentGradients_.data());
+    if (momentsTogether_) r = 4;
+  }
+  for (; r < rows_.size(); ++r) {
     rowGradients_[r - 1].resize(p.size());
     values[r] = rows_[r]->value(p.data(), rowGradients_[r - 1].data());
   }
@@ -108,6 +117,15 @@ void FineVolumeConstraints::evaluate(double* values) {
 void FineVolumeConstraints::gradients(const std::vector<uint32_t>& free, double* gradients) {
   const size_t m3 = 3 * free.size();
   for (size_t r = 0; r < rows_.size(); ++r) {
+    if (momentsTogether_ && r >= 1 && r <= 3) {
+      // the three moments' gradients carried in one adjoint of stride 9, then taken apart
+      if (r == 1) transform_->synthesisAdjoint(momentGradients_.data(), level_, 9, detailsFree_);
+      const size_t axis = r - 1;
+      double* out = gradients + r * m3;
+      for (size_t i = 0; i < free.size(); ++i)
+        for (int k = 0; k < 3; ++k) out[3 * i + k] = momentGradients_[9 * size_t(free[i]) + 3 * axis + k];
+      continue;
+    }
     // The fine gradient to the coefficients' (coarse part only unless details are free); it is
     // used up by the adjoint.
     std::vector<double>& g = r == 0 ? gradient_ : rowGradients_[r - 1];

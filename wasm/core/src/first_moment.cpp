@@ -41,6 +41,37 @@ double FirstMoment::value(const double* p, double* grad) const {
   return sum;
 }
 
+bool FirstMoment::valuesWithGradients(const FineFunction* const axes[3], const double* p, double values[3], double* grad) {
+  const FirstMoment* m[3];
+  for (int k = 0; k < 3; ++k) {
+    m[k] = dynamic_cast<const FirstMoment*>(axes[k]);
+    if (!m[k] || m[k]->axis_ != k || m[k]->faces_ != m[0]->faces_ || m[k]->vertexCount_ != m[0]->vertexCount_) return false;
+  }
+  const auto& faces = *m[0]->faces_;
+  const double shift[3] = {m[0]->centre_ / 6.0, m[1]->centre_ / 6.0, m[2]->centre_ / 6.0};
+  std::fill(grad, grad + 3 * m[0]->size(), 0.0);
+  double sum[3] = {0, 0, 0}, bc[3], ca[3], ab[3];
+  for (size_t f = 0; f < faces.size(); f += 3) {
+    const size_t ia = 3 * size_t(faces[f]), ib = 3 * size_t(faces[f + 1]), ic = 3 * size_t(faces[f + 2]);
+    const double *a = p + ia, *b = p + ib, *c = p + ic;
+    cross(b, c, bc);
+    cross(c, a, ca);
+    cross(a, b, ab);
+    const double det = dot(a, bc), e = det / 24.0;
+    double *ga = grad + 3 * ia, *gb = grad + 3 * ib, *gc = grad + 3 * ic;
+    for (int k = 0; k < 3; ++k) {  // as value() for axis k
+      const double w = (a[k] + b[k] + c[k]) / 24.0 - shift[k];
+      sum[k] += det * w;
+      axpy(w, bc, ga + 3 * k);
+      axpy(w, ca, gb + 3 * k);
+      axpy(w, ab, gc + 3 * k);
+      ga[3 * k + k] += e, gb[3 * k + k] += e, gc[3 * k + k] += e;
+    }
+  }
+  for (int k = 0; k < 3; ++k) values[k] = sum[k];
+  return true;
+}
+
 double FirstMoment::volumeAndMoments(const std::vector<uint32_t>& faces, const double* p, const double centre[3],
                                      double moments[3]) {
   // Per triangle det(a, b, c), and det (a_k + b_k + c_k) per axis: M_k - q_k V = S_k / 24 - q_k D / 6.

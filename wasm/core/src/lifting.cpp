@@ -75,6 +75,7 @@ void byStride(int stride, F&& f) {
   switch (stride) {
     case 1: f(std::integral_constant<int, 1>{}); break;
     case 3: f(std::integral_constant<int, 3>{}); break;
+    case 9: f(std::integral_constant<int, 9>{}); break;  // three 3-vectors per vertex (the centre of mass's rows)
     default: throw Error("unsupported stride " + std::to_string(stride));
   }
 }

@@ -95,6 +95,10 @@ class FineVolumeConstraints final : public VolumeConstraints {
   bool gradientCached_ = false;
   std::vector<double> gradient_, direction_;  // 3 (N + 1): no allocation per step
   std::vector<std::vector<double>> rowGradients_;  // fine gradients of rows 1.. (parts)
+  // Rows 1-3 when they are the centre of mass's moments: their fine gradients side by side, 9 per
+  // vertex (one pass to make, one adjoint of stride 9 to carry), while momentsTogether_.
+  std::vector<double> momentGradients_;
+  bool momentsTogether_ = false;
 };
 
 }  // namespace mrvol

@@ -119,6 +119,14 @@ class FirstMoment final : public MomentFunction {
   // needs. Summed per fixed block of triangles, the blocks in order: the same sums at any thread count.
   static double volumeAndMoments(const std::vector<uint32_t>& faces, const double* x, const double centre[3], double moments[3]);
 
+  // The three moments `axes` (axis 0, 1 and 2 on the same faces) with their gradients in one pass
+  // over the triangles: a triangle's cross products and determinant serve the three, and a corner's
+  // nine gradient entries are side by side. `gradients`: 9 per vertex (size() / 3 vertices), axis
+  // 0's 3-vector, then axis 1's and axis 2's; overwritten. The values and gradients are those of
+  // three value() calls, bit for bit (the same sums in the same order). Returns false, computing
+  // nothing, when `axes` are not such a triple.
+  static bool valuesWithGradients(const FineFunction* const axes[3], const double* x, double values[3], double* gradients);
+
  private:
   const std::vector<uint32_t>* faces_;
   uint32_t vertexCount_;
