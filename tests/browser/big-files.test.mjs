@@ -207,34 +207,29 @@ describe('big models', () => {
     assert.equal(project.model.format, 'obj');
     assert.ok(Buffer.from(project.model.bytes).equals(text), 'the file as dropped');
     assert.equal(project.positions.length, 3 * vertices);
+    // Opens a project file (a path: Playwright takes no buffer over 50 MB) and waits for the model it
+    // holds, read in the file's worker, with the edited cage (from the fine positions, to round-off).
+    const openProject = async (path, what) => {
+      const chosenAt = await page.evaluate(() => performance.now());
+      await page.locator('[data-testid="open-file"]').setInputFiles(path);
+      await page.waitForFunction((chosenAt) => {
+        const { what, since, stages } = window.mrvolDebug.openStages();
+        return what === 'opening spiky-655k.obj' && performance.now() - since > chosenAt && window.mrvolDebug.ready() &&
+          stages.some((s) => s.stage === 'session and view set up');
+      }, chosenAt, { timeout: 540_000 });
+      await stagesRanWhere('opening spiky-655k.obj', { worker: ['file parsed', 'editor made'] });
+      const again = await page.evaluate(() => window.mrvolDebug.cagePositions());
+      assert.ok(again.every((x, i) => Math.abs(x - cage[i]) <= 1e-12), `the edited cage back from ${what}`);
+    };
     await watchProgress();
-    const chosenAt = await page.evaluate(() => performance.now());
-    // (a path: Playwright takes no buffer over 50 MB)
-    await page.locator('[data-testid="open-file"]').setInputFiles(projectPath);
-    await page.waitForFunction((chosenAt) => {
-      const { what, since, stages } = window.mrvolDebug.openStages();
-      return what === 'opening spiky-655k.obj' && performance.now() - since > chosenAt && window.mrvolDebug.ready() &&
-        stages.some((s) => s.stage === 'session and view set up');
-    }, chosenAt, { timeout: 540_000 });
+    await openProject(projectPath, 'the project');
     const reopened = await stopProgress();
     assert.ok(reopened.some((p) => /^Reading the project \S+ \(\d+\.\d MB\)/.test(p.text)), JSON.stringify(reopened));
-    await stagesRanWhere('opening spiky-655k.obj', { worker: ['file parsed', 'editor made'] });
-    const again = await page.evaluate(() => window.mrvolDebug.cagePositions());
-    assert.ok(again.every((x, i) => Math.abs(x - cage[i]) <= 1e-12), 'the edited cage back (from the fine positions, to round-off)');
     // A project of the earlier kind (the OBJ as JSON text): its model read in the worker too, not on the page.
     const saved = JSON.parse(await readFile(projectPath, 'utf8'));
     const textProject = join(RESULTS_DIR, 'spiky-655k-text.mrvol.json');
     await writeFile(textProject, JSON.stringify({ ...saved, model: { name: saved.model.name, kind: 'file', text: text.toString('utf8') } }));
-    const textChosenAt = await page.evaluate(() => performance.now());
-    await page.locator('[data-testid="open-file"]').setInputFiles(textProject);
-    await page.waitForFunction((chosenAt) => {
-      const { what, since, stages } = window.mrvolDebug.openStages();
-      return what === 'opening spiky-655k.obj' && performance.now() - since > chosenAt && window.mrvolDebug.ready() &&
-        stages.some((s) => s.stage === 'session and view set up');
-    }, textChosenAt, { timeout: 540_000 });
-    await stagesRanWhere('opening spiky-655k.obj', { worker: ['file parsed', 'editor made'] });
-    const fromText = await page.evaluate(() => window.mrvolDebug.cagePositions());
-    assert.ok(fromText.every((x, i) => Math.abs(x - cage[i]) <= 1e-12), 'the edited cage back from the text project');
+    await openProject(textProject, 'the text project');
     await rm(textProject);
 
     // A level change (to 1, or to 0 when the earlier test left level 1): that editor made in a
