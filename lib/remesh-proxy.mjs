@@ -43,7 +43,7 @@ export function proxyPiece(mrvol, piece, { target, limit, surfaceOf, rounds = PR
     // as the bases are (small holes only). (Refused ones were given up: dragon-203k rotated, a pair of
     // duplicate faces in its first proxy, was fitted without a proxy: 1.736% against 0.464% as read.)
     let checked = check(mrvol, proxy);
-    if (!checked?.ok) proxy = repair(proxy, { maxHoleEdges: 12 }).mesh, checked = check(mrvol, proxy);
+    if (!checked?.ok) proxy = repair(proxy, { maxHoleEdges: 12, sharpCorners: true }).mesh, checked = check(mrvol, proxy);
     // Tunnels the simplifier closes at this size close in any cage made by it too (a scan's tiny
     // tunnels): the bases are checked against the piece's genus as before. (The 871k dragon's
     // proxies came out in 3 to 17 pieces: never clean.)

@@ -412,7 +412,7 @@ function makeBase(mrvol, mesh, genus, targetFaces, attempts, repairBase, lock, e
     // On a repaired scan thin parts collapse into fins and pinched edges: the same repair (small
     // holes only) cleans the base, which must then pass the same checks.
     if (problem && repairBase) {
-      base = repair(base, { maxHoleEdges: 12 }).mesh;
+      base = repair(base, { maxHoleEdges: 12, sharpCorners: true }).mesh;
       problem = check();
     }
     if (!problem) {

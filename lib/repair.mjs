@@ -350,8 +350,10 @@ function unitFaceNormal(p, faces, f, out, at) {
  * one whose folded faces were all cut out, with faces removed around the touched vertices and
  * faces appended from index appendedFrom on; a face's neighbours changed only across an edge with
  * both ends among those vertices and the appended faces' corners, and only those faces are checked.
+ * `sharpCorners`: a sharp corner's apex face counts as folded too (against two neighbours whatever
+ * they face), as for a simplifier's output (see repair).
  */
-export function foldedFaces(mesh, since = null) {
+export function foldedFaces(mesh, since = null, { sharpCorners = false } = {}) {
   const { positions: p, faces } = mesh;
   const faceCount = faces.length / 3, vertexCount = p.length / 3;
   const drop = new Uint8Array(faceCount);
@@ -373,7 +375,7 @@ export function foldedFaces(mesh, since = null) {
         }
         againstFaces[against++] = g;
       }
-      if (against < 2 || !agree) continue;
+      if (against < 2 || !(agree || sharpCorners)) continue;
       count++;
       drop[f] = 1;
       for (let j = 0; j < 3; j++) if (twins[3 * f + j] >= 0) drop[twins[3 * f + j]] = 1;
@@ -408,7 +410,7 @@ export function foldedFaces(mesh, since = null) {
         agree = againstNormals[3 * i] * other[0] + againstNormals[3 * i + 1] * other[1] + againstNormals[3 * i + 2] * other[2] > 0;
       againstNormals.set(other, 3 * against++);
     }
-    if (against < 2 || !agree) continue;
+    if (against < 2 || !(agree || sharpCorners)) continue;
     count++;
     drop[f] = 1;
     for (let j = 0; j < 3; j++) if (twins[j] >= 0) drop[twins[j]] = 1;
@@ -527,10 +529,13 @@ function taubinSmooth(mesh, iterations) {
  * non-manifold edges and vertices (repeated until none is left), optionally every component but
  * the largest, close the holes of at most `maxHoleEdges` edges, cut out folded faces and fill
  * again, and optionally smooth (`smooth` Taubin iterations). What is left wrong (a larger
- * hole, several components) is for the validation after it to name.
+ * hole, several components) is for the validation after it to name. `sharpCorners`: the apex
+ * faces of sharp corners are cut out as folds too (foldedFaces), for a simplifier's output (the
+ * remesher's bases and proxies), where such an apex is as often a fold as a corner and its refill
+ * costs the fit nothing.
  * @returns {{ mesh: { positions: Float64Array, faces: Uint32Array }, report: object }}
  */
-export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth = 0 } = {}) {
+export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth = 0, sharpCorners = false } = {}) {
   const problem = meshProblem(input);
   if (problem) throw new RangeError(`repair: ${problem}`);
   const welded = weld(input);
@@ -602,7 +607,7 @@ export function repair(input, { keepLargest = false, maxHoleEdges = 100, smooth 
     report.largestHoleLeft = filled.largestLeft;
     const appendedAt = mesh.faces.length / 3;
     mesh = filled.mesh;
-    const folds = foldedFaces(mesh, local ? { touched: local, appendedFrom: appendedAt } : null);
+    const folds = foldedFaces(mesh, local ? { touched: local, appendedFrom: appendedAt } : null, { sharpCorners });
     if (folds.count === 0 || filled.holesLeft > 0 || pass === 5) break;
     report.foldedFaces += folds.count;
     sinceFill = clean ? new Uint8Array(mesh.positions.length / 3) : null;

@@ -171,4 +171,15 @@ test('sharp corners are not folds: tetrahedra and a spike pass the repair unchan
   const folds = foldedFaces(ball);
   assert.equal(folds.drop[0], 1, 'the turned-over face is a fold');
   assert.equal(folds.count, 1);
+  // For a simplifier's output (the remesher's bases and proxies: sharpCorners) a sharp corner's apex
+  // face is cut out too: the corner tetrahedron's slanted face (against all three others), in the
+  // whole-mesh check and the local one; the turned-over face as before.
+  const everywhere = (m) => ({ touched: new Uint8Array(m.positions.length / 3).fill(1), appendedFrom: 0 });
+  for (const since of [null, everywhere(closed['corner tetrahedron'])]) {
+    const corner = foldedFaces(closed['corner tetrahedron'], since, { sharpCorners: true });
+    assert.equal(corner.count, 1, `the slanted face (${since ? 'local' : 'whole'} check)`);
+    assert.deepEqual(Array.from(corner.drop), [1, 1, 1, 1], 'with its neighbours');
+    assert.equal(foldedFaces(closed['corner tetrahedron'], since).count, 0);
+  }
+  assert.equal(foldedFaces(ball, null, { sharpCorners: true }).drop[0], 1);
 });
