@@ -1451,8 +1451,11 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
     const retryScales = given ? (haveFit() ? [] : grownScales()) : (foldRetryScales ?? [2, 4]).filter((scale) => requested * scale <= retryFaces);
     const attempts = [...(useFeatures ? [[1, features]] : []), [1, null], ...retryScales.map((scale) => [scale, null])];
     let result = null;
+    // Per piece: the base size asked for in the attempt before and whether its part folded there.
+    let targets = null, folded = null, previousScale = 1;
     for (const [attempt, [scale, withFeatures]] of attempts.entries()) {
       progress(fraction, attempt ? `simplifying (attempt ${attempt + 1})` : 'simplifying');
+      const asked = [];
       // Each piece on its own (its own surface: parts that touch or cross do not pull each other).
       const bases = pieces.map((piece, i) => {
         if (keep?.[i]) return null;
@@ -1461,6 +1464,12 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
         let target = Math.max(Math.min(64, piece.mesh.faces.length / 3), Math.round((requested * pieceScale * scale * piece.faces) / inputFaces));
         // Room for every feature vertex in the base (a cage of at most about 500 handles).
         if (withFeatures) target = Math.max(target, Math.min(1000, Math.ceil(2.2 * countFeatureVertices(piece.mesh, featureKeys))));
+        // A small piece whose part folded grows with the retry too (at the 64-face floor its base
+        // stayed the same, and so did its fold: `--levels 3` on dragon-871k failed on every base
+        // size, on 2 flipped triangles of its second piece, a 204-face fragment).
+        if (scale > previousScale && folded?.[i] && target <= targets[i])
+          target = Math.min(piece.mesh.faces.length / 3, Math.ceil((targets[i] * scale) / previousScale));
+        asked[i] = target;
         const lock = withLocks(withFeatures ? lockedFeatures(piece.mesh, featureKeys, target) : null, piece.mesh, tipKeys, target);
         const b = (options.parametrise && parametrisedOnce(i, piece, target, lock)) ||
           (refineAt?.[i] && refinedBase(mrvol, piece, target, !!repaired, lock, emphasis?.[i] ?? null, refineAt[i], REFINED_RADIUS * diagonal)) ||
@@ -1536,6 +1545,7 @@ export async function remesh(mrvol, input, options = {}, reuse = null) {
         if (given && scale > 1) grownFrom = requested, requested = Math.round(requested * scale);
         break;
       }
+      targets = asked, folded = parts.map((p, i) => !keep?.[i] && p.flippedTriangles > 0), previousScale = scale;
       // Features that fold a fit (a ridge the fit cannot follow, held corners on a thin tip) fold
       // the fits of more levels on the same base too: those go without them.
       if (withFeatures) featuresFolded = true;

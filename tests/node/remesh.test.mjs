@@ -266,6 +266,29 @@ describe('remesh (API)', () => {
     mr.delete();
   });
 
+  test('several pieces: a small piece whose part folds at its 64-face base grows with the retry (a fragment of the full dragon scan beside a torus, 3 levels)', async () => {
+    // The fragment (tests/data/good/dragon-fragment.obj, 204 triangles) is small beside the torus:
+    // its base is the 64-face floor, whose 3-level fit keeps 2 flipped triangles after untangling.
+    // The retries grew the torus's base only, so every one failed on the fragment ("folds over").
+    const fragment = mrvol.readMesh(readFileSync(new URL('../data/good/dragon-fragment.obj', import.meta.url)), { name: 'dragon-fragment.obj' });
+    const torus = weld(torusMesh());
+    for (let i = 0; i < torus.positions.length; i += 3) torus.positions[i] += 4;
+    const parts = [];
+    const r = await remesh(mrvol, concat(torus, fragment), { levels: 3, debug: (kind, d) => {
+      if (kind === 'untangled') parts.push({ piece: d.piece, vertices: d.mesh.positions.length / 3, flipped: d.flippedTriangles });
+    } });
+    assert.equal(r.components, 2);
+    assert.equal(r.levels, 3);
+    assert.equal(r.flippedTriangles, 0);
+    const fragmentParts = parts.filter((p) => p.vertices < 5000);
+    assert.ok(fragmentParts.length >= 2, JSON.stringify(parts));
+    assert.equal(fragmentParts[0].vertices, 64 / 2 * 4 ** 3 + 2, 'first: the 64-face base');
+    assert.ok(fragmentParts[0].flipped > 0, 'which folds');
+    assert.equal(fragmentParts.at(-1).flipped, 0);
+    assert.ok(fragmentParts.at(-1).vertices > fragmentParts[0].vertices, 'grown with the retry');
+    assert.ok(r.hausdorff < 0.005, `hausdorff ${r.hausdorff}`);
+  });
+
   test('holes, non-manifold input: refused with the problem named; several components: each remeshed', async () => {
     const open = bunnyMesh();
     const holed = { positions: open.positions, faces: open.faces.slice(3) };
