@@ -267,10 +267,10 @@ describe('remesh (API)', () => {
   });
 
   test('several pieces: a small piece whose part folds at its 64-face base grows with the retry (a fragment of the full dragon scan beside a torus, 3 levels)', async () => {
-    // The fragment (tests/data/good/dragon-fragment.obj, 204 triangles) is small beside the torus:
+    // The fragment (tests/data/dragon-fragment.obj, 204 triangles) is small beside the torus:
     // its base is the 64-face floor, whose 3-level fit keeps 2 flipped triangles after untangling.
     // The retries grew the torus's base only, so every one failed on the fragment ("folds over").
-    const fragment = mrvol.readMesh(readFileSync(new URL('../data/good/dragon-fragment.obj', import.meta.url)), { name: 'dragon-fragment.obj' });
+    const fragment = mrvol.readMesh(readFileSync(new URL('../data/dragon-fragment.obj', import.meta.url)), { name: 'dragon-fragment.obj' });
     const torus = weld(torusMesh());
     for (let i = 0; i < torus.positions.length; i += 3) torus.positions[i] += 4;
     const parts = [];
