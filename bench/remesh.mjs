@@ -79,7 +79,9 @@ for (const c of cases) {
               volumeChange: r.volumeChange, flipped: r.flippedTriangles, untangled: r.untangledTriangles, fit: r.fit,
               parametrisedFallback: r.parametrisedFallback,
               features: `${r.features.edges}/${r.features.corners}`, intersecting,
-              repaired: r.repair ? Object.entries(r.repair).filter(([k, v]) => v && k !== 'smoothIterations').map(([k, v]) => `${k} ${v}`).join(', ') : '' }
+              repaired: r.repair ? Object.entries(r.repair).filter(([k, v]) => v && k !== 'smoothIterations').map(([k, v]) => (k === 'smoothing'
+                ? `smoothIterations ${r.repair.smoothIterations} (largest move ${(100 * v.largestMove).toFixed(3)}% of the diagonal, volume ${v.volumeBefore.toPrecision(6)} -> ${v.volumeAfter.toPrecision(6)})`
+                : `${k} ${v}`)).join(', ') : '' }
       : { error }),
   };
   // A refusal is the expected outcome where no closed 2-manifold can be made.
