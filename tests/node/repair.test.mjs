@@ -182,4 +182,6 @@ test('sharp corners are not folds: tetrahedra and a spike pass the repair unchan
     assert.equal(foldedFaces(closed['corner tetrahedron'], since).count, 0);
   }
   assert.equal(foldedFaces(ball, null, { sharpCorners: true }).drop[0], 1);
+  // repair passes it on: the tetrahedron's fold cut out (all four faces: nothing is left to fill from).
+  assert.equal(repair(closed['corner tetrahedron'], { sharpCorners: true }).report.foldedFaces, 1);
 });
