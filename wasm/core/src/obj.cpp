@@ -952,5 +952,4 @@ size_t weldObjVertices(TriangleMesh& mesh, SourceLines* lines, ObjExtras* extras
   return welded;
 }
 
-
 }  // namespace mrvol
